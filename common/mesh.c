@@ -1,0 +1,595 @@
+/* common/mesh.c — lm_mesh storage: creation, growth, building, validation, compaction, bounds,
+ * derived normals, component count and content hash. Adjacency maintenance helpers for
+ * mesh_topology.c live here too (mesh_internal.h). */
+#include "common/mesh.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "common/mesh_internal.h"
+#include "common/mesh_topology.h"
+
+/* ---- small vectors ---------------------------------------------------------------------- */
+
+lm_status lm_u32vec_push(lm_u32vec *v, uint32_t x)
+{
+    if (v->n == v->cap) {
+        uint32_t cap = v->cap ? v->cap * 2 : 8;
+        uint32_t *d = realloc(v->data, (size_t)cap * sizeof *d);
+        if (!d)
+            return lm_fail(LM_E_NOMEM, "out of memory growing an adjacency list");
+        v->data = d;
+        v->cap = cap;
+    }
+    v->data[v->n++] = x;
+    return LM_OK;
+}
+
+int lm_u32vec_remove(lm_u32vec *v, uint32_t x)
+{
+    for (uint32_t i = 0; i < v->n; i++) {
+        if (v->data[i] == x) {
+            memmove(v->data + i, v->data + i + 1, (size_t)(v->n - i - 1) * sizeof *v->data);
+            v->n--;
+            return 1;
+        }
+    }
+    return 0;
+}
+
+void lm_u32vec_free(lm_u32vec *v)
+{
+    free(v->data);
+    v->data = NULL;
+    v->n = v->cap = 0;
+}
+
+/* ---- life cycle ------------------------------------------------------------------------- */
+
+lm_status lm_mesh_create(lm_mesh **out)
+{
+    lm_mesh *m = calloc(1, sizeof *m);
+    if (!m)
+        return lm_fail(LM_E_NOMEM, "out of memory creating a mesh");
+    *out = m;
+    return LM_OK;
+}
+
+static void internal_free(lm_mesh *m)
+{
+    struct lm_mesh_internal *in = m->internal;
+    if (!in)
+        return;
+    for (uint32_t i = 0; i < in->cap_vtris; i++)
+        lm_u32vec_free(&in->vtris[i]);
+    free(in->vtris);
+    free(in);
+    m->internal = NULL;
+}
+
+void lm_mesh_destroy(lm_mesh *m)
+{
+    if (!m)
+        return;
+    internal_free(m);
+    for (uint32_t i = 0; i < m->n_materials; i++) {
+        free(m->materials[i].texture_path);
+        lm_image_destroy(m->materials[i].texture);
+    }
+    free(m->materials);
+    free(m->pos);
+    free(m->vert_alive);
+    free(m->wedges);
+    free(m->wedge_alive);
+    free(m->tris);
+    free(m->tri_alive);
+    free(m);
+}
+
+lm_status lm_mesh_internal_ensure(lm_mesh *m)
+{
+    if (m->internal)
+        return LM_OK;
+    m->internal = calloc(1, sizeof *m->internal);
+    return m->internal ? LM_OK : lm_fail(LM_E_NOMEM, "out of memory");
+}
+
+/* Grow an array pair (elements + alive flags) to hold at least `need` slots. */
+static lm_status grow(void **arr, size_t elem, uint8_t **alive, uint32_t *cap, uint32_t need,
+                      uint32_t limit)
+{
+    if (need <= *cap)
+        return LM_OK;
+    if (need > limit)
+        return lm_fail(LM_E_RANGE, "mesh too large (%u elements, limit %u)", need, limit);
+    uint64_t c = *cap ? (uint64_t)*cap * 2 : 64;
+    while (c < need)
+        c *= 2;
+    if (c > limit)
+        c = limit;
+    void *a = realloc(*arr, (size_t)c * elem);
+    if (!a)
+        return lm_fail(LM_E_NOMEM, "out of memory growing a mesh to %llu elements",
+                       (unsigned long long)c);
+    *arr = a;
+    uint8_t *f = realloc(*alive, (size_t)c);
+    if (!f)
+        return lm_fail(LM_E_NOMEM, "out of memory growing a mesh");
+    *alive = f;
+    *cap = (uint32_t)c;
+    return LM_OK;
+}
+
+/* ---- building ----------------------------------------------------------------------------- */
+
+lm_status lm_mesh_add_vertex(lm_mesh *m, const float p[3], uint32_t *out_id)
+{
+    lm_status s = grow((void **)&m->pos, sizeof *m->pos, &m->vert_alive, &m->cap_verts,
+                       m->n_verts + 1, LM_MESH_MAX_VERTS);
+    if (s)
+        return s;
+    uint32_t id = m->n_verts++;
+    memcpy(m->pos[id], p, sizeof m->pos[id]);
+    m->vert_alive[id] = 1;
+    m->live_verts++;
+    if (out_id)
+        *out_id = id;
+    return LM_OK;
+}
+
+lm_status lm_mesh_add_wedge(lm_mesh *m, const lm_wedge *w, uint32_t *out_id)
+{
+    if (w->vertex >= m->n_verts || !m->vert_alive[w->vertex])
+        return lm_fail(LM_E_RANGE, "wedge refers to vertex %u of %u", w->vertex, m->n_verts);
+    lm_status s = grow((void **)&m->wedges, sizeof *m->wedges, &m->wedge_alive, &m->cap_wedges,
+                       m->n_wedges + 1, LM_MESH_MAX_VERTS * 4u);
+    if (s)
+        return s;
+    uint32_t id = m->n_wedges++;
+    m->wedges[id] = *w;
+    m->wedge_alive[id] = 1;
+    if (out_id)
+        *out_id = id;
+    return LM_OK;
+}
+
+lm_status lm_mesh_add_tri(lm_mesh *m, const uint32_t w[3], uint32_t material, uint32_t *out_id)
+{
+    for (int k = 0; k < 3; k++)
+        if (w[k] >= m->n_wedges || !m->wedge_alive[w[k]])
+            return lm_fail(LM_E_RANGE, "triangle refers to wedge %u of %u", w[k], m->n_wedges);
+    if (m->n_materials && material >= m->n_materials)
+        return lm_fail(LM_E_RANGE, "triangle refers to material %u of %u", material,
+                       m->n_materials);
+    lm_status s = grow((void **)&m->tris, sizeof *m->tris, &m->tri_alive, &m->cap_tris,
+                       m->n_tris + 1, LM_MESH_MAX_TRIS);
+    if (s)
+        return s;
+    uint32_t id = m->n_tris++;
+    memcpy(m->tris[id].w, w, sizeof m->tris[id].w);
+    m->tris[id].material = material;
+    m->tri_alive[id] = 1;
+    m->live_tris++;
+    s = lm_mesh_adj_link_tri(m, id);
+    if (out_id)
+        *out_id = id;
+    return s;
+}
+
+lm_status lm_mesh_add_material(lm_mesh *m, const char *name, const float diffuse[4],
+                               const char *texture_path, lm_image *tex, uint32_t *out_id)
+{
+    lm_material *a = realloc(m->materials, (size_t)(m->n_materials + 1) * sizeof *a);
+    if (!a)
+        return lm_fail(LM_E_NOMEM, "out of memory adding a material");
+    m->materials = a;
+    lm_material *mat = &a[m->n_materials];
+    memset(mat, 0, sizeof *mat);
+    if (name)
+        strncpy(mat->name, name, sizeof mat->name - 1);
+    static const float white[4] = {1, 1, 1, 1};
+    memcpy(mat->diffuse, diffuse ? diffuse : white, sizeof mat->diffuse);
+    if (texture_path) {
+        mat->texture_path = strdup(texture_path);
+        if (!mat->texture_path)
+            return lm_fail(LM_E_NOMEM, "out of memory adding a material");
+    }
+    mat->texture = tex;
+    if (out_id)
+        *out_id = m->n_materials;
+    m->n_materials++;
+    return LM_OK;
+}
+
+/* ---- adjacency maintenance (used when adjacency has been built) --------------------------- */
+
+static lm_status vtris_reserve(struct lm_mesh_internal *in, uint32_t n_verts)
+{
+    if (n_verts <= in->cap_vtris)
+        return LM_OK;
+    uint32_t cap = in->cap_vtris ? in->cap_vtris : 64;
+    while (cap < n_verts)
+        cap *= 2;
+    lm_u32vec *v = realloc(in->vtris, (size_t)cap * sizeof *v);
+    if (!v)
+        return lm_fail(LM_E_NOMEM, "out of memory growing adjacency");
+    memset(v + in->cap_vtris, 0, (size_t)(cap - in->cap_vtris) * sizeof *v);
+    in->vtris = v;
+    in->cap_vtris = cap;
+    return LM_OK;
+}
+
+/* Insert keeping the list ascending (ids of new triangles are usually the largest). */
+static lm_status sorted_insert(lm_u32vec *v, uint32_t t)
+{
+    lm_status s = lm_u32vec_push(v, t);
+    if (s)
+        return s;
+    uint32_t i = v->n - 1;
+    while (i > 0 && v->data[i - 1] > t) {
+        v->data[i] = v->data[i - 1];
+        i--;
+    }
+    v->data[i] = t;
+    return LM_OK;
+}
+
+lm_status lm_mesh_adj_reserve(lm_mesh *m, uint32_t n_verts)
+{
+    lm_status s = lm_mesh_internal_ensure(m);
+    return s ? s : vtris_reserve(m->internal, n_verts);
+}
+
+lm_status lm_mesh_adj_link_tri(lm_mesh *m, uint32_t t)
+{
+    struct lm_mesh_internal *in = m->internal;
+    if (!in || !in->adjacency_built)
+        return LM_OK;
+    lm_status s = vtris_reserve(in, m->n_verts);
+    for (int k = 0; k < 3 && !s; k++) {
+        uint32_t v = lm_tri_vertex(m, t, k);
+        int dup = 0;
+        for (int j = 0; j < k; j++)
+            dup |= lm_tri_vertex(m, t, j) == v;
+        if (!dup)
+            s = sorted_insert(&in->vtris[v], t);
+    }
+    return s;
+}
+
+void lm_mesh_adj_unlink_tri(lm_mesh *m, uint32_t t)
+{
+    struct lm_mesh_internal *in = m->internal;
+    if (!in || !in->adjacency_built)
+        return;
+    for (int k = 0; k < 3; k++) {
+        uint32_t v = lm_tri_vertex(m, t, k);
+        if (v < in->cap_vtris)
+            lm_u32vec_remove(&in->vtris[v], t);
+    }
+}
+
+/* ---- copy ----------------------------------------------------------------------------------- */
+
+static lm_status clone_materials(const lm_mesh *src, lm_mesh *dst)
+{
+    for (uint32_t i = 0; i < src->n_materials; i++) {
+        const lm_material *mat = &src->materials[i];
+        lm_image *tex = NULL;
+        if (mat->texture) {
+            lm_status s = lm_image_clone(mat->texture, &tex);
+            if (s)
+                return s;
+        }
+        lm_status s = lm_mesh_add_material(dst, mat->name, mat->diffuse, mat->texture_path, tex, NULL);
+        if (s) {
+            lm_image_destroy(tex);
+            return s;
+        }
+    }
+    return LM_OK;
+}
+
+static void *dup_array(const void *src, size_t bytes, lm_status *s)
+{
+    if (!bytes)
+        return NULL;
+    void *d = malloc(bytes);
+    if (!d)
+        *s = lm_fail(LM_E_NOMEM, "out of memory copying a mesh");
+    else
+        memcpy(d, src, bytes);
+    return d;
+}
+
+lm_status lm_mesh_clone(const lm_mesh *src, lm_mesh **out)
+{
+    lm_mesh *m;
+    lm_status s = lm_mesh_create(&m);
+    if (s)
+        return s;
+    m->n_verts = m->cap_verts = src->n_verts;
+    m->n_wedges = m->cap_wedges = src->n_wedges;
+    m->n_tris = m->cap_tris = src->n_tris;
+    m->live_verts = src->live_verts;
+    m->live_tris = src->live_tris;
+    m->attrs = src->attrs;
+    m->pos = dup_array(src->pos, src->n_verts * sizeof *src->pos, &s);
+    m->vert_alive = dup_array(src->vert_alive, src->n_verts, &s);
+    m->wedges = dup_array(src->wedges, src->n_wedges * sizeof *src->wedges, &s);
+    m->wedge_alive = dup_array(src->wedge_alive, src->n_wedges, &s);
+    m->tris = dup_array(src->tris, src->n_tris * sizeof *src->tris, &s);
+    m->tri_alive = dup_array(src->tri_alive, src->n_tris, &s);
+    if (!s)
+        s = clone_materials(src, m);
+    if (!s && src->internal && src->internal->adjacency_built)
+        s = lm_mesh_build_adjacency(m);
+    if (s) {
+        lm_mesh_destroy(m);
+        return s;
+    }
+    *out = m;
+    return LM_OK;
+}
+
+/* ---- validation ------------------------------------------------------------------------------ */
+
+static int finite3(const float *p)
+{
+    return isfinite(p[0]) && isfinite(p[1]) && isfinite(p[2]);
+}
+
+static lm_status validate_wedges(const lm_mesh *m)
+{
+    for (uint32_t i = 0; i < m->n_wedges; i++) {
+        if (!m->wedge_alive[i])
+            continue;
+        const lm_wedge *w = &m->wedges[i];
+        if (w->vertex >= m->n_verts || !m->vert_alive[w->vertex])
+            return lm_fail(LM_E_RANGE, "wedge %u refers to missing vertex %u", i, w->vertex);
+        if (!finite3(w->normal) || !isfinite(w->uv[0]) || !isfinite(w->uv[1]) ||
+            !finite3(w->color) || !isfinite(w->color[3]))
+            return lm_fail(LM_E_RANGE, "attribute of vertex %u is not a finite number", w->vertex);
+    }
+    return LM_OK;
+}
+
+static lm_status validate_tris(const lm_mesh *m)
+{
+    for (uint32_t t = 0; t < m->n_tris; t++) {
+        if (!m->tri_alive[t])
+            continue;
+        for (int k = 0; k < 3; k++) {
+            uint32_t w = m->tris[t].w[k];
+            if (w >= m->n_wedges || !m->wedge_alive[w])
+                return lm_fail(LM_E_RANGE, "triangle %u refers to missing corner %u", t, w);
+        }
+        uint32_t a = lm_tri_vertex(m, t, 0), b = lm_tri_vertex(m, t, 1), c = lm_tri_vertex(m, t, 2);
+        if (a == b || b == c || a == c)
+            return lm_fail(LM_E_FORMAT, "triangle %u repeats a vertex", t);
+        if (m->n_materials ? m->tris[t].material >= m->n_materials : m->tris[t].material != 0)
+            return lm_fail(LM_E_RANGE, "triangle %u refers to missing material %u", t,
+                           m->tris[t].material);
+    }
+    return LM_OK;
+}
+
+lm_status lm_mesh_validate(const lm_mesh *m)
+{
+    if (m->live_tris == 0)
+        return lm_fail(LM_E_FORMAT, "the mesh has no triangles");
+    for (uint32_t v = 0; v < m->n_verts; v++)
+        if (m->vert_alive[v] && !finite3(m->pos[v]))
+            return lm_fail(LM_E_RANGE, "vertex %u has a coordinate that is not a finite number", v);
+    lm_status s = validate_wedges(m);
+    return s ? s : validate_tris(m);
+}
+
+/* ---- compaction ------------------------------------------------------------------------------ */
+
+/* Renumber alive entries of one array in place; fills map[old] = new (LM_NONE if dead). */
+static uint32_t compact_array(void *arr, size_t elem, uint8_t *alive, uint32_t n, uint32_t *map)
+{
+    uint32_t k = 0;
+    for (uint32_t i = 0; i < n; i++) {
+        if (!alive[i]) {
+            map[i] = LM_NONE;
+            continue;
+        }
+        map[i] = k;
+        if (k != i)
+            memmove((char *)arr + (size_t)k * elem, (char *)arr + (size_t)i * elem, elem);
+        alive[k++] = 1;
+    }
+    return k;
+}
+
+lm_status lm_mesh_compact(lm_mesh *m)
+{
+    uint32_t big = m->n_verts > m->n_wedges ? m->n_verts : m->n_wedges;
+    uint32_t *map = malloc(((size_t)big + 1) * sizeof *map);
+    uint32_t *tmap = malloc(((size_t)m->n_tris + 1) * sizeof *tmap);
+    if (!map || !tmap) {
+        free(map);
+        free(tmap);
+        return lm_fail(LM_E_NOMEM, "out of memory compacting a mesh");
+    }
+    m->n_verts = compact_array(m->pos, sizeof *m->pos, m->vert_alive, m->n_verts, map);
+    for (uint32_t i = 0; i < m->n_wedges; i++)
+        if (m->wedge_alive[i])
+            m->wedges[i].vertex = map[m->wedges[i].vertex];
+    m->n_wedges = compact_array(m->wedges, sizeof *m->wedges, m->wedge_alive, m->n_wedges, map);
+    m->n_tris = compact_array(m->tris, sizeof *m->tris, m->tri_alive, m->n_tris, tmap);
+    for (uint32_t t = 0; t < m->n_tris; t++)
+        for (int k = 0; k < 3; k++)
+            m->tris[t].w[k] = map[m->tris[t].w[k]];
+    free(map);
+    free(tmap);
+    m->live_verts = m->n_verts;
+    m->live_tris = m->n_tris;
+    int had_adjacency = m->internal && m->internal->adjacency_built;
+    internal_free(m);
+    return had_adjacency ? lm_mesh_build_adjacency(m) : LM_OK;
+}
+
+/* ---- geometry ---------------------------------------------------------------------------------- */
+
+void lm_mesh_bounds(const lm_mesh *m, float lo[3], float hi[3])
+{
+    for (int k = 0; k < 3; k++) {
+        lo[k] = INFINITY;
+        hi[k] = -INFINITY;
+    }
+    for (uint32_t v = 0; v < m->n_verts; v++) {
+        if (!m->vert_alive[v])
+            continue;
+        for (int k = 0; k < 3; k++) {
+            lo[k] = fminf(lo[k], m->pos[v][k]);
+            hi[k] = fmaxf(hi[k], m->pos[v][k]);
+        }
+    }
+    if (lo[0] > hi[0])
+        for (int k = 0; k < 3; k++)
+            lo[k] = hi[k] = 0;
+}
+
+void lm_mesh_bounding_sphere(const lm_mesh *m, float centre[3], float *radius)
+{
+    float lo[3], hi[3];
+    lm_mesh_bounds(m, lo, hi);
+    for (int k = 0; k < 3; k++)
+        centre[k] = 0.5f * (lo[k] + hi[k]);
+    double r2 = 0;
+    for (uint32_t v = 0; v < m->n_verts; v++) {
+        if (!m->vert_alive[v])
+            continue;
+        double d = 0;
+        for (int k = 0; k < 3; k++)
+            d += ((double)m->pos[v][k] - centre[k]) * ((double)m->pos[v][k] - centre[k]);
+        if (d > r2)
+            r2 = d;
+    }
+    *radius = r2 > 0 ? (float)sqrt(r2) : 1.0f;
+}
+
+/* Face normal scaled by twice the triangle area. */
+static void face_normal(const lm_mesh *m, uint32_t t, double n[3])
+{
+    const float *a = m->pos[lm_tri_vertex(m, t, 0)];
+    const float *b = m->pos[lm_tri_vertex(m, t, 1)];
+    const float *c = m->pos[lm_tri_vertex(m, t, 2)];
+    double u[3], w[3];
+    for (int k = 0; k < 3; k++) {
+        u[k] = (double)b[k] - a[k];
+        w[k] = (double)c[k] - a[k];
+    }
+    n[0] = u[1] * w[2] - u[2] * w[1];
+    n[1] = u[2] * w[0] - u[0] * w[2];
+    n[2] = u[0] * w[1] - u[1] * w[0];
+}
+
+void lm_mesh_compute_normals(lm_mesh *m)
+{
+    double *acc = calloc((size_t)m->n_verts * 3 + 3, sizeof *acc);
+    LM_ASSERT(acc != NULL);
+    for (uint32_t t = 0; t < m->n_tris; t++) {
+        if (!m->tri_alive[t])
+            continue;
+        double n[3];
+        face_normal(m, t, n);
+        for (int k = 0; k < 3; k++) {
+            double *a = acc + (size_t)lm_tri_vertex(m, t, k) * 3;
+            a[0] += n[0];
+            a[1] += n[1];
+            a[2] += n[2];
+        }
+    }
+    for (uint32_t i = 0; i < m->n_wedges; i++) {
+        if (!m->wedge_alive[i])
+            continue;
+        const double *a = acc + (size_t)m->wedges[i].vertex * 3;
+        double len = sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
+        for (int k = 0; k < 3; k++)
+            m->wedges[i].normal[k] = len > 0 ? (float)(a[k] / len) : (k == 2 ? 1.0f : 0.0f);
+    }
+    free(acc);
+}
+
+/* ---- components and hash ----------------------------------------------------------------------- */
+
+static uint32_t uf_find(uint32_t *parent, uint32_t x)
+{
+    while (parent[x] != x) {
+        parent[x] = parent[parent[x]];
+        x = parent[x];
+    }
+    return x;
+}
+
+uint32_t lm_mesh_count_components(const lm_mesh *m)
+{
+    uint32_t *parent = malloc(((size_t)m->n_verts + 1) * sizeof *parent);
+    LM_ASSERT(parent != NULL);
+    for (uint32_t v = 0; v < m->n_verts; v++)
+        parent[v] = v;
+    for (uint32_t t = 0; t < m->n_tris; t++) {
+        if (!m->tri_alive[t])
+            continue;
+        uint32_t r0 = uf_find(parent, lm_tri_vertex(m, t, 0));
+        for (int k = 1; k < 3; k++) {
+            uint32_t r = uf_find(parent, lm_tri_vertex(m, t, k));
+            if (r != r0)
+                parent[r] = r0;
+        }
+    }
+    uint8_t *used = calloc((size_t)m->n_verts + 1, 1);
+    LM_ASSERT(used != NULL);
+    uint32_t count = 0;
+    for (uint32_t t = 0; t < m->n_tris; t++) {
+        if (!m->tri_alive[t])
+            continue;
+        uint32_t r = uf_find(parent, lm_tri_vertex(m, t, 0));
+        if (!used[r]) {
+            used[r] = 1;
+            count++;
+        }
+    }
+    free(used);
+    free(parent);
+    return count;
+}
+
+static uint64_t fnv(uint64_t h, const void *data, size_t n)
+{
+    const uint8_t *p = data;
+    for (size_t i = 0; i < n; i++) {
+        h ^= p[i];
+        h *= 1099511628211ull;
+    }
+    return h;
+}
+
+uint64_t lm_mesh_hash(const lm_mesh *m)
+{
+    uint64_t h = 14695981039346656037ull;
+    h = fnv(h, &m->n_verts, sizeof m->n_verts);
+    h = fnv(h, &m->n_wedges, sizeof m->n_wedges);
+    h = fnv(h, &m->n_tris, sizeof m->n_tris);
+    for (uint32_t v = 0; v < m->n_verts; v++) {
+        h = fnv(h, &m->vert_alive[v], 1);
+        if (m->vert_alive[v])
+            h = fnv(h, m->pos[v], sizeof m->pos[v]);
+    }
+    for (uint32_t i = 0; i < m->n_wedges; i++) {
+        h = fnv(h, &m->wedge_alive[i], 1);
+        if (m->wedge_alive[i])
+            h = fnv(h, &m->wedges[i], sizeof m->wedges[i]);
+    }
+    for (uint32_t t = 0; t < m->n_tris; t++) {
+        h = fnv(h, &m->tri_alive[t], 1);
+        if (m->tri_alive[t])
+            h = fnv(h, &m->tris[t], sizeof m->tris[t]);
+    }
+    return h;
+}

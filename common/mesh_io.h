@@ -1,0 +1,34 @@
+/* common/mesh_io.h — model files. Loading goes through assimp (OBJ+MTL, PLY, OFF, STL, glTF/GLB,
+ * FBX, DAE, ...) keeping UVs, normals, colours and diffuse textures (read through OpenImageIO);
+ * writing supports OBJ+MTL (textures copied beside it as PNG), PLY and GLB (chosen by extension).
+ * Hostile input (NaN/Inf, out-of-range indices, truncated files, absurd counts, empty meshes) is
+ * refused with a one-line message; degenerate triangles are dropped with a warning count.
+ * Writes are atomic: temp file in the same folder, fsync, rename. */
+#ifndef LM_COMMON_MESH_IO_H
+#define LM_COMMON_MESH_IO_H
+
+#include "common/mesh.h"
+
+typedef struct lm_load_options {
+    uint32_t max_tris; /* 0 = default limit (LM_MESH_MAX_TRIS) */
+    int keep_degenerate; /* 0 = drop zero-area / repeated-index triangles */
+} lm_load_options;
+
+/* opts may be NULL. On success *out is a validated mesh with adjacency built. */
+lm_status lm_mesh_load(const char *path, const lm_load_options *opts, lm_mesh **out);
+
+/* Format from the extension: .obj, .ply, .glb. Dead elements are skipped (written compacted). */
+lm_status lm_mesh_save(const char *path, const lm_mesh *m);
+
+/* Atomic file helpers shared by every writer: open "<path>.tmp.XXXXXX" beside path, then commit
+ * (fflush, fsync, rename) or abort (unlink). */
+typedef struct lm_atomic_file {
+    char *final_path;
+    char *tmp_path;
+    void *fp; /* FILE* */
+} lm_atomic_file;
+lm_status lm_atomic_open(lm_atomic_file *f, const char *path);
+lm_status lm_atomic_commit(lm_atomic_file *f);
+void lm_atomic_abort(lm_atomic_file *f);
+
+#endif

@@ -1,0 +1,128 @@
+/* common/patch.c — building patches (removed ids + added triangle records) from a mesh. */
+#include "common/patch.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+void lm_tri_data_from_mesh(const lm_mesh *m, uint32_t t, lm_tri_data *out)
+{
+    const lm_tri *tri = &m->tris[t];
+    out->id = t;
+    out->material = tri->material;
+    for (int k = 0; k < 3; k++) {
+        const lm_wedge *w = &m->wedges[tri->w[k]];
+        lm_corner *c = &out->c[k];
+        memcpy(c->pos, m->pos[w->vertex], sizeof c->pos);
+        memcpy(c->normal, w->normal, sizeof c->normal);
+        memcpy(c->uv, w->uv, sizeof c->uv);
+        memcpy(c->color, w->color, sizeof c->color);
+    }
+}
+
+lm_status lm_mesh_export_tris(const lm_mesh *m, lm_tri_data **out, size_t *count)
+{
+    lm_tri_data *d = malloc(((size_t)m->live_tris + 1) * sizeof *d);
+    if (!d)
+        return lm_fail(LM_E_NOMEM, "out of memory exporting %u triangles", m->live_tris);
+    size_t n = 0;
+    for (uint32_t t = 0; t < m->n_tris; t++)
+        if (m->tri_alive[t])
+            lm_tri_data_from_mesh(m, t, &d[n++]);
+    *out = d;
+    *count = n;
+    return LM_OK;
+}
+
+void lm_patch_init(lm_patch *p)
+{
+    memset(p, 0, sizeof *p);
+}
+
+void lm_patch_reset(lm_patch *p)
+{
+    p->n_removed = 0;
+    p->n_added = 0;
+}
+
+void lm_patch_free(lm_patch *p)
+{
+    free(p->removed);
+    free(p->added);
+    lm_patch_init(p);
+}
+
+static lm_status reserve(void **arr, uint32_t *cap, uint32_t need, size_t elem)
+{
+    if (need <= *cap)
+        return LM_OK;
+    uint32_t c = *cap ? *cap : 16;
+    while (c < need)
+        c *= 2;
+    void *a = realloc(*arr, (size_t)c * elem);
+    if (!a)
+        return lm_fail(LM_E_NOMEM, "out of memory building a patch");
+    *arr = a;
+    *cap = c;
+    return LM_OK;
+}
+
+lm_status lm_patch_remove(lm_patch *p, uint32_t id)
+{
+    lm_status s = reserve((void **)&p->removed, &p->cap_removed, p->n_removed + 1, sizeof(uint32_t));
+    if (!s)
+        p->removed[p->n_removed++] = id;
+    return s;
+}
+
+lm_status lm_patch_add(lm_patch *p, const lm_tri_data *t)
+{
+    lm_status s = reserve((void **)&p->added, &p->cap_added, p->n_added + 1, sizeof *t);
+    if (!s)
+        p->added[p->n_added++] = *t;
+    return s;
+}
+
+static int cmp_u32(const void *a, const void *b)
+{
+    uint32_t x = *(const uint32_t *)a, y = *(const uint32_t *)b;
+    return (x > y) - (x < y);
+}
+
+lm_status lm_patch_build(lm_patch *p, const lm_mesh *m, const uint32_t *before, size_t n_before,
+                         const uint32_t *now, size_t n_now)
+{
+    lm_patch_reset(p);
+    lm_status s = reserve((void **)&p->removed, &p->cap_removed, (uint32_t)n_before + 1,
+                          sizeof(uint32_t));
+    if (s)
+        return s;
+    memcpy(p->removed, before, n_before * sizeof *before);
+    qsort(p->removed, n_before, sizeof *p->removed, cmp_u32);
+    uint32_t k = 0;
+    for (size_t i = 0; i < n_before; i++)
+        if (k == 0 || p->removed[k - 1] != p->removed[i])
+            p->removed[k++] = p->removed[i];
+    p->n_removed = k;
+    s = reserve((void **)&p->added, &p->cap_added, (uint32_t)n_now + 1, sizeof *p->added);
+    if (s)
+        return s;
+    for (size_t i = 0; i < n_now; i++)
+        if (now[i] < m->n_tris && m->tri_alive[now[i]])
+            lm_tri_data_from_mesh(m, now[i], &p->added[p->n_added++]);
+    /* sort records by id and drop duplicates */
+    for (uint32_t i = 1; i < p->n_added; i++) {
+        lm_tri_data x = p->added[i];
+        uint32_t j = i;
+        while (j > 0 && p->added[j - 1].id > x.id) {
+            p->added[j] = p->added[j - 1];
+            j--;
+        }
+        p->added[j] = x;
+    }
+    k = 0;
+    for (uint32_t i = 0; i < p->n_added; i++)
+        if (k == 0 || p->added[k - 1].id != p->added[i].id)
+            p->added[k++] = p->added[i];
+    p->n_added = k;
+    return LM_OK;
+}

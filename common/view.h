@@ -1,0 +1,40 @@
+/* common/view.h — viewpoints and cameras. Views are placed uniformly on a sphere around the
+ * ORIGINAL model (icosahedron for 12, dodecahedron for 20, spherical Fibonacci otherwise), looking
+ * at its bounding-sphere centre, framed so the whole sphere is visible; perspective projection.
+ * Held-out views (the paper's evaluation protocol) are a fixed set of 24 directions that differ
+ * from every optimisation set. Matrices are column-major, OpenGL conventions. */
+#ifndef LM_COMMON_VIEW_H
+#define LM_COMMON_VIEW_H
+
+#include <stdint.h>
+
+#include "common/error.h"
+
+#define LM_MAX_VIEWS 256
+#define LM_MAX_VIEW_SIZE 4096
+
+typedef struct lm_view {
+    float eye[3];
+    float dir[3];       /* unit vector from eye towards the centre (the light shines along it) */
+    float view[16];     /* world -> eye */
+    float proj[16];     /* eye -> clip */
+    float view_proj[16];
+    int width, height;  /* pixels */
+} lm_view;
+
+typedef struct lm_view_set {
+    uint32_t count;
+    lm_view views[LM_MAX_VIEWS];
+} lm_view_set;
+
+/* n in 1..LM_MAX_VIEWS, size in 16..LM_MAX_VIEW_SIZE, radius > 0 and finite. */
+lm_status lm_view_set_make(lm_view_set *out, uint32_t n, int size, const float centre[3],
+                           float radius);
+/* The 24 held-out views. */
+lm_status lm_view_set_make_heldout(lm_view_set *out, int size, const float centre[3], float radius);
+
+/* Project a world point: window coordinates in pixels (x right, y up from the bottom row as GL
+ * does) and clip w. Returns 0 if w <= a small epsilon (behind or at the eye). */
+int lm_view_project(const lm_view *v, const float p[3], float win[2], float *w);
+
+#endif
