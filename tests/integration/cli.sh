@@ -1,0 +1,25 @@
+#!/usr/bin/env bash
+# Integration: the `lumesh` command line as a user meets it — help, unknown commands, bad flags
+# and bad files give one clear line on stderr and exit 1; nothing half-written is left behind.
+set -u
+. "$(dirname "$0")/lib.sh"
+
+expect_exit 0 "$LUMESH" --help
+expect_exit 0 "$LUMESH" --version
+expect_exit 1 "$LUMESH"
+expect_fail_line "$LUMESH" frobnicate
+for cmd in optimize simplify energy render devices gen-frog demo bench; do
+  expect_exit 0 "$LUMESH" "$cmd" --help
+done
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+expect_fail_line "$LUMESH" simplify "$tmp/missing.obj" -o "$tmp/out.obj" --target-verts 100
+expect_fail_line "$LUMESH" simplify --target-verts abc "$tmp/missing.obj" -o "$tmp/out.obj"
+expect_fail_line "$LUMESH" gen-frog -o "$tmp/f.obj" --tris -5
+expect_fail_line "$LUMESH" gen-frog -o "$tmp/f.obj" --no-such-flag
+expect_fail_line "$LUMESH" energy "$tmp/missing.obj" "$tmp/missing2.obj"
+printf 'garbage\x00\x01' > "$tmp/bad.obj"
+expect_fail_line "$LUMESH" energy "$tmp/bad.obj" "$tmp/bad.obj"
+expect_fail_line "$LUMESH" gen-frog -o /proc/nonexistent/dir/frog.obj --tris 2000
+[ -z "$(ls "$tmp" | grep -v -E '^bad\.obj$')" ] || fail "files left behind: $(ls "$tmp")"
+finish

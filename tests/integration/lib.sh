@@ -1,0 +1,27 @@
+# tests/integration/lib.sh — shared helpers for integration scripts (sourced, not a test).
+: "${LUMESH:?LUMESH must point at the lumesh binary}"
+failures=0
+checks=0
+fail() { echo "FAIL: $*" >&2; failures=$((failures + 1)); }
+# expect_exit CODE CMD... — run CMD, check its exit code.
+expect_exit() {
+  local want=$1; shift
+  checks=$((checks + 1))
+  "$@" >/dev/null 2>"${TMPDIR:-/tmp}/lumesh-it-err.$$"
+  local got=$?
+  [ "$got" = "$want" ] || fail "'$*' exited $got, expected $want: $(head -c 300 "${TMPDIR:-/tmp}/lumesh-it-err.$$")"
+  rm -f "${TMPDIR:-/tmp}/lumesh-it-err.$$"
+}
+# expect_fail_line CMD... — CMD exits 1 and prints exactly one non-empty line on stderr.
+expect_fail_line() {
+  checks=$((checks + 1))
+  local err
+  err=$("$@" 2>&1 >/dev/null)
+  local got=$?
+  [ "$got" = 1 ] || fail "'$*' exited $got, expected 1 (stderr: $err)"
+  [ "$(printf '%s\n' "$err" | grep -c .)" = 1 ] || fail "'$*' printed $(printf '%s\n' "$err" | grep -c .) lines on stderr, expected 1: $err"
+}
+finish() {
+  echo "$((checks - failures)) passed, $failures failed"
+  [ "$failures" = 0 ]
+}
