@@ -2,7 +2,7 @@
 # Integration: the `lumesh` command line as a user meets it — help, unknown commands, bad flags
 # and bad files give one clear line on stderr and exit 1; nothing half-written is left behind.
 set -u
-. "$(dirname "$0")/lib.sh"
+. "$(dirname "$0")/lib.bash"
 
 expect_exit 0 "$LUMESH" --help
 expect_exit 0 "$LUMESH" --version

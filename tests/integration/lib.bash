@@ -1,4 +1,4 @@
-# tests/integration/lib.sh — shared helpers for integration scripts (sourced, not a test).
+# tests/integration/lib.bash — shared helpers for integration scripts (sourced, not a test).
 : "${LUMESH:?LUMESH must point at the lumesh binary}"
 failures=0
 checks=0
