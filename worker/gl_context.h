@@ -12,12 +12,12 @@
 #define WK_MAX_DEVICES 16
 
 typedef struct wk_device_info {
-    int index;           /* position in EGL's device list (the N of "egl:N") */
-    int is_software;     /* 1 for Mesa's software rasteriser */
-    char node[128];      /* DRM render node path, "" if none */
-    char vendor[128];    /* EGL_VENDOR of a display on it, if it could be initialised */
-    char renderer[256];  /* GL_RENDERER / version string if a context could be made, else "" */
-    int usable;          /* a context could be created on it */
+    int index;          /* position in EGL's device list (the N of "egl:N") */
+    int is_software;    /* 1 for Mesa's software rasteriser */
+    char node[128];     /* DRM render node path, "" if none */
+    char vendor[128];   /* EGL_VENDOR of a display on it, if it could be initialised */
+    char renderer[256]; /* GL_RENDERER / version string if a context could be made, else "" */
+    int usable;         /* a context could be created on it */
 } wk_device_info;
 
 /* Enumerate EGL devices (probes each: creating a context briefly). *count <= cap. */
@@ -28,6 +28,7 @@ lm_status wk_egl_choose_device(const char *spec, const wk_device_info *devs, int
 
 typedef struct wk_gl_context wk_gl_context;
 
+/* spec NULL means "auto". On success the new context is current on the calling thread. */
 lm_status wk_gl_context_create(const char *spec, wk_gl_context **out);
 void wk_gl_context_destroy(wk_gl_context *ctx);
 lm_status wk_gl_context_make_current(wk_gl_context *ctx);

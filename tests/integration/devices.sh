@@ -1,0 +1,71 @@
+#!/usr/bin/env bash
+# tests/integration/devices.sh — `lumesh devices` (text and JSON) and `lumesh-worker --self-test`
+# as real processes, on whatever devices this machine has (llvmpipe at least), plus bad specs.
+set -euo pipefail
+: "${LUMESH:?}" "${LUMESH_WORKER:?}"
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+fail() { echo "FAIL: $*" >&2; exit 1; }
+
+# Text listing: a header, at least one usable software device, a selection line.
+"$LUMESH" devices >"$tmp/out.txt" || fail "lumesh devices exited $?"
+cat "$tmp/out.txt"
+grep -q '^EGL devices: [1-9]' "$tmp/out.txt" || fail "no EGL device listed"
+grep -Eq '^  egl:[0-9]+ +software .* yes ' "$tmp/out.txt" || fail "no usable software device"
+grep -q '^USB devices: [0-9]' "$tmp/out.txt" || fail "no USB section"
+grep -Eq '^selected: egl:[0-9]+ \((gpu|software), .*OpenGL ES 3' "$tmp/out.txt" ||
+    fail "no selection line"
+
+# JSON: valid, and consistent with the text listing.
+"$LUMESH" devices --json >"$tmp/out.json" || fail "lumesh devices --json exited $?"
+python3 -m json.tool "$tmp/out.json" >/dev/null || fail "devices --json is not valid JSON"
+python3 - "$tmp/out.json" <<'PY' || fail "JSON content"
+import json, sys
+d = json.load(open(sys.argv[1]))
+egl = d["egl_devices"]
+assert egl and any(e["kind"] == "software" and e["usable"] for e in egl), egl
+kinds = [e["kind"] for e in egl]
+assert kinds == sorted(kinds, key=lambda k: k != "gpu"), kinds  # GPUs first
+assert isinstance(d["usb_devices"], list)
+sel = d["selection"]
+assert sel["spec"] == "auto" and sel["selected"].startswith("egl:"), sel
+PY
+"$LUMESH" devices --json --device host | python3 -c '
+import json, sys
+s = json.load(sys.stdin)["selection"]
+assert s["kind"] == "software", s' || fail "--device host did not select the software device"
+
+# A bad spec for `devices`: exit 1, one line on stderr, nothing on stdout.
+set +e
+"$LUMESH" devices --device nonsense >"$tmp/o" 2>"$tmp/e"; rc=$?
+set -e
+[ "$rc" = 1 ] || fail "devices --device nonsense exited $rc"
+[ "$(wc -l <"$tmp/e")" = 1 ] || fail "expected one error line, got: $(cat "$tmp/e")"
+[ ! -s "$tmp/o" ] || fail "output on stdout for a bad spec"
+
+# The worker's self-test on the software device renders and checks real pixels.
+"$LUMESH_WORKER" --self-test --device host >"$tmp/st.txt" || fail "self-test exited $?"
+cat "$tmp/st.txt"
+grep -q '^EGL device [0-9]*: .*OpenGL ES 3' "$tmp/st.txt" || fail "no device description"
+grep -q '^self-test ok' "$tmp/st.txt" || fail "no 'self-test ok'"
+"$LUMESH_WORKER" --self-test >/dev/null || fail "self-test with --device auto failed"
+
+# Bad device values: exit 1 with exactly one line on stderr.
+for spec in gpu egl:99 egl:x ''; do
+    set +e
+    "$LUMESH_WORKER" --self-test --device "$spec" >"$tmp/o" 2>"$tmp/e"; rc=$?
+    set -e
+    [ "$rc" = 1 ] || fail "--device '$spec' exited $rc"
+    [ "$(wc -l <"$tmp/e")" = 1 ] || fail "--device '$spec': expected one line, got: $(cat "$tmp/e")"
+    grep -q '^lumesh-worker: ' "$tmp/e" || fail "--device '$spec': message not prefixed"
+done
+
+# --connect is honest about not being available yet; no arguments is a usage error.
+set +e
+"$LUMESH_WORKER" --connect tcp://127.0.0.1:1 2>"$tmp/e"; rc=$?
+"$LUMESH_WORKER" 2>/dev/null; rc2=$?
+set -e
+[ "$rc" = 1 ] && grep -q 'not available in this version' "$tmp/e" || fail "--connect: rc=$rc"
+[ "$rc2" = 1 ] || fail "no arguments exited $rc2"
+"$LUMESH_WORKER" --help | grep -q -- '--self-test' || fail "--help"
+echo "devices.sh: ok"

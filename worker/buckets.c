@@ -1,0 +1,267 @@
+/* worker/buckets.c — triangle buckets of one view: per-triangle conservative screen rectangles and
+ * a uniform grid of cells listing triangle ids, with time-stamped (deduplicating) rectangle queries.
+ * A grid rather than the paper's per-row/per-column tables: one lookup per cell instead of two
+ * unions and an intersection, and the candidate set is already the rectangle test's. */
+#include "worker/buckets.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define WK_BUCKET_DEFAULT_CELL 16
+
+typedef struct wk_cell {
+    uint32_t *ids;
+    uint32_t n, cap;
+} wk_cell;
+
+struct wk_buckets {
+    int width, height, cell, gw, gh;
+    wk_cell *cells;  /* [gw * gh] */
+    size_t cap_ids;  /* size of the per-id arrays below */
+    wk_rect *rects;  /* [cap_ids] rectangle of each present triangle */
+    uint8_t *present;
+    uint32_t *stamp; /* last query that met each id */
+    uint32_t now;    /* current query stamp */
+};
+
+void wk_rect_union(wk_rect *r, const wk_rect *s)
+{
+    if (wk_rect_empty(s))
+        return;
+    if (wk_rect_empty(r)) {
+        *r = *s;
+        return;
+    }
+    r->x0 = s->x0 < r->x0 ? s->x0 : r->x0;
+    r->y0 = s->y0 < r->y0 ? s->y0 : r->y0;
+    r->x1 = s->x1 > r->x1 ? s->x1 : r->x1;
+    r->y1 = s->y1 > r->y1 ? s->y1 : r->y1;
+}
+
+static int clamp_coord(double x, int hi)
+{
+    if (x < 0)
+        return 0;
+    if (x > hi)
+        return hi;
+    return (int)x;
+}
+
+void wk_tri_screen_rect(const lm_view *v, const lm_tri_data *t, wk_rect *out)
+{
+    float lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
+    for (int k = 0; k < 3; k++) {
+        float win[2], w;
+        if (!lm_view_project(v, t->c[k].pos, win, &w) || !isfinite(win[0]) || !isfinite(win[1])) {
+            *out = (wk_rect){0, 0, v->width, v->height};
+            return;
+        }
+        for (int a = 0; a < 2; a++) {
+            lo[a] = win[a] < lo[a] ? win[a] : lo[a];
+            hi[a] = win[a] > hi[a] ? win[a] : hi[a];
+        }
+    }
+    /* pixel i is touched when its centre i + 0.5 lies in [lo, hi]; widen by one pixel for the
+     * rasteriser's own rounding of the projected positions */
+    out->x0 = clamp_coord(floor(lo[0]) - 1.0, v->width);
+    out->y0 = clamp_coord(floor(lo[1]) - 1.0, v->height);
+    out->x1 = clamp_coord(floor(hi[0]) + 2.0, v->width);
+    out->y1 = clamp_coord(floor(hi[1]) + 2.0, v->height);
+}
+
+lm_status wk_idlist_reserve(wk_idlist *l, size_t need)
+{
+    if (need <= l->cap)
+        return LM_OK;
+    size_t cap = l->cap ? l->cap : 64;
+    while (cap < need)
+        cap *= 2;
+    uint32_t *ids = realloc(l->ids, cap * sizeof *ids);
+    if (!ids)
+        return lm_fail(LM_E_NOMEM, "out of memory growing an id list to %zu", cap);
+    l->ids = ids;
+    l->cap = cap;
+    return LM_OK;
+}
+
+lm_status wk_buckets_create(int width, int height, int cell, wk_buckets **out)
+{
+    if (width < 1 || height < 1 || width > LM_MAX_VIEW_SIZE || height > LM_MAX_VIEW_SIZE)
+        return lm_fail(LM_E_RANGE, "bucket grid size %dx%d is out of range", width, height);
+    wk_buckets *b = calloc(1, sizeof *b);
+    if (!b)
+        return lm_fail(LM_E_NOMEM, "out of memory creating triangle buckets");
+    b->width = width;
+    b->height = height;
+    b->cell = cell > 0 ? cell : WK_BUCKET_DEFAULT_CELL;
+    b->gw = (width + b->cell - 1) / b->cell;
+    b->gh = (height + b->cell - 1) / b->cell;
+    b->cells = calloc((size_t)b->gw * b->gh, sizeof *b->cells);
+    if (!b->cells) {
+        free(b);
+        return lm_fail(LM_E_NOMEM, "out of memory creating triangle buckets");
+    }
+    *out = b;
+    return LM_OK;
+}
+
+void wk_buckets_destroy(wk_buckets *b)
+{
+    if (!b)
+        return;
+    for (int i = 0; i < b->gw * b->gh; i++)
+        free(b->cells[i].ids);
+    free(b->cells);
+    free(b->rects);
+    free(b->present);
+    free(b->stamp);
+    free(b);
+}
+
+void wk_buckets_clear(wk_buckets *b)
+{
+    for (int i = 0; i < b->gw * b->gh; i++)
+        b->cells[i].n = 0;
+    if (b->cap_ids)
+        memset(b->present, 0, b->cap_ids);
+}
+
+static lm_status grow_ids(wk_buckets *b, uint32_t id)
+{
+    if (id < b->cap_ids)
+        return LM_OK;
+    size_t cap = b->cap_ids ? b->cap_ids : 256;
+    while (cap <= id)
+        cap *= 2;
+    wk_rect *r = realloc(b->rects, cap * sizeof *r);
+    if (r)
+        b->rects = r;
+    uint8_t *p = realloc(b->present, cap);
+    if (p)
+        b->present = p;
+    uint32_t *s = realloc(b->stamp, cap * sizeof *s);
+    if (s)
+        b->stamp = s;
+    if (!r || !p || !s)
+        return lm_fail(LM_E_NOMEM, "out of memory growing triangle buckets to %zu ids", cap);
+    memset(b->present + b->cap_ids, 0, cap - b->cap_ids);
+    memset(b->stamp + b->cap_ids, 0, (cap - b->cap_ids) * sizeof *s);
+    b->cap_ids = cap;
+    return LM_OK;
+}
+
+static lm_status cell_push(wk_cell *c, uint32_t id)
+{
+    if (c->n == c->cap) {
+        uint32_t cap = c->cap ? c->cap * 2 : 16;
+        uint32_t *ids = realloc(c->ids, (size_t)cap * sizeof *ids);
+        if (!ids)
+            return lm_fail(LM_E_NOMEM, "out of memory growing a triangle bucket");
+        c->ids = ids;
+        c->cap = cap;
+    }
+    c->ids[c->n++] = id;
+    return LM_OK;
+}
+
+/* Cell index range [cx0, cx1] x [cy0, cy1] a non-empty rectangle covers. */
+static void cell_range(const wk_buckets *b, const wk_rect *r, int c[4])
+{
+    c[0] = r->x0 / b->cell;
+    c[1] = r->y0 / b->cell;
+    c[2] = (r->x1 - 1) / b->cell;
+    c[3] = (r->y1 - 1) / b->cell;
+}
+
+static wk_rect clip_rect(const wk_buckets *b, const wk_rect *in)
+{
+    wk_rect r = *in;
+    r.x0 = r.x0 < 0 ? 0 : r.x0;
+    r.y0 = r.y0 < 0 ? 0 : r.y0;
+    r.x1 = r.x1 > b->width ? b->width : r.x1;
+    r.y1 = r.y1 > b->height ? b->height : r.y1;
+    return r;
+}
+
+lm_status wk_buckets_insert(wk_buckets *b, uint32_t id, const wk_rect *in)
+{
+    wk_rect clipped = clip_rect(b, in), *r = &clipped;
+    lm_status st = grow_ids(b, id);
+    if (st != LM_OK)
+        return st;
+    LM_ASSERT(!b->present[id]);
+    b->present[id] = 1;
+    b->rects[id] = *r;
+    if (wk_rect_empty(r))
+        return LM_OK;
+    int c[4];
+    cell_range(b, r, c);
+    for (int y = c[1]; y <= c[3]; y++)
+        for (int x = c[0]; x <= c[2]; x++)
+            if ((st = cell_push(&b->cells[y * b->gw + x], id)) != LM_OK)
+                return st;
+    return LM_OK;
+}
+
+void wk_buckets_remove(wk_buckets *b, uint32_t id)
+{
+    LM_ASSERT(id < b->cap_ids && b->present[id]);
+    b->present[id] = 0;
+    const wk_rect *r = &b->rects[id];
+    if (wk_rect_empty(r))
+        return;
+    int c[4];
+    cell_range(b, r, c);
+    for (int y = c[1]; y <= c[3]; y++)
+        for (int x = c[0]; x <= c[2]; x++) {
+            wk_cell *cell = &b->cells[y * b->gw + x];
+            for (uint32_t i = 0; i < cell->n; i++)
+                if (cell->ids[i] == id) {
+                    cell->ids[i] = cell->ids[--cell->n];
+                    break;
+                }
+        }
+}
+
+void wk_buckets_rect(const wk_buckets *b, uint32_t id, wk_rect *out)
+{
+    if (id < b->cap_ids && b->present[id])
+        *out = b->rects[id];
+    else
+        *out = (wk_rect){0, 0, 0, 0};
+}
+
+static int overlaps(const wk_rect *a, const wk_rect *b)
+{
+    return a->x0 < b->x1 && b->x0 < a->x1 && a->y0 < b->y1 && b->y0 < a->y1;
+}
+
+lm_status wk_buckets_query(wk_buckets *b, const wk_rect *query, wk_idlist *out)
+{
+    wk_rect clipped = clip_rect(b, query), *r = &clipped;
+    if (wk_rect_empty(r))
+        return LM_OK;
+    if (++b->now == 0) { /* stamps wrapped: forget them all */
+        memset(b->stamp, 0, b->cap_ids * sizeof *b->stamp);
+        b->now = 1;
+    }
+    int c[4];
+    cell_range(b, r, c);
+    for (int y = c[1]; y <= c[3]; y++)
+        for (int x = c[0]; x <= c[2]; x++) {
+            const wk_cell *cell = &b->cells[y * b->gw + x];
+            lm_status st = wk_idlist_reserve(out, out->n + cell->n);
+            if (st != LM_OK)
+                return st;
+            for (uint32_t i = 0; i < cell->n; i++) {
+                uint32_t id = cell->ids[i];
+                if (b->stamp[id] == b->now)
+                    continue;
+                b->stamp[id] = b->now;
+                if (overlaps(&b->rects[id], r))
+                    out->ids[out->n++] = id;
+            }
+        }
+    return LM_OK;
+}

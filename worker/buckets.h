@@ -1,0 +1,58 @@
+/* worker/buckets.h — triangle buckets of one view (paper §4.3): the conservative screen rectangle
+ * of every current triangle and a uniform grid of cells listing the triangles whose rectangle
+ * touches each cell, for rectangle range queries. No GL here.
+ *
+ * Rectangles are half-open pixel ranges [x0, x1) x [y0, y1) in the view's window coordinates
+ * (x right, y up from the bottom row, as GL). Triangle ids are the mesh's stable triangle ids. */
+#ifndef LM_WORKER_BUCKETS_H
+#define LM_WORKER_BUCKETS_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "common/error.h"
+#include "common/patch.h"
+#include "common/view.h"
+
+typedef struct wk_rect {
+    int x0, y0, x1, y1;
+} wk_rect;
+
+static inline int wk_rect_empty(const wk_rect *r)
+{
+    return r->x0 >= r->x1 || r->y0 >= r->y1;
+}
+
+/* r := r ∪ s (an empty operand is ignored). */
+void wk_rect_union(wk_rect *r, const wk_rect *s);
+
+/* Conservative rectangle of the pixels triangle t may touch in view v, clamped to the view:
+ * the projected bounds widened by one pixel; the whole view if a corner is at or behind the eye
+ * or not finite; empty when it lies entirely outside the view. */
+void wk_tri_screen_rect(const lm_view *v, const lm_tri_data *t, wk_rect *out);
+
+typedef struct wk_buckets wk_buckets;
+
+/* cell: the side of a grid cell in pixels (0 = default 16). */
+lm_status wk_buckets_create(int width, int height, int cell, wk_buckets **out);
+void wk_buckets_destroy(wk_buckets *b);
+/* Forget every triangle. */
+void wk_buckets_clear(wk_buckets *b);
+/* Insert triangle `id` (not present) with its rectangle (may be empty: then it is only remembered). */
+lm_status wk_buckets_insert(wk_buckets *b, uint32_t id, const wk_rect *r);
+/* Remove triangle `id` (present). */
+void wk_buckets_remove(wk_buckets *b, uint32_t id);
+/* The stored rectangle of a present triangle (empty if absent). */
+void wk_buckets_rect(const wk_buckets *b, uint32_t id, wk_rect *out);
+/* A growable list of ids (owned by the caller; free ids with free()). */
+typedef struct wk_idlist {
+    uint32_t *ids;
+    size_t n, cap;
+} wk_idlist;
+lm_status wk_idlist_reserve(wk_idlist *l, size_t need);
+
+/* Appends to out the ids of all present triangles whose rectangle overlaps r, each once, in no
+ * particular order. */
+lm_status wk_buckets_query(wk_buckets *b, const wk_rect *r, wk_idlist *out);
+
+#endif

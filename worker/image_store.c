@@ -1,0 +1,176 @@
+/* worker/image_store.c — target and current luminance images per view, exact int64 energies,
+ * region ΔE and commit, and the oracle's box-blurred squared-difference images (integer sums). */
+#include "worker/image_store.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+struct wk_image_store {
+    uint32_t n_views;
+    int width, height;
+    size_t plane; /* width * height */
+    uint8_t *target;
+    uint8_t *current;
+    int64_t *energy; /* [n_views] */
+};
+
+void wk_luma_from_rgba(const uint8_t *rgba, size_t n_pixels, uint8_t *out)
+{
+    for (size_t i = 0; i < n_pixels; i++)
+        out[i] = wk_luma(rgba + 4 * i);
+}
+
+lm_status wk_image_store_create(uint32_t n_views, int width, int height, wk_image_store **out)
+{
+    if (n_views < 1 || n_views > 4096 || width < 1 || height < 1 || width > 16384 ||
+        height > 16384)
+        return lm_fail(LM_E_RANGE, "image store of %u views of %dx%d is out of range", n_views,
+                       width, height);
+    wk_image_store *s = calloc(1, sizeof *s);
+    if (!s)
+        return lm_fail(LM_E_NOMEM, "out of memory creating the image store");
+    s->n_views = n_views;
+    s->width = width;
+    s->height = height;
+    s->plane = (size_t)width * height;
+    s->target = calloc(n_views, s->plane);
+    s->current = calloc(n_views, s->plane);
+    s->energy = calloc(n_views, sizeof *s->energy);
+    if (!s->target || !s->current || !s->energy) {
+        wk_image_store_destroy(s);
+        return lm_fail(LM_E_NOMEM, "out of memory for %u images of %dx%d", n_views, width, height);
+    }
+    *out = s;
+    return LM_OK;
+}
+
+void wk_image_store_destroy(wk_image_store *s)
+{
+    if (!s)
+        return;
+    free(s->target);
+    free(s->current);
+    free(s->energy);
+    free(s);
+}
+
+int64_t wk_image_store_energy_recompute(const wk_image_store *s, uint32_t view)
+{
+    LM_ASSERT(view < s->n_views);
+    const uint8_t *t = s->target + view * s->plane, *y = s->current + view * s->plane;
+    int64_t e = 0;
+    for (size_t i = 0; i < s->plane; i++) {
+        int d = (int)t[i] - (int)y[i];
+        e += d * d;
+    }
+    return e;
+}
+
+void wk_image_store_set_target(wk_image_store *s, uint32_t view, const uint8_t *y)
+{
+    LM_ASSERT(view < s->n_views);
+    memcpy(s->target + view * s->plane, y, s->plane);
+    s->energy[view] = wk_image_store_energy_recompute(s, view);
+}
+
+void wk_image_store_set_current(wk_image_store *s, uint32_t view, const uint8_t *y)
+{
+    LM_ASSERT(view < s->n_views);
+    memcpy(s->current + view * s->plane, y, s->plane);
+    s->energy[view] = wk_image_store_energy_recompute(s, view);
+}
+
+const uint8_t *wk_image_store_target(const wk_image_store *s, uint32_t view)
+{
+    LM_ASSERT(view < s->n_views);
+    return s->target + view * s->plane;
+}
+
+const uint8_t *wk_image_store_current(const wk_image_store *s, uint32_t view)
+{
+    LM_ASSERT(view < s->n_views);
+    return s->current + view * s->plane;
+}
+
+static void check_region(const wk_image_store *s, uint32_t view, const wk_rect *r)
+{
+    LM_ASSERT(view < s->n_views);
+    LM_ASSERT(r->x0 >= 0 && r->y0 >= 0 && r->x1 <= s->width && r->y1 <= s->height);
+}
+
+int64_t wk_image_store_region_delta(const wk_image_store *s, uint32_t view, const wk_rect *r,
+                                    const uint8_t *region)
+{
+    check_region(s, view, r);
+    if (wk_rect_empty(r))
+        return 0;
+    int rw = r->x1 - r->x0;
+    int64_t delta = 0;
+    for (int y = r->y0; y < r->y1; y++) {
+        size_t row = view * s->plane + (size_t)y * s->width + r->x0;
+        const uint8_t *t = s->target + row, *cur = s->current + row;
+        const uint8_t *nw = region + (size_t)(y - r->y0) * rw;
+        int32_t acc = 0; /* |row| <= 4096 pixels * 65025 fits in 32 bits */
+        for (int x = 0; x < rw; x++) {
+            int a = (int)t[x] - (int)nw[x], b = (int)t[x] - (int)cur[x];
+            acc += a * a - b * b;
+        }
+        delta += acc;
+    }
+    return delta;
+}
+
+void wk_image_store_commit_region(wk_image_store *s, uint32_t view, const wk_rect *r,
+                                  const uint8_t *region)
+{
+    if (wk_rect_empty(r))
+        return;
+    s->energy[view] += wk_image_store_region_delta(s, view, r, region);
+    int rw = r->x1 - r->x0;
+    for (int y = r->y0; y < r->y1; y++)
+        memcpy(s->current + view * s->plane + (size_t)y * s->width + r->x0,
+               region + (size_t)(y - r->y0) * rw, (size_t)rw);
+}
+
+int64_t wk_image_store_energy(const wk_image_store *s, uint32_t view)
+{
+    LM_ASSERT(view < s->n_views);
+    return s->energy[view];
+}
+
+/* One direction of a separable box sum: out[i] = Σ_{|k| <= r} in[i + k*step], clipped to n. */
+static void box_line(const uint32_t *in, uint32_t *out, int n, size_t step, int r)
+{
+    uint32_t acc = 0;
+    for (int i = 0; i < r && i < n; i++)
+        acc += in[(size_t)i * step];
+    for (int i = 0; i < n; i++) {
+        if (i + r < n)
+            acc += in[(size_t)(i + r) * step];
+        if (i - r - 1 >= 0)
+            acc -= in[(size_t)(i - r - 1) * step];
+        out[(size_t)i * step] = acc;
+    }
+}
+
+lm_status wk_image_store_blurred_diff(const wk_image_store *s, uint32_t view, int radius,
+                                      uint32_t *out)
+{
+    LM_ASSERT(view < s->n_views);
+    if (radius < 0 || radius > 64)
+        return lm_fail(LM_E_RANGE, "blur radius %d is outside 0..64", radius);
+    uint32_t *tmp = malloc(s->plane * sizeof *tmp);
+    if (!tmp)
+        return lm_fail(LM_E_NOMEM, "out of memory blurring a %dx%d image", s->width, s->height);
+    const uint8_t *t = s->target + view * s->plane, *y = s->current + view * s->plane;
+    for (size_t i = 0; i < s->plane; i++) {
+        int d = (int)t[i] - (int)y[i];
+        out[i] = (uint32_t)(d * d);
+    }
+    for (int row = 0; row < s->height; row++)
+        box_line(out + (size_t)row * s->width, tmp + (size_t)row * s->width, s->width, 1, radius);
+    for (int col = 0; col < s->width; col++)
+        box_line(tmp + col, out + col, s->height, (size_t)s->width, radius);
+    free(tmp);
+    return LM_OK;
+}

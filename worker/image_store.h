@@ -1,0 +1,52 @@
+/* worker/image_store.h — the per-view luminance images of a view set: target Ŷ (the original's)
+ * and current Y (the mesh's), 8-bit integer luminance per pixel, and the exact int64 energy sums
+ * E_h = Σ (Ŷ - Y)² kept current as regions are committed. Also ΔE over a region and the oracle's
+ * blurred difference images. Plain memory, no GL: testable on its own.
+ *
+ * Images are stored row by row from the BOTTOM row up (GL window order), so pixel (x, y) of view h
+ * is at [h][y * width + x] with y counted from the bottom; a region is a wk_rect in those
+ * coordinates, its pixels packed row by row (bottom first) with stride = its width. */
+#ifndef LM_WORKER_IMAGE_STORE_H
+#define LM_WORKER_IMAGE_STORE_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "common/error.h"
+#include "worker/buckets.h"
+
+/* Luminance from RGBA8 with fixed integer NTSC weights: Y = (77 R + 150 G + 29 B + 128) >> 8. */
+static inline uint8_t wk_luma(const uint8_t *rgba)
+{
+    return (uint8_t)((77u * rgba[0] + 150u * rgba[1] + 29u * rgba[2] + 128u) >> 8);
+}
+void wk_luma_from_rgba(const uint8_t *rgba, size_t n_pixels, uint8_t *out);
+
+typedef struct wk_image_store wk_image_store;
+
+lm_status wk_image_store_create(uint32_t n_views, int width, int height, wk_image_store **out);
+void wk_image_store_destroy(wk_image_store *s);
+
+/* Whole images (width*height bytes, bottom row first). Setting either recomputes E_h. */
+void wk_image_store_set_target(wk_image_store *s, uint32_t view, const uint8_t *y);
+void wk_image_store_set_current(wk_image_store *s, uint32_t view, const uint8_t *y);
+const uint8_t *wk_image_store_target(const wk_image_store *s, uint32_t view);
+const uint8_t *wk_image_store_current(const wk_image_store *s, uint32_t view);
+
+/* Σ over region r of (Ŷ - Y')² - (Ŷ - Y)², where Y' = `region` (packed pixels of r). */
+int64_t wk_image_store_region_delta(const wk_image_store *s, uint32_t view, const wk_rect *r,
+                                    const uint8_t *region);
+/* Copy `region` into the current image over r and update E_h by the region's delta. */
+void wk_image_store_commit_region(wk_image_store *s, uint32_t view, const wk_rect *r,
+                                  const uint8_t *region);
+
+/* E_h as kept, and recomputed from scratch (for checks). */
+int64_t wk_image_store_energy(const wk_image_store *s, uint32_t view);
+int64_t wk_image_store_energy_recompute(const wk_image_store *s, uint32_t view);
+
+/* The oracle's image: out[y*width+x] = Σ over the (2 radius + 1)² window around (x, y), clipped to
+ * the image, of (Ŷ - Y)². radius in 0..64; out has width*height entries. */
+lm_status wk_image_store_blurred_diff(const wk_image_store *s, uint32_t view, int radius,
+                                      uint32_t *out);
+
+#endif

@@ -1,0 +1,66 @@
+/* worker/render.h — the OpenGL ES 3 renderer of a view set (paper §4.1): one light at the viewer,
+ * Gouraud shading of per-corner normals (not normalised: the optimizer may scale them, two-sided:
+ * |n·l|), colour = texture(uv) × vertex colour × material diffuse × (0.15 + 0.85 |n·l|), clamped,
+ * on a 50% grey background (128/255), depth-tested.
+ *
+ * All views of a set live in one atlas framebuffer (RGBA8 + depth 24), each view in its own fixed
+ * tile; a view is ALWAYS drawn into its own tile with the same viewport, so drawing a region of it
+ * does exactly the arithmetic of a full render there. Several atlases of identical layout may
+ * exist (scratch space for several patches in one batch). Triangles come as a non-indexed stream
+ * uploaded once per batch; a draw paints a range of it (ascending triangle ids, consecutive
+ * triangles of one material forming one draw call) into a rectangle of one view's tile, after
+ * that rectangle was cleared.
+ *
+ * The GL context must be current on the calling thread for every call. */
+#ifndef LM_WORKER_RENDER_H
+#define LM_WORKER_RENDER_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "common/error.h"
+#include "common/mesh.h"
+#include "common/patch.h"
+#include "common/view.h"
+#include "worker/buckets.h"
+
+#define WK_RENDER_TABLES 2  /* material tables: 0 = target (original), 1 = current model */
+#define WK_RENDER_MAX_ATLASES 16
+#define WK_BACKGROUND 128   /* background grey, in 8-bit units */
+
+typedef struct wk_renderer wk_renderer;
+
+lm_status wk_renderer_create(const lm_view_set *views, wk_renderer **out);
+void wk_renderer_destroy(wk_renderer *r);
+
+/* Material table `table`: copies the diffuse colours and uploads the textures (RGBA8, mipmapped,
+ * repeating; uv (0,0) is the bottom-left of the image). Materials without texture sample white. */
+lm_status wk_renderer_set_materials(wk_renderer *r, int table, const lm_material *mats,
+                                    uint32_t n);
+uint32_t wk_renderer_material_count(const wk_renderer *r, int table);
+
+/* Replace the stream with the corners of n triangles (3 per triangle). */
+lm_status wk_renderer_upload(wk_renderer *r, const lm_corner *corners, size_t n_tris);
+
+/* Paint rect of a view background grey at the far plane (depth 1). Atlases (< WK_RENDER_MAX_ATLASES)
+ * are created on first use. Clears and draws switch GL state: issue a batch's clears first. */
+lm_status wk_renderer_clear(wk_renderer *r, uint32_t atlas, uint32_t view, const wk_rect *rect);
+
+typedef struct wk_draw {
+    uint32_t atlas, view;
+    wk_rect rect;        /* pixels of the view to paint (the scissor) */
+    size_t first, count; /* stream triangles, in ascending id order */
+} wk_draw;
+
+/* materials[i] is the material (in `table`) of stream triangle i. */
+lm_status wk_renderer_draw(wk_renderer *r, int table, const wk_draw *d, const uint32_t *materials);
+
+/* Read the RGBA8 pixels of rect of a view (rows bottom first, 4 * width bytes each). The first read
+ * after draws waits for them: read after drawing everything of a batch. */
+lm_status wk_renderer_read(wk_renderer *r, uint32_t atlas, uint32_t view, const wk_rect *rect,
+                           uint8_t *rgba);
+
+/* GL errors since the last check, as an lm_status naming `what`. */
+lm_status wk_renderer_check(wk_renderer *r, const char *what);
+
+#endif

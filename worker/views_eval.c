@@ -1,0 +1,387 @@
+/* worker/views_eval.c — incremental ΔE (paper §4.2–4.3) for the in-process views: for each patch
+ * and view, the region R_h around the removed and added triangles, the bucket query for every
+ * triangle touching it, a scissored clear and redraw of (T_R \ T) ∪ T' in ascending id order into
+ * a scratch atlas, and after all draws of a batch one readback sync and the exact int64 sums.
+ * Commit reuses the pixels of an evaluated patch (or renders them) and updates images, replica
+ * and buckets. */
+#include <stdlib.h>
+#include <string.h>
+
+#include "worker/views_local_internal.h"
+
+/* ---- patch checks and the per-patch id marks ---------------------------------------------- */
+
+static lm_status mark_reserve(wk_views_local *v, size_t need)
+{
+    if (need <= v->cap_mark)
+        return LM_OK;
+    size_t cap = v->cap_mark ? v->cap_mark : 1024;
+    while (cap < need)
+        cap *= 2;
+    uint32_t *m = realloc(v->mark, cap * sizeof *m);
+    if (!m)
+        return lm_fail(LM_E_NOMEM, "out of memory for %zu triangle marks", cap);
+    memset(m + v->cap_mark, 0, (cap - v->cap_mark) * sizeof *m);
+    v->mark = m;
+    v->cap_mark = cap;
+    return LM_OK;
+}
+
+static uint32_t next_stamp(wk_views_local *v)
+{
+    if (++v->mark_now == 0) {
+        memset(v->mark, 0, v->cap_mark * sizeof *v->mark);
+        v->mark_now = 1;
+    }
+    return v->mark_now;
+}
+
+static void sort_added(lm_tri_data *a, size_t n)
+{
+    for (size_t i = 1; i < n; i++) {
+        lm_tri_data x = a[i];
+        size_t j = i;
+        while (j > 0 && a[j - 1].id > x.id) {
+            a[j] = a[j - 1];
+            j--;
+        }
+        a[j] = x;
+    }
+}
+
+/* Validates p against the replica, marks its removed ids with a fresh stamp and leaves its added
+ * records sorted by id in v->sorted_added. */
+static lm_status prepare_patch(wk_views_local *v, const lm_patch *p, uint32_t *stamp)
+{
+    uint32_t n_mat = wk_renderer_material_count(v->r, v->table);
+    size_t need = v->rep.cap;
+    for (uint32_t i = 0; i < p->n_added; i++) {
+        if (p->added[i].id >= LM_MESH_MAX_TRIS)
+            return lm_fail(LM_E_RANGE, "patch adds triangle id %u beyond the limit", p->added[i].id);
+        if (p->added[i].material >= n_mat)
+            return lm_fail(LM_E_RANGE, "patch triangle %u uses material %u of %u",
+                           p->added[i].id, p->added[i].material, n_mat);
+        need = p->added[i].id + 1u > need ? p->added[i].id + 1u : need;
+    }
+    lm_status st = mark_reserve(v, need);
+    if (st != LM_OK)
+        return st;
+    *stamp = next_stamp(v);
+    for (uint32_t i = 0; i < p->n_removed; i++) {
+        uint32_t id = p->removed[i];
+        if (!wk_replica_alive(&v->rep, id) || v->mark[id] == *stamp)
+            return lm_fail(LM_E_INVALID, "patch removes triangle %u which is %s", id,
+                           wk_replica_alive(&v->rep, id) ? "listed twice" : "not in the mesh");
+        v->mark[id] = *stamp;
+    }
+    if (p->n_added > v->cap_sorted) {
+        lm_tri_data *s = realloc(v->sorted_added, p->n_added * sizeof *s);
+        if (!s)
+            return lm_fail(LM_E_NOMEM, "out of memory for a patch of %u triangles", p->n_added);
+        v->sorted_added = s;
+        v->cap_sorted = p->n_added;
+    }
+    memcpy(v->sorted_added, p->added, p->n_added * sizeof *p->added);
+    sort_added(v->sorted_added, p->n_added);
+    for (uint32_t i = 0; i < p->n_added; i++) {
+        uint32_t id = v->sorted_added[i].id;
+        if ((i > 0 && v->sorted_added[i - 1].id == id) ||
+            (wk_replica_alive(&v->rep, id) && v->mark[id] != *stamp))
+            return lm_fail(LM_E_INVALID, "patch adds triangle %u which is %s", id,
+                           i > 0 && v->sorted_added[i - 1].id == id ? "listed twice"
+                                                                    : "alive and not removed");
+    }
+    return LM_OK;
+}
+
+/* ---- jobs ------------------------------------------------------------------------------- */
+
+static lm_status push_job(wk_views_local *v, const wk_job *j)
+{
+    if (v->n_jobs == v->cap_jobs) {
+        size_t cap = v->cap_jobs ? v->cap_jobs * 2 : 64;
+        wk_job *a = realloc(v->jobs, cap * sizeof *a);
+        if (!a)
+            return lm_fail(LM_E_NOMEM, "out of memory for %zu render jobs", cap);
+        v->jobs = a;
+        v->cap_jobs = cap;
+    }
+    v->jobs[v->n_jobs++] = *j;
+    return LM_OK;
+}
+
+static void sort_ids(uint32_t *a, size_t n)
+{
+    for (size_t i = 1; i < n; i++) {
+        uint32_t x = a[i];
+        size_t j = i;
+        while (j > 0 && a[j - 1] > x) {
+            a[j] = a[j - 1];
+            j--;
+        }
+        a[j] = x;
+    }
+}
+
+static int cmp_u32(const void *a, const void *b)
+{
+    uint32_t x = *(const uint32_t *)a, y = *(const uint32_t *)b;
+    return (x > y) - (x < y);
+}
+
+/* The region of patch p in view h: stored rectangles of removed triangles ∪ rectangles of added. */
+static void patch_region(wk_views_local *v, const lm_patch *p, uint32_t h, wk_rect *r)
+{
+    *r = (wk_rect){0, 0, 0, 0};
+    for (uint32_t i = 0; i < p->n_removed; i++) {
+        wk_rect s;
+        wk_buckets_rect(v->buckets[h], p->removed[i], &s);
+        wk_rect_union(r, &s);
+    }
+    for (uint32_t i = 0; i < p->n_added; i++) {
+        wk_rect s;
+        wk_tri_screen_rect(&v->views.views[h], &p->added[i], &s);
+        wk_rect_union(r, &s);
+    }
+}
+
+/* Stream (T_R \ T) ∪ T' for view h in ascending id order; T' = v->sorted_added (n_added). */
+static lm_status stream_region(wk_views_local *v, uint32_t h, const wk_rect *r, uint32_t stamp,
+                               uint32_t n_added, size_t *count)
+{
+    v->cand.n = 0;
+    lm_status st = wk_buckets_query(v->buckets[h], r, &v->cand);
+    if (st != LM_OK)
+        return st;
+    size_t k = 0;
+    for (size_t i = 0; i < v->cand.n; i++)
+        if (v->mark[v->cand.ids[i]] != stamp)
+            v->cand.ids[k++] = v->cand.ids[i];
+    if (k <= 64)
+        sort_ids(v->cand.ids, k);
+    else
+        qsort(v->cand.ids, k, sizeof *v->cand.ids, cmp_u32);
+    if ((st = wk_vl_stream_reserve(v, v->stream_n + k + n_added)) != LM_OK)
+        return st;
+    size_t a = 0, b = 0;
+    while (a < k || b < n_added) {
+        if (b >= n_added || (a < k && v->cand.ids[a] < v->sorted_added[b].id))
+            wk_vl_stream_push(v, &v->rep.tris[v->cand.ids[a++]]);
+        else
+            wk_vl_stream_push(v, &v->sorted_added[b++]);
+    }
+    *count = k + n_added;
+    return LM_OK;
+}
+
+/* Jobs of one patch (index pi of the batch) for every view its region touches. */
+static lm_status plan_patch(wk_views_local *v, const lm_patch *p, uint32_t pi)
+{
+    uint32_t stamp = 0;
+    lm_status st = prepare_patch(v, p, &stamp);
+    for (uint32_t h = 0; st == LM_OK && h < v->views.count; h++) {
+        wk_job j = {.patch = pi, .view = h, .first = v->stream_n, .luma = v->n_luma};
+        patch_region(v, p, h, &j.rect);
+        if (wk_rect_empty(&j.rect))
+            continue;
+        st = stream_region(v, h, &j.rect, stamp, p->n_added, &j.count);
+        if (st == LM_OK)
+            st = push_job(v, &j);
+        v->n_luma += (size_t)(j.rect.x1 - j.rect.x0) * (j.rect.y1 - j.rect.y0);
+    }
+    return st;
+}
+
+static lm_status reserve_bytes(uint8_t **buf, size_t *cap, size_t need)
+{
+    if (need <= *cap)
+        return LM_OK;
+    size_t c = *cap ? *cap : 65536;
+    while (c < need)
+        c *= 2;
+    uint8_t *b = realloc(*buf, c);
+    if (!b)
+        return lm_fail(LM_E_NOMEM, "out of memory for %zu bytes of pixels", c);
+    *buf = b;
+    *cap = c;
+    return LM_OK;
+}
+
+/* Draw jobs [j0, j1) (patch i into scratch atlas 1 + i - p0): all clears, then all draws (two GL
+ * state switches), then read them all back (one synchronisation). */
+static lm_status run_jobs(wk_views_local *v, size_t j0, size_t j1, uint32_t p0)
+{
+    lm_status st = wk_renderer_upload(v->r, v->stream, v->stream_n);
+    for (size_t j = j0; st == LM_OK && j < j1; j++)
+        st = wk_renderer_clear(v->r, 1 + v->jobs[j].patch - p0, v->jobs[j].view, &v->jobs[j].rect);
+    for (size_t j = j0; st == LM_OK && j < j1; j++) {
+        const wk_job *job = &v->jobs[j];
+        wk_draw d = {1 + job->patch - p0, job->view, job->rect, job->first, job->count};
+        st = wk_renderer_draw(v->r, v->table, &d, v->stream_mat);
+    }
+    if (st == LM_OK)
+        st = reserve_bytes(&v->luma, &v->cap_luma, v->n_luma);
+    for (size_t j = j0; st == LM_OK && j < j1; j++) {
+        const wk_job *job = &v->jobs[j];
+        size_t area = (size_t)(job->rect.x1 - job->rect.x0) * (job->rect.y1 - job->rect.y0);
+        st = reserve_bytes(&v->rgba, &v->cap_rgba, area * 4);
+        if (st == LM_OK)
+            st = wk_renderer_read(v->r, 1 + job->patch - p0, job->view, &job->rect, v->rgba);
+        if (st == LM_OK)
+            wk_luma_from_rgba(v->rgba, area, v->luma + job->luma);
+    }
+    v->stats.batches++;
+    v->stats.tris_drawn += v->stream_n;
+    v->stats.regions += j1 - j0;
+    v->stats.region_pixels += v->n_luma - v->jobs[j0].luma;
+    return st == LM_OK ? wk_renderer_check(v->r, "rendering patch regions") : st;
+}
+
+/* ---- the patch cache -------------------------------------------------------------------- */
+
+void wk_vl_forget_cache(wk_views_local *v)
+{
+    v->n_cached = 0;
+    v->n_jobs = 0;
+    v->n_luma = 0;
+}
+
+void wk_vl_free_eval(wk_views_local *v)
+{
+    for (uint32_t i = 0; i < v->cap_cached; i++)
+        lm_patch_free(&v->cached[i]);
+    free(v->cached);
+    free(v->jobs);
+    free(v->luma);
+    free(v->rgba);
+    free(v->cand.ids);
+    free(v->mark);
+    free(v->sorted_added);
+}
+
+static lm_status cache_patch(wk_views_local *v, const lm_patch *p)
+{
+    if (v->n_cached == v->cap_cached) {
+        uint32_t cap = v->cap_cached ? v->cap_cached * 2 : 8;
+        lm_patch *c = realloc(v->cached, cap * sizeof *c);
+        if (!c)
+            return lm_fail(LM_E_NOMEM, "out of memory caching patches");
+        for (uint32_t i = v->cap_cached; i < cap; i++)
+            lm_patch_init(&c[i]);
+        v->cached = c;
+        v->cap_cached = cap;
+    }
+    lm_patch *c = &v->cached[v->n_cached];
+    lm_patch_reset(c);
+    lm_status st = LM_OK;
+    for (uint32_t i = 0; st == LM_OK && i < p->n_removed; i++)
+        st = lm_patch_remove(c, p->removed[i]);
+    for (uint32_t i = 0; st == LM_OK && i < p->n_added; i++)
+        st = lm_patch_add(c, &p->added[i]);
+    if (st == LM_OK)
+        v->n_cached++;
+    return st;
+}
+
+static int patch_equal(const lm_patch *a, const lm_patch *b)
+{
+    return a->n_removed == b->n_removed && a->n_added == b->n_added &&
+           (a->n_removed == 0 || !memcmp(a->removed, b->removed, a->n_removed * sizeof(uint32_t))) &&
+           (a->n_added == 0 || !memcmp(a->added, b->added, a->n_added * sizeof(lm_tri_data)));
+}
+
+/* ---- evaluate and commit ---------------------------------------------------------------- */
+
+static lm_status evaluate_batch(wk_views_local *v, const lm_patch *patches, uint32_t n,
+                                int64_t *delta)
+{
+    wk_vl_forget_cache(v);
+    lm_status st = LM_OK;
+    for (uint32_t p0 = 0; st == LM_OK && p0 < n; p0 += WK_SCRATCH_ATLASES) {
+        uint32_t p1 = p0 + WK_SCRATCH_ATLASES < n ? p0 + WK_SCRATCH_ATLASES : n;
+        size_t j0 = v->n_jobs;
+        v->stream_n = 0;
+        for (uint32_t i = p0; st == LM_OK && i < p1; i++)
+            st = plan_patch(v, &patches[i], i);
+        if (st == LM_OK)
+            st = run_jobs(v, j0, v->n_jobs, p0);
+        for (size_t j = j0; st == LM_OK && j < v->n_jobs; j++) {
+            const wk_job *job = &v->jobs[j];
+            delta[job->patch] += wk_image_store_region_delta(v->img, job->view, &job->rect,
+                                                             v->luma + job->luma);
+        }
+    }
+    for (uint32_t i = 0; st == LM_OK && i < n; i++)
+        st = cache_patch(v, &patches[i]);
+    if (st != LM_OK)
+        wk_vl_forget_cache(v);
+    v->stats.evaluations += n;
+    return st;
+}
+
+static lm_status ready(wk_views_local *v)
+{
+    if (!v->mesh_set)
+        return lm_fail(LM_E_INVALID, "no mesh set: call set_mesh before evaluate/commit");
+    return wk_vl_make_current(v);
+}
+
+lm_status wk_vl_evaluate(lm_views *base, const lm_patch *patches, uint32_t n, int64_t *delta)
+{
+    wk_views_local *v = (wk_views_local *)base;
+    lm_status st = ready(v);
+    if (st != LM_OK)
+        return st;
+    memset(delta, 0, n * sizeof *delta);
+    return evaluate_batch(v, patches, n, delta);
+}
+
+/* Replica and buckets follow the committed patch. */
+static lm_status apply_patch(wk_views_local *v, const lm_patch *p)
+{
+    for (uint32_t i = 0; i < p->n_removed; i++) {
+        for (uint32_t h = 0; h < v->views.count; h++)
+            wk_buckets_remove(v->buckets[h], p->removed[i]);
+        wk_replica_kill(&v->rep, p->removed[i]);
+    }
+    for (uint32_t i = 0; i < p->n_added; i++) {
+        lm_status st = wk_replica_put(&v->rep, &p->added[i]);
+        for (uint32_t h = 0; st == LM_OK && h < v->views.count; h++) {
+            wk_rect r;
+            wk_tri_screen_rect(&v->views.views[h], &p->added[i], &r);
+            st = wk_buckets_insert(v->buckets[h], p->added[i].id, &r);
+        }
+        if (st != LM_OK)
+            return st;
+    }
+    return LM_OK;
+}
+
+lm_status wk_vl_commit(lm_views *base, const lm_patch *patch)
+{
+    wk_views_local *v = (wk_views_local *)base;
+    lm_status st = ready(v);
+    if (st != LM_OK)
+        return st;
+    uint32_t k = 0;
+    while (k < v->n_cached && !patch_equal(&v->cached[k], patch))
+        k++;
+    if (k < v->n_cached) {
+        v->stats.commits_cached++;
+    } else {
+        int64_t unused = 0;
+        if ((st = evaluate_batch(v, patch, 1, &unused)) != LM_OK)
+            return st;
+        v->stats.evaluations--; /* a commit's render is not an evaluation */
+        k = 0;
+    }
+    for (size_t j = 0; j < v->n_jobs; j++)
+        if (v->jobs[j].patch == k)
+            wk_image_store_commit_region(v->img, v->jobs[j].view, &v->jobs[j].rect,
+                                         v->luma + v->jobs[j].luma);
+    wk_vl_forget_cache(v);
+    st = apply_patch(v, patch);
+    if (st != LM_OK)
+        v->mesh_set = 0; /* half-applied: refuse further work until set_mesh */
+    return st;
+}
