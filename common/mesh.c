@@ -305,7 +305,7 @@ static void *dup_array(const void *src, size_t bytes, lm_status *s)
 
 lm_status lm_mesh_clone(const lm_mesh *src, lm_mesh **out)
 {
-    lm_mesh *m;
+    lm_mesh *m = NULL;
     lm_status s = lm_mesh_create(&m);
     if (s)
         return s;
@@ -576,6 +576,8 @@ uint64_t lm_mesh_hash(const lm_mesh *m)
     h = fnv(h, &m->n_verts, sizeof m->n_verts);
     h = fnv(h, &m->n_wedges, sizeof m->n_wedges);
     h = fnv(h, &m->n_tris, sizeof m->n_tris);
+    h = fnv(h, &m->live_verts, sizeof m->live_verts);
+    h = fnv(h, &m->live_tris, sizeof m->live_tris);
     for (uint32_t v = 0; v < m->n_verts; v++) {
         h = fnv(h, &m->vert_alive[v], 1);
         if (m->vert_alive[v])
