@@ -41,9 +41,15 @@ lm_status lm_fail(lm_status s, const char *fmt, ...)
     return s;
 }
 
-const char *lm_last_error(void) { return last_message; }
+const char *lm_last_error(void)
+{
+    return last_message;
+}
 
-void lm_clear_error(void) { last_message[0] = '\0'; }
+void lm_clear_error(void)
+{
+    last_message[0] = '\0';
+}
 
 int lm_exit_code(lm_status s)
 {

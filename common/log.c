@@ -6,9 +6,15 @@
 
 static lm_log_level current_level = LM_LOG_WARN;
 
-void lm_log_set_level(lm_log_level level) { current_level = level; }
+void lm_log_set_level(lm_log_level level)
+{
+    current_level = level;
+}
 
-lm_log_level lm_log_get_level(void) { return current_level; }
+lm_log_level lm_log_get_level(void)
+{
+    return current_level;
+}
 
 void lm_log(lm_log_level level, const char *fmt, ...)
 {

@@ -282,7 +282,8 @@ static lm_status clone_materials(const lm_mesh *src, lm_mesh *dst)
             if (s)
                 return s;
         }
-        lm_status s = lm_mesh_add_material(dst, mat->name, mat->diffuse, mat->texture_path, tex, NULL);
+        lm_status s =
+            lm_mesh_add_material(dst, mat->name, mat->diffuse, mat->texture_path, tex, NULL);
         if (s) {
             lm_image_destroy(tex);
             return s;
@@ -433,7 +434,8 @@ lm_status lm_mesh_compact(lm_mesh *m)
     return had_adjacency ? lm_mesh_build_adjacency(m) : LM_OK;
 }
 
-/* ---- geometry ---------------------------------------------------------------------------------- */
+/* ---- geometry ----------------------------------------------------------------------------------
+ */
 
 void lm_mesh_bounds(const lm_mesh *m, float lo[3], float hi[3])
 {
@@ -516,7 +518,8 @@ void lm_mesh_compute_normals(lm_mesh *m)
     free(acc);
 }
 
-/* ---- components and hash ----------------------------------------------------------------------- */
+/* ---- components and hash -----------------------------------------------------------------------
+ */
 
 static uint32_t uf_find(uint32_t *parent, uint32_t x)
 {

@@ -2,13 +2,13 @@
  *
  * Layout (public, like meshoptimizer's: plain arrays callers may read):
  *   vertices  — positions; a vertex is the topological entity (v in the paper).
- *   wedges    — attribute sets (normal, uv, colour) bound to a vertex; corners of triangles around a
- *               vertex that share attributes share a wedge; a vertex with >1 wedge lies on an
- *               attribute seam (Hoppe's wedges). Per-corner attributes = tri.w[k] -> wedge.
- *   triangles — three wedge ids (counter-clockwise), a material id.
- * Ids are stable while the element is alive: deleting marks it dead (alive = 0) and never moves
- * other elements, so the renderer's buckets can index triangles by id. Dead slots may be reused by
- * later insertions (deterministically, LIFO free list). lm_mesh_compact() renumbers for output.
+ *   wedges    — attribute sets (normal, uv, colour) bound to a vertex; corners of triangles around
+ * a vertex that share attributes share a wedge; a vertex with >1 wedge lies on an attribute seam
+ * (Hoppe's wedges). Per-corner attributes = tri.w[k] -> wedge. triangles — three wedge ids
+ * (counter-clockwise), a material id. Ids are stable while the element is alive: deleting marks it
+ * dead (alive = 0) and never moves other elements, so the renderer's buckets can index triangles by
+ * id. Dead slots may be reused by later insertions (deterministically, LIFO free list).
+ * lm_mesh_compact() renumbers for output.
  *
  * Topology (adjacency, legal edge operations with undo) is in common/mesh_topology.h.
  * Ownership: lm_mesh_create/destroy; the mesh owns all arrays and materials' textures. */
@@ -46,26 +46,26 @@ typedef struct lm_tri {
 
 typedef struct lm_material {
     char name[64];
-    float diffuse[4];     /* multiplies texture and vertex colour */
-    char *texture_path;   /* as referenced by the model (may be NULL); owned */
-    lm_image *texture;    /* decoded diffuse texture or NULL; owned */
+    float diffuse[4];   /* multiplies texture and vertex colour */
+    char *texture_path; /* as referenced by the model (may be NULL); owned */
+    lm_image *texture;  /* decoded diffuse texture or NULL; owned */
 } lm_material;
 
 typedef struct lm_mesh {
-    uint32_t n_verts;  /* slots in use (alive or dead) */
+    uint32_t n_verts; /* slots in use (alive or dead) */
     uint32_t n_wedges;
     uint32_t n_tris;
     uint32_t cap_verts, cap_wedges, cap_tris;
-    float (*pos)[3];       /* [n_verts] */
-    uint8_t *vert_alive;   /* [n_verts] */
-    lm_wedge *wedges;      /* [n_wedges] */
-    uint8_t *wedge_alive;  /* [n_wedges] */
-    lm_tri *tris;          /* [n_tris] */
-    uint8_t *tri_alive;    /* [n_tris] */
+    float (*pos)[3];                /* [n_verts] */
+    uint8_t *vert_alive;            /* [n_verts] */
+    lm_wedge *wedges;               /* [n_wedges] */
+    uint8_t *wedge_alive;           /* [n_wedges] */
+    lm_tri *tris;                   /* [n_tris] */
+    uint8_t *tri_alive;             /* [n_tris] */
     uint32_t live_verts, live_tris; /* counts of alive elements */
     uint32_t n_materials;
-    lm_material *materials; /* [n_materials]; at least one after loading */
-    uint32_t attrs;         /* LM_ATTR_* the model really has (others hold defaults) */
+    lm_material *materials;            /* [n_materials]; at least one after loading */
+    uint32_t attrs;                    /* LM_ATTR_* the model really has (others hold defaults) */
     struct lm_mesh_internal *internal; /* adjacency and free lists; owned, may be NULL */
 } lm_mesh;
 

@@ -36,9 +36,9 @@ uint32_t lm_mesh_edge_tris(const lm_mesh *m, uint32_t a, uint32_t b, uint32_t *o
 
 /* Edge classification. */
 int lm_mesh_edge_exists(const lm_mesh *m, uint32_t a, uint32_t b);
-int lm_mesh_edge_is_boundary(const lm_mesh *m, uint32_t a, uint32_t b);    /* exactly 1 tri */
-int lm_mesh_edge_is_manifold(const lm_mesh *m, uint32_t a, uint32_t b);    /* 1 or 2 tris */
-int lm_mesh_edge_is_attr_seam(const lm_mesh *m, uint32_t a, uint32_t b);   /* wedges differ across */
+int lm_mesh_edge_is_boundary(const lm_mesh *m, uint32_t a, uint32_t b);  /* exactly 1 tri */
+int lm_mesh_edge_is_manifold(const lm_mesh *m, uint32_t a, uint32_t b);  /* 1 or 2 tris */
+int lm_mesh_edge_is_attr_seam(const lm_mesh *m, uint32_t a, uint32_t b); /* wedges differ across */
 int lm_mesh_vertex_is_boundary(const lm_mesh *m, uint32_t v);
 
 /* Undirected edges (a < b) of alive triangles, sorted by (a, b). Caller frees *out with free(). */
@@ -54,7 +54,8 @@ void lm_mesh_set_wedge(lm_mesh *m, uint32_t w, const lm_wedge *value, lm_journal
  * boundary but ab is not a boundary edge; the collapse would leave a tetrahedron-like degenerate
  * (fewer than 4 vertices in the component) or a duplicate triangle. Merged wedges across the
  * collapsed edge take the mean of the two attribute sets. */
-lm_status lm_mesh_collapse_edge(lm_mesh *m, uint32_t a, uint32_t b, const float p[3], lm_journal *j);
+lm_status lm_mesh_collapse_edge(lm_mesh *m, uint32_t a, uint32_t b, const float p[3],
+                                lm_journal *j);
 
 /* Edge split at the midpoint: new vertex (attributes interpolated per side), each incident triangle
  * split in two. Refused on non-manifold edges. New vertex id through out_v (may be NULL). */

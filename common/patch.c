@@ -68,7 +68,8 @@ static lm_status reserve(void **arr, uint32_t *cap, uint32_t need, size_t elem)
 
 lm_status lm_patch_remove(lm_patch *p, uint32_t id)
 {
-    lm_status s = reserve((void **)&p->removed, &p->cap_removed, p->n_removed + 1, sizeof(uint32_t));
+    lm_status s =
+        reserve((void **)&p->removed, &p->cap_removed, p->n_removed + 1, sizeof(uint32_t));
     if (!s)
         p->removed[p->n_removed++] = id;
     return s;
@@ -92,8 +93,8 @@ lm_status lm_patch_build(lm_patch *p, const lm_mesh *m, const uint32_t *before, 
                          const uint32_t *now, size_t n_now)
 {
     lm_patch_reset(p);
-    lm_status s = reserve((void **)&p->removed, &p->cap_removed, (uint32_t)n_before + 1,
-                          sizeof(uint32_t));
+    lm_status s =
+        reserve((void **)&p->removed, &p->cap_removed, (uint32_t)n_before + 1, sizeof(uint32_t));
     if (s)
         return s;
     memcpy(p->removed, before, n_before * sizeof *before);

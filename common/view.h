@@ -15,11 +15,11 @@
 
 typedef struct lm_view {
     float eye[3];
-    float dir[3];       /* unit vector from eye towards the centre (the light shines along it) */
-    float view[16];     /* world -> eye */
-    float proj[16];     /* eye -> clip */
+    float dir[3];   /* unit vector from eye towards the centre (the light shines along it) */
+    float view[16]; /* world -> eye */
+    float proj[16]; /* eye -> clip */
     float view_proj[16];
-    int width, height;  /* pixels */
+    int width, height; /* pixels */
 } lm_view;
 
 typedef struct lm_view_set {

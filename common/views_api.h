@@ -22,7 +22,8 @@ typedef struct lm_views lm_views;
 typedef struct lm_views_info {
     uint32_t n_views;
     int width, height;
-    char renderer[128]; /* device and driver that made every image, e.g. "EGL llvmpipe (Mesa 22.3.6)" */
+    char renderer[128]; /* device and driver that made every image, e.g. "EGL llvmpipe
+                           (Mesa 22.3.6)" */
 } lm_views_info;
 
 typedef struct lm_views_ops {

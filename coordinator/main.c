@@ -29,7 +29,8 @@ static void usage(FILE *fp)
                 "Image-driven mesh optimization (Lindstrom & Turk 2001).\n\ncommands:\n");
     for (size_t i = 0; i < sizeof commands / sizeof commands[0]; i++)
         fprintf(fp, "  %-10s %s\n", commands[i].name, commands[i].summary);
-    fprintf(fp, "\nEnvironment: LUMESH_LOG=error|warn|info|debug sets the log level (default warn).\n");
+    fprintf(fp,
+            "\nEnvironment: LUMESH_LOG=error|warn|info|debug sets the log level (default warn).\n");
 }
 
 static void set_log_level_from_env(void)

@@ -1,4 +1,5 @@
-/* tests/unit/test_support.c — shared test helpers: data paths, temp dirs, small generated meshes. */
+/* tests/unit/test_support.c — shared test helpers: data paths, temp dirs, small generated meshes.
+ */
 #include "test_support.h"
 
 #include <math.h>
@@ -106,7 +107,8 @@ lm_mesh *lmt_make_sphere(int subdivisions)
     assert_int_equal(lm_mesh_create(&m), LM_OK);
     assert_int_equal(lm_mesh_add_material(m, "default", NULL, NULL, NULL, NULL), LM_OK);
     m->attrs = LM_ATTR_NORMAL | LM_ATTR_UV;
-    static const float oct[6][3] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+    static const float oct[6][3] = {{1, 0, 0},  {-1, 0, 0}, {0, 1, 0},
+                                    {0, -1, 0}, {0, 0, 1},  {0, 0, -1}};
     static const uint32_t faces[8][3] = {{0, 2, 4}, {2, 1, 4}, {1, 3, 4}, {3, 0, 4},
                                          {2, 0, 5}, {1, 2, 5}, {3, 1, 5}, {0, 3, 5}};
     for (int i = 0; i < 6; i++)
@@ -122,7 +124,8 @@ lm_mesh *lmt_make_sphere(int subdivisions)
         uint32_t *g = malloc(nf * 4 * 3 * sizeof *g);
         for (size_t i = 0; i < nf; i++) {
             uint32_t a = f[3 * i], b = f[3 * i + 1], d = f[3 * i + 2];
-            uint32_t ab = midpoint(m, &c, a, b), bd = midpoint(m, &c, b, d), da = midpoint(m, &c, d, a);
+            uint32_t ab = midpoint(m, &c, a, b), bd = midpoint(m, &c, b, d),
+                     da = midpoint(m, &c, d, a);
             uint32_t q[12] = {a, ab, da, ab, b, bd, da, bd, d, ab, bd, da};
             memcpy(g + 12 * i, q, sizeof q);
         }

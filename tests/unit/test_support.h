@@ -1,12 +1,13 @@
-/* tests/unit/test_support.h — helpers shared by unit tests: test-data paths, temp dirs, tiny meshes. */
+/* tests/unit/test_support.h — helpers shared by unit tests: test-data paths, temp dirs, tiny
+ * meshes. */
 #ifndef LM_TEST_SUPPORT_H
 #define LM_TEST_SUPPORT_H
 
+#include <cmocka.h>
+#include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
-#include <setjmp.h>
 #include <stdint.h>
-#include <cmocka.h>
 
 #include "common/mesh.h"
 
@@ -18,7 +19,8 @@ const char *lmt_spider_path(void);
 /* A fresh temporary directory (mkdtemp), removed by lmt_rmdir. */
 char *lmt_mkdtemp(void);
 void lmt_rmdir(char *dir);
-/* A closed icosahedron-ish sphere (subdivided octahedron) with UVs, normals; level 0 = octahedron. */
+/* A closed icosahedron-ish sphere (subdivided octahedron) with UVs, normals; level 0 = octahedron.
+ */
 lm_mesh *lmt_make_sphere(int subdivisions);
 /* A flat n x n grid of vertices in z=0 (open, with boundary), UVs = xy. */
 lm_mesh *lmt_make_grid(int n);
