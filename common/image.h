@@ -24,6 +24,13 @@ lm_status lm_image_clone(const lm_image *src, lm_image **out);
 /* Read any format OpenImageIO knows; converted to RGBA8 (grey/RGB expanded, alpha 255 if absent). */
 lm_status lm_image_read(const char *path, lm_image **out);
 
+/* Decode an image held in memory (e.g. a texture embedded in a glTF/GLB/FBX file). hint_ext
+ * ("png", "jpg", ... or NULL) names the format; the bytes' signature wins when it is recognised. */
+lm_status lm_image_read_memory(const void *data, size_t size, const char *hint_ext, lm_image **out);
+
+/* Encode as PNG into a malloc'ed buffer (*out, *n bytes; the caller frees it with free()). */
+lm_status lm_image_encode_png_memory(const lm_image *img, uint8_t **out, size_t *n);
+
 /* Write PNG/JPEG/TGA/... chosen by extension; atomic (temp file + rename). */
 lm_status lm_image_write(const char *path, const lm_image *img);
 

@@ -3,7 +3,9 @@
  * writing supports OBJ+MTL (textures copied beside it as PNG), PLY and GLB (chosen by extension).
  * Hostile input (NaN/Inf, out-of-range indices, truncated files, absurd counts, empty meshes) is
  * refused with a one-line message; degenerate triangles are dropped with a warning count.
- * Writes are atomic: temp file in the same folder, fsync, rename. */
+ * Writes are atomic: temp file in the same folder, fsync, rename.
+ * UVs follow assimp's (OpenGL's) convention for every format: v = 0 is the bottom row of the
+ * texture, i.e. the last row of lm_image (whose rows are stored top to bottom). */
 #ifndef LM_COMMON_MESH_IO_H
 #define LM_COMMON_MESH_IO_H
 
@@ -17,11 +19,18 @@ typedef struct lm_load_options {
 /* opts may be NULL. On success *out is a validated mesh with adjacency built. */
 lm_status lm_mesh_load(const char *path, const lm_load_options *opts, lm_mesh **out);
 
+/* Same from bytes in memory (fuzzing, network). ext_hint ("obj", "ply", "glb", ...) picks the
+ * reader; files the model refers to (MTL, textures, .bin buffers) are not opened: only textures
+ * embedded in the bytes are decoded. */
+lm_status lm_mesh_load_memory(const void *data, size_t size, const char *ext_hint,
+                              const lm_load_options *opts, lm_mesh **out);
+
 /* Format from the extension: .obj, .ply, .glb. Dead elements are skipped (written compacted). */
 lm_status lm_mesh_save(const char *path, const lm_mesh *m);
 
 /* Atomic file helpers shared by every writer: open "<path>.tmp.XXXXXX" beside path, then commit
- * (fflush, fsync, rename) or abort (unlink). */
+ * (fflush, fsync, rename) or abort (unlink). A writer that must write tmp_path by name (OpenImageIO)
+ * closes fp and sets it to NULL before writing; commit then syncs the file by name. */
 typedef struct lm_atomic_file {
     char *final_path;
     char *tmp_path;

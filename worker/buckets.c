@@ -19,7 +19,7 @@ struct wk_buckets {
     int width, height, cell, gw, gh;
     wk_cell *cells;  /* [gw * gh] */
     size_t cap_ids;  /* size of the per-id arrays below */
-    wk_rect *rects;  /* [cap_ids] rectangle of each present triangle */
+    wk_footprint *fp; /* [cap_ids] footprint of each present triangle */
     uint8_t *present;
     uint32_t *stamp; /* last query that met each id */
     uint32_t now;    /* current query stamp */
@@ -48,15 +48,28 @@ static int clamp_coord(double x, int hi)
     return (int)x;
 }
 
-void wk_tri_screen_rect(const lm_view *v, const lm_tri_data *t, wk_rect *out)
+/* Window depth of p (0 at the near plane, 1 at the far plane) given its clip w. */
+static float window_depth(const lm_view *v, const float p[3], float w)
+{
+    const float *m = v->view_proj;
+    float z = m[2] * p[0] + m[6] * p[1] + m[10] * p[2] + m[14];
+    return z / w * 0.5f + 0.5f;
+}
+
+void wk_tri_footprint(const lm_view *v, const lm_tri_data *t, wk_footprint *out)
 {
     float lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
+    out->projected = 0;
+    out->zmin = INFINITY;
     for (int k = 0; k < 3; k++) {
-        float win[2], w;
+        float *win = out->win[k], w;
         if (!lm_view_project(v, t->c[k].pos, win, &w) || !isfinite(win[0]) || !isfinite(win[1])) {
-            *out = (wk_rect){0, 0, v->width, v->height};
+            out->rect = (wk_rect){0, 0, v->width, v->height};
+            out->zmin = -INFINITY;
             return;
         }
+        float z = window_depth(v, t->c[k].pos, w);
+        out->zmin = z < out->zmin ? z : out->zmin;
         for (int a = 0; a < 2; a++) {
             lo[a] = win[a] < lo[a] ? win[a] : lo[a];
             hi[a] = win[a] > hi[a] ? win[a] : hi[a];
@@ -64,10 +77,45 @@ void wk_tri_screen_rect(const lm_view *v, const lm_tri_data *t, wk_rect *out)
     }
     /* pixel i is touched when its centre i + 0.5 lies in [lo, hi]; widen by one pixel for the
      * rasteriser's own rounding of the projected positions */
-    out->x0 = clamp_coord(floor(lo[0]) - 1.0, v->width);
-    out->y0 = clamp_coord(floor(lo[1]) - 1.0, v->height);
-    out->x1 = clamp_coord(floor(hi[0]) + 2.0, v->width);
-    out->y1 = clamp_coord(floor(hi[1]) + 2.0, v->height);
+    out->rect.x0 = clamp_coord(floor(lo[0]) - 1.0, v->width);
+    out->rect.y0 = clamp_coord(floor(lo[1]) - 1.0, v->height);
+    out->rect.x1 = clamp_coord(floor(hi[0]) + 2.0, v->width);
+    out->rect.y1 = clamp_coord(floor(hi[1]) + 2.0, v->height);
+    out->projected = 1;
+}
+
+static int rects_overlap(const wk_rect *a, const wk_rect *b)
+{
+    return a->x0 < b->x1 && b->x0 < a->x1 && a->y0 < b->y1 && b->y0 < a->y1;
+}
+
+/* Some corner of [x0,x1]x[y0,y1] is not strictly outside edge a->b (whose inside has sign s). */
+static int edge_admits(const float *a, const float *b, float s, const float box[4])
+{
+    float ex = b[0] - a[0], ey = b[1] - a[1];
+    for (int c = 0; c < 4; c++) {
+        float px = box[c & 1 ? 2 : 0] - a[0], py = box[c & 2 ? 3 : 1] - a[1];
+        if ((ex * py - ey * px) * s >= 0.0f)
+            return 1;
+    }
+    return 0;
+}
+
+int wk_footprint_overlaps(const wk_footprint *f, const wk_rect *r)
+{
+    if (!rects_overlap(&f->rect, r))
+        return 0;
+    if (!f->projected)
+        return 1;
+    const float(*w)[2] = f->win;
+    float area = (w[1][0] - w[0][0]) * (w[2][1] - w[0][1]) - (w[1][1] - w[0][1]) * (w[2][0] - w[0][0]);
+    if (!(fabsf(area) > 1e-3f))
+        return 1; /* (nearly) degenerate: keep it */
+    float s = area > 0 ? 1.0f : -1.0f;
+    const float box[4] = {(float)r->x0 - 1.0f, (float)r->y0 - 1.0f, (float)r->x1 + 1.0f,
+                          (float)r->y1 + 1.0f};
+    return edge_admits(w[0], w[1], s, box) && edge_admits(w[1], w[2], s, box) &&
+           edge_admits(w[2], w[0], s, box);
 }
 
 lm_status wk_idlist_reserve(wk_idlist *l, size_t need)
@@ -113,7 +161,7 @@ void wk_buckets_destroy(wk_buckets *b)
     for (int i = 0; i < b->gw * b->gh; i++)
         free(b->cells[i].ids);
     free(b->cells);
-    free(b->rects);
+    free(b->fp);
     free(b->present);
     free(b->stamp);
     free(b);
@@ -134,9 +182,9 @@ static lm_status grow_ids(wk_buckets *b, uint32_t id)
     size_t cap = b->cap_ids ? b->cap_ids : 256;
     while (cap <= id)
         cap *= 2;
-    wk_rect *r = realloc(b->rects, cap * sizeof *r);
+    wk_footprint *r = realloc(b->fp, cap * sizeof *r);
     if (r)
-        b->rects = r;
+        b->fp = r;
     uint8_t *p = realloc(b->present, cap);
     if (p)
         b->present = p;
@@ -184,15 +232,16 @@ static wk_rect clip_rect(const wk_buckets *b, const wk_rect *in)
     return r;
 }
 
-lm_status wk_buckets_insert(wk_buckets *b, uint32_t id, const wk_rect *in)
+lm_status wk_buckets_insert(wk_buckets *b, uint32_t id, const wk_footprint *f)
 {
-    wk_rect clipped = clip_rect(b, in), *r = &clipped;
     lm_status st = grow_ids(b, id);
     if (st != LM_OK)
         return st;
     LM_ASSERT(!b->present[id]);
     b->present[id] = 1;
-    b->rects[id] = *r;
+    b->fp[id] = *f;
+    b->fp[id].rect = clip_rect(b, &f->rect);
+    const wk_rect *r = &b->fp[id].rect;
     if (wk_rect_empty(r))
         return LM_OK;
     int c[4];
@@ -208,7 +257,7 @@ void wk_buckets_remove(wk_buckets *b, uint32_t id)
 {
     LM_ASSERT(id < b->cap_ids && b->present[id]);
     b->present[id] = 0;
-    const wk_rect *r = &b->rects[id];
+    const wk_rect *r = &b->fp[id].rect;
     if (wk_rect_empty(r))
         return;
     int c[4];
@@ -224,17 +273,18 @@ void wk_buckets_remove(wk_buckets *b, uint32_t id)
         }
 }
 
+const wk_footprint *wk_buckets_footprint(const wk_buckets *b, uint32_t id)
+{
+    LM_ASSERT(id < b->cap_ids && b->present[id]);
+    return &b->fp[id];
+}
+
 void wk_buckets_rect(const wk_buckets *b, uint32_t id, wk_rect *out)
 {
     if (id < b->cap_ids && b->present[id])
-        *out = b->rects[id];
+        *out = b->fp[id].rect;
     else
         *out = (wk_rect){0, 0, 0, 0};
-}
-
-static int overlaps(const wk_rect *a, const wk_rect *b)
-{
-    return a->x0 < b->x1 && b->x0 < a->x1 && a->y0 < b->y1 && b->y0 < a->y1;
 }
 
 lm_status wk_buckets_query(wk_buckets *b, const wk_rect *query, wk_idlist *out)
@@ -259,7 +309,7 @@ lm_status wk_buckets_query(wk_buckets *b, const wk_rect *query, wk_idlist *out)
                 if (b->stamp[id] == b->now)
                     continue;
                 b->stamp[id] = b->now;
-                if (overlaps(&b->rects[id], r))
+                if (wk_footprint_overlaps(&b->fp[id], r))
                     out->ids[out->n++] = id;
             }
         }

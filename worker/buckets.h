@@ -26,10 +26,22 @@ static inline int wk_rect_empty(const wk_rect *r)
 /* r := r ∪ s (an empty operand is ignored). */
 void wk_rect_union(wk_rect *r, const wk_rect *s);
 
-/* Conservative rectangle of the pixels triangle t may touch in view v, clamped to the view:
- * the projected bounds widened by one pixel; the whole view if a corner is at or behind the eye
- * or not finite; empty when it lies entirely outside the view. */
-void wk_tri_screen_rect(const lm_view *v, const lm_tri_data *t, wk_rect *out);
+/* Where a triangle lands in a view: the conservative rectangle of the pixels it may touch, clamped
+ * to the view (projected bounds widened by one pixel; the whole view if a corner is at or behind
+ * the eye or not finite; empty when it lies entirely outside the view), and, when projectable,
+ * its corners in window coordinates for the exact overlap test. */
+typedef struct wk_footprint {
+    wk_rect rect;
+    int projected;  /* win and zmin hold the corners' window coordinates */
+    float win[3][2];
+    float zmin;     /* least window depth of the corners (0 near .. 1 far) */
+} wk_footprint;
+
+void wk_tri_footprint(const lm_view *v, const lm_tri_data *t, wk_footprint *out);
+
+/* Whether a footprint may touch a pixel of r: the rectangle test, then (for projected ones) the
+ * triangle against r widened by one pixel (separating edges). Conservative. */
+int wk_footprint_overlaps(const wk_footprint *f, const wk_rect *r);
 
 typedef struct wk_buckets wk_buckets;
 
@@ -38,12 +50,14 @@ lm_status wk_buckets_create(int width, int height, int cell, wk_buckets **out);
 void wk_buckets_destroy(wk_buckets *b);
 /* Forget every triangle. */
 void wk_buckets_clear(wk_buckets *b);
-/* Insert triangle `id` (not present) with its rectangle (may be empty: then it is only remembered). */
-lm_status wk_buckets_insert(wk_buckets *b, uint32_t id, const wk_rect *r);
+/* Insert triangle `id` (not present) with its footprint (an empty rectangle is only remembered). */
+lm_status wk_buckets_insert(wk_buckets *b, uint32_t id, const wk_footprint *f);
 /* Remove triangle `id` (present). */
 void wk_buckets_remove(wk_buckets *b, uint32_t id);
 /* The stored rectangle of a present triangle (empty if absent). */
 void wk_buckets_rect(const wk_buckets *b, uint32_t id, wk_rect *out);
+/* The stored footprint of a present triangle. */
+const wk_footprint *wk_buckets_footprint(const wk_buckets *b, uint32_t id);
 /* A growable list of ids (owned by the caller; free ids with free()). */
 typedef struct wk_idlist {
     uint32_t *ids;
@@ -51,8 +65,8 @@ typedef struct wk_idlist {
 } wk_idlist;
 lm_status wk_idlist_reserve(wk_idlist *l, size_t need);
 
-/* Appends to out the ids of all present triangles whose rectangle overlaps r, each once, in no
- * particular order. */
+/* Appends to out the ids of all present triangles whose footprint may touch r
+ * (wk_footprint_overlaps), each once, in no particular order. */
 lm_status wk_buckets_query(wk_buckets *b, const wk_rect *r, wk_idlist *out);
 
 #endif

@@ -2,6 +2,7 @@
  * region ΔE and commit, and the oracle's box-blurred squared-difference images (integer sums). */
 #include "worker/image_store.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -12,6 +13,7 @@ struct wk_image_store {
     uint8_t *target;
     uint8_t *current;
     int64_t *energy; /* [n_views] */
+    float *depth;    /* [n_views * plane] or NULL */
 };
 
 void wk_luma_from_rgba(const uint8_t *rgba, size_t n_pixels, uint8_t *out)
@@ -51,6 +53,7 @@ void wk_image_store_destroy(wk_image_store *s)
     free(s->target);
     free(s->current);
     free(s->energy);
+    free(s->depth);
     free(s);
 }
 
@@ -173,4 +176,101 @@ lm_status wk_image_store_blurred_diff(const wk_image_store *s, uint32_t view, in
         box_line(tmp + col, out + col, s->height, (size_t)s->width, radius);
     free(tmp);
     return LM_OK;
+}
+
+lm_status wk_image_store_enable_depth(wk_image_store *s)
+{
+    if (s->depth)
+        return LM_OK;
+    s->depth = malloc(s->n_views * s->plane * sizeof *s->depth);
+    if (!s->depth)
+        return lm_fail(LM_E_NOMEM, "out of memory for %u depth images", s->n_views);
+    for (size_t i = 0; i < s->n_views * s->plane; i++)
+        s->depth[i] = 1.0f;
+    return LM_OK;
+}
+
+int wk_image_store_has_depth(const wk_image_store *s)
+{
+    return s->depth != NULL;
+}
+
+void wk_image_store_set_depth(wk_image_store *s, uint32_t view, const float *z)
+{
+    LM_ASSERT(view < s->n_views && s->depth);
+    memcpy(s->depth + view * s->plane, z, s->plane * sizeof *z);
+}
+
+void wk_image_store_commit_depth(wk_image_store *s, uint32_t view, const wk_rect *r,
+                                 const float *region)
+{
+    check_region(s, view, r);
+    LM_ASSERT(s->depth);
+    int rw = r->x1 - r->x0;
+    for (int y = r->y0; y < r->y1; y++)
+        memcpy(s->depth + view * s->plane + (size_t)y * s->width + r->x0,
+               region + (size_t)(y - r->y0) * rw, (size_t)rw * sizeof *region);
+}
+
+int wk_image_store_hidden(const wk_image_store *s, uint32_t view, const wk_rect *r, float zmin,
+                          float eps)
+{
+    check_region(s, view, r);
+    if (!s->depth || !(zmin - eps > 0.0f))
+        return 0;
+    float limit = zmin - eps;
+    for (int y = r->y0; y < r->y1; y++) {
+        const float *row = s->depth + view * s->plane + (size_t)y * s->width;
+        for (int x = r->x0; x < r->x1; x++)
+            if (!(row[x] < limit))
+                return 0;
+    }
+    return 1;
+}
+
+/* Columns [*lo, *hi] of row y where pixel boxes widened by one pixel meet the inside of edge a->b
+ * (inside where s * cross(b - a, p - a) >= 0), with a pixel of slack for rounding. */
+static void edge_span(const float *a, const float *b, float s, int y, int *lo, int *hi)
+{
+    double A = -s * ((double)b[1] - a[1]), B = s * ((double)b[0] - a[0]);
+    double py = B > 0 ? y + 2.0 : y - 1.0;
+    double rest = B * (py - a[1]) - A * a[0]; /* E(px) = A * px + rest */
+    if (A > 0) {
+        double x = -rest / A - 2.0; /* px = x + 2 */
+        int xl = (int)floor(x) - 1;
+        *lo = xl > *lo ? xl : *lo;
+    } else if (A < 0) {
+        double x = -rest / A + 1.0; /* px = x - 1 */
+        int xh = (int)ceil(x) + 1;
+        *hi = xh < *hi ? xh : *hi;
+    } else if (rest < 0) {
+        *hi = *lo - 1; /* the whole row is outside */
+    }
+}
+
+int wk_image_store_hidden_tri(const wk_image_store *s, uint32_t view, const wk_footprint *f,
+                              float eps)
+{
+    const wk_rect *r = &f->rect;
+    if (!f->projected)
+        return wk_image_store_hidden(s, view, r, f->zmin, eps);
+    check_region(s, view, r);
+    if (!s->depth || !(f->zmin - eps > 0.0f))
+        return 0;
+    const float(*w)[2] = f->win;
+    double area = ((double)w[1][0] - w[0][0]) * ((double)w[2][1] - w[0][1]) -
+                  ((double)w[1][1] - w[0][1]) * ((double)w[2][0] - w[0][0]);
+    if (!(fabs(area) > 1e-3))
+        return wk_image_store_hidden(s, view, r, f->zmin, eps);
+    float sg = area > 0 ? 1.0f : -1.0f, limit = f->zmin - eps;
+    for (int y = r->y0; y < r->y1; y++) {
+        int lo = r->x0, hi = r->x1 - 1;
+        for (int k = 0; k < 3 && lo <= hi; k++)
+            edge_span(w[k], w[(k + 1) % 3], sg, y, &lo, &hi);
+        const float *row = s->depth + view * s->plane + (size_t)y * s->width;
+        for (int x = lo; x <= hi; x++)
+            if (!(row[x] < limit))
+                return 0;
+    }
+    return 1;
 }

@@ -44,6 +44,22 @@ void wk_image_store_commit_region(wk_image_store *s, uint32_t view, const wk_rec
 int64_t wk_image_store_energy(const wk_image_store *s, uint32_t view);
 int64_t wk_image_store_energy_recompute(const wk_image_store *s, uint32_t view);
 
+/* Depth images (optional): per view the window depth of the visible surface (1 where background),
+ * kept alongside the current images to skip views where a change is certainly hidden. */
+lm_status wk_image_store_enable_depth(wk_image_store *s);
+int wk_image_store_has_depth(const wk_image_store *s);
+void wk_image_store_set_depth(wk_image_store *s, uint32_t view, const float *z);
+void wk_image_store_commit_depth(wk_image_store *s, uint32_t view, const wk_rect *r,
+                                 const float *region);
+/* 1 when every pixel of r holds a surface nearer than zmin - eps: a triangle whose fragments lie
+ * in r at depths >= zmin cannot be visible there. */
+int wk_image_store_hidden(const wk_image_store *s, uint32_t view, const wk_rect *r, float zmin,
+                          float eps);
+/* The same over the pixels a triangle's footprint may touch: those whose box widened by one pixel
+ * meets the projected triangle (within its rectangle); the whole rectangle if not projected. */
+int wk_image_store_hidden_tri(const wk_image_store *s, uint32_t view, const wk_footprint *f,
+                              float eps);
+
 /* The oracle's image: out[y*width+x] = Σ over the (2 radius + 1)² window around (x, y), clipped to
  * the image, of (Ŷ - Y)². radius in 0..64; out has width*height entries. */
 lm_status wk_image_store_blurred_diff(const wk_image_store *s, uint32_t view, int radius,

@@ -1,6 +1,6 @@
 /* worker/render.c — the renderer object: atlas layout and framebuffers, the triangle stream,
- * material tables, scissored draws into a view's tile and region readback. Textures are in
- * render_textures.c, shaders in render_program.c. */
+ * material tables, opening regions (depth masking, see render.h), draws into a view's tile and
+ * region readback. Textures are in render_textures.c, shaders in render_program.c. */
 #include "worker/render.h"
 
 #include <GLES3/gl3.h>
@@ -11,8 +11,13 @@
 #include "worker/render_textures.h"
 
 typedef struct wk_atlas {
-    GLuint fbo[LM_MAX_VIEWS]; /* one per page; 0 = not created */
+    GLuint fbo[LM_MAX_VIEWS]; /* one per page */
     GLuint color[LM_MAX_VIEWS], depth[LM_MAX_VIEWS];
+    GLuint zimage[LM_MAX_VIEWS]; /* R32F copy of the winning fragments' depth (0 if unsupported) */
+    int all_open;        /* every tile at depth 1 (after wk_renderer_clear_all) */
+    uint32_t *open_view; /* the open regions otherwise */
+    wk_rect *open_rect;
+    size_t n_open, cap_open;
 } wk_atlas;
 
 typedef struct wk_tile {
@@ -30,14 +35,19 @@ struct wk_renderer {
     wk_render_programs progs;
     GLuint vao, vbo;             /* the triangle stream */
     size_t vbo_bytes;
-    GLuint clear_vao, clear_vbo; /* a quad over the whole viewport */
-    GLuint view_ubo;             /* one view block per view, view_stride bytes apart */
+    GLuint quad_vao, quad_vbo;   /* region quads (x, y, z per corner) */
+    float *quads;
+    size_t cap_quads; /* quads that fit in `quads` */
+    GLuint view_ubo;  /* one view block per view, view_stride bytes apart */
     GLsizeiptr view_stride;
     wk_material_table tables[WK_RENDER_TABLES];
     int mode;
     GLuint bound_fbo, bound_tex, bound_prog, bound_mat_ubo;
     GLintptr bound_mat_offset;
     int64_t bound_view; /* -1 = none */
+    int vp[4];          /* current viewport */
+    int depth_images;   /* atlases carry a readable depth image (R32F renderable) */
+    int read_buffer;    /* attachment glReadBuffer names now */
 };
 
 /* Tiles in a grid close to square; pages when the grid exceeds the framebuffer size limit. */
@@ -91,20 +101,6 @@ static void setup_stream(wk_renderer *r)
     glVertexAttribPointer(WK_ATTR_COLOR, 4, GL_FLOAT, GL_FALSE, stride,
                           (void *)offsetof(lm_corner, color));
 }
-
-static void setup_clear_quad(wk_renderer *r)
-{
-    static const float quad[12] = {-1, -1, 1, -1, 1, 1, -1, -1, 1, 1, -1, 1};
-    glGenVertexArrays(1, &r->clear_vao);
-    glGenBuffers(1, &r->clear_vbo);
-    glBindVertexArray(r->clear_vao);
-    glBindBuffer(GL_ARRAY_BUFFER, r->clear_vbo);
-    glBufferData(GL_ARRAY_BUFFER, sizeof quad, quad, GL_STATIC_DRAW);
-    glEnableVertexAttribArray(0);
-    glVertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, 2 * sizeof(float), (void *)0);
-}
-
-/* Every view's block (view-projection, light direction) in one uniform buffer. */
 static lm_status setup_view_blocks(wk_renderer *r)
 {
     GLint align = 16;
@@ -128,12 +124,22 @@ static lm_status setup_view_blocks(wk_renderer *r)
     return LM_OK;
 }
 
+static void setup_quads(wk_renderer *r)
+{
+    glGenVertexArrays(1, &r->quad_vao);
+    glGenBuffers(1, &r->quad_vbo);
+    glBindVertexArray(r->quad_vao);
+    glBindBuffer(GL_ARRAY_BUFFER, r->quad_vbo);
+    glEnableVertexAttribArray(0);
+    glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 3 * sizeof(float), (void *)0);
+}
+
 static void setup_state(wk_renderer *r)
 {
     glActiveTexture(GL_TEXTURE0);
     glEnable(GL_DEPTH_TEST);
     glDepthMask(GL_TRUE);
-    glEnable(GL_SCISSOR_TEST);
+    glDisable(GL_SCISSOR_TEST);
     glDisable(GL_CULL_FACE);
     glDisable(GL_BLEND);
     glDisable(GL_DITHER);
@@ -142,6 +148,8 @@ static void setup_state(wk_renderer *r)
     glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
     r->mode = MODE_NONE;
     r->bound_view = -1;
+    r->depth_images = 1; /* until an atlas says otherwise */
+    r->read_buffer = GL_COLOR_ATTACHMENT0;
 }
 
 lm_status wk_renderer_create(const lm_view_set *views, wk_renderer **out)
@@ -166,7 +174,7 @@ lm_status wk_renderer_create(const lm_view_set *views, wk_renderer **out)
         st = setup_view_blocks(r);
     if (st == LM_OK) {
         setup_stream(r);
-        setup_clear_quad(r);
+        setup_quads(r);
         setup_state(r);
         st = wk_renderer_check(r, "setting up the renderer");
     }
@@ -187,7 +195,11 @@ static void atlas_free(wk_renderer *r, wk_atlas *a)
             glDeleteRenderbuffers(1, &a->color[p]);
         if (a->depth[p])
             glDeleteRenderbuffers(1, &a->depth[p]);
+        if (a->zimage[p])
+            glDeleteRenderbuffers(1, &a->zimage[p]);
     }
+    free(a->open_view);
+    free(a->open_rect);
     free(a);
 }
 
@@ -200,10 +212,11 @@ void wk_renderer_destroy(wk_renderer *r)
             atlas_free(r, r->atlases[i]);
     for (int t = 0; t < WK_RENDER_TABLES; t++)
         wk_material_table_free(&r->tables[t]);
-    GLuint bufs[3] = {r->vbo, r->clear_vbo, r->view_ubo}, vaos[2] = {r->vao, r->clear_vao};
+    GLuint bufs[3] = {r->vbo, r->quad_vbo, r->view_ubo}, vaos[2] = {r->vao, r->quad_vao};
     glDeleteBuffers(3, bufs);
     glDeleteVertexArrays(2, vaos);
     wk_render_programs_destroy(&r->progs);
+    free(r->quads);
     free(r);
 }
 
@@ -218,47 +231,111 @@ lm_status wk_renderer_check(wk_renderer *r, const char *what)
     return LM_OK;
 }
 
+static void bind_fbo(wk_renderer *r, GLuint fbo)
+{
+    if (fbo != r->bound_fbo) {
+        glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+        r->bound_fbo = fbo;
+        r->read_buffer = -1; /* glReadBuffer is per framebuffer */
+    }
+}
+
+static void set_viewport(wk_renderer *r, int x, int y, int w, int h)
+{
+    if (r->vp[0] != x || r->vp[1] != y || r->vp[2] != w || r->vp[3] != h) {
+        glViewport(x, y, w, h);
+        r->vp[0] = x, r->vp[1] = y, r->vp[2] = w, r->vp[3] = h;
+    }
+}
+
+static GLuint new_renderbuffer(GLenum format, int w, int h)
+{
+    GLuint rb;
+    glGenRenderbuffers(1, &rb);
+    glBindRenderbuffer(GL_RENDERBUFFER, rb);
+    glRenderbufferStorage(GL_RENDERBUFFER, format, w, h);
+    return rb;
+}
+
+/* Colour, depth and (where R32F is renderable) depth-image attachments of one page. */
+static int page_attach(wk_renderer *r, wk_atlas *a, int p)
+{
+    a->color[p] = new_renderbuffer(GL_RGBA8, r->page_w, r->page_h);
+    a->depth[p] = new_renderbuffer(GL_DEPTH_COMPONENT24, r->page_w, r->page_h);
+    glGenFramebuffers(1, &a->fbo[p]);
+    bind_fbo(r, a->fbo[p]);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, a->color[p]);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, a->depth[p]);
+    if (r->depth_images) {
+        a->zimage[p] = new_renderbuffer(GL_R32F, r->page_w, r->page_h);
+        glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT1, GL_RENDERBUFFER,
+                                  a->zimage[p]);
+        static const GLenum bufs[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
+        glDrawBuffers(2, bufs);
+        if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
+            return 0; /* no float render targets: the caller retries without */
+        }
+    }
+    glGetError(); /* R32F may be refused by a GLES 3.0 device: handled by the retry */
+    return glCheckFramebufferStatus(GL_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE;
+}
+
+/* All of a page to background grey at depth z (and the depth image to z). */
+static void clear_page(wk_renderer *r, wk_atlas *a, int p, float z)
+{
+    static const GLfloat grey[4] = {WK_BACKGROUND / 255.0f, WK_BACKGROUND / 255.0f,
+                                    WK_BACKGROUND / 255.0f, 1.0f};
+    const GLfloat zimg[4] = {z, 0, 0, 0};
+    bind_fbo(r, a->fbo[p]);
+    glClearBufferfv(GL_COLOR, 0, grey);
+    if (a->zimage[p])
+        glClearBufferfv(GL_COLOR, 1, zimg);
+    glClearBufferfv(GL_DEPTH, 0, &z);
+}
+
+/* Every page of a new atlas: closed (depth 0). */
 static lm_status atlas_create(wk_renderer *r, uint32_t index)
 {
     wk_atlas *a = calloc(1, sizeof *a);
     if (!a)
         return lm_fail(LM_E_NOMEM, "out of memory creating atlas %u", index);
     for (int p = 0; p < r->n_pages; p++) {
-        glGenRenderbuffers(1, &a->color[p]);
-        glBindRenderbuffer(GL_RENDERBUFFER, a->color[p]);
-        glRenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, r->page_w, r->page_h);
-        glGenRenderbuffers(1, &a->depth[p]);
-        glBindRenderbuffer(GL_RENDERBUFFER, a->depth[p]);
-        glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT24, r->page_w, r->page_h);
-        glGenFramebuffers(1, &a->fbo[p]);
-        glBindFramebuffer(GL_FRAMEBUFFER, a->fbo[p]);
-        glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, a->color[p]);
-        glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, a->depth[p]);
-        r->bound_fbo = a->fbo[p];
+        if (!page_attach(r, a, p) && r->depth_images && index == 0 && p == 0) {
+            atlas_free(r, a); /* first atlas: find out once whether R32F works */
+            r->depth_images = 0;
+            return atlas_create(r, index);
+        }
         if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
             atlas_free(r, a);
             return lm_fail(LM_E_DEVICE, "atlas framebuffer %dx%d is incomplete on this device",
                            r->page_w, r->page_h);
         }
+        clear_page(r, a, p, 0.0f);
     }
     r->atlases[index] = a;
     return wk_renderer_check(r, "creating an atlas framebuffer");
 }
 
-static lm_status bind_tile(wk_renderer *r, uint32_t atlas, uint32_t view)
+static lm_status get_atlas(wk_renderer *r, uint32_t atlas, wk_atlas **out)
 {
-    LM_ASSERT(atlas < WK_RENDER_MAX_ATLASES && view < r->views.count);
+    LM_ASSERT(atlas < WK_RENDER_MAX_ATLASES);
     if (!r->atlases[atlas]) {
         lm_status st = atlas_create(r, atlas);
         if (st != LM_OK)
             return st;
     }
-    GLuint fbo = r->atlases[atlas]->fbo[r->tiles[view].page];
-    if (fbo != r->bound_fbo) {
-        glBindFramebuffer(GL_FRAMEBUFFER, fbo);
-        r->bound_fbo = fbo;
-    }
+    *out = r->atlases[atlas];
     return LM_OK;
+}
+
+static lm_status bind_tile(wk_renderer *r, uint32_t atlas, uint32_t view)
+{
+    LM_ASSERT(view < r->views.count);
+    wk_atlas *a;
+    lm_status st = get_atlas(r, atlas, &a);
+    if (st == LM_OK)
+        bind_fbo(r, a->fbo[r->tiles[view].page]);
+    return st;
 }
 
 lm_status wk_renderer_set_materials(wk_renderer *r, int table, const lm_material *mats,
@@ -282,11 +359,11 @@ lm_status wk_renderer_upload(wk_renderer *r, const lm_corner *corners, size_t n_
     size_t bytes = n_tris * 3 * sizeof(lm_corner);
     if (bytes == 0)
         return LM_OK;
+    glBindBuffer(GL_ARRAY_BUFFER, r->vbo);
     if (bytes > r->vbo_bytes) {
         size_t cap = r->vbo_bytes ? r->vbo_bytes : 65536;
         while (cap < bytes)
             cap *= 2;
-        glBindBuffer(GL_ARRAY_BUFFER, r->vbo);
         glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)cap, NULL, GL_STREAM_DRAW);
         r->vbo_bytes = cap;
         if (glGetError() != GL_NO_ERROR) {
@@ -294,41 +371,127 @@ lm_status wk_renderer_upload(wk_renderer *r, const lm_corner *corners, size_t n_
             return lm_fail(LM_E_NOMEM, "cannot allocate a %zu-byte vertex buffer", cap);
         }
     }
-    glBindBuffer(GL_ARRAY_BUFFER, r->vbo);
     glBufferSubData(GL_ARRAY_BUFFER, 0, (GLsizeiptr)bytes, corners);
     return LM_OK;
 }
 
-/* Framebuffer, viewport and scissor for rect of a view. */
-static lm_status target_rect(wk_renderer *r, uint32_t atlas, uint32_t view, const wk_rect *rc)
+static void use_clear_mode(wk_renderer *r)
 {
-    LM_ASSERT(rc->x0 >= 0 && rc->y0 >= 0 && rc->x1 <= r->width && rc->y1 <= r->height);
-    lm_status st = bind_tile(r, atlas, view);
+    if (r->mode == MODE_CLEAR)
+        return;
+    glUseProgram(r->progs.clear);
+    glBindVertexArray(r->quad_vao);
+    glDepthFunc(GL_ALWAYS);
+    r->bound_prog = r->progs.clear;
+    r->mode = MODE_CLEAR;
+}
+
+lm_status wk_renderer_clear_all(wk_renderer *r, uint32_t atlas)
+{
+    wk_atlas *a;
+    lm_status st = get_atlas(r, atlas, &a);
     if (st != LM_OK)
         return st;
-    const wk_tile *t = &r->tiles[view];
-    glViewport(t->x, t->y, r->width, r->height);
-    glScissor(t->x + rc->x0, t->y + rc->y0, rc->x1 - rc->x0, rc->y1 - rc->y0);
+    for (int p = 0; p < r->n_pages; p++)
+        clear_page(r, a, p, 1.0f);
+    a->all_open = 1;
+    a->n_open = 0;
     return LM_OK;
 }
 
-lm_status wk_renderer_clear(wk_renderer *r, uint32_t atlas, uint32_t view, const wk_rect *rect)
+/* Two triangles over rect of a view, in page NDC at depth z_ndc (+1 opens, -1 closes). */
+static float *put_quad(const wk_renderer *r, float *q, uint32_t view, const wk_rect *rc, float z)
 {
-    if (wk_rect_empty(rect))
+    const wk_tile *t = &r->tiles[view];
+    float x0 = 2.0f * (float)(t->x + rc->x0) / (float)r->page_w - 1.0f;
+    float x1 = 2.0f * (float)(t->x + rc->x1) / (float)r->page_w - 1.0f;
+    float y0 = 2.0f * (float)(t->y + rc->y0) / (float)r->page_h - 1.0f;
+    float y1 = 2.0f * (float)(t->y + rc->y1) / (float)r->page_h - 1.0f;
+    const float v[18] = {x0, y0, z, x1, y0, z, x1, y1, z, x0, y0, z, x1, y1, z, x0, y1, z};
+    memcpy(q, v, sizeof v);
+    return q + 18;
+}
+
+static lm_status reserve_quads(wk_renderer *r, size_t n)
+{
+    if (n <= r->cap_quads)
         return LM_OK;
-    lm_status st = target_rect(r, atlas, view, rect);
+    size_t cap = r->cap_quads ? r->cap_quads : 256;
+    while (cap < n)
+        cap *= 2;
+    float *q = realloc(r->quads, cap * 18 * sizeof *q);
+    if (!q)
+        return lm_fail(LM_E_NOMEM, "out of memory for %zu region quads", cap);
+    r->quads = q;
+    r->cap_quads = cap;
+    return LM_OK;
+}
+
+/* Remember the new open regions of an atlas. */
+static lm_status record_open(wk_atlas *a, const uint32_t *views, const wk_rect *rects, size_t n)
+{
+    if (n > a->cap_open) {
+        uint32_t *v = realloc(a->open_view, n * sizeof *v);
+        if (v)
+            a->open_view = v;
+        wk_rect *rc = realloc(a->open_rect, n * sizeof *rc);
+        if (rc)
+            a->open_rect = rc;
+        if (!v || !rc)
+            return lm_fail(LM_E_NOMEM, "out of memory for %zu open regions", n);
+        a->cap_open = n;
+    }
+    memcpy(a->open_view, views, n * sizeof *views);
+    memcpy(a->open_rect, rects, n * sizeof *rects);
+    a->n_open = n;
+    return LM_OK;
+}
+
+/* One draw per page: close the old regions (depth 0), then open the new ones (depth 1). */
+static void draw_region_quads(wk_renderer *r, wk_atlas *a, const uint32_t *views,
+                              const wk_rect *rects, size_t n, int page)
+{
+    float *q = r->quads;
+    for (size_t i = 0; i < a->n_open; i++)
+        if (r->tiles[a->open_view[i]].page == page && !wk_rect_empty(&a->open_rect[i]))
+            q = put_quad(r, q, a->open_view[i], &a->open_rect[i], -1.0f);
+    for (size_t i = 0; i < n; i++)
+        if (r->tiles[views[i]].page == page && !wk_rect_empty(&rects[i]))
+            q = put_quad(r, q, views[i], &rects[i], 1.0f);
+    size_t verts = (size_t)(q - r->quads) / 3;
+    if (verts == 0)
+        return;
+    bind_fbo(r, a->fbo[page]);
+    set_viewport(r, 0, 0, r->page_w, r->page_h);
+    use_clear_mode(r);
+    if (getenv("HACK_SCISSOR")) glDisable(GL_SCISSOR_TEST);
+    glBindBuffer(GL_ARRAY_BUFFER, r->quad_vbo);
+    glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(verts * 3 * sizeof(float)), r->quads,
+                 GL_STREAM_DRAW);
+    glDrawArrays(GL_TRIANGLES, 0, (GLsizei)verts);
+}
+
+lm_status wk_renderer_open(wk_renderer *r, uint32_t atlas, const uint32_t *views,
+                           const wk_rect *rects, size_t n)
+{
+    wk_atlas *a;
+    lm_status st = get_atlas(r, atlas, &a);
+    if (st == LM_OK)
+        st = reserve_quads(r, a->n_open + n);
     if (st != LM_OK)
         return st;
-    if (getenv("HACK_GLCLEAR")) { glDepthMask(GL_TRUE); glClearColor(128/255.0f,128/255.0f,128/255.0f,1); glClearDepthf(1.0f); glClear(GL_COLOR_BUFFER_BIT|GL_DEPTH_BUFFER_BIT); return LM_OK; }
-    if (r->mode != MODE_CLEAR) {
-        glUseProgram(r->progs.clear);
-        glBindVertexArray(r->clear_vao);
-        glDepthFunc(GL_ALWAYS);
-        r->bound_prog = r->progs.clear;
-        r->mode = MODE_CLEAR;
+    for (size_t i = 0; i < n; i++)
+        LM_ASSERT(views[i] < r->views.count && rects[i].x0 >= 0 && rects[i].y0 >= 0 &&
+                  rects[i].x1 <= r->width && rects[i].y1 <= r->height);
+    if (a->all_open) { /* close everything first */
+        for (int p = 0; p < r->n_pages; p++)
+            clear_page(r, a, p, 0.0f);
+        a->all_open = 0;
+        a->n_open = 0;
     }
-    glDrawArrays(GL_TRIANGLES, 0, 6);
-    return LM_OK;
+    for (int p = 0; p < r->n_pages; p++)
+        draw_region_quads(r, a, views, rects, n, p);
+    return record_open(a, views, rects, n);
 }
 
 /* Program, texture and material block of material m. */
@@ -352,23 +515,35 @@ static void use_material(wk_renderer *r, const wk_material_table *mt, uint32_t m
     }
 }
 
-lm_status wk_renderer_draw(wk_renderer *r, int table, const wk_draw *d, const uint32_t *materials)
+static void use_view(wk_renderer *r, uint32_t view)
 {
-    LM_ASSERT(table >= 0 && table < WK_RENDER_TABLES);
-    if (wk_rect_empty(&d->rect) || d->count == 0)
-        return LM_OK;
-    lm_status st = target_rect(r, d->atlas, d->view, &d->rect);
-    if (st != LM_OK)
-        return st;
+    const wk_tile *t = &r->tiles[view];
+    set_viewport(r, t->x, t->y, r->width, r->height);
     if (r->mode != MODE_SHADE) {
         glBindVertexArray(r->vao);
         glDepthFunc(GL_LESS);
         r->mode = MODE_SHADE;
     }
-    if (r->bound_view != (int64_t)d->view) {
+    if (r->bound_view != (int64_t)view) {
         glBindBufferRange(GL_UNIFORM_BUFFER, WK_BLOCK_VIEW, r->view_ubo,
-                          (GLintptr)r->view_stride * d->view, (GLsizeiptr)sizeof(wk_view_block));
-        r->bound_view = d->view;
+                          (GLintptr)r->view_stride * view, (GLsizeiptr)sizeof(wk_view_block));
+        r->bound_view = view;
+    }
+}
+
+lm_status wk_renderer_draw(wk_renderer *r, int table, const wk_draw *d, const uint32_t *materials)
+{
+    LM_ASSERT(table >= 0 && table < WK_RENDER_TABLES);
+    if (d->count == 0)
+        return LM_OK;
+    lm_status st = bind_tile(r, d->atlas, d->view);
+    if (st != LM_OK)
+        return st;
+    use_view(r, d->view);
+    if (getenv("HACK_SCISSOR")) {
+        const wk_tile *t = &r->tiles[d->view];
+        glEnable(GL_SCISSOR_TEST);
+        glScissor(t->x + d->rect.x0, t->y + d->rect.y0, d->rect.x1 - d->rect.x0, d->rect.y1 - d->rect.y0);
     }
     const wk_material_table *mt = &r->tables[table];
     size_t i = d->first, end = d->first + d->count;
@@ -385,16 +560,44 @@ lm_status wk_renderer_draw(wk_renderer *r, int table, const wk_draw *d, const ui
     return LM_OK;
 }
 
+static void read_region(wk_renderer *r, GLenum buffer, uint32_t view, const wk_rect *rect,
+                        GLenum format, GLenum type, void *out)
+{
+    if ((int)buffer != r->read_buffer) {
+        glReadBuffer(buffer);
+        r->read_buffer = (int)buffer;
+    }
+    const wk_tile *t = &r->tiles[view];
+    glReadPixels(t->x + rect->x0, t->y + rect->y0, rect->x1 - rect->x0, rect->y1 - rect->y0,
+                 format, type, out);
+}
+
 lm_status wk_renderer_read(wk_renderer *r, uint32_t atlas, uint32_t view, const wk_rect *rect,
                            uint8_t *rgba)
 {
     if (wk_rect_empty(rect))
         return LM_OK;
     lm_status st = bind_tile(r, atlas, view);
-    if (st != LM_OK)
-        return st;
-    const wk_tile *t = &r->tiles[view];
-    glReadPixels(t->x + rect->x0, t->y + rect->y0, rect->x1 - rect->x0, rect->y1 - rect->y0,
-                 GL_RGBA, GL_UNSIGNED_BYTE, rgba);
-    return LM_OK;
+    if (st == LM_OK)
+        read_region(r, GL_COLOR_ATTACHMENT0, view, rect, GL_RGBA, GL_UNSIGNED_BYTE, rgba);
+    return st;
+}
+
+int wk_renderer_has_depth_images(wk_renderer *r)
+{
+    wk_atlas *a;
+    return get_atlas(r, 0, &a) == LM_OK && r->depth_images;
+}
+
+lm_status wk_renderer_read_depth(wk_renderer *r, uint32_t atlas, uint32_t view,
+                                 const wk_rect *rect, float *depth)
+{
+    if (wk_rect_empty(rect))
+        return LM_OK;
+    if (!r->depth_images)
+        return lm_fail(LM_E_UNSUPPORTED, "this device has no readable depth images");
+    lm_status st = bind_tile(r, atlas, view);
+    if (st == LM_OK)
+        read_region(r, GL_COLOR_ATTACHMENT1, view, rect, GL_RED, GL_FLOAT, depth);
+    return st;
 }

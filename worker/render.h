@@ -1,15 +1,20 @@
 /* worker/render.h — the OpenGL ES 3 renderer of a view set (paper §4.1): one light at the viewer,
  * Gouraud shading of per-corner normals (not normalised: the optimizer may scale them, two-sided:
  * |n·l|), colour = texture(uv) × vertex colour × material diffuse × (0.15 + 0.85 |n·l|), clamped,
- * on a 50% grey background (128/255), depth-tested.
+ * on a 50% grey background (128/255), depth-tested (GL_LESS).
  *
  * All views of a set live in one atlas framebuffer (RGBA8 + depth 24), each view in its own fixed
- * tile; a view is ALWAYS drawn into its own tile with the same viewport, so drawing a region of it
- * does exactly the arithmetic of a full render there. Several atlases of identical layout may
- * exist (scratch space for several patches in one batch). Triangles come as a non-indexed stream
- * uploaded once per batch; a draw paints a range of it (ascending triangle ids, consecutive
- * triangles of one material forming one draw call) into a rectangle of one view's tile, after
- * that rectangle was cleared.
+ * tile; a view is ALWAYS drawn into its own tile with the same viewport (which clips), so drawing
+ * a region of it does exactly the arithmetic of a full render there. Several atlases of identical
+ * layout may exist (scratch space for several patches in one batch). Triangles come as a
+ * non-indexed stream uploaded once per batch; a draw paints a range of it (ascending triangle
+ * ids, consecutive triangles of one material forming one draw call) into one view's tile.
+ *
+ * Regions without scissors: a scratch atlas keeps depth 0 (nearest) everywhere except in its
+ * "open" regions, which wk_renderer_open() clears to background grey at depth 1. Drawn triangles
+ * then only change pixels in open regions (elsewhere nothing passes the depth test), so a batch
+ * needs no per-region scissor state (on Mesa a scissor change costs as much as a small draw).
+ * Opening new regions closes the previous ones (depth back to 0), all in one draw call.
  *
  * The GL context must be current on the calling thread for every call. */
 #ifndef LM_WORKER_RENDER_H
@@ -34,7 +39,7 @@ lm_status wk_renderer_create(const lm_view_set *views, wk_renderer **out);
 void wk_renderer_destroy(wk_renderer *r);
 
 /* Material table `table`: copies the diffuse colours and uploads the textures (RGBA8, mipmapped,
- * repeating; uv (0,0) is the bottom-left of the image). Materials without texture sample white. */
+ * repeating; uv (0,0) is the bottom-left of the image). */
 lm_status wk_renderer_set_materials(wk_renderer *r, int table, const lm_material *mats,
                                     uint32_t n);
 uint32_t wk_renderer_material_count(const wk_renderer *r, int table);
@@ -42,14 +47,18 @@ uint32_t wk_renderer_material_count(const wk_renderer *r, int table);
 /* Replace the stream with the corners of n triangles (3 per triangle). */
 lm_status wk_renderer_upload(wk_renderer *r, const lm_corner *corners, size_t n_tris);
 
-/* Paint rect of a view background grey at the far plane (depth 1). Atlases (< WK_RENDER_MAX_ATLASES)
- * are created on first use. Clears and draws switch GL state: issue a batch's clears first. */
-lm_status wk_renderer_clear(wk_renderer *r, uint32_t atlas, uint32_t view, const wk_rect *rect);
+/* Atlases (< WK_RENDER_MAX_ATLASES) are created on first use. */
+/* Clear every tile of an atlas to background grey at depth 1 (all of it open). */
+lm_status wk_renderer_clear_all(wk_renderer *r, uint32_t atlas);
+
+/* Close the atlas's open regions and open these instead: rects[i] of view views[i]. */
+lm_status wk_renderer_open(wk_renderer *r, uint32_t atlas, const uint32_t *views,
+                           const wk_rect *rects, size_t n);
 
 typedef struct wk_draw {
     uint32_t atlas, view;
-    wk_rect rect;        /* pixels of the view to paint (the scissor) */
     size_t first, count; /* stream triangles, in ascending id order */
+    wk_rect rect;        /* the pixels that matter (open, or the whole view) */
 } wk_draw;
 
 /* materials[i] is the material (in `table`) of stream triangle i. */
@@ -59,6 +68,13 @@ lm_status wk_renderer_draw(wk_renderer *r, int table, const wk_draw *d, const ui
  * after draws waits for them: read after drawing everything of a batch. */
 lm_status wk_renderer_read(wk_renderer *r, uint32_t atlas, uint32_t view, const wk_rect *rect,
                            uint8_t *rgba);
+
+/* Whether atlases carry a depth image (the winning fragments' window depth in an R32F colour
+ * attachment; needs float render targets, as GLES 3.2 and EXT_color_buffer_float have), and
+ * reading it: rect of a view, rows bottom first, one float per pixel. */
+int wk_renderer_has_depth_images(wk_renderer *r);
+lm_status wk_renderer_read_depth(wk_renderer *r, uint32_t atlas, uint32_t view,
+                                 const wk_rect *rect, float *depth);
 
 /* GL errors since the last check, as an lm_status naming `what`. */
 lm_status wk_renderer_check(wk_renderer *r, const char *what);

@@ -1,7 +1,7 @@
 /* worker/render_program.c — the shaders: Gouraud lighting with one light at the viewer, per vertex
  * (two-sided, normals used as given), modulated per fragment by the material's texture; and the
- * clear program that paints a region background grey at depth 1 (a quad drawn with depth ALWAYS,
- * cheaper than a scissored glClear on Mesa, which draws a quad with full state save/restore). */
+ * clear program that paints quads background grey at the depth they carry (drawn with depth
+ * ALWAYS: opening regions at depth 1 and closing them at depth 0, see render.h). */
 #include "worker/render_program.h"
 
 #include <stdio.h>
@@ -31,9 +31,11 @@ static const char *const shade_fs_textured =
     "in vec2 v_uv;\n"
     "in vec4 v_color;\n"
     "layout(location = 0) out vec4 o_color;\n"
+    "layout(location = 1) out float o_depth;\n"
     "void main() {\n"
     "    vec4 c = clamp(texture(u_texture, v_uv) * v_color, 0.0, 1.0);\n"
     "    o_color = vec4(c.rgb, 1.0);\n"
+    "    o_depth = gl_FragCoord.z;\n"
     "}\n";
 
 static const char *const shade_fs_plain =
@@ -42,20 +44,27 @@ static const char *const shade_fs_plain =
     "in vec2 v_uv;\n"
     "in vec4 v_color;\n"
     "layout(location = 0) out vec4 o_color;\n"
+    "layout(location = 1) out float o_depth;\n"
     "void main() {\n"
     "    vec4 c = clamp(v_color, 0.0, 1.0);\n"
     "    o_color = vec4(c.rgb, 1.0);\n"
+    "    o_depth = gl_FragCoord.z;\n"
     "}\n";
 
 static const char *const clear_vs = "#version 300 es\n"
                                     "precision highp float;\n"
-                                    "layout(location = 0) in vec2 a_pos;\n"
-                                    "void main() { gl_Position = vec4(a_pos, 1.0, 1.0); }\n";
+                                    "layout(location = 0) in vec3 a_pos;\n"
+                                    "void main() { gl_Position = vec4(a_pos, 1.0); }\n";
 
-static const char *const clear_fs_fmt = "#version 300 es\n"
-                                        "precision highp float;\n"
-                                        "layout(location = 0) out vec4 o_color;\n"
-                                        "void main() { o_color = vec4(vec3(%d.0 / 255.0), 1.0); }\n";
+static const char *const clear_fs_fmt =
+    "#version 300 es\n"
+    "precision highp float;\n"
+    "layout(location = 0) out vec4 o_color;\n"
+    "layout(location = 1) out float o_depth;\n"
+    "void main() {\n"
+    "    o_color = vec4(vec3(%d.0 / 255.0), 1.0);\n"
+    "    o_depth = gl_FragCoord.z;\n"
+    "}\n";
 
 static lm_status compile(GLenum kind, const char *src, GLuint *out)
 {

@@ -1,7 +1,7 @@
 /* worker/render_program.h — the renderer's GLSL ES 3.00 programs (private to worker/render*.c):
  * the shading program in two variants (with and without a texture; a material without texture
  * would sample white, so the variant without one computes the same colour with less work) and the
- * region-clear program (background grey at the far plane). Per-view data (view-projection,
+ * region program (background grey at a given depth). Per-view data (view-projection,
  * light) and per-material data (diffuse) come from uniform blocks at fixed binding points. */
 #ifndef LM_WORKER_RENDER_PROGRAM_H
 #define LM_WORKER_RENDER_PROGRAM_H

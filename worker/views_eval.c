@@ -129,20 +129,29 @@ static int cmp_u32(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
-/* The region of patch p in view h: stored rectangles of removed triangles ∪ rectangles of added. */
-static void patch_region(wk_views_local *v, const lm_patch *p, uint32_t h, wk_rect *r)
+/* Change this far behind the visible surface is certainly hidden (window depth units; a 24-bit
+ * depth step is 6e-8). */
+#define WK_HIDDEN_EPS 1e-5f
+
+/* The region of patch p in view h: stored rectangles of removed triangles ∪ rectangles of added.
+ * Returns 1 when every removed and added triangle is certainly hidden behind the current visible
+ * surface (then the view's image cannot change). */
+static int patch_region(wk_views_local *v, const lm_patch *p, uint32_t h, wk_rect *r)
 {
+    int hidden = v->occlusion;
     *r = (wk_rect){0, 0, 0, 0};
     for (uint32_t i = 0; i < p->n_removed; i++) {
-        wk_rect s;
-        wk_buckets_rect(v->buckets[h], p->removed[i], &s);
-        wk_rect_union(r, &s);
+        const wk_footprint *f = wk_buckets_footprint(v->buckets[h], p->removed[i]);
+        wk_rect_union(r, &f->rect);
+        hidden = hidden && wk_image_store_hidden_tri(v->img, h, f, WK_HIDDEN_EPS);
     }
     for (uint32_t i = 0; i < p->n_added; i++) {
-        wk_rect s;
-        wk_tri_screen_rect(&v->views.views[h], &p->added[i], &s);
-        wk_rect_union(r, &s);
+        wk_footprint f;
+        wk_tri_footprint(&v->views.views[h], &p->added[i], &f);
+        wk_rect_union(r, &f.rect);
+        hidden = hidden && wk_image_store_hidden_tri(v->img, h, &f, WK_HIDDEN_EPS);
     }
+    return hidden;
 }
 
 /* Stream (T_R \ T) ∪ T' for view h in ascending id order; T' = v->sorted_added (n_added). */
@@ -181,9 +190,10 @@ static lm_status plan_patch(wk_views_local *v, const lm_patch *p, uint32_t pi)
     lm_status st = prepare_patch(v, p, &stamp);
     for (uint32_t h = 0; st == LM_OK && h < v->views.count; h++) {
         wk_job j = {.patch = pi, .view = h, .first = v->stream_n, .luma = v->n_luma};
-        patch_region(v, p, h, &j.rect);
-        if (wk_rect_empty(&j.rect))
+        if (patch_region(v, p, h, &j.rect) || wk_rect_empty(&j.rect)) {
+            v->stats.views_skipped++;
             continue;
+        }
         st = stream_region(v, h, &j.rect, stamp, p->n_added, &j.count);
         if (st == LM_OK)
             st = push_job(v, &j);
@@ -207,20 +217,40 @@ static lm_status reserve_bytes(uint8_t **buf, size_t *cap, size_t need)
     return LM_OK;
 }
 
-/* Draw jobs [j0, j1) (patch i into scratch atlas 1 + i - p0): all clears, then all draws (two GL
- * state switches), then read them all back (one synchronisation). */
+/* Open the regions of jobs [j0, j1) in their patch's scratch atlas (patch i of the batch uses
+ * atlas 1 + i - p0), one call per atlas. */
+static lm_status open_regions(wk_views_local *v, size_t j0, size_t j1, uint32_t p0)
+{
+    lm_status st = LM_OK;
+    for (size_t a = j0; st == LM_OK && a < j1;) {
+        size_t b = a;
+        v->open_n = 0;
+        for (; b < j1 && v->jobs[b].patch == v->jobs[a].patch; b++) {
+            v->open_views[v->open_n] = v->jobs[b].view;
+            v->open_rects[v->open_n++] = v->jobs[b].rect;
+        }
+        st = wk_renderer_open(v->r, 1 + v->jobs[a].patch - p0, v->open_views, v->open_rects,
+                              v->open_n);
+        a = b;
+    }
+    return st;
+}
+
+/* Draw jobs [j0, j1): open all regions, draw all, then read them all back (one sync). */
 static lm_status run_jobs(wk_views_local *v, size_t j0, size_t j1, uint32_t p0)
 {
     lm_status st = wk_renderer_upload(v->r, v->stream, v->stream_n);
-    for (size_t j = j0; st == LM_OK && j < j1; j++)
-        st = wk_renderer_clear(v->r, 1 + v->jobs[j].patch - p0, v->jobs[j].view, &v->jobs[j].rect);
+    if (st == LM_OK)
+        st = open_regions(v, j0, j1, p0);
     for (size_t j = j0; st == LM_OK && j < j1; j++) {
         const wk_job *job = &v->jobs[j];
-        wk_draw d = {1 + job->patch - p0, job->view, job->rect, job->first, job->count};
+        wk_draw d = {1 + job->patch - p0, job->view, job->first, job->count, job->rect};
         st = wk_renderer_draw(v->r, v->table, &d, v->stream_mat);
     }
     if (st == LM_OK)
         st = reserve_bytes(&v->luma, &v->cap_luma, v->n_luma);
+    if (st == LM_OK && v->occlusion)
+        st = reserve_bytes((uint8_t **)&v->zreg, &v->cap_zreg, v->n_luma * sizeof(float));
     for (size_t j = j0; st == LM_OK && j < j1; j++) {
         const wk_job *job = &v->jobs[j];
         size_t area = (size_t)(job->rect.x1 - job->rect.x0) * (job->rect.y1 - job->rect.y0);
@@ -229,6 +259,9 @@ static lm_status run_jobs(wk_views_local *v, size_t j0, size_t j1, uint32_t p0)
             st = wk_renderer_read(v->r, 1 + job->patch - p0, job->view, &job->rect, v->rgba);
         if (st == LM_OK)
             wk_luma_from_rgba(v->rgba, area, v->luma + job->luma);
+        if (st == LM_OK && v->occlusion)
+            st = wk_renderer_read_depth(v->r, 1 + job->patch - p0, job->view, &job->rect,
+                                        v->zreg + job->luma);
     }
     v->stats.batches++;
     v->stats.tris_drawn += v->stream_n;
@@ -253,6 +286,7 @@ void wk_vl_free_eval(wk_views_local *v)
     free(v->cached);
     free(v->jobs);
     free(v->luma);
+    free(v->zreg);
     free(v->rgba);
     free(v->cand.ids);
     free(v->mark);
@@ -347,9 +381,9 @@ static lm_status apply_patch(wk_views_local *v, const lm_patch *p)
     for (uint32_t i = 0; i < p->n_added; i++) {
         lm_status st = wk_replica_put(&v->rep, &p->added[i]);
         for (uint32_t h = 0; st == LM_OK && h < v->views.count; h++) {
-            wk_rect r;
-            wk_tri_screen_rect(&v->views.views[h], &p->added[i], &r);
-            st = wk_buckets_insert(v->buckets[h], p->added[i].id, &r);
+            wk_footprint f;
+            wk_tri_footprint(&v->views.views[h], &p->added[i], &f);
+            st = wk_buckets_insert(v->buckets[h], p->added[i].id, &f);
         }
         if (st != LM_OK)
             return st;
@@ -375,10 +409,14 @@ lm_status wk_vl_commit(lm_views *base, const lm_patch *patch)
         v->stats.evaluations--; /* a commit's render is not an evaluation */
         k = 0;
     }
-    for (size_t j = 0; j < v->n_jobs; j++)
-        if (v->jobs[j].patch == k)
-            wk_image_store_commit_region(v->img, v->jobs[j].view, &v->jobs[j].rect,
-                                         v->luma + v->jobs[j].luma);
+    for (size_t j = 0; j < v->n_jobs; j++) {
+        const wk_job *job = &v->jobs[j];
+        if (job->patch != k)
+            continue;
+        wk_image_store_commit_region(v->img, job->view, &job->rect, v->luma + job->luma);
+        if (v->occlusion)
+            wk_image_store_commit_depth(v->img, job->view, &job->rect, v->zreg + job->luma);
+    }
     wk_vl_forget_cache(v);
     st = apply_patch(v, patch);
     if (st != LM_OK)

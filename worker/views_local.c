@@ -77,6 +77,7 @@ static lm_status read_full(wk_views_local *v, int to_target)
     uint8_t *rgba = malloc(plane * 4), *y = malloc(plane);
     lm_status st = (rgba && y) ? LM_OK : lm_fail(LM_E_NOMEM, "out of memory reading images");
     wk_rect all = {0, 0, v->width, v->height};
+    int depth = !to_target && v->occlusion;
     for (uint32_t h = 0; st == LM_OK && h < v->views.count; h++) {
         st = wk_renderer_read(v->r, WK_FULL_ATLAS, h, &all, rgba);
         wk_luma_from_rgba(rgba, plane, y);
@@ -84,6 +85,10 @@ static lm_status read_full(wk_views_local *v, int to_target)
             wk_image_store_set_target(v->img, h, y);
         else
             wk_image_store_set_current(v->img, h, y);
+        if (st == LM_OK && depth) { /* plane floats fit in the rgba buffer */
+            st = wk_renderer_read_depth(v->r, WK_FULL_ATLAS, h, &all, (float *)(void *)rgba);
+            wk_image_store_set_depth(v->img, h, (const float *)(void *)rgba);
+        }
     }
     free(rgba);
     free(y);
@@ -94,10 +99,9 @@ static lm_status read_full(wk_views_local *v, int to_target)
 
 static lm_status render_full(wk_views_local *v, int table, tri_source *src, int to_target)
 {
-    wk_rect all = {0, 0, v->width, v->height};
     lm_status st = wk_vl_stream_reserve(v, WK_FULL_CHUNK);
-    for (uint32_t h = 0; st == LM_OK && h < v->views.count; h++)
-        st = wk_renderer_clear(v->r, WK_FULL_ATLAS, h, &all);
+    if (st == LM_OK)
+        st = wk_renderer_clear_all(v->r, WK_FULL_ATLAS);
     while (st == LM_OK) {
         v->stream_n = 0;
         size_t n = source_fill(v, src, WK_FULL_CHUNK);
@@ -105,7 +109,7 @@ static lm_status render_full(wk_views_local *v, int table, tri_source *src, int 
             break;
         st = wk_renderer_upload(v->r, v->stream, n);
         for (uint32_t h = 0; st == LM_OK && h < v->views.count; h++) {
-            wk_draw d = {WK_FULL_ATLAS, h, all, 0, n};
+            wk_draw d = {WK_FULL_ATLAS, h, 0, n, {0, 0, v->width, v->height}};
             st = wk_renderer_draw(v->r, table, &d, v->stream_mat);
         }
     }
@@ -177,9 +181,9 @@ static lm_status build_replica(wk_views_local *v, const lm_tri_data *tris, size_
     for (uint32_t h = 0; h < v->views.count; h++) {
         wk_buckets_clear(v->buckets[h]);
         for (size_t i = 0; i < n; i++) {
-            wk_rect rc;
-            wk_tri_screen_rect(&v->views.views[h], &tris[i], &rc);
-            lm_status st = wk_buckets_insert(v->buckets[h], tris[i].id, &rc);
+            wk_footprint f;
+            wk_tri_footprint(&v->views.views[h], &tris[i], &f);
+            lm_status st = wk_buckets_insert(v->buckets[h], tris[i].id, &f);
             if (st != LM_OK)
                 return st;
         }
@@ -334,6 +338,10 @@ static lm_status create_parts(wk_views_local *v, const lm_mesh *original, const 
         st = wk_image_store_create(v->views.count, v->width, v->height, &v->img);
     for (uint32_t h = 0; st == LM_OK && h < v->views.count; h++)
         st = wk_buckets_create(v->width, v->height, 0, &v->buckets[h]);
+    if (st == LM_OK && wk_renderer_has_depth_images(v->r)) {
+        st = wk_image_store_enable_depth(v->img);
+        v->occlusion = st == LM_OK;
+    }
     return st;
 }
 
@@ -380,6 +388,21 @@ lm_status wk_views_local_set_materials(lm_views *base, const lm_material *mats, 
         return st;
     v->table = 1;
     return v->mesh_set ? rerender_replica(v) : LM_OK;
+}
+
+lm_status wk_views_local_set_occlusion(lm_views *base, int on)
+{
+    wk_views_local *v = (wk_views_local *)base;
+    if (on && !wk_image_store_has_depth(v->img))
+        return lm_fail(LM_E_UNSUPPORTED, "this device cannot render depth images");
+    int was = v->occlusion;
+    v->occlusion = on != 0;
+    wk_vl_forget_cache(v);
+    if (v->occlusion && !was && v->mesh_set) {
+        lm_status st = wk_vl_make_current(v);
+        return st == LM_OK ? rerender_replica(v) : st;
+    }
+    return LM_OK;
 }
 
 void wk_views_local_get_stats(lm_views *base, wk_views_local_stats *out)

@@ -28,8 +28,14 @@ typedef struct wk_views_local_stats {
     uint64_t regions;       /* view regions redrawn in evaluate/commit */
     uint64_t region_pixels; /* their pixels */
     uint64_t commits_cached; /* commits that reused an evaluation's pixels */
+    uint64_t views_skipped;  /* (patch, view) pairs not drawn: change hidden or off-screen */
 } wk_views_local_stats;
 void wk_views_local_get_stats(lm_views *views, wk_views_local_stats *out);
+
+/* Skipping of views where every removed and added triangle lies certainly behind the visible
+ * surface (on by default where the device can render the depth image; exact either way). Turning
+ * it on re-renders a mesh already set. */
+lm_status wk_views_local_set_occlusion(lm_views *views, int on);
 
 /* Copy the current (which = 0) or target (which = 1) luminance image of a view (width*height
  * bytes, bottom row first). */

@@ -33,7 +33,8 @@ typedef struct wk_views_local {
     wk_buckets *buckets[LM_MAX_VIEWS];
     wk_replica rep;
     int mesh_set;
-    int table; /* material table of the current mesh */
+    int table;     /* material table of the current mesh */
+    int occlusion; /* skip views where a patch is certainly hidden (needs depth images) */
     /* the stream of one upload */
     lm_corner *stream;
     uint32_t *stream_mat;
@@ -43,6 +44,8 @@ typedef struct wk_views_local {
     size_t n_jobs, cap_jobs;
     uint8_t *luma;
     size_t n_luma, cap_luma;
+    float *zreg; /* depth images of the regions (same offsets as luma) when occlusion is on */
+    size_t cap_zreg;
     uint8_t *rgba;
     size_t cap_rgba;
     /* scratch for building patches' triangle lists */
@@ -52,6 +55,10 @@ typedef struct wk_views_local {
     uint32_t mark_now;
     lm_tri_data *sorted_added;
     size_t cap_sorted;
+    /* regions to open in one scratch atlas */
+    uint32_t open_views[LM_MAX_VIEWS];
+    wk_rect open_rects[LM_MAX_VIEWS];
+    size_t open_n;
     /* copies of the patches of the last evaluation */
     lm_patch *cached;
     uint32_t n_cached, cap_cached;

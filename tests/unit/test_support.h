@@ -3,11 +3,12 @@
 #ifndef LM_TEST_SUPPORT_H
 #define LM_TEST_SUPPORT_H
 
-#include <cmocka.h>
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
+
+#include <cmocka.h> /* after the headers it needs */
 
 #include "common/mesh.h"
 
