@@ -1,0 +1,336 @@
+/* common/mesh_io_glb.c — glTF 2.0 binary (GLB) writer: one mesh, one primitive per material that
+ * has triangles (POSITION with min/max, NORMAL, TEXCOORD_0, COLOR_0 as the mesh has them; uint32
+ * indices), pbrMetallicRoughness materials (baseColorFactor = diffuse, not metallic) whose
+ * textures are embedded as PNG. glTF puts the UV origin at the image's top left, lumesh (like
+ * OBJ and assimp) at the bottom left, so v is written as 1 - v. Written atomically. */
+#include <stdarg.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "common/mesh_io_internal.h"
+
+typedef struct bytes {
+    uint8_t *d;
+    size_t n, cap;
+    int failed;
+} bytes;
+
+static void b_put(bytes *b, const void *p, size_t n)
+{
+    if (b->failed)
+        return;
+    if (b->n + n > b->cap) {
+        size_t cap = b->cap ? b->cap : 4096;
+        while (cap < b->n + n)
+            cap *= 2;
+        uint8_t *d = realloc(b->d, cap);
+        if (!d) {
+            b->failed = 1;
+            return;
+        }
+        b->d = d;
+        b->cap = cap;
+    }
+    memcpy(b->d + b->n, p, n);
+    b->n += n;
+}
+
+static void b_printf(bytes *b, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+static void b_printf(bytes *b, const char *fmt, ...)
+{
+    char small[512];
+    va_list ap, ap2;
+    va_start(ap, fmt);
+    va_copy(ap2, ap);
+    int n = vsnprintf(small, sizeof small, fmt, ap);
+    va_end(ap);
+    if (n >= 0 && (size_t)n < sizeof small) {
+        b_put(b, small, (size_t)n);
+    } else if (n >= 0) {
+        char *big = malloc((size_t)n + 1);
+        if (big)
+            vsnprintf(big, (size_t)n + 1, fmt, ap2);
+        if (big)
+            b_put(b, big, (size_t)n);
+        b->failed |= !big;
+        free(big);
+    } else {
+        b->failed = 1;
+    }
+    va_end(ap2);
+}
+
+static void b_align(bytes *b, uint8_t fill)
+{
+    while (b->n % 4)
+        b_put(b, &fill, 1);
+}
+
+typedef struct glb {
+    const lm_mesh *m;
+    bytes bin, views, accessors, prims;
+    uint32_t n_views, n_accessors, n_prims;
+    uint32_t *local; /* [n_wedges] index in the current primitive, LM_NONE if absent */
+    uint32_t *order; /* wedges of the current primitive */
+    uint32_t *index; /* indices of the current primitive */
+} glb;
+
+/* Append data to the binary chunk as a new buffer view; returns its index. */
+static uint32_t add_view(glb *g, const void *data, size_t len, int target)
+{
+    b_align(&g->bin, 0);
+    b_printf(&g->views, "%s{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":%zu",
+             g->n_views ? "," : "", g->bin.n, len);
+    if (target)
+        b_printf(&g->views, ",\"target\":%d", target);
+    b_printf(&g->views, "}");
+    b_put(&g->bin, data, len);
+    return g->n_views++;
+}
+
+static uint32_t add_accessor(glb *g, uint32_t view, int comp, uint32_t count, const char *type,
+                             const char *minmax)
+{
+    b_printf(&g->accessors,
+             "%s{\"bufferView\":%u,\"componentType\":%d,\"count\":%u,\"type\":\"%s\"%s}",
+             g->n_accessors ? "," : "", view, comp, count, type, minmax ? minmax : "");
+    return g->n_accessors++;
+}
+
+/* Float attribute of the current primitive: ncomp floats per wedge from get(). */
+static uint32_t float_attr(glb *g, uint32_t n, int ncomp, const char *type,
+                           void (*get)(const lm_mesh *, uint32_t, float *), int minmax)
+{
+    float *v = malloc((size_t)n * (size_t)ncomp * sizeof *v + 1);
+    if (!v) {
+        g->bin.failed = 1;
+        return 0;
+    }
+    float lo[4] = {0}, hi[4] = {0};
+    for (uint32_t i = 0; i < n; i++) {
+        get(g->m, g->order[i], v + (size_t)i * (size_t)ncomp);
+        for (int k = 0; k < ncomp; k++) {
+            float x = v[(size_t)i * (size_t)ncomp + (size_t)k];
+            lo[k] = i == 0 || x < lo[k] ? x : lo[k];
+            hi[k] = i == 0 || x > hi[k] ? x : hi[k];
+        }
+    }
+    char mm[256] = "";
+    if (minmax)
+        snprintf(mm, sizeof mm, ",\"min\":[%.9g,%.9g,%.9g],\"max\":[%.9g,%.9g,%.9g]", lo[0], lo[1],
+                 lo[2], hi[0], hi[1], hi[2]);
+    uint32_t view = add_view(g, v, (size_t)n * (size_t)ncomp * sizeof *v, 34962);
+    free(v);
+    return add_accessor(g, view, 5126, n, type, minmax ? mm : NULL);
+}
+
+static void get_pos(const lm_mesh *m, uint32_t w, float *out)
+{
+    memcpy(out, m->pos[m->wedges[w].vertex], 3 * sizeof *out);
+}
+static void get_normal(const lm_mesh *m, uint32_t w, float *out)
+{
+    memcpy(out, m->wedges[w].normal, 3 * sizeof *out);
+}
+static void get_uv(const lm_mesh *m, uint32_t w, float *out)
+{
+    out[0] = m->wedges[w].uv[0];
+    out[1] = 1.0f - m->wedges[w].uv[1];
+}
+static void get_color(const lm_mesh *m, uint32_t w, float *out)
+{
+    memcpy(out, m->wedges[w].color, 4 * sizeof *out);
+}
+
+/* Primitive of material `mat`; nothing when it has no triangles. */
+static void add_primitive(glb *g, uint32_t mat)
+{
+    const lm_mesh *m = g->m;
+    uint32_t nv = 0, ni = 0;
+    for (uint32_t t = 0; t < m->n_tris; t++) {
+        if (!m->tri_alive[t] || m->tris[t].material != mat)
+            continue;
+        for (int k = 0; k < 3; k++) {
+            uint32_t w = m->tris[t].w[k];
+            if (g->local[w] == LM_NONE) {
+                g->local[w] = nv;
+                g->order[nv++] = w;
+            }
+            g->index[ni++] = g->local[w];
+        }
+    }
+    if (ni == 0)
+        return;
+    b_printf(&g->prims, "%s{\"attributes\":{\"POSITION\":%u", g->n_prims++ ? "," : "",
+             float_attr(g, nv, 3, "VEC3", get_pos, 1));
+    if (m->attrs & LM_ATTR_NORMAL)
+        b_printf(&g->prims, ",\"NORMAL\":%u", float_attr(g, nv, 3, "VEC3", get_normal, 0));
+    if (m->attrs & LM_ATTR_UV)
+        b_printf(&g->prims, ",\"TEXCOORD_0\":%u", float_attr(g, nv, 2, "VEC2", get_uv, 0));
+    if (m->attrs & LM_ATTR_COLOR)
+        b_printf(&g->prims, ",\"COLOR_0\":%u", float_attr(g, nv, 4, "VEC4", get_color, 0));
+    uint32_t view = add_view(g, g->index, (size_t)ni * sizeof *g->index, 34963);
+    b_printf(&g->prims, "},\"indices\":%u", add_accessor(g, view, 5125, ni, "SCALAR", NULL));
+    if (m->n_materials)
+        b_printf(&g->prims, ",\"material\":%u", mat);
+    b_printf(&g->prims, ",\"mode\":4}");
+    for (uint32_t i = 0; i < nv; i++)
+        g->local[g->order[i]] = LM_NONE;
+}
+
+static void json_string(bytes *b, const char *s)
+{
+    b_put(b, "\"", 1);
+    for (; *s; s++) {
+        unsigned char c = (unsigned char)*s;
+        if (c == '"' || c == '\\')
+            b_printf(b, "\\%c", c);
+        else if (c < 0x20)
+            b_printf(b, "\\u%04x", c);
+        else
+            b_put(b, s, 1);
+    }
+    b_put(b, "\"", 1);
+}
+
+static void material_json(bytes *js, const lm_material *mat, uint32_t i, uint32_t tex)
+{
+    b_printf(js, "%s{\"name\":", i ? "," : "");
+    json_string(js, mat->name);
+    b_printf(js, ",\"pbrMetallicRoughness\":{\"baseColorFactor\":[%.9g,%.9g,%.9g,%.9g]",
+             mat->diffuse[0], mat->diffuse[1], mat->diffuse[2], mat->diffuse[3]);
+    b_printf(js, ",\"metallicFactor\":0,\"roughnessFactor\":1");
+    if (tex != LM_NONE)
+        b_printf(js, ",\"baseColorTexture\":{\"index\":%u}", tex);
+    b_printf(js, "}%s}", mat->diffuse[3] < 1.0f ? ",\"alphaMode\":\"BLEND\"" : "");
+}
+
+static void textures_json(bytes *js, const uint32_t *views, uint32_t n)
+{
+    b_printf(js, ",\"samplers\":[{\"magFilter\":9729,\"minFilter\":9987,\"wrapS\":10497,"
+                 "\"wrapT\":10497}],\"textures\":[");
+    for (uint32_t i = 0; i < n; i++)
+        b_printf(js, "%s{\"sampler\":0,\"source\":%u}", i ? "," : "", i);
+    b_printf(js, "],\"images\":[");
+    for (uint32_t i = 0; i < n; i++)
+        b_printf(js, "%s{\"bufferView\":%u,\"mimeType\":\"image/png\"}", i ? "," : "", views[i]);
+    b_printf(js, "]");
+}
+
+/* Materials, and their textures as PNG images in the binary chunk. */
+static lm_status add_materials(glb *g, bytes *js)
+{
+    const lm_mesh *m = g->m;
+    uint32_t *views = malloc(((size_t)m->n_materials + 1) * sizeof *views), n_tex = 0;
+    if (!views)
+        return lm_fail(LM_E_NOMEM, "out of memory writing materials");
+    lm_status s = LM_OK;
+    if (m->n_materials)
+        b_printf(js, ",\"materials\":[");
+    for (uint32_t i = 0; i < m->n_materials && !s; i++) {
+        const lm_material *mat = &m->materials[i];
+        uint32_t tex = LM_NONE;
+        uint8_t *png = NULL;
+        size_t len = 0;
+        if (mat->texture && !(s = lm_image_encode_png_memory(mat->texture, &png, &len))) {
+            views[n_tex] = add_view(g, png, len, 0);
+            tex = n_tex++;
+            free(png);
+        }
+        material_json(js, mat, i, tex);
+    }
+    if (m->n_materials)
+        b_printf(js, "]");
+    if (n_tex)
+        textures_json(js, views, n_tex);
+    free(views);
+    return s;
+}
+
+/* The whole JSON chunk; primitives and materials must have filled the binary chunk. */
+static void assemble_json(glb *g, bytes *js, const bytes *mats)
+{
+    b_printf(js, "{\"asset\":{\"version\":\"2.0\",\"generator\":\"lumesh\"},\"scene\":0,"
+                 "\"scenes\":[{\"nodes\":[0]}],\"nodes\":[{\"mesh\":0}],"
+                 "\"meshes\":[{\"primitives\":[");
+    b_put(js, g->prims.d, g->prims.n);
+    b_printf(js, "]}]");
+    b_put(js, mats->d, mats->n);
+    b_printf(js, ",\"accessors\":[");
+    b_put(js, g->accessors.d, g->accessors.n);
+    b_printf(js, "],\"bufferViews\":[");
+    b_put(js, g->views.d, g->views.n);
+    b_align(&g->bin, 0);
+    b_printf(js, "],\"buffers\":[{\"byteLength\":%zu}]}", g->bin.n);
+    b_align(js, ' ');
+}
+
+static void put_u32(uint8_t *p, uint32_t v)
+{
+    p[0] = (uint8_t)v, p[1] = (uint8_t)(v >> 8), p[2] = (uint8_t)(v >> 16),
+    p[3] = (uint8_t)(v >> 24);
+}
+
+static lm_status write_container(const char *path, const bytes *js, const bytes *bin)
+{
+    uint8_t head[20];
+    if ((uint64_t)js->n + bin->n + 28 > UINT32_MAX)
+        return lm_fail(LM_E_RANGE, "cannot write %s: the mesh exceeds GLB's 4 GiB", path);
+    memcpy(head, "glTF", 4);
+    put_u32(head + 4, 2);
+    put_u32(head + 8, (uint32_t)(12 + 8 + js->n + 8 + bin->n));
+    put_u32(head + 12, (uint32_t)js->n);
+    put_u32(head + 16, 0x4E4F534Au); /* JSON */
+    lm_atomic_file f;
+    lm_status s = lm_atomic_open(&f, path);
+    if (s)
+        return s;
+    fwrite(head, 1, 20, f.fp);
+    fwrite(js->d, 1, js->n, f.fp);
+    put_u32(head, (uint32_t)bin->n);
+    put_u32(head + 4, 0x004E4942u); /* BIN */
+    fwrite(head, 1, 8, f.fp);
+    fwrite(bin->d, 1, bin->n, f.fp);
+    return lm_atomic_commit(&f);
+}
+
+static void glb_free(glb *g)
+{
+    free(g->bin.d);
+    free(g->views.d);
+    free(g->accessors.d);
+    free(g->prims.d);
+    free(g->local);
+    free(g->order);
+    free(g->index);
+}
+
+lm_status lm_io_save_glb(const char *path, const lm_mesh *m)
+{
+    glb g = {.m = m};
+    bytes mats = {0}, js = {0};
+    g.local = malloc(((size_t)m->n_wedges + 1) * sizeof *g.local);
+    g.order = malloc(((size_t)m->n_wedges + 1) * sizeof *g.order);
+    g.index = malloc(((size_t)m->n_tris * 3 + 1) * sizeof *g.index);
+    lm_status s = LM_OK;
+    if (!g.local || !g.order || !g.index)
+        s = lm_fail(LM_E_NOMEM, "out of memory writing %s", path);
+    if (!s) {
+        memset(g.local, 0xff, ((size_t)m->n_wedges + 1) * sizeof *g.local);
+        for (uint32_t mat = 0; mat < (m->n_materials ? m->n_materials : 1); mat++)
+            add_primitive(&g, mat);
+        s = add_materials(&g, &mats);
+    }
+    if (!s) {
+        assemble_json(&g, &js, &mats);
+        if (g.bin.failed || g.views.failed || g.accessors.failed || g.prims.failed || mats.failed ||
+            js.failed)
+            s = lm_fail(LM_E_NOMEM, "out of memory writing %s", path);
+    }
+    if (!s)
+        s = write_container(path, &js, &g.bin);
+    glb_free(&g);
+    free(mats.d);
+    free(js.d);
+    return s;
+}

@@ -1,0 +1,82 @@
+/* common/mesh_io_internal.h — private interfaces between the mesh_io_*.c files: the pre-checks of
+ * hostile bytes, the file system handed to assimp, the aiScene -> lm_mesh conversion, material
+ * and texture import, and the writers. Not for other folders. */
+#ifndef LM_COMMON_MESH_IO_INTERNAL_H
+#define LM_COMMON_MESH_IO_INTERNAL_H
+
+#include <stdio.h>
+
+#include "common/mesh_io.h"
+
+/* Largest model file (and file it refers to) we read into memory. */
+#define LM_IO_MAX_FILE_BYTES ((size_t)2 << 30)
+/* Deepest node hierarchy we follow. */
+#define LM_IO_MAX_NODE_DEPTH 256
+
+struct aiScene;
+struct aiFileIO;
+
+/* ---- mesh_io_guard.c: checks done on the raw bytes before assimp sees them ------------------- */
+
+/* 1 when `ext` (lower case, no dot) names a model format lm_mesh_load accepts. */
+int lm_io_known_ext(const char *ext);
+/* Lower-case extension of `path` (after the last dot of the last component) into buf. */
+void lm_io_path_ext(const char *path, char *buf, size_t cap);
+/* Refuse inputs assimp would mis-handle: absurd element counts (vs file size and max_tris),
+ * out-of-range OFF indices (assimp clamps them silently), over-long OFF lines, bad GLB headers.
+ * `name` is used in messages. */
+lm_status lm_io_guard(const uint8_t *data, size_t size, const char *ext, const char *name,
+                      uint32_t max_tris);
+lm_status lm_io_guard_off(const uint8_t *data, size_t size, const char *name, uint32_t max_tris);
+lm_status lm_io_guard_ply(const uint8_t *data, size_t size, const char *name, uint32_t max_tris);
+lm_status lm_io_guard_stl(const uint8_t *data, size_t size, const char *name, uint32_t max_tris);
+
+/* ---- mesh_io_aifs.c: the only file system assimp gets -------------------------------------- */
+
+/* Serves `main_name` from memory; with allow_disk, other names are read from regular files only
+ * (no devices, FIFOs or directories) up to LM_IO_MAX_FILE_BYTES; without it they do not exist. */
+typedef struct lm_aifs lm_aifs;
+lm_status lm_aifs_create(const char *main_name, const void *data, size_t size, int allow_disk,
+                         lm_aifs **out);
+struct aiFileIO *lm_aifs_io(lm_aifs *fs);
+void lm_aifs_destroy(lm_aifs *fs);
+
+/* Read a whole regular file (at most LM_IO_MAX_FILE_BYTES) into a malloc'ed buffer with one
+ * extra NUL byte after the data. */
+lm_status lm_io_read_file(const char *path, uint8_t **out, size_t *size);
+
+/* ---- mesh_io_scene.c / mesh_io_material.c: aiScene -> lm_mesh ------------------------------ */
+
+typedef struct lm_scene_source {
+    const char *name; /* for messages */
+    const char *dir;  /* folder for relative texture paths; NULL = do not open files */
+    uint32_t max_tris;
+    int keep_degenerate;
+} lm_scene_source;
+
+/* Refuse scenes assimp's post-processing would crash on (run before it): faces without
+ * indices, polygon flags without polygons, non-finite vertex data. */
+lm_status lm_io_check_scene(const struct aiScene *sc, const char *name);
+/* Convert the whole scene (node transforms applied) into a new mesh: not yet validated. */
+lm_status lm_mesh_from_scene(const struct aiScene *sc, const lm_scene_source *src, lm_mesh **out);
+/* Add scene material `index` to m (diffuse colour, decoded diffuse texture). */
+lm_status lm_io_add_material(lm_mesh *m, const struct aiScene *sc, unsigned index,
+                             const lm_scene_source *src, uint32_t *out_id);
+
+/* ---- mesh_io_save.c and the writers -----------------------------------------------------------
+ */
+
+/* Output numbering of a mesh with dead elements skipped. */
+typedef struct lm_out_map {
+    uint32_t *vert;  /* [n_verts] output index of each alive vertex (LM_NONE if dead) */
+    uint32_t *wedge; /* [n_wedges] output index of each alive wedge used by an alive tri */
+    uint32_t n_verts, n_wedges, n_tris;
+} lm_out_map;
+lm_status lm_out_map_build(const lm_mesh *m, lm_out_map *map);
+void lm_out_map_free(lm_out_map *map);
+
+lm_status lm_io_save_obj(const char *path, const lm_mesh *m);
+lm_status lm_io_save_ply(const char *path, const lm_mesh *m);
+lm_status lm_io_save_glb(const char *path, const lm_mesh *m);
+
+#endif

@@ -1,0 +1,223 @@
+/* common/view.c — viewpoints and cameras (see view.h): directions uniform on the sphere
+ * (icosahedron for 12, dodecahedron for 20, spherical Fibonacci otherwise, a rotated Fibonacci set
+ * of 24 for the held-out views), look-at and perspective matrices framing the bounding sphere, and
+ * the projection of world points to window pixels. */
+#include "common/view.h"
+
+#include <math.h>
+#include <string.h>
+
+#define LM_VIEW_DISTANCE 3.0  /* eye distance from the centre, in bounding-sphere radii */
+#define LM_VIEW_MARGIN 1.05   /* field-of-view margin around the sphere */
+#define LM_VIEW_DEPTH_PAD 1.1 /* near/far planes this many radii in front of/behind the centre */
+#define LM_HELDOUT_COUNT 24
+
+static void normalize3(double v[3])
+{
+    double l = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    v[0] /= l;
+    v[1] /= l;
+    v[2] /= l;
+}
+
+static void cross3(const double a[3], const double b[3], double out[3])
+{
+    out[0] = a[1] * b[2] - a[2] * b[1];
+    out[1] = a[2] * b[0] - a[0] * b[2];
+    out[2] = a[0] * b[1] - a[1] * b[0];
+}
+
+/* The 12 vertices of a regular icosahedron (0, ±1, ±φ) and cyclic permutations. */
+static void icosahedron_dirs(double (*d)[3])
+{
+    const double p = (1.0 + sqrt(5.0)) / 2.0;
+    int k = 0;
+    for (int s1 = -1; s1 <= 1; s1 += 2)
+        for (int s2 = -1; s2 <= 1; s2 += 2) {
+            double a = s1, b = s2 * p;
+            d[k][0] = 0, d[k][1] = a, d[k][2] = b, k++;
+            d[k][0] = a, d[k][1] = b, d[k][2] = 0, k++;
+            d[k][0] = b, d[k][1] = 0, d[k][2] = a, k++;
+        }
+}
+
+/* The 20 vertices of a regular dodecahedron: (±1, ±1, ±1) and cyclic (0, ±1/φ, ±φ). */
+static void dodecahedron_dirs(double (*d)[3])
+{
+    const double p = (1.0 + sqrt(5.0)) / 2.0;
+    int k = 0;
+    for (int i = 0; i < 8; i++) {
+        d[k][0] = (i & 1) ? 1 : -1;
+        d[k][1] = (i & 2) ? 1 : -1;
+        d[k][2] = (i & 4) ? 1 : -1;
+        k++;
+    }
+    for (int s1 = -1; s1 <= 1; s1 += 2)
+        for (int s2 = -1; s2 <= 1; s2 += 2) {
+            double a = s1 / p, b = s2 * p;
+            d[k][0] = 0, d[k][1] = a, d[k][2] = b, k++;
+            d[k][0] = a, d[k][1] = b, d[k][2] = 0, k++;
+            d[k][0] = b, d[k][1] = 0, d[k][2] = a, k++;
+        }
+}
+
+/* Spherical Fibonacci points: z uniform in (-1, 1), longitude advancing by the golden angle. */
+static void fibonacci_dirs(double (*d)[3], uint32_t n)
+{
+    const double golden = M_PI * (3.0 - sqrt(5.0));
+    for (uint32_t i = 0; i < n; i++) {
+        double z = 1.0 - (2.0 * i + 1.0) / n;
+        double r = sqrt(fmax(0.0, 1.0 - z * z));
+        double phi = golden * i;
+        d[i][0] = r * cos(phi);
+        d[i][1] = z;
+        d[i][2] = r * sin(phi);
+    }
+}
+
+/* Rotate v about a unit axis by angle (Rodrigues). */
+static void rotate3(double v[3], const double axis[3], double angle)
+{
+    double c = cos(angle), s = sin(angle), k[3], kv[3];
+    double dot = axis[0] * v[0] + axis[1] * v[1] + axis[2] * v[2];
+    memcpy(k, axis, sizeof k);
+    cross3(k, v, kv);
+    for (int i = 0; i < 3; i++)
+        v[i] = v[i] * c + kv[i] * s + k[i] * dot * (1.0 - c);
+}
+
+/* Column-major look-at (eye looking along unit `fwd`) with an up vector that avoids the poles. */
+static void look_at(const double eye[3], const double fwd[3], float out[16])
+{
+    double up[3] = {0, 1, 0}, s[3], u[3];
+    if (fabs(fwd[1]) > 0.95) {
+        up[1] = 0;
+        up[2] = 1;
+    }
+    cross3(fwd, up, s);
+    normalize3(s);
+    cross3(s, fwd, u);
+    memset(out, 0, 16 * sizeof(float));
+    for (int i = 0; i < 3; i++) {
+        out[i * 4 + 0] = (float)s[i];
+        out[i * 4 + 1] = (float)u[i];
+        out[i * 4 + 2] = (float)-fwd[i];
+    }
+    out[12] = (float)-(s[0] * eye[0] + s[1] * eye[1] + s[2] * eye[2]);
+    out[13] = (float)-(u[0] * eye[0] + u[1] * eye[1] + u[2] * eye[2]);
+    out[14] = (float)(fwd[0] * eye[0] + fwd[1] * eye[1] + fwd[2] * eye[2]);
+    out[15] = 1.0f;
+}
+
+static void perspective(double half_fov, double aspect, double n, double f, float out[16])
+{
+    double t = 1.0 / tan(half_fov);
+    memset(out, 0, 16 * sizeof(float));
+    out[0] = (float)(t / aspect);
+    out[5] = (float)t;
+    out[10] = (float)(-(f + n) / (f - n));
+    out[11] = -1.0f;
+    out[14] = (float)(-2.0 * f * n / (f - n));
+}
+
+static void mat4_mul(const float a[16], const float b[16], float out[16])
+{
+    for (int c = 0; c < 4; c++)
+        for (int r = 0; r < 4; r++) {
+            double s = 0;
+            for (int k = 0; k < 4; k++)
+                s += (double)a[k * 4 + r] * b[c * 4 + k];
+            out[c * 4 + r] = (float)s;
+        }
+}
+
+/* Camera on direction d (unit, from the centre towards the eye). */
+static void make_view(lm_view *v, const double d[3], int size, const float centre[3], float radius)
+{
+    double dist = LM_VIEW_DISTANCE * radius, eye[3], fwd[3];
+    for (int i = 0; i < 3; i++) {
+        eye[i] = centre[i] + dist * d[i];
+        fwd[i] = -d[i];
+        v->eye[i] = (float)eye[i];
+        v->dir[i] = (float)fwd[i];
+    }
+    double half_fov = asin(1.0 / LM_VIEW_DISTANCE) * LM_VIEW_MARGIN;
+    double n = dist - LM_VIEW_DEPTH_PAD * radius, f = dist + LM_VIEW_DEPTH_PAD * radius;
+    look_at(eye, fwd, v->view);
+    perspective(half_fov, 1.0, n, f, v->proj);
+    mat4_mul(v->proj, v->view, v->view_proj);
+    v->width = size;
+    v->height = size;
+}
+
+static lm_status check_args(int size, const float centre[3], float radius)
+{
+    if (size < 16 || size > LM_MAX_VIEW_SIZE)
+        return lm_fail(LM_E_RANGE, "view size %d is outside 16..%d", size, LM_MAX_VIEW_SIZE);
+    if (!(radius > 0.0f) || !isfinite(radius))
+        return lm_fail(LM_E_RANGE, "bounding-sphere radius %g is not a positive finite number",
+                       (double)radius);
+    for (int i = 0; i < 3; i++)
+        if (!isfinite(centre[i]))
+            return lm_fail(LM_E_RANGE, "bounding-sphere centre is not finite");
+    return LM_OK;
+}
+
+lm_status lm_view_set_make(lm_view_set *out, uint32_t n, int size, const float centre[3],
+                           float radius)
+{
+    if (n < 1 || n > LM_MAX_VIEWS)
+        return lm_fail(LM_E_RANGE, "view count %u is outside 1..%d", n, LM_MAX_VIEWS);
+    lm_status st = check_args(size, centre, radius);
+    if (st != LM_OK)
+        return st;
+    double dirs[LM_MAX_VIEWS][3];
+    if (n == 12)
+        icosahedron_dirs(dirs);
+    else if (n == 20)
+        dodecahedron_dirs(dirs);
+    else
+        fibonacci_dirs(dirs, n);
+    out->count = n;
+    for (uint32_t i = 0; i < n; i++) {
+        normalize3(dirs[i]);
+        make_view(&out->views[i], dirs[i], size, centre, radius);
+    }
+    return LM_OK;
+}
+
+lm_status lm_view_set_make_heldout(lm_view_set *out, int size, const float centre[3], float radius)
+{
+    lm_status st = check_args(size, centre, radius);
+    if (st != LM_OK)
+        return st;
+    /* A Fibonacci set of 24 turned by an irrational-looking rotation: no direction coincides with
+     * the icosahedron, the dodecahedron or any Fibonacci set (whose first point is near +y). */
+    double dirs[LM_HELDOUT_COUNT][3], axis[3] = {0.3, 0.8, 0.52};
+    normalize3(axis);
+    fibonacci_dirs(dirs, LM_HELDOUT_COUNT);
+    out->count = LM_HELDOUT_COUNT;
+    for (uint32_t i = 0; i < LM_HELDOUT_COUNT; i++) {
+        rotate3(dirs[i], axis, 0.61);
+        normalize3(dirs[i]);
+        make_view(&out->views[i], dirs[i], size, centre, radius);
+    }
+    return LM_OK;
+}
+
+int lm_view_project(const lm_view *v, const float p[3], float win[2], float *w)
+{
+    const float *m = v->view_proj;
+    float c[4];
+    for (int r = 0; r < 4; r++)
+        c[r] = m[r] * p[0] + m[4 + r] * p[1] + m[8 + r] * p[2] + m[12 + r];
+    if (w)
+        *w = c[3];
+    /* The near plane sits at eye depth -proj[14]/(1-proj[10]); a tiny fraction of it is "at the eye". */
+    float near = v->proj[14] / (v->proj[10] - 1.0f);
+    if (!(c[3] > 1e-4f * near))
+        return 0;
+    win[0] = (c[0] / c[3] * 0.5f + 0.5f) * (float)v->width;
+    win[1] = (c[1] / c[3] * 0.5f + 0.5f) * (float)v->height;
+    return 1;
+}
