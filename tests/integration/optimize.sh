@@ -1,0 +1,150 @@
+#!/usr/bin/env bash
+# Integration: `lumesh optimize` as real processes on a small generated frog — same seed gives
+# byte-identical output; a job stopped by a smaller budget (final checkpoint, mid-iteration) or
+# killed with SIGKILL (last periodic checkpoint, at an iteration end) and resumed ends
+# byte-identical to the uninterrupted run; --json is valid NDJSON with a summary whose
+# energy went down; bad flags and bad checkpoints give one line and exit 1, leaving no output.
+set -u
+. "$(dirname "$0")/lib.bash"
+
+tmp=$(mktemp -d)
+bg=
+cleanup() {
+  [ -n "$bg" ] && kill -9 "$bg" 2>/dev/null
+  rm -rf "$tmp"
+}
+trap cleanup EXIT
+
+# expect_same DIR_A DIR_B WHAT — every file of the two output folders identical.
+expect_same() {
+  checks=$((checks + 1))
+  diff -r "$1" "$2" >/dev/null || fail "$3: outputs differ ($(diff -rq "$1" "$2" | head -3))"
+}
+
+"$LUMESH" gen-frog -o "$tmp/frog.obj" --tris 3000 --seed 2 >/dev/null 2>"$tmp/gen.err" ||
+  { fail "gen-frog: $(cat "$tmp/gen.err")"; finish; exit 1; }
+frog=$tmp/frog.obj
+opts=(--views 8 --size 64 --target-verts 120 --seed 5 --device host)
+# One edge iteration of this job takes ~24,000 evaluations; checkpoints come at iteration ends.
+budget=40000
+half=28000
+
+mkdir -p "$tmp/a" "$tmp/b" "$tmp/c" "$tmp/d" "$tmp/part"
+# 1. Same inputs and seed, twice: byte-identical.
+expect_exit 0 "$LUMESH" optimize "$frog" -o "$tmp/a/out.obj" "${opts[@]}" --evals $budget
+expect_exit 0 "$LUMESH" optimize "$frog" -o "$tmp/b/out.obj" "${opts[@]}" --evals $budget
+[ -s "$tmp/a/out.obj" ] || fail "no output written"
+expect_same "$tmp/a" "$tmp/b" "two runs with the same seed"
+
+# 2. Stopped by a smaller budget (its last checkpoint is written where it stopped, in the middle
+#    of an edge iteration), then resumed to the full budget.
+expect_exit 0 "$LUMESH" optimize "$frog" -o "$tmp/part/out.obj" "${opts[@]}" --evals $half \
+  --checkpoint "$tmp/ck1" --checkpoint-every 1
+[ -s "$tmp/ck1" ] || fail "no checkpoint written"
+expect_exit 0 "$LUMESH" optimize "$frog" -o "$tmp/c/out.obj" "${opts[@]}" --evals $budget --resume "$tmp/ck1"
+expect_same "$tmp/a" "$tmp/c" "resumed after a budget stop"
+[ -z "$(ls "$tmp" | grep '\.tmp')" ] || fail "temporary files left: $(ls "$tmp")"
+
+# 3. Killed (SIGKILL) after its first periodic checkpoint (at an iteration end), then resumed.
+"$LUMESH" optimize "$frog" -o "$tmp/killed.obj" "${opts[@]}" --evals $budget \
+  --checkpoint "$tmp/ck2" --checkpoint-every 1 >/dev/null 2>&1 &
+bg=$!
+for _ in $(seq 1 600); do
+  [ -s "$tmp/ck2" ] && break
+  kill -0 "$bg" 2>/dev/null || break
+  sleep 0.05
+done
+sleep 0.3
+if kill -9 "$bg" 2>/dev/null; then killed=yes; else killed=no; fi
+wait "$bg" 2>/dev/null
+bg=
+[ "$killed" = yes ] || echo "note: the run finished before it could be killed; resuming its last checkpoint"
+[ -s "$tmp/ck2" ] || fail "killed run left no checkpoint"
+expect_exit 0 "$LUMESH" optimize "$frog" -o "$tmp/d/out.obj" "${opts[@]}" --evals $budget --resume "$tmp/ck2"
+expect_same "$tmp/a" "$tmp/d" "resumed after SIGKILL"
+
+# 4. --json: every stdout line is a JSON object; the last is the summary; energy went down.
+checks=$((checks + 1))
+"$LUMESH" optimize "$frog" -o "$tmp/j.obj" "${opts[@]}" --evals 1500 --json >"$tmp/j.ndjson" 2>"$tmp/j.err" ||
+  fail "--json run failed: $(cat "$tmp/j.err")"
+python3 - "$tmp/j.ndjson" "$tmp/j.obj" <<'EOF' || fail "--json output check failed"
+import json, sys
+lines = [l for l in open(sys.argv[1]) if l.strip()]
+recs = [json.loads(l) for l in lines]
+types = [r["type"] for r in recs]
+assert "progress" in types, types
+assert types[-1] == "summary", types
+s = recs[-1]
+assert s["output"] == sys.argv[2], s
+assert s["evals"] >= 1500, s
+assert 0 < s["energy_end"] < s["energy_start"], s
+assert s["renderer"], s
+assert s["stop_reason"] == "evals", s
+for r in recs:
+    if r["type"] == "progress":
+        assert r["energy"] >= 0 and r["evals"] >= 0
+EOF
+
+# 5. --time stops a run with a huge budget.
+checks=$((checks + 1))
+"$LUMESH" optimize "$frog" -o "$tmp/t.obj" "${opts[@]}" --evals 100000000 --time 2 --json >"$tmp/t.ndjson" 2>/dev/null ||
+  fail "--time run failed"
+tail -1 "$tmp/t.ndjson" | python3 -c 'import json,sys; s=json.load(sys.stdin); assert s["stop_reason"]=="time", s' ||
+  fail "--time did not stop the run by time"
+
+# 6. --initial: start from a coarse mesh in its own file (its own materials), and .ply output.
+checks=$((checks + 1))
+if "$LUMESH" simplify "$frog" -o "$tmp/coarse.obj" --target-verts 100 >/dev/null 2>"$tmp/s.err"; then
+  "$LUMESH" optimize "$frog" -o "$tmp/i.ply" --initial "$tmp/coarse.obj" --views 8 --size 64 --device host \
+    --evals 1500 --json 2>"$tmp/i.err" | tail -1 |
+    python3 -c 'import json,sys; s=json.load(sys.stdin); assert 0 < s["energy_end"] < s["energy_start"], s' ||
+    fail "--initial run: $(cat "$tmp/i.err")"
+  [ -s "$tmp/i.ply" ] || fail "--initial run wrote no .ply"
+else
+  fail "simplify: $(cat "$tmp/s.err")"
+fi
+
+# 7. The demo, small: the three models, the before/after grid and a summary with held-out energies.
+checks=$((checks + 1))
+"$LUMESH" demo -o "$tmp/demo" --tris 2000 --target-verts 80 --evals 1500 --views 8 --size 64 \
+  --device host >"$tmp/demo.out" 2>"$tmp/demo.err" || fail "demo: $(tail -3 "$tmp/demo.err")"
+for f in frog.obj coarse.obj optimized.obj before_after.png; do
+  [ -s "$tmp/demo/$f" ] || fail "demo did not write $f"
+done
+grep -q "held-out energy" "$tmp/demo.out" || fail "demo printed no held-out energy: $(cat "$tmp/demo.out")"
+python3 - "$tmp/demo/before_after.png" <<'EOF' || fail "before_after.png is not a 3x4 grid of 64px views"
+import struct, sys
+d = open(sys.argv[1], "rb").read(32)
+assert d[:8] == b"\x89PNG\r\n\x1a\n"
+w, h = struct.unpack(">II", d[16:24])
+assert (w, h) == (3 * 64 + 2 * 4, 4 * 64 + 3 * 4), (w, h)
+EOF
+
+# 8. User errors: one line on stderr, exit 1, no output file.
+bad=$tmp/bad/out.obj
+mkdir -p "$tmp/bad"
+expect_fail_line "$LUMESH" optimize "$frog" -o "$bad" --views abc
+expect_fail_line "$LUMESH" optimize "$frog" -o "$bad" --views 0
+expect_fail_line "$LUMESH" optimize "$frog" -o "$bad" --size 8
+expect_fail_line "$LUMESH" optimize "$frog" -o "$bad" --no-such-flag
+expect_fail_line "$LUMESH" optimize "$frog" -o "$bad" --evals
+expect_fail_line "$LUMESH" optimize "$frog"
+expect_fail_line "$LUMESH" optimize -o "$bad"
+expect_fail_line "$LUMESH" optimize "$frog" -o "$bad" --initial "$frog" --target-verts 100
+expect_fail_line "$LUMESH" optimize "$frog" -o "$bad" --attrs pos,bogus
+expect_fail_line "$LUMESH" optimize "$frog" -o "$tmp/bad/out.xyz"
+expect_fail_line "$LUMESH" optimize "$tmp/missing.obj" -o "$bad"
+expect_fail_line "$LUMESH" optimize "$frog" -o "$tmp/no/such/dir/out.obj"
+printf 'not a checkpoint\n' >"$tmp/foreign.ckpt"
+expect_fail_line "$LUMESH" optimize "$frog" -o "$bad" "${opts[@]}" --resume "$tmp/foreign.ckpt"
+head -c 100 "$tmp/ck1" >"$tmp/trunc.ckpt"
+expect_fail_line "$LUMESH" optimize "$frog" -o "$bad" "${opts[@]}" --resume "$tmp/trunc.ckpt"
+cp "$tmp/ck1" "$tmp/flip.ckpt"
+printf '\xff' | dd of="$tmp/flip.ckpt" bs=1 seek=200 conv=notrunc 2>/dev/null
+expect_fail_line "$LUMESH" optimize "$frog" -o "$bad" "${opts[@]}" --resume "$tmp/flip.ckpt"
+expect_fail_line "$LUMESH" optimize "$frog" -o "$bad" --views 8 --size 64 --target-verts 120 --seed 6 \
+  --device host --resume "$tmp/ck1"
+[ -z "$(ls "$tmp/bad")" ] || fail "failed runs left files: $(ls "$tmp/bad")"
+expect_exit 0 "$LUMESH" optimize --help
+
+finish
