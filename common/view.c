@@ -213,7 +213,8 @@ int lm_view_project(const lm_view *v, const float p[3], float win[2], float *w)
         c[r] = m[r] * p[0] + m[4 + r] * p[1] + m[8 + r] * p[2] + m[12 + r];
     if (w)
         *w = c[3];
-    /* The near plane sits at eye depth -proj[14]/(1-proj[10]); a tiny fraction of it is "at the eye". */
+    /* The near plane sits at eye depth -proj[14]/(1-proj[10]); a tiny fraction of it is "at the
+     * eye". */
     float near = v->proj[14] / (v->proj[10] - 1.0f);
     if (!(c[3] > 1e-4f * near))
         return 0;

@@ -1,7 +1,7 @@
 /* worker/buckets.c — triangle buckets of one view: per-triangle conservative screen rectangles and
- * a uniform grid of cells listing triangle ids, with time-stamped (deduplicating) rectangle queries.
- * A grid rather than the paper's per-row/per-column tables: one lookup per cell instead of two
- * unions and an intersection, and the candidate set is already the rectangle test's. */
+ * a uniform grid of cells listing triangle ids, with time-stamped (deduplicating) rectangle
+ * queries. A grid rather than the paper's per-row/per-column tables: one lookup per cell instead of
+ * two unions and an intersection, and the candidate set is already the rectangle test's. */
 #include "worker/buckets.h"
 
 #include <math.h>
@@ -17,8 +17,8 @@ typedef struct wk_cell {
 
 struct wk_buckets {
     int width, height, cell, gw, gh;
-    wk_cell *cells;  /* [gw * gh] */
-    size_t cap_ids;  /* size of the per-id arrays below */
+    wk_cell *cells;   /* [gw * gh] */
+    size_t cap_ids;   /* size of the per-id arrays below */
     wk_footprint *fp; /* [cap_ids] footprint of each present triangle */
     uint8_t *present;
     uint32_t *stamp; /* last query that met each id */
@@ -75,12 +75,12 @@ void wk_tri_footprint(const lm_view *v, const lm_tri_data *t, wk_footprint *out)
             hi[a] = win[a] > hi[a] ? win[a] : hi[a];
         }
     }
-    /* pixel i is touched when its centre i + 0.5 lies in [lo, hi]; widen by one pixel for the
-     * rasteriser's own rounding of the projected positions */
-    out->rect.x0 = clamp_coord(floor(lo[0]) - 1.0, v->width);
-    out->rect.y0 = clamp_coord(floor(lo[1]) - 1.0, v->height);
-    out->rect.x1 = clamp_coord(floor(hi[0]) + 2.0, v->width);
-    out->rect.y1 = clamp_coord(floor(hi[1]) + 2.0, v->height);
+    /* pixel i may be touched when its centre i + 0.5 lies in [lo - slack, hi + slack] */
+    const double d = WK_PIXEL_SLACK + 0.5;
+    out->rect.x0 = clamp_coord(ceil(lo[0] - d), v->width);
+    out->rect.y0 = clamp_coord(ceil(lo[1] - d), v->height);
+    out->rect.x1 = clamp_coord(floor(hi[0] - 0.5 + WK_PIXEL_SLACK) + 1.0, v->width);
+    out->rect.y1 = clamp_coord(floor(hi[1] - 0.5 + WK_PIXEL_SLACK) + 1.0, v->height);
     out->projected = 1;
 }
 
@@ -103,17 +103,18 @@ static int edge_admits(const float *a, const float *b, float s, const float box[
 
 int wk_footprint_overlaps(const wk_footprint *f, const wk_rect *r)
 {
-    if (!rects_overlap(&f->rect, r))
+    if (wk_rect_empty(&f->rect) || wk_rect_empty(r) || !rects_overlap(&f->rect, r))
         return 0;
     if (!f->projected)
         return 1;
     const float(*w)[2] = f->win;
-    float area = (w[1][0] - w[0][0]) * (w[2][1] - w[0][1]) - (w[1][1] - w[0][1]) * (w[2][0] - w[0][0]);
+    float area =
+        (w[1][0] - w[0][0]) * (w[2][1] - w[0][1]) - (w[1][1] - w[0][1]) * (w[2][0] - w[0][0]);
     if (!(fabsf(area) > 1e-3f))
         return 1; /* (nearly) degenerate: keep it */
     float s = area > 0 ? 1.0f : -1.0f;
-    const float box[4] = {(float)r->x0 - 1.0f, (float)r->y0 - 1.0f, (float)r->x1 + 1.0f,
-                          (float)r->y1 + 1.0f};
+    const float d = 0.5f - WK_PIXEL_SLACK; /* pixel centres of r, widened by the slack */
+    const float box[4] = {(float)r->x0 + d, (float)r->y0 + d, (float)r->x1 - d, (float)r->y1 - d};
     return edge_admits(w[0], w[1], s, box) && edge_admits(w[1], w[2], s, box) &&
            edge_admits(w[2], w[0], s, box);
 }

@@ -26,21 +26,27 @@ static inline int wk_rect_empty(const wk_rect *r)
 /* r := r ∪ s (an empty operand is ignored). */
 void wk_rect_union(wk_rect *r, const wk_rect *s);
 
+/* Slack, in pixels, between our projection of a corner and the rasteriser's (which snaps to 1/256
+ * pixel after its own float arithmetic): a pixel counts as touched when its centre lies within
+ * this distance of the projected triangle. */
+#define WK_PIXEL_SLACK 0.25f
+
 /* Where a triangle lands in a view: the conservative rectangle of the pixels it may touch, clamped
- * to the view (projected bounds widened by one pixel; the whole view if a corner is at or behind
- * the eye or not finite; empty when it lies entirely outside the view), and, when projectable,
- * its corners in window coordinates for the exact overlap test. */
+ * to the view (pixels whose centre lies within WK_PIXEL_SLACK of the projected bounds; the whole
+ * view if a corner is at or behind the eye or not finite; empty when it lies entirely outside),
+ * and, when projectable, its corners in window coordinates for the exact overlap test. */
 typedef struct wk_footprint {
     wk_rect rect;
-    int projected;  /* win and zmin hold the corners' window coordinates */
+    int projected; /* win and zmin hold the corners' window coordinates */
     float win[3][2];
-    float zmin;     /* least window depth of the corners (0 near .. 1 far) */
+    float zmin; /* least window depth of the corners (0 near .. 1 far) */
 } wk_footprint;
 
 void wk_tri_footprint(const lm_view *v, const lm_tri_data *t, wk_footprint *out);
 
 /* Whether a footprint may touch a pixel of r: the rectangle test, then (for projected ones) the
- * triangle against r widened by one pixel (separating edges). Conservative. */
+ * triangle against the box of r's pixel centres widened by WK_PIXEL_SLACK (separating edges).
+ * Conservative. */
 int wk_footprint_overlaps(const wk_footprint *f, const wk_rect *r);
 
 typedef struct wk_buckets wk_buckets;

@@ -24,8 +24,7 @@ void wk_luma_from_rgba(const uint8_t *rgba, size_t n_pixels, uint8_t *out)
 
 lm_status wk_image_store_create(uint32_t n_views, int width, int height, wk_image_store **out)
 {
-    if (n_views < 1 || n_views > 4096 || width < 1 || height < 1 || width > 16384 ||
-        height > 16384)
+    if (n_views < 1 || n_views > 4096 || width < 1 || height < 1 || width > 16384 || height > 16384)
         return lm_fail(LM_E_RANGE, "image store of %u views of %dx%d is out of range", n_views,
                        width, height);
     wk_image_store *s = calloc(1, sizeof *s);
@@ -228,20 +227,19 @@ int wk_image_store_hidden(const wk_image_store *s, uint32_t view, const wk_rect 
     return 1;
 }
 
-/* Columns [*lo, *hi] of row y where pixel boxes widened by one pixel meet the inside of edge a->b
- * (inside where s * cross(b - a, p - a) >= 0), with a pixel of slack for rounding. */
+/* Columns [*lo, *hi] of row y whose pixel centres, widened by WK_PIXEL_SLACK, meet the inside of
+ * edge a->b (inside where s * cross(b - a, p - a) >= 0); a pixel of extra slack for rounding. */
 static void edge_span(const float *a, const float *b, float s, int y, int *lo, int *hi)
 {
+    const double d = WK_PIXEL_SLACK;
     double A = -s * ((double)b[1] - a[1]), B = s * ((double)b[0] - a[0]);
-    double py = B > 0 ? y + 2.0 : y - 1.0;
+    double py = B > 0 ? y + 0.5 + d : y + 0.5 - d;
     double rest = B * (py - a[1]) - A * a[0]; /* E(px) = A * px + rest */
     if (A > 0) {
-        double x = -rest / A - 2.0; /* px = x + 2 */
-        int xl = (int)floor(x) - 1;
+        int xl = (int)ceil(-rest / A - 0.5 - d) - 1; /* px = x + 0.5 + d */
         *lo = xl > *lo ? xl : *lo;
     } else if (A < 0) {
-        double x = -rest / A + 1.0; /* px = x - 1 */
-        int xh = (int)ceil(x) + 1;
+        int xh = (int)floor(-rest / A - 0.5 + d) + 1; /* px = x + 0.5 - d */
         *hi = xh < *hi ? xh : *hi;
     } else if (rest < 0) {
         *hi = *lo - 1; /* the whole row is outside */

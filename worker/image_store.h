@@ -55,8 +55,9 @@ void wk_image_store_commit_depth(wk_image_store *s, uint32_t view, const wk_rect
  * in r at depths >= zmin cannot be visible there. */
 int wk_image_store_hidden(const wk_image_store *s, uint32_t view, const wk_rect *r, float zmin,
                           float eps);
-/* The same over the pixels a triangle's footprint may touch: those whose box widened by one pixel
- * meets the projected triangle (within its rectangle); the whole rectangle if not projected. */
+/* The same over the pixels a triangle's footprint may touch: those whose centre lies within
+ * WK_PIXEL_SLACK of the projected triangle (within its rectangle); the whole rectangle if not
+ * projected. */
 int wk_image_store_hidden_tri(const wk_image_store *s, uint32_t view, const wk_footprint *f,
                               float eps);
 

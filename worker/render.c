@@ -1,5 +1,5 @@
 /* worker/render.c — the renderer object: atlas layout and framebuffers, the triangle stream,
- * material tables, opening regions (depth masking, see render.h), draws into a view's tile and
+ * material tables, region clears (one quad draw per batch), scissored draws into a view's tile and
  * region readback. Textures are in render_textures.c, shaders in render_program.c. */
 #include "worker/render.h"
 
@@ -14,10 +14,6 @@ typedef struct wk_atlas {
     GLuint fbo[LM_MAX_VIEWS]; /* one per page */
     GLuint color[LM_MAX_VIEWS], depth[LM_MAX_VIEWS];
     GLuint zimage[LM_MAX_VIEWS]; /* R32F copy of the winning fragments' depth (0 if unsupported) */
-    int all_open;        /* every tile at depth 1 (after wk_renderer_clear_all) */
-    uint32_t *open_view; /* the open regions otherwise */
-    wk_rect *open_rect;
-    size_t n_open, cap_open;
 } wk_atlas;
 
 typedef struct wk_tile {
@@ -33,9 +29,9 @@ struct wk_renderer {
     wk_tile tiles[LM_MAX_VIEWS];
     wk_atlas *atlases[WK_RENDER_MAX_ATLASES];
     wk_render_programs progs;
-    GLuint vao, vbo;             /* the triangle stream */
+    GLuint vao, vbo; /* the triangle stream */
     size_t vbo_bytes;
-    GLuint quad_vao, quad_vbo;   /* region quads (x, y, z per corner) */
+    GLuint quad_vao, quad_vbo; /* region quads (x, y, z per corner) */
     float *quads;
     size_t cap_quads; /* quads that fit in `quads` */
     GLuint view_ubo;  /* one view block per view, view_stride bytes apart */
@@ -47,6 +43,8 @@ struct wk_renderer {
     int64_t bound_view; /* -1 = none */
     int vp[4];          /* current viewport */
     int depth_images;   /* atlases carry a readable depth image (R32F renderable) */
+    int scissor_on;     /* GL_SCISSOR_TEST enabled (shading) */
+    int sc[4];          /* current scissor box */
     int read_buffer;    /* attachment glReadBuffer names now */
 };
 
@@ -59,8 +57,9 @@ static lm_status layout_tiles(wk_renderer *r)
     int lim_w = max_rb < max_vp[0] ? max_rb : max_vp[0];
     int lim_h = max_rb < max_vp[1] ? max_rb : max_vp[1];
     if (lim_w < r->width || lim_h < r->height)
-        return lm_fail(LM_E_UNSUPPORTED, "view size %dx%d exceeds the device's framebuffer limit %d",
-                       r->width, r->height, lim_w < lim_h ? lim_w : lim_h);
+        return lm_fail(LM_E_UNSUPPORTED,
+                       "view size %dx%d exceeds the device's framebuffer limit %d", r->width,
+                       r->height, lim_w < lim_h ? lim_w : lim_h);
     uint32_t n = r->views.count, cols = 1;
     while (cols * cols < n)
         cols++;
@@ -75,8 +74,8 @@ static lm_status layout_tiles(wk_renderer *r)
     r->n_pages = (int)((n + per_page - 1) / per_page);
     for (uint32_t i = 0; i < n; i++) {
         uint32_t k = i % per_page;
-        r->tiles[i] = (wk_tile){(int)(i / per_page), (int)(k % cols) * r->width,
-                                (int)(k / cols) * r->height};
+        r->tiles[i] =
+            (wk_tile){(int)(i / per_page), (int)(k % cols) * r->width, (int)(k / cols) * r->height};
     }
     return LM_OK;
 }
@@ -198,8 +197,6 @@ static void atlas_free(wk_renderer *r, wk_atlas *a)
         if (a->zimage[p])
             glDeleteRenderbuffers(1, &a->zimage[p]);
     }
-    free(a->open_view);
-    free(a->open_rect);
     free(a);
 }
 
@@ -257,7 +254,8 @@ static GLuint new_renderbuffer(GLenum format, int w, int h)
     return rb;
 }
 
-/* Colour, depth and (where R32F is renderable) depth-image attachments of one page. */
+/* Colour, depth and (where R32F is renderable) depth-image attachments of one page. Returns
+ * whether the framebuffer is complete; GL errors of an unsupported R32F are consumed. */
 static int page_attach(wk_renderer *r, wk_atlas *a, int p)
 {
     a->color[p] = new_renderbuffer(GL_RGBA8, r->page_w, r->page_h);
@@ -267,22 +265,23 @@ static int page_attach(wk_renderer *r, wk_atlas *a, int p)
     glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, a->color[p]);
     glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, a->depth[p]);
     if (r->depth_images) {
+        static const GLenum bufs[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
         a->zimage[p] = new_renderbuffer(GL_R32F, r->page_w, r->page_h);
         glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT1, GL_RENDERBUFFER,
                                   a->zimage[p]);
-        static const GLenum bufs[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
         glDrawBuffers(2, bufs);
-        if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
-            return 0; /* no float render targets: the caller retries without */
-        }
+        while (glGetError() != GL_NO_ERROR) /* R32F is not renderable on every GLES 3.0 device */
+            ;
     }
-    glGetError(); /* R32F may be refused by a GLES 3.0 device: handled by the retry */
     return glCheckFramebufferStatus(GL_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE;
 }
+
+static void set_scissor(wk_renderer *r, int on, int x, int y, int w, int h);
 
 /* All of a page to background grey at depth z (and the depth image to z). */
 static void clear_page(wk_renderer *r, wk_atlas *a, int p, float z)
 {
+    set_scissor(r, 0, 0, 0, 0, 0); /* clears obey the scissor */
     static const GLfloat grey[4] = {WK_BACKGROUND / 255.0f, WK_BACKGROUND / 255.0f,
                                     WK_BACKGROUND / 255.0f, 1.0f};
     const GLfloat zimg[4] = {z, 0, 0, 0};
@@ -293,7 +292,7 @@ static void clear_page(wk_renderer *r, wk_atlas *a, int p, float z)
     glClearBufferfv(GL_DEPTH, 0, &z);
 }
 
-/* Every page of a new atlas: closed (depth 0). */
+/* Every page of a new atlas: background at depth 1. */
 static lm_status atlas_create(wk_renderer *r, uint32_t index)
 {
     wk_atlas *a = calloc(1, sizeof *a);
@@ -310,7 +309,7 @@ static lm_status atlas_create(wk_renderer *r, uint32_t index)
             return lm_fail(LM_E_DEVICE, "atlas framebuffer %dx%d is incomplete on this device",
                            r->page_w, r->page_h);
         }
-        clear_page(r, a, p, 0.0f);
+        clear_page(r, a, p, 1.0f);
     }
     r->atlases[index] = a;
     return wk_renderer_check(r, "creating an atlas framebuffer");
@@ -338,8 +337,7 @@ static lm_status bind_tile(wk_renderer *r, uint32_t atlas, uint32_t view)
     return st;
 }
 
-lm_status wk_renderer_set_materials(wk_renderer *r, int table, const lm_material *mats,
-                                    uint32_t n)
+lm_status wk_renderer_set_materials(wk_renderer *r, int table, const lm_material *mats, uint32_t n)
 {
     LM_ASSERT(table >= 0 && table < WK_RENDER_TABLES);
     r->bound_tex = 0;
@@ -375,8 +373,24 @@ lm_status wk_renderer_upload(wk_renderer *r, const lm_corner *corners, size_t n_
     return LM_OK;
 }
 
+static void set_scissor(wk_renderer *r, int on, int x, int y, int w, int h)
+{
+    if (on != r->scissor_on) {
+        if (on)
+            glEnable(GL_SCISSOR_TEST);
+        else
+            glDisable(GL_SCISSOR_TEST);
+        r->scissor_on = on;
+    }
+    if (on && (r->sc[0] != x || r->sc[1] != y || r->sc[2] != w || r->sc[3] != h)) {
+        glScissor(x, y, w, h);
+        r->sc[0] = x, r->sc[1] = y, r->sc[2] = w, r->sc[3] = h;
+    }
+}
+
 static void use_clear_mode(wk_renderer *r)
 {
+    set_scissor(r, 0, 0, 0, 0, 0);
     if (r->mode == MODE_CLEAR)
         return;
     glUseProgram(r->progs.clear);
@@ -390,24 +404,20 @@ lm_status wk_renderer_clear_all(wk_renderer *r, uint32_t atlas)
 {
     wk_atlas *a;
     lm_status st = get_atlas(r, atlas, &a);
-    if (st != LM_OK)
-        return st;
-    for (int p = 0; p < r->n_pages; p++)
+    for (int p = 0; st == LM_OK && p < r->n_pages; p++)
         clear_page(r, a, p, 1.0f);
-    a->all_open = 1;
-    a->n_open = 0;
-    return LM_OK;
+    return st;
 }
 
-/* Two triangles over rect of a view, in page NDC at depth z_ndc (+1 opens, -1 closes). */
-static float *put_quad(const wk_renderer *r, float *q, uint32_t view, const wk_rect *rc, float z)
+/* Two triangles over rect of a view, in page NDC, at the far plane. */
+static float *put_quad(const wk_renderer *r, float *q, uint32_t view, const wk_rect *rc)
 {
     const wk_tile *t = &r->tiles[view];
     float x0 = 2.0f * (float)(t->x + rc->x0) / (float)r->page_w - 1.0f;
     float x1 = 2.0f * (float)(t->x + rc->x1) / (float)r->page_w - 1.0f;
     float y0 = 2.0f * (float)(t->y + rc->y0) / (float)r->page_h - 1.0f;
     float y1 = 2.0f * (float)(t->y + rc->y1) / (float)r->page_h - 1.0f;
-    const float v[18] = {x0, y0, z, x1, y0, z, x1, y1, z, x0, y0, z, x1, y1, z, x0, y1, z};
+    const float v[18] = {x0, y0, 1, x1, y0, 1, x1, y1, 1, x0, y0, 1, x1, y1, 1, x0, y1, 1};
     memcpy(q, v, sizeof v);
     return q + 18;
 }
@@ -427,71 +437,33 @@ static lm_status reserve_quads(wk_renderer *r, size_t n)
     return LM_OK;
 }
 
-/* Remember the new open regions of an atlas. */
-static lm_status record_open(wk_atlas *a, const uint32_t *views, const wk_rect *rects, size_t n)
-{
-    if (n > a->cap_open) {
-        uint32_t *v = realloc(a->open_view, n * sizeof *v);
-        if (v)
-            a->open_view = v;
-        wk_rect *rc = realloc(a->open_rect, n * sizeof *rc);
-        if (rc)
-            a->open_rect = rc;
-        if (!v || !rc)
-            return lm_fail(LM_E_NOMEM, "out of memory for %zu open regions", n);
-        a->cap_open = n;
-    }
-    memcpy(a->open_view, views, n * sizeof *views);
-    memcpy(a->open_rect, rects, n * sizeof *rects);
-    a->n_open = n;
-    return LM_OK;
-}
-
-/* One draw per page: close the old regions (depth 0), then open the new ones (depth 1). */
-static void draw_region_quads(wk_renderer *r, wk_atlas *a, const uint32_t *views,
-                              const wk_rect *rects, size_t n, int page)
-{
-    float *q = r->quads;
-    for (size_t i = 0; i < a->n_open; i++)
-        if (r->tiles[a->open_view[i]].page == page && !wk_rect_empty(&a->open_rect[i]))
-            q = put_quad(r, q, a->open_view[i], &a->open_rect[i], -1.0f);
-    for (size_t i = 0; i < n; i++)
-        if (r->tiles[views[i]].page == page && !wk_rect_empty(&rects[i]))
-            q = put_quad(r, q, views[i], &rects[i], 1.0f);
-    size_t verts = (size_t)(q - r->quads) / 3;
-    if (verts == 0)
-        return;
-    bind_fbo(r, a->fbo[page]);
-    set_viewport(r, 0, 0, r->page_w, r->page_h);
-    use_clear_mode(r);
-    if (getenv("HACK_SCISSOR")) glDisable(GL_SCISSOR_TEST);
-    glBindBuffer(GL_ARRAY_BUFFER, r->quad_vbo);
-    glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(verts * 3 * sizeof(float)), r->quads,
-                 GL_STREAM_DRAW);
-    glDrawArrays(GL_TRIANGLES, 0, (GLsizei)verts);
-}
-
-lm_status wk_renderer_open(wk_renderer *r, uint32_t atlas, const uint32_t *views,
-                           const wk_rect *rects, size_t n)
+lm_status wk_renderer_clear_regions(wk_renderer *r, uint32_t atlas, const uint32_t *views,
+                                    const wk_rect *rects, size_t n)
 {
     wk_atlas *a;
     lm_status st = get_atlas(r, atlas, &a);
     if (st == LM_OK)
-        st = reserve_quads(r, a->n_open + n);
-    if (st != LM_OK)
-        return st;
-    for (size_t i = 0; i < n; i++)
-        LM_ASSERT(views[i] < r->views.count && rects[i].x0 >= 0 && rects[i].y0 >= 0 &&
-                  rects[i].x1 <= r->width && rects[i].y1 <= r->height);
-    if (a->all_open) { /* close everything first */
-        for (int p = 0; p < r->n_pages; p++)
-            clear_page(r, a, p, 0.0f);
-        a->all_open = 0;
-        a->n_open = 0;
+        st = reserve_quads(r, n);
+    for (int p = 0; st == LM_OK && p < r->n_pages; p++) {
+        float *q = r->quads;
+        for (size_t i = 0; i < n; i++) {
+            LM_ASSERT(views[i] < r->views.count && rects[i].x0 >= 0 && rects[i].y0 >= 0 &&
+                      rects[i].x1 <= r->width && rects[i].y1 <= r->height);
+            if (r->tiles[views[i]].page == p && !wk_rect_empty(&rects[i]))
+                q = put_quad(r, q, views[i], &rects[i]);
+        }
+        size_t verts = (size_t)(q - r->quads) / 3;
+        if (verts == 0)
+            continue;
+        bind_fbo(r, a->fbo[p]);
+        set_viewport(r, 0, 0, r->page_w, r->page_h);
+        use_clear_mode(r);
+        glBindBuffer(GL_ARRAY_BUFFER, r->quad_vbo);
+        glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(verts * 3 * sizeof(float)), r->quads,
+                     GL_STREAM_DRAW);
+        glDrawArrays(GL_TRIANGLES, 0, (GLsizei)verts);
     }
-    for (int p = 0; p < r->n_pages; p++)
-        draw_region_quads(r, a, views, rects, n, p);
-    return record_open(a, views, rects, n);
+    return st;
 }
 
 /* Program, texture and material block of material m. */
@@ -515,10 +487,11 @@ static void use_material(wk_renderer *r, const wk_material_table *mt, uint32_t m
     }
 }
 
-static void use_view(wk_renderer *r, uint32_t view)
+static void use_view(wk_renderer *r, uint32_t view, const wk_rect *rc)
 {
     const wk_tile *t = &r->tiles[view];
     set_viewport(r, t->x, t->y, r->width, r->height);
+    set_scissor(r, 1, t->x + rc->x0, t->y + rc->y0, rc->x1 - rc->x0, rc->y1 - rc->y0);
     if (r->mode != MODE_SHADE) {
         glBindVertexArray(r->vao);
         glDepthFunc(GL_LESS);
@@ -539,12 +512,11 @@ lm_status wk_renderer_draw(wk_renderer *r, int table, const wk_draw *d, const ui
     lm_status st = bind_tile(r, d->atlas, d->view);
     if (st != LM_OK)
         return st;
-    use_view(r, d->view);
-    if (getenv("HACK_SCISSOR")) {
-        const wk_tile *t = &r->tiles[d->view];
-        glEnable(GL_SCISSOR_TEST);
-        glScissor(t->x + d->rect.x0, t->y + d->rect.y0, d->rect.x1 - d->rect.x0, d->rect.y1 - d->rect.y0);
-    }
+    if (wk_rect_empty(&d->rect))
+        return LM_OK;
+    LM_ASSERT(d->rect.x0 >= 0 && d->rect.y0 >= 0 && d->rect.x1 <= r->width &&
+              d->rect.y1 <= r->height);
+    use_view(r, d->view, &d->rect);
     const wk_material_table *mt = &r->tables[table];
     size_t i = d->first, end = d->first + d->count;
     while (i < end) {
@@ -568,8 +540,8 @@ static void read_region(wk_renderer *r, GLenum buffer, uint32_t view, const wk_r
         r->read_buffer = (int)buffer;
     }
     const wk_tile *t = &r->tiles[view];
-    glReadPixels(t->x + rect->x0, t->y + rect->y0, rect->x1 - rect->x0, rect->y1 - rect->y0,
-                 format, type, out);
+    glReadPixels(t->x + rect->x0, t->y + rect->y0, rect->x1 - rect->x0, rect->y1 - rect->y0, format,
+                 type, out);
 }
 
 lm_status wk_renderer_read(wk_renderer *r, uint32_t atlas, uint32_t view, const wk_rect *rect,
@@ -589,8 +561,8 @@ int wk_renderer_has_depth_images(wk_renderer *r)
     return get_atlas(r, 0, &a) == LM_OK && r->depth_images;
 }
 
-lm_status wk_renderer_read_depth(wk_renderer *r, uint32_t atlas, uint32_t view,
-                                 const wk_rect *rect, float *depth)
+lm_status wk_renderer_read_depth(wk_renderer *r, uint32_t atlas, uint32_t view, const wk_rect *rect,
+                                 float *depth)
 {
     if (wk_rect_empty(rect))
         return LM_OK;

@@ -10,11 +10,9 @@
  * non-indexed stream uploaded once per batch; a draw paints a range of it (ascending triangle
  * ids, consecutive triangles of one material forming one draw call) into one view's tile.
  *
- * Regions without scissors: a scratch atlas keeps depth 0 (nearest) everywhere except in its
- * "open" regions, which wk_renderer_open() clears to background grey at depth 1. Drawn triangles
- * then only change pixels in open regions (elsewhere nothing passes the depth test), so a batch
- * needs no per-region scissor state (on Mesa a scissor change costs as much as a small draw).
- * Opening new regions closes the previous ones (depth back to 0), all in one draw call.
+ * Regions: a batch first clears all its regions (background grey at depth 1) with ONE draw of
+ * quads (a scissored glClear per region costs on Mesa as much as a small draw plus a state save
+ * and restore), then draws each region with the scissor set to it.
  *
  * The GL context must be current on the calling thread for every call. */
 #ifndef LM_WORKER_RENDER_H
@@ -29,9 +27,9 @@
 #include "common/view.h"
 #include "worker/buckets.h"
 
-#define WK_RENDER_TABLES 2  /* material tables: 0 = target (original), 1 = current model */
+#define WK_RENDER_TABLES 2 /* material tables: 0 = target (original), 1 = current model */
 #define WK_RENDER_MAX_ATLASES 16
-#define WK_BACKGROUND 128   /* background grey, in 8-bit units */
+#define WK_BACKGROUND 128 /* background grey, in 8-bit units */
 
 typedef struct wk_renderer wk_renderer;
 
@@ -40,25 +38,24 @@ void wk_renderer_destroy(wk_renderer *r);
 
 /* Material table `table`: copies the diffuse colours and uploads the textures (RGBA8, mipmapped,
  * repeating; uv (0,0) is the bottom-left of the image). */
-lm_status wk_renderer_set_materials(wk_renderer *r, int table, const lm_material *mats,
-                                    uint32_t n);
+lm_status wk_renderer_set_materials(wk_renderer *r, int table, const lm_material *mats, uint32_t n);
 uint32_t wk_renderer_material_count(const wk_renderer *r, int table);
 
 /* Replace the stream with the corners of n triangles (3 per triangle). */
 lm_status wk_renderer_upload(wk_renderer *r, const lm_corner *corners, size_t n_tris);
 
 /* Atlases (< WK_RENDER_MAX_ATLASES) are created on first use. */
-/* Clear every tile of an atlas to background grey at depth 1 (all of it open). */
+/* Clear every tile of an atlas to background grey at depth 1. */
 lm_status wk_renderer_clear_all(wk_renderer *r, uint32_t atlas);
 
-/* Close the atlas's open regions and open these instead: rects[i] of view views[i]. */
-lm_status wk_renderer_open(wk_renderer *r, uint32_t atlas, const uint32_t *views,
-                           const wk_rect *rects, size_t n);
+/* Clear rects[i] of view views[i] to background grey at depth 1, for all i (one draw). */
+lm_status wk_renderer_clear_regions(wk_renderer *r, uint32_t atlas, const uint32_t *views,
+                                    const wk_rect *rects, size_t n);
 
 typedef struct wk_draw {
     uint32_t atlas, view;
     size_t first, count; /* stream triangles, in ascending id order */
-    wk_rect rect;        /* the pixels that matter (open, or the whole view) */
+    wk_rect rect;        /* the pixels of the view to paint (the scissor box) */
 } wk_draw;
 
 /* materials[i] is the material (in `table`) of stream triangle i. */
@@ -73,8 +70,8 @@ lm_status wk_renderer_read(wk_renderer *r, uint32_t atlas, uint32_t view, const 
  * attachment; needs float render targets, as GLES 3.2 and EXT_color_buffer_float have), and
  * reading it: rect of a view, rows bottom first, one float per pixel. */
 int wk_renderer_has_depth_images(wk_renderer *r);
-lm_status wk_renderer_read_depth(wk_renderer *r, uint32_t atlas, uint32_t view,
-                                 const wk_rect *rect, float *depth);
+lm_status wk_renderer_read_depth(wk_renderer *r, uint32_t atlas, uint32_t view, const wk_rect *rect,
+                                 float *depth);
 
 /* GL errors since the last check, as an lm_status naming `what`. */
 lm_status wk_renderer_check(wk_renderer *r, const char *what);

@@ -6,65 +6,67 @@
 
 #include <stdio.h>
 
-static const char *const shade_vs =
-    "#version 300 es\n"
-    "precision highp float;\n"
-    "layout(location = 0) in vec3 a_pos;\n"
-    "layout(location = 1) in vec3 a_normal;\n"
-    "layout(location = 2) in vec2 a_uv;\n"
-    "layout(location = 3) in vec4 a_color;\n"
-    "layout(std140) uniform ViewBlock { mat4 u_view_proj; vec4 u_light; };\n"
-    "layout(std140) uniform MaterialBlock { vec4 u_diffuse; };\n"
-    "out vec2 v_uv;\n"
-    "out vec4 v_color;\n"
-    "void main() {\n"
-    "    gl_Position = u_view_proj * vec4(a_pos, 1.0);\n"
-    "    float d = abs(dot(a_normal, u_light.xyz));\n"
-    "    v_color = a_color * u_diffuse * (0.15 + 0.85 * d);\n"
-    "    v_uv = a_uv;\n"
-    "}\n";
+/* The textured variant; the plain one drops the texture coordinates (fewer varyings make Mesa's
+ * triangle setup and interpolation cheaper). Alpha plays no part in the image. */
+#define SHADE_VS_HEAD                                                                              \
+    "#version 300 es\n"                                                                            \
+    "precision highp float;\n"                                                                     \
+    "layout(location = 0) in vec3 a_pos;\n"                                                        \
+    "layout(location = 1) in vec3 a_normal;\n"                                                     \
+    "layout(location = 2) in vec2 a_uv;\n"                                                         \
+    "layout(location = 3) in vec4 a_color;\n"                                                      \
+    "layout(std140) uniform ViewBlock { mat4 u_view_proj; vec4 u_light; };\n"                      \
+    "layout(std140) uniform MaterialBlock { vec4 u_diffuse; };\n"                                  \
+    "out vec3 v_color;\n"
+
+#define SHADE_VS_BODY                                                                              \
+    "    gl_Position = u_view_proj * vec4(a_pos, 1.0);\n"                                          \
+    "    float d = abs(dot(a_normal, u_light.xyz));\n"                                             \
+    "    v_color = a_color.rgb * u_diffuse.rgb * (0.15 + 0.85 * d);\n"
+
+static const char *const shade_vs_textured =
+    SHADE_VS_HEAD "out vec2 v_uv;\n"
+                  "void main() {\n" SHADE_VS_BODY "    v_uv = a_uv;\n"
+                  "}\n";
+
+static const char *const shade_vs_plain = SHADE_VS_HEAD "void main() {\n" SHADE_VS_BODY "}\n";
 
 static const char *const shade_fs_textured =
     "#version 300 es\n"
     "precision highp float;\n"
     "uniform sampler2D u_texture;\n"
     "in vec2 v_uv;\n"
-    "in vec4 v_color;\n"
+    "in vec3 v_color;\n"
     "layout(location = 0) out vec4 o_color;\n"
     "layout(location = 1) out float o_depth;\n"
     "void main() {\n"
-    "    vec4 c = clamp(texture(u_texture, v_uv) * v_color, 0.0, 1.0);\n"
-    "    o_color = vec4(c.rgb, 1.0);\n"
+    "    o_color = vec4(clamp(texture(u_texture, v_uv).rgb * v_color, 0.0, 1.0), 1.0);\n"
     "    o_depth = gl_FragCoord.z;\n"
     "}\n";
 
-static const char *const shade_fs_plain =
-    "#version 300 es\n"
-    "precision highp float;\n"
-    "in vec2 v_uv;\n"
-    "in vec4 v_color;\n"
-    "layout(location = 0) out vec4 o_color;\n"
-    "layout(location = 1) out float o_depth;\n"
-    "void main() {\n"
-    "    vec4 c = clamp(v_color, 0.0, 1.0);\n"
-    "    o_color = vec4(c.rgb, 1.0);\n"
-    "    o_depth = gl_FragCoord.z;\n"
-    "}\n";
+static const char *const shade_fs_plain = "#version 300 es\n"
+                                          "precision highp float;\n"
+                                          "in vec3 v_color;\n"
+                                          "layout(location = 0) out vec4 o_color;\n"
+                                          "layout(location = 1) out float o_depth;\n"
+                                          "void main() {\n"
+                                          "    o_color = vec4(clamp(v_color, 0.0, 1.0), 1.0);\n"
+                                          "    o_depth = gl_FragCoord.z;\n"
+                                          "}\n";
 
 static const char *const clear_vs = "#version 300 es\n"
                                     "precision highp float;\n"
                                     "layout(location = 0) in vec3 a_pos;\n"
                                     "void main() { gl_Position = vec4(a_pos, 1.0); }\n";
 
-static const char *const clear_fs_fmt =
-    "#version 300 es\n"
-    "precision highp float;\n"
-    "layout(location = 0) out vec4 o_color;\n"
-    "layout(location = 1) out float o_depth;\n"
-    "void main() {\n"
-    "    o_color = vec4(vec3(%d.0 / 255.0), 1.0);\n"
-    "    o_depth = gl_FragCoord.z;\n"
-    "}\n";
+static const char *const clear_fs_fmt = "#version 300 es\n"
+                                        "precision highp float;\n"
+                                        "layout(location = 0) out vec4 o_color;\n"
+                                        "layout(location = 1) out float o_depth;\n"
+                                        "void main() {\n"
+                                        "    o_color = vec4(vec3(%d.0 / 255.0), 1.0);\n"
+                                        "    o_depth = gl_FragCoord.z;\n"
+                                        "}\n";
 
 static lm_status compile(GLenum kind, const char *src, GLuint *out)
 {
@@ -127,9 +129,9 @@ lm_status wk_render_programs_create(wk_render_programs *out, int background)
 {
     char clear_fs[256];
     snprintf(clear_fs, sizeof clear_fs, clear_fs_fmt, background);
-    lm_status st = link(shade_vs, shade_fs_plain, &out->shade[0]);
+    lm_status st = link(shade_vs_plain, shade_fs_plain, &out->shade[0]);
     if (st == LM_OK)
-        st = link(shade_vs, shade_fs_textured, &out->shade[1]);
+        st = link(shade_vs_textured, shade_fs_textured, &out->shade[1]);
     if (st == LM_OK)
         st = link(clear_vs, clear_fs, &out->clear);
     if (st != LM_OK) {

@@ -35,8 +35,8 @@ static lm_status upload(const lm_image *img, GLuint *out)
     GLuint tex;
     glGenTextures(1, &tex);
     glBindTexture(GL_TEXTURE_2D, tex);
-    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, img->width, img->height, 0, GL_RGBA,
-                 GL_UNSIGNED_BYTE, flipped);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, img->width, img->height, 0, GL_RGBA, GL_UNSIGNED_BYTE,
+                 flipped);
     free(flipped);
     glGenerateMipmap(GL_TEXTURE_2D);
     set_params();

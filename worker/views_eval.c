@@ -57,10 +57,11 @@ static lm_status prepare_patch(wk_views_local *v, const lm_patch *p, uint32_t *s
     size_t need = v->rep.cap;
     for (uint32_t i = 0; i < p->n_added; i++) {
         if (p->added[i].id >= LM_MESH_MAX_TRIS)
-            return lm_fail(LM_E_RANGE, "patch adds triangle id %u beyond the limit", p->added[i].id);
+            return lm_fail(LM_E_RANGE, "patch adds triangle id %u beyond the limit",
+                           p->added[i].id);
         if (p->added[i].material >= n_mat)
-            return lm_fail(LM_E_RANGE, "patch triangle %u uses material %u of %u",
-                           p->added[i].id, p->added[i].material, n_mat);
+            return lm_fail(LM_E_RANGE, "patch triangle %u uses material %u of %u", p->added[i].id,
+                           p->added[i].material, n_mat);
         need = p->added[i].id + 1u > need ? p->added[i].id + 1u : need;
     }
     lm_status st = mark_reserve(v, need);
@@ -133,25 +134,48 @@ static int cmp_u32(const void *a, const void *b)
  * depth step is 6e-8). */
 #define WK_HIDDEN_EPS 1e-5f
 
-/* The region of patch p in view h: stored rectangles of removed triangles ∪ rectangles of added.
- * Returns 1 when every removed and added triangle is certainly hidden behind the current visible
- * surface (then the view's image cannot change). */
-static int patch_region(wk_views_local *v, const lm_patch *p, uint32_t h, wk_rect *r)
+static int rects_meet(const wk_rect *a, const wk_rect *b)
 {
-    int hidden = v->occlusion;
+    return a->x0 < b->x1 && b->x0 < a->x1 && a->y0 < b->y1 && b->y0 < a->y1;
+}
+
+/* The region of patch p in view h: the rectangles of the removed and added triangles that may show.
+ * With occlusion on, a removed triangle certainly hidden behind the visible surface is left out
+ * (its removal changes no pixel), and so is an added one that is certainly hidden where no visible
+ * removed triangle could have made that surface. An empty region: the view does not change. */
+static lm_status patch_region(wk_views_local *v, const lm_patch *p, uint32_t h, wk_rect *r)
+{
     *r = (wk_rect){0, 0, 0, 0};
+    if (v->occlusion && p->n_removed > v->cap_visible) {
+        wk_rect *a = realloc(v->visible, p->n_removed * sizeof *a);
+        if (!a)
+            return lm_fail(LM_E_NOMEM, "out of memory for %u rectangles", p->n_removed);
+        v->visible = a;
+        v->cap_visible = p->n_removed;
+    }
+    uint32_t n_vis = 0;
     for (uint32_t i = 0; i < p->n_removed; i++) {
         const wk_footprint *f = wk_buckets_footprint(v->buckets[h], p->removed[i]);
+        if (v->occlusion) {
+            if (wk_image_store_hidden_tri(v->img, h, f, WK_HIDDEN_EPS))
+                continue;
+            v->visible[n_vis++] = f->rect;
+        }
         wk_rect_union(r, &f->rect);
-        hidden = hidden && wk_image_store_hidden_tri(v->img, h, f, WK_HIDDEN_EPS);
     }
     for (uint32_t i = 0; i < p->n_added; i++) {
         wk_footprint f;
         wk_tri_footprint(&v->views.views[h], &p->added[i], &f);
+        if (v->occlusion && wk_image_store_hidden_tri(v->img, h, &f, WK_HIDDEN_EPS)) {
+            uint32_t k = 0;
+            while (k < n_vis && !rects_meet(&v->visible[k], &f.rect))
+                k++;
+            if (k == n_vis)
+                continue;
+        }
         wk_rect_union(r, &f.rect);
-        hidden = hidden && wk_image_store_hidden_tri(v->img, h, &f, WK_HIDDEN_EPS);
     }
-    return hidden;
+    return LM_OK;
 }
 
 /* Stream (T_R \ T) ∪ T' for view h in ascending id order; T' = v->sorted_added (n_added). */
@@ -190,10 +214,13 @@ static lm_status plan_patch(wk_views_local *v, const lm_patch *p, uint32_t pi)
     lm_status st = prepare_patch(v, p, &stamp);
     for (uint32_t h = 0; st == LM_OK && h < v->views.count; h++) {
         wk_job j = {.patch = pi, .view = h, .first = v->stream_n, .luma = v->n_luma};
-        if (patch_region(v, p, h, &j.rect) || wk_rect_empty(&j.rect)) {
+        st = patch_region(v, p, h, &j.rect);
+        if (st == LM_OK && wk_rect_empty(&j.rect)) {
             v->stats.views_skipped++;
             continue;
         }
+        if (st != LM_OK)
+            break;
         st = stream_region(v, h, &j.rect, stamp, p->n_added, &j.count);
         if (st == LM_OK)
             st = push_job(v, &j);
@@ -217,31 +244,31 @@ static lm_status reserve_bytes(uint8_t **buf, size_t *cap, size_t need)
     return LM_OK;
 }
 
-/* Open the regions of jobs [j0, j1) in their patch's scratch atlas (patch i of the batch uses
+/* Clear the regions of jobs [j0, j1) in their patch's scratch atlas (patch i of the batch uses
  * atlas 1 + i - p0), one call per atlas. */
-static lm_status open_regions(wk_views_local *v, size_t j0, size_t j1, uint32_t p0)
+static lm_status clear_regions(wk_views_local *v, size_t j0, size_t j1, uint32_t p0)
 {
     lm_status st = LM_OK;
     for (size_t a = j0; st == LM_OK && a < j1;) {
         size_t b = a;
-        v->open_n = 0;
+        v->n_regions = 0;
         for (; b < j1 && v->jobs[b].patch == v->jobs[a].patch; b++) {
-            v->open_views[v->open_n] = v->jobs[b].view;
-            v->open_rects[v->open_n++] = v->jobs[b].rect;
+            v->region_views[v->n_regions] = v->jobs[b].view;
+            v->region_rects[v->n_regions++] = v->jobs[b].rect;
         }
-        st = wk_renderer_open(v->r, 1 + v->jobs[a].patch - p0, v->open_views, v->open_rects,
-                              v->open_n);
+        st = wk_renderer_clear_regions(v->r, 1 + v->jobs[a].patch - p0, v->region_views,
+                                       v->region_rects, v->n_regions);
         a = b;
     }
     return st;
 }
 
-/* Draw jobs [j0, j1): open all regions, draw all, then read them all back (one sync). */
+/* Draw jobs [j0, j1): clear all regions, draw all, then read them all back (one sync). */
 static lm_status run_jobs(wk_views_local *v, size_t j0, size_t j1, uint32_t p0)
 {
     lm_status st = wk_renderer_upload(v->r, v->stream, v->stream_n);
     if (st == LM_OK)
-        st = open_regions(v, j0, j1, p0);
+        st = clear_regions(v, j0, j1, p0);
     for (size_t j = j0; st == LM_OK && j < j1; j++) {
         const wk_job *job = &v->jobs[j];
         wk_draw d = {1 + job->patch - p0, job->view, job->first, job->count, job->rect};
@@ -291,6 +318,7 @@ void wk_vl_free_eval(wk_views_local *v)
     free(v->cand.ids);
     free(v->mark);
     free(v->sorted_added);
+    free(v->visible);
 }
 
 static lm_status cache_patch(wk_views_local *v, const lm_patch *p)
@@ -320,7 +348,8 @@ static lm_status cache_patch(wk_views_local *v, const lm_patch *p)
 static int patch_equal(const lm_patch *a, const lm_patch *b)
 {
     return a->n_removed == b->n_removed && a->n_added == b->n_added &&
-           (a->n_removed == 0 || !memcmp(a->removed, b->removed, a->n_removed * sizeof(uint32_t))) &&
+           (a->n_removed == 0 ||
+            !memcmp(a->removed, b->removed, a->n_removed * sizeof(uint32_t))) &&
            (a->n_added == 0 || !memcmp(a->added, b->added, a->n_added * sizeof(lm_tri_data)));
 }
 
@@ -341,8 +370,8 @@ static lm_status evaluate_batch(wk_views_local *v, const lm_patch *patches, uint
             st = run_jobs(v, j0, v->n_jobs, p0);
         for (size_t j = j0; st == LM_OK && j < v->n_jobs; j++) {
             const wk_job *job = &v->jobs[j];
-            delta[job->patch] += wk_image_store_region_delta(v->img, job->view, &job->rect,
-                                                             v->luma + job->luma);
+            delta[job->patch] +=
+                wk_image_store_region_delta(v->img, job->view, &job->rect, v->luma + job->luma);
         }
     }
     for (uint32_t i = 0; st == LM_OK && i < n; i++)
@@ -357,7 +386,10 @@ static lm_status ready(wk_views_local *v)
 {
     if (!v->mesh_set)
         return lm_fail(LM_E_INVALID, "no mesh set: call set_mesh before evaluate/commit");
-    return wk_vl_make_current(v);
+    lm_status st = wk_vl_make_current(v);
+    if (st == LM_OK && !v->buckets_ready)
+        st = wk_vl_build_buckets(v);
+    return st;
 }
 
 lm_status wk_vl_evaluate(lm_views *base, const lm_patch *patches, uint32_t n, int64_t *delta)
@@ -419,7 +451,9 @@ lm_status wk_vl_commit(lm_views *base, const lm_patch *patch)
     }
     wk_vl_forget_cache(v);
     st = apply_patch(v, patch);
-    if (st != LM_OK)
+    if (st != LM_OK) {
         v->mesh_set = 0; /* half-applied: refuse further work until set_mesh */
+        v->buckets_ready = 0;
+    }
     return st;
 }

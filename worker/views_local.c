@@ -151,16 +151,17 @@ static lm_status order_by_id(const lm_tri_data *tris, size_t n, uint32_t **order
             size_t mid = lo + w < n ? lo + w : n, hi = lo + 2 * w < n ? lo + 2 * w : n;
             size_t a = lo, b = mid, k = lo;
             while (a < mid || b < hi)
-                tmp[k++] = (b >= hi || (a < mid && cmp_by_id(&o[a], &o[b], tris) <= 0)) ? o[a++]
-                                                                                        : o[b++];
+                tmp[k++] =
+                    (b >= hi || (a < mid && cmp_by_id(&o[a], &o[b], tris) <= 0)) ? o[a++] : o[b++];
         }
         memcpy(o, tmp, n * sizeof *o);
     }
     free(tmp);
     for (i = 1; i < n; i++)
         if (tris[o[i - 1]].id == tris[o[i]].id) {
+            uint32_t id = tris[o[i]].id;
             free(o);
-            return lm_fail(LM_E_INVALID, "triangle id %u appears twice in the mesh", tris[o[i]].id);
+            return lm_fail(LM_E_INVALID, "triangle id %u appears twice in the mesh", id);
         }
     *order = o;
     return LM_OK;
@@ -178,16 +179,25 @@ static lm_status build_replica(wk_views_local *v, const lm_tri_data *tris, size_
         if (st != LM_OK)
             return st;
     }
+    v->buckets_ready = 0; /* built on the first evaluate/commit: energy alone needs none */
+    return LM_OK;
+}
+
+lm_status wk_vl_build_buckets(wk_views_local *v)
+{
     for (uint32_t h = 0; h < v->views.count; h++) {
         wk_buckets_clear(v->buckets[h]);
-        for (size_t i = 0; i < n; i++) {
+        for (size_t id = 0; id < v->rep.cap; id++) {
+            if (!v->rep.alive[id])
+                continue;
             wk_footprint f;
-            wk_tri_footprint(&v->views.views[h], &tris[i], &f);
-            lm_status st = wk_buckets_insert(v->buckets[h], tris[i].id, &f);
+            wk_tri_footprint(&v->views.views[h], &v->rep.tris[id], &f);
+            lm_status st = wk_buckets_insert(v->buckets[h], (uint32_t)id, &f);
             if (st != LM_OK)
                 return st;
         }
     }
+    v->buckets_ready = 1;
     return LM_OK;
 }
 
@@ -415,8 +425,8 @@ lm_status wk_views_local_luma(lm_views *base, int which, uint32_t view, uint8_t 
     wk_views_local *v = (wk_views_local *)base;
     if (view >= v->views.count)
         return lm_fail(LM_E_RANGE, "view %u of %u", view, v->views.count);
-    const uint8_t *src = which ? wk_image_store_target(v->img, view)
-                               : wk_image_store_current(v->img, view);
+    const uint8_t *src =
+        which ? wk_image_store_target(v->img, view) : wk_image_store_current(v->img, view);
     memcpy(out, src, (size_t)v->width * v->height);
     return LM_OK;
 }

@@ -17,16 +17,17 @@ lm_status wk_views_local_create(const lm_mesh *original, const lm_view_set *view
                                 const char *device_spec, lm_views **out);
 
 /* Use these materials (copied, textures uploaded) for the current mesh's material ids instead of
- * the original's, e.g. when the model was loaded from its own file. Re-renders a mesh already set. */
+ * the original's, e.g. when the model was loaded from its own file. Re-renders a mesh already set.
+ */
 lm_status wk_views_local_set_materials(lm_views *views, const lm_material *mats, uint32_t n);
 
 /* Tuning and introspection for tests and benchmarks. */
 typedef struct wk_views_local_stats {
-    uint64_t evaluations;   /* patches evaluated */
-    uint64_t batches;       /* readback synchronisations in evaluate/commit */
-    uint64_t tris_drawn;    /* triangles sent in evaluate/commit */
-    uint64_t regions;       /* view regions redrawn in evaluate/commit */
-    uint64_t region_pixels; /* their pixels */
+    uint64_t evaluations;    /* patches evaluated */
+    uint64_t batches;        /* readback synchronisations in evaluate/commit */
+    uint64_t tris_drawn;     /* triangles sent in evaluate/commit */
+    uint64_t regions;        /* view regions redrawn in evaluate/commit */
+    uint64_t region_pixels;  /* their pixels */
     uint64_t commits_cached; /* commits that reused an evaluation's pixels */
     uint64_t views_skipped;  /* (patch, view) pairs not drawn: change hidden or off-screen */
 } wk_views_local_stats;

@@ -10,9 +10,9 @@
 #include "worker/replica.h"
 #include "worker/views_local.h"
 
-#define WK_FULL_ATLAS 0     /* full renders (and the colour images they leave) */
+#define WK_FULL_ATLAS 0      /* full renders (and the colour images they leave) */
 #define WK_SCRATCH_ATLASES 4 /* atlases 1..4: regions of up to 4 patches per readback */
-#define WK_FULL_CHUNK 65536 /* triangles per upload in full renders */
+#define WK_FULL_CHUNK 65536  /* triangles per upload in full renders */
 
 /* One region to redraw: patch `patch` of the batch in view `view`. */
 typedef struct wk_job {
@@ -33,8 +33,9 @@ typedef struct wk_views_local {
     wk_buckets *buckets[LM_MAX_VIEWS];
     wk_replica rep;
     int mesh_set;
-    int table;     /* material table of the current mesh */
-    int occlusion; /* skip views where a patch is certainly hidden (needs depth images) */
+    int buckets_ready; /* buckets match the replica */
+    int table;         /* material table of the current mesh */
+    int occlusion;     /* skip views where a patch is certainly hidden (needs depth images) */
     /* the stream of one upload */
     lm_corner *stream;
     uint32_t *stream_mat;
@@ -55,10 +56,12 @@ typedef struct wk_views_local {
     uint32_t mark_now;
     lm_tri_data *sorted_added;
     size_t cap_sorted;
-    /* regions to open in one scratch atlas */
-    uint32_t open_views[LM_MAX_VIEWS];
-    wk_rect open_rects[LM_MAX_VIEWS];
-    size_t open_n;
+    wk_rect *visible; /* rectangles of a patch's visible removed triangles in one view */
+    uint32_t cap_visible;
+    /* regions to clear in one scratch atlas */
+    uint32_t region_views[LM_MAX_VIEWS];
+    wk_rect region_rects[LM_MAX_VIEWS];
+    size_t n_regions;
     /* copies of the patches of the last evaluation */
     lm_patch *cached;
     uint32_t n_cached, cap_cached;
@@ -66,6 +69,8 @@ typedef struct wk_views_local {
 } wk_views_local;
 
 lm_status wk_vl_make_current(wk_views_local *v);
+/* (Re)build every view's buckets from the replica. */
+lm_status wk_vl_build_buckets(wk_views_local *v);
 lm_status wk_vl_stream_reserve(wk_views_local *v, size_t n_tris);
 /* Append one triangle record to the stream. */
 static inline void wk_vl_stream_push(wk_views_local *v, const lm_tri_data *t)

@@ -1,0 +1,72 @@
+#!/usr/bin/env bash
+# Integration: `lumesh energy`, `lumesh render` and `lumesh bench eval` on the textured spider as a
+# user runs them: a model against itself has energy exactly 0; a coarse version has a positive
+# energy whose per-view values add up to the total; held-out views give another set of 24; render
+# writes one PNG per view (and targets and differences with --against); the benchmark's JSON has
+# its numbers; bad input gives one line on stderr and exit 1.
+set -u
+. "$(dirname "$0")/lib.bash"
+: "${LUMESH_TEST_DATA:?}"
+spider="$LUMESH_TEST_DATA/cache/root/usr/share/assimp/models/OBJ/spider.obj"
+bunny="$LUMESH_TEST_DATA/cache/meshes/bunny00.off"
+if [ ! -r "$spider" ]; then
+  echo "spider.obj missing (run scripts/install-deps.sh): skipped"
+  exit 0
+fi
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+export LUMESH_LOG=error
+
+# json FILE KEY: the number after "KEY": in a one-line JSON object
+json() { sed -n "s/.*\"$2\": \\([-0-9.e]*\\).*/\\1/p" "$1"; }
+
+checks=$((checks + 1))
+"$LUMESH" energy "$spider" "$spider" --views 6 --size 64 > "$tmp/self.json" ||
+  fail "energy of the spider against itself failed"
+[ "$(json "$tmp/self.json" total)" = 0 ] || fail "self energy is not 0: $(cat "$tmp/self.json")"
+grep -q '"renderer": "EGL device' "$tmp/self.json" || fail "no renderer in $(cat "$tmp/self.json")"
+
+checks=$((checks + 1))
+"$LUMESH" simplify "$spider" -o "$tmp/coarse.obj" --target-verts 200 > /dev/null ||
+  fail "simplify failed"
+"$LUMESH" energy "$spider" "$tmp/coarse.obj" --views 12 --size 96 > "$tmp/coarse.json" ||
+  fail "energy of the coarse spider failed"
+total=$(json "$tmp/coarse.json" total)
+sum=$(sed -n 's/.*"per_view": \[\([^]]*\)\].*/\1/p' "$tmp/coarse.json" | tr -d ' ' | tr ',' '\n' |
+  awk '{s += $1} END {printf "%.0f", s}')
+[ -n "$total" ] && [ "$total" -gt 0 ] || fail "coarse energy not positive: $(cat "$tmp/coarse.json")"
+[ "$sum" = "$total" ] || fail "per-view energies add up to $sum, total says $total"
+grep -q '"views": 12, "size": 96' "$tmp/coarse.json" || fail "views/size missing: $(cat "$tmp/coarse.json")"
+
+checks=$((checks + 1))
+"$LUMESH" energy "$spider" "$tmp/coarse.obj" --heldout --size 64 > "$tmp/held.json" ||
+  fail "held-out energy failed"
+grep -q '"views": 24' "$tmp/held.json" && grep -q '"heldout": true' "$tmp/held.json" ||
+  fail "held-out energy does not use 24 views: $(cat "$tmp/held.json")"
+
+checks=$((checks + 1))
+"$LUMESH" render "$tmp/coarse.obj" -o "$tmp/img" --views 3 --size 64 --against "$spider" 2>/dev/null ||
+  fail "render --against failed"
+for f in view_00 view_01 view_02 target_00 target_02 diff_00 diff_02; do
+  [ -s "$tmp/img/$f.png" ] || fail "render wrote no $f.png"
+done
+[ "$(ls "$tmp/img" | wc -l)" = 9 ] || fail "render wrote $(ls "$tmp/img" | wc -l) files, expected 9"
+
+if [ -r "$bunny" ]; then
+  checks=$((checks + 1))
+  "$LUMESH" bench eval --json --views 6 --size 64 --evals 200 > "$tmp/bench.json" ||
+    fail "bench eval failed"
+  for key in evals_per_s full_render_ms speedup_vs_full; do
+    v=$(json "$tmp/bench.json" "$key")
+    awk -v v="$v" 'BEGIN {exit !(v > 0)}' || fail "bench $key is '$v': $(cat "$tmp/bench.json")"
+  done
+fi
+
+expect_fail_line "$LUMESH" energy "$spider"
+expect_fail_line "$LUMESH" energy "$spider" "$spider" --views 0
+expect_fail_line "$LUMESH" energy "$spider" "$spider" --size 100000
+expect_fail_line "$LUMESH" energy "$spider" "$spider" --device egl:99
+expect_fail_line "$LUMESH" render "$spider"
+expect_fail_line "$LUMESH" render "$tmp/missing.obj" -o "$tmp/x"
+expect_fail_line "$LUMESH" bench nosuch
+finish
