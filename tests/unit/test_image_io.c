@@ -155,7 +155,8 @@ static size_t png_chunk(uint8_t *out, const char *type, const uint8_t *data, uin
     out[0] = (uint8_t)(len >> 24), out[1] = (uint8_t)(len >> 16), out[2] = (uint8_t)(len >> 8);
     out[3] = (uint8_t)len;
     memcpy(out + 4, type, 4);
-    memcpy(out + 8, data, len);
+    if (len)
+        memcpy(out + 8, data, len);
     uint32_t c = crc32_of(out + 4, len + 4);
     out[8 + len] = (uint8_t)(c >> 24), out[9 + len] = (uint8_t)(c >> 16);
     out[10 + len] = (uint8_t)(c >> 8), out[11 + len] = (uint8_t)c;
