@@ -40,7 +40,8 @@ typedef struct co_progress {
 typedef struct co_optimizer co_optimizer;
 
 /* Takes ownership of `mesh` (the coarse mesh; adjacency built) and borrows `views` (whose target
- * images are already rendered); sends the mesh to the views (set_mesh). */
+ * images are already rendered); sends the mesh to the views (set_mesh). The mesh is owned by the
+ * optimizer even when creation fails (it is destroyed then). */
 lm_status co_optimizer_create(lm_mesh *mesh, lm_views *views, const co_params *params,
                               co_optimizer **out);
 void co_optimizer_destroy(co_optimizer *opt);
