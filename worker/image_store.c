@@ -249,7 +249,19 @@ static void edge_span(const float *a, const float *b, float s, int y, int *lo, i
 int wk_image_store_hidden_tri(const wk_image_store *s, uint32_t view, const wk_footprint *f,
                               float eps)
 {
-    const wk_rect *r = &f->rect;
+    return wk_image_store_hidden_tri_in(s, view, f, &f->rect, eps);
+}
+
+int wk_image_store_hidden_tri_in(const wk_image_store *s, uint32_t view, const wk_footprint *f,
+                                 const wk_rect *clip, float eps)
+{
+    wk_rect c = f->rect, *r = &c;
+    c.x0 = clip->x0 > c.x0 ? clip->x0 : c.x0;
+    c.y0 = clip->y0 > c.y0 ? clip->y0 : c.y0;
+    c.x1 = clip->x1 < c.x1 ? clip->x1 : c.x1;
+    c.y1 = clip->y1 < c.y1 ? clip->y1 : c.y1;
+    if (wk_rect_empty(r))
+        return 1; /* no pixel of clip */
     if (!f->projected)
         return wk_image_store_hidden(s, view, r, f->zmin, eps);
     check_region(s, view, r);

@@ -60,6 +60,9 @@ int wk_image_store_hidden(const wk_image_store *s, uint32_t view, const wk_rect 
  * projected. */
 int wk_image_store_hidden_tri(const wk_image_store *s, uint32_t view, const wk_footprint *f,
                               float eps);
+/* The same over those of the footprint's pixels that lie in clip (1 when none does). */
+int wk_image_store_hidden_tri_in(const wk_image_store *s, uint32_t view, const wk_footprint *f,
+                                 const wk_rect *clip, float eps);
 
 /* The oracle's image: out[y*width+x] = Σ over the (2 radius + 1)² window around (x, y), clipped to
  * the image, of (Ŷ - Y)². radius in 0..64; out has width*height entries. */

@@ -2,8 +2,8 @@
  * and view, the region R_h around the removed and added triangles, the bucket query for every
  * triangle touching it, a scissored clear and redraw of (T_R \ T) ∪ T' in ascending id order into
  * a scratch atlas, and after all draws of a batch one readback sync and the exact int64 sums.
- * Commit reuses the pixels of an evaluated patch (or renders them) and updates images, replica
- * and buckets. */
+ * Commit reuses the pixels of an evaluated patch (or renders them), reads its regions' depth
+ * images then (evaluate reads colour only) and updates images, replica and buckets. */
 #include <stdlib.h>
 #include <string.h>
 
@@ -143,7 +143,8 @@ static int rects_meet(const wk_rect *a, const wk_rect *b)
  * With occlusion on, a removed triangle certainly hidden behind the visible surface is left out
  * (its removal changes no pixel), and so is an added one that is certainly hidden where no visible
  * removed triangle could have made that surface. An empty region: the view does not change. */
-static lm_status patch_region(wk_views_local *v, const lm_patch *p, uint32_t h, wk_rect *r)
+static lm_status patch_region(wk_views_local *v, const lm_patch *p, uint32_t h, wk_rect *r,
+                              uint32_t *n_visible)
 {
     *r = (wk_rect){0, 0, 0, 0};
     if (v->occlusion && p->n_removed > v->cap_visible) {
@@ -175,12 +176,28 @@ static lm_status patch_region(wk_views_local *v, const lm_patch *p, uint32_t h, 
         }
         wk_rect_union(r, &f.rect);
     }
+    *n_visible = n_vis;
     return LM_OK;
 }
 
-/* Stream (T_R \ T) ∪ T' for view h in ascending id order; T' = v->sorted_added (n_added). */
+/* Whether kept triangle id can be left out of the redraw of region r in view h: it is certainly
+ * hidden in r behind the current surface, and that surface is redrawn unchanged because no visible
+ * removed triangle (the first n_vis of v->visible) meets it. Its fragments are then deeper than
+ * the redrawn ones at every pixel of r, so it changes no pixel. */
+static int occluded_in_region(const wk_views_local *v, uint32_t h, uint32_t id, const wk_rect *r,
+                              uint32_t n_vis)
+{
+    const wk_footprint *f = wk_buckets_footprint(v->buckets[h], id);
+    for (uint32_t k = 0; k < n_vis; k++)
+        if (rects_meet(&v->visible[k], &f->rect))
+            return 0;
+    return wk_image_store_hidden_tri_in(v->img, h, f, r, WK_HIDDEN_EPS);
+}
+
+/* Stream (T_R \ T) ∪ T' for view h in ascending id order; T' = v->sorted_added (n_added); with
+ * occlusion on, kept triangles certainly hidden in the region are left out. */
 static lm_status stream_region(wk_views_local *v, uint32_t h, const wk_rect *r, uint32_t stamp,
-                               uint32_t n_added, size_t *count)
+                               uint32_t n_added, uint32_t n_vis, size_t *count)
 {
     v->cand.n = 0;
     lm_status st = wk_buckets_query(v->buckets[h], r, &v->cand);
@@ -188,7 +205,8 @@ static lm_status stream_region(wk_views_local *v, uint32_t h, const wk_rect *r, 
         return st;
     size_t k = 0;
     for (size_t i = 0; i < v->cand.n; i++)
-        if (v->mark[v->cand.ids[i]] != stamp)
+        if (v->mark[v->cand.ids[i]] != stamp &&
+            !(v->occlusion && occluded_in_region(v, h, v->cand.ids[i], r, n_vis)))
             v->cand.ids[k++] = v->cand.ids[i];
     if (k <= 64)
         sort_ids(v->cand.ids, k);
@@ -214,14 +232,15 @@ static lm_status plan_patch(wk_views_local *v, const lm_patch *p, uint32_t pi)
     lm_status st = prepare_patch(v, p, &stamp);
     for (uint32_t h = 0; st == LM_OK && h < v->views.count; h++) {
         wk_job j = {.patch = pi, .view = h, .first = v->stream_n, .luma = v->n_luma};
-        st = patch_region(v, p, h, &j.rect);
+        uint32_t n_vis = 0;
+        st = patch_region(v, p, h, &j.rect, &n_vis);
         if (st == LM_OK && wk_rect_empty(&j.rect)) {
             v->stats.views_skipped++;
             continue;
         }
         if (st != LM_OK)
             break;
-        st = stream_region(v, h, &j.rect, stamp, p->n_added, &j.count);
+        st = stream_region(v, h, &j.rect, stamp, p->n_added, n_vis, &j.count);
         if (st == LM_OK)
             st = push_job(v, &j);
         v->n_luma += (size_t)(j.rect.x1 - j.rect.x0) * (j.rect.y1 - j.rect.y0);
@@ -276,8 +295,6 @@ static lm_status run_jobs(wk_views_local *v, size_t j0, size_t j1, uint32_t p0)
     }
     if (st == LM_OK)
         st = reserve_bytes(&v->luma, &v->cap_luma, v->n_luma);
-    if (st == LM_OK && v->occlusion)
-        st = reserve_bytes((uint8_t **)&v->zreg, &v->cap_zreg, v->n_luma * sizeof(float));
     for (size_t j = j0; st == LM_OK && j < j1; j++) {
         const wk_job *job = &v->jobs[j];
         size_t area = (size_t)(job->rect.x1 - job->rect.x0) * (job->rect.y1 - job->rect.y0);
@@ -286,9 +303,6 @@ static lm_status run_jobs(wk_views_local *v, size_t j0, size_t j1, uint32_t p0)
             st = wk_renderer_read(v->r, 1 + job->patch - p0, job->view, &job->rect, v->rgba);
         if (st == LM_OK)
             wk_luma_from_rgba(v->rgba, area, v->luma + job->luma);
-        if (st == LM_OK && v->occlusion)
-            st = wk_renderer_read_depth(v->r, 1 + job->patch - p0, job->view, &job->rect,
-                                        v->zreg + job->luma);
     }
     v->stats.batches++;
     v->stats.tris_drawn += v->stream_n;
@@ -423,6 +437,26 @@ static lm_status apply_patch(wk_views_local *v, const lm_patch *p)
     return LM_OK;
 }
 
+/* The first patch of the batch's last group: only the regions of patches from there on are still
+ * in the scratch atlases (the last group drew over the earlier ones). */
+static uint32_t last_p0(const wk_views_local *v)
+{
+    return v->n_cached ? (v->n_cached - 1) / WK_SCRATCH_ATLASES * WK_SCRATCH_ATLASES : 0;
+}
+
+/* Depth images of cached patch k's regions, read from its scratch atlas at commit time only:
+ * evaluations far outnumber commits, so evaluate reads colour alone. */
+static lm_status read_depths(wk_views_local *v, uint32_t k)
+{
+    uint32_t p0 = last_p0(v);
+    lm_status st = reserve_bytes((uint8_t **)&v->zreg, &v->cap_zreg, v->n_luma * sizeof(float));
+    for (size_t j = 0; st == LM_OK && j < v->n_jobs; j++)
+        if (v->jobs[j].patch == k)
+            st = wk_renderer_read_depth(v->r, 1 + k - p0, v->jobs[j].view, &v->jobs[j].rect,
+                                        v->zreg + v->jobs[j].luma);
+    return st == LM_OK ? wk_renderer_check(v->r, "reading patch depth images") : st;
+}
+
 lm_status wk_vl_commit(lm_views *base, const lm_patch *patch)
 {
     wk_views_local *v = (wk_views_local *)base;
@@ -432,7 +466,7 @@ lm_status wk_vl_commit(lm_views *base, const lm_patch *patch)
     uint32_t k = 0;
     while (k < v->n_cached && !patch_equal(&v->cached[k], patch))
         k++;
-    if (k < v->n_cached) {
+    if (k < v->n_cached && (!v->occlusion || k >= last_p0(v))) {
         v->stats.commits_cached++;
     } else {
         int64_t unused = 0;
@@ -441,6 +475,8 @@ lm_status wk_vl_commit(lm_views *base, const lm_patch *patch)
         v->stats.evaluations--; /* a commit's render is not an evaluation */
         k = 0;
     }
+    if (v->occlusion && (st = read_depths(v, k)) != LM_OK)
+        return st;
     for (size_t j = 0; j < v->n_jobs; j++) {
         const wk_job *job = &v->jobs[j];
         if (job->patch != k)
