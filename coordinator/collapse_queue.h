@@ -14,9 +14,9 @@
 #include "common/error.h"
 
 typedef struct co_cq_entry {
-    uint32_t a, b;   /* a < b */
-    int64_t est;     /* estimated ΔE of collapsing (INT64_MAX: illegal) */
-    int32_t level;   /* -1..3 */
+    uint32_t a, b;    /* a < b */
+    int64_t est;      /* estimated ΔE of collapsing (INT64_MAX: illegal) */
+    int32_t level;    /* -1..3 */
     uint32_t in_heap; /* 1 while it can be popped */
 } co_cq_entry;
 

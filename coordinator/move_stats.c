@@ -5,6 +5,8 @@
 #include <math.h>
 #include <string.h>
 
+#define CO_CHEAP_EVALS 4.0 /* mean evaluations per attempt below which an operation is cheap */
+
 static double decay(uint64_t from, uint64_t to, double half_life)
 {
     if (to <= from || !(half_life > 0))
@@ -94,8 +96,8 @@ int co_move_stats_best(const co_move_stats *st, uint64_t now, co_move_kind *kind
     return found;
 }
 
-int co_move_stats_should_try(const co_move_stats *st, co_move_kind kind, int level,
-                             double de_total, uint64_t now)
+int co_move_stats_should_try(const co_move_stats *st, co_move_kind kind, int level, double de_total,
+                             uint64_t now)
 {
     co_stat_view o, b;
     view(st, kind, level, now, &o);
@@ -116,9 +118,11 @@ int co_move_stats_should_try(const co_move_stats *st, co_move_kind kind, int lev
     double bound = b.mean * (o.t / fmax(b.t, 1e-9)) + M_SQRT2 * co_erfinv(q) * sigma;
     if (isnan(bound))
         return 1;
-    /* "<=": O* itself passes even when its σ is 0; the ΔE_total term only once progress was made
-     * on this edge */
-    return o.mean <= bound && (de_total >= 0 || o.mean < de_total);
+    /* "<=": O* itself passes even when its σ is 0. The ΔE_total term (do not start a possibly
+     * expensive move once much was gained on this edge) applies once progress was made, and not
+     * to operations that cost a few evaluations. */
+    int cheap = o.t <= CO_CHEAP_EVALS;
+    return o.mean <= bound && (cheap || de_total >= 0 || o.mean < de_total);
 }
 
 /* Giles, "Approximating the erfinv function" (GPU Computing Gems, 2011), single precision. */

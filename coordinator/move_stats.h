@@ -15,8 +15,8 @@
 #define CO_LEVELS 4
 
 typedef struct co_stat {
-    double w;       /* attenuated number of samples */
-    double sum_x;   /* attenuated sums of the sample, its square, and its time */
+    double w;     /* attenuated number of samples */
+    double sum_x; /* attenuated sums of the sample, its square, and its time */
     double sum_x2;
     double sum_t;
     uint64_t time;  /* clock (evaluations) of the last update */
@@ -56,10 +56,11 @@ int co_move_stats_best(const co_move_stats *st, uint64_t now, co_move_kind *kind
  * primed values are those of the most efficient operation O* and de_total is the energy change
  * accumulated on the current edge so far. Choices the paper leaves open: utilisation f is the
  * attenuated time (evaluations) an operation used; σ is widened by σ*²/(samples + 1);
- * the ΔE_total term applies once de_total < 0; operations with less than min_weight attenuated
+ * the ΔE_total term applies once de_total < 0 and not to operations
+ * costing at most 4 evaluations on average; operations with less than min_weight attenuated
  * samples are always attempted. */
-int co_move_stats_should_try(const co_move_stats *st, co_move_kind kind, int level,
-                             double de_total, uint64_t now);
+int co_move_stats_should_try(const co_move_stats *st, co_move_kind kind, int level, double de_total,
+                             uint64_t now);
 
 /* Inverse error function on (-1, 1) (±inf at ±1, NaN outside): Giles' approximation refined by
  * Newton steps on erf() from <math.h>; accurate to a few ulp. */

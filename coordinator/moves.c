@@ -58,7 +58,8 @@ lm_status co_moves_create(lm_mesh *mesh, lm_views *views, const co_moves_config 
     set_defaults(&mv->cfg);
     uint32_t a = mv->cfg.attrs;
     mv->derived_normals = !(a & LM_ATTR_NORMAL);
-    mv->wattrs = (a & LM_ATTR_NORMAL ? 3 : 0) + (a & LM_ATTR_UV ? 2 : 0) + (a & LM_ATTR_COLOR ? 3 : 0);
+    mv->wattrs =
+        (a & LM_ATTR_NORMAL ? 3 : 0) + (a & LM_ATTR_UV ? 2 : 0) + (a & LM_ATTR_COLOR ? 3 : 0);
     co_idset *sets[] = {&mv->V, &mv->W, &mv->ops, &mv->R, &mv->B, &mv->T};
     for (size_t i = 0; i < sizeof sets / sizeof *sets; i++)
         co_idset_init(sets[i]);
@@ -139,7 +140,8 @@ void co_moves_last_change(const co_moves *mv, const uint32_t **before, uint32_t 
     *n_now = mv->T.n;
 }
 
-/* ---- vertex sets (Table 1) -------------------------------------------------------------------- */
+/* ---- vertex sets (Table 1) --------------------------------------------------------------------
+ */
 
 static lm_status add_opt(co_idset *s, uint32_t v)
 {
@@ -171,15 +173,14 @@ static lm_status add4(co_idset *s, uint32_t p, uint32_t q, uint32_t r, uint32_t 
     return st ? st : add_opt(s, t);
 }
 
-lm_status co_moves_vertex_set(const lm_mesh *m, const co_move_site *site, int level,
-                              co_idset *out)
+lm_status co_moves_vertex_set(const lm_mesh *m, const co_move_site *site, int level, co_idset *out)
 {
     co_idset_clear(out);
     const co_move_site *s = site;
     lm_status st = LM_OK;
     switch (s->kind) {
     case CO_MOVE_NOOP:
-        st = level == 1 ? add4(out, s->a, s->b, LM_NONE, LM_NONE)
+        st = level == 1   ? add4(out, s->a, s->b, LM_NONE, LM_NONE)
              : level == 2 ? add4(out, s->a, s->b, s->c, s->d)
              : level == 3 ? add4(out, s->a, s->b, LM_NONE, LM_NONE)
                           : LM_OK;
@@ -196,8 +197,8 @@ lm_status co_moves_vertex_set(const lm_mesh *m, const co_move_site *site, int le
     case CO_MOVE_SPLIT:
     case CO_MOVE_COLLAPSE:
         st = level == 2 ? add4(out, s->v, s->c, s->d, LM_NONE) : add_opt(out, s->v);
-        if (!st && level == 3 && s->kind == CO_MOVE_SPLIT && !(st = add4(out, s->a, s->b, LM_NONE, LM_NONE)) &&
-            !(st = add_ring(out, m, s->a)))
+        if (!st && level == 3 && s->kind == CO_MOVE_SPLIT &&
+            !(st = add4(out, s->a, s->b, LM_NONE, LM_NONE)) && !(st = add_ring(out, m, s->a)))
             st = add_ring(out, m, s->b);
         if (!st && level == 3 && s->kind == CO_MOVE_COLLAPSE)
             st = add_ring(out, m, s->v);
@@ -210,8 +211,7 @@ lm_status co_moves_vertex_set(const lm_mesh *m, const co_move_site *site, int le
 
 /* ---- the connectivity change ---------------------------------------------------------------- */
 
-static void find_site(const lm_mesh *m, co_move_kind kind, uint32_t a, uint32_t b,
-                      co_move_site *s)
+static void find_site(const lm_mesh *m, co_move_kind kind, uint32_t a, uint32_t b, co_move_site *s)
 {
     *s = (co_move_site){.kind = kind, .a = a, .b = b, .c = LM_NONE, .d = LM_NONE, .v = LM_NONE};
     uint32_t t[2];
@@ -376,8 +376,8 @@ static lm_status eval_batch(void *ctx, const double *pts, uint32_t n, double *va
             continue;
         size_t mark = lm_journal_mark(mv->j);
         co_params_apply(mv, x);
-        lm_status st = lm_patch_build(&mv->patches[k], mv->m, mv->B.ids, mv->B.n, mv->T.ids,
-                                      mv->T.n);
+        lm_status st =
+            lm_patch_build(&mv->patches[k], mv->m, mv->B.ids, mv->B.n, mv->T.ids, mv->T.n);
         lm_journal_rollback(mv->m, mv->j, mark);
         if (st)
             return st;
@@ -401,9 +401,9 @@ static lm_status optimise(co_moves *mv, int64_t *delta)
                          .f_rtol = mv->cfg.f_rtol};
     double f0 = 0;
     co_simplex_result r;
-    lm_status st = co_simplex_minimize(mv->simplex, mv->dim, mv->x, mv->step,
-                                       mv->site.kind == CO_MOVE_NOOP ? &f0 : NULL, &o,
-                                       eval_batch, mv, &r);
+    lm_status st =
+        co_simplex_minimize(mv->simplex, mv->dim, mv->x, mv->step,
+                            mv->site.kind == CO_MOVE_NOOP ? &f0 : NULL, &o, eval_batch, mv, &r);
     *delta = st || !(r.f_best < CO_PENALTY) ? INT64_MAX : (int64_t)r.f_best;
     return st;
 }
@@ -411,8 +411,7 @@ static lm_status optimise(co_moves *mv, int64_t *delta)
 static lm_status accept(co_moves *mv)
 {
     co_params_apply(mv, mv->x);
-    lm_status st =
-        lm_patch_build(&mv->patches[0], mv->m, mv->B.ids, mv->B.n, mv->T.ids, mv->T.n);
+    lm_status st = lm_patch_build(&mv->patches[0], mv->m, mv->B.ids, mv->B.n, mv->T.ids, mv->T.n);
     return st ? st : mv->views->ops->commit(mv->views, &mv->patches[0]);
 }
 

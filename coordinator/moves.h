@@ -48,11 +48,11 @@ typedef struct co_move_site {
 } co_move_site;
 
 typedef struct co_move_result {
-    int legal;          /* the connectivity change was allowed (else nothing was evaluated) */
-    int accepted;       /* applied to the mesh and committed to the views */
-    int64_t delta;      /* best ΔE found against the committed mesh (INT64_MAX if none) */
-    uint32_t evals;     /* evaluations spent */
-    uint32_t set_size;  /* vertices optimised */
+    int legal;         /* the connectivity change was allowed (else nothing was evaluated) */
+    int accepted;      /* applied to the mesh and committed to the views */
+    int64_t delta;     /* best ΔE found against the committed mesh (INT64_MAX if none) */
+    uint32_t evals;    /* evaluations spent */
+    uint32_t set_size; /* vertices optimised */
     co_move_site site;
 } co_move_result;
 
@@ -91,8 +91,7 @@ void co_moves_forget(co_moves *mv);
  *   split    0,1: {v}   2: v ∪ ⌊⌊⌈e⌉⌋⌋ \ ⌊e⌋ = {v,c,d}   3: v ∪ ⌊⌈⌊e⌋⌉⌋
  *   collapse 0,1: {v}   2: {v,c,d}   3: ⌊⌈v⌉⌋
  * Core vertices come first, ring vertices after in ascending order. Level 0 is not optimised. */
-lm_status co_moves_vertex_set(const lm_mesh *m, const co_move_site *site, int level,
-                              co_idset *out);
+lm_status co_moves_vertex_set(const lm_mesh *m, const co_move_site *site, int level, co_idset *out);
 
 /* Area-weighted normal of vertex v written into all its wedges (journaled), computed like
  * lm_mesh_compute_normals. */

@@ -24,11 +24,11 @@ struct co_moves {
     co_idset B;   /* triangle ids removed from the committed mesh */
     co_idset T;   /* triangle ids present now */
     uint32_t dim;
-    double *x, *step;   /* [max_dim] */
-    lm_patch *patches;  /* [max_dim + 1] */
-    int64_t *deltas;    /* [max_dim + 1] */
-    uint32_t *slot;     /* [max_dim + 1] */
-    uint32_t *buf;      /* [CO_MOVES_BUF] */
+    double *x, *step;  /* [max_dim] */
+    lm_patch *patches; /* [max_dim + 1] */
+    int64_t *deltas;   /* [max_dim + 1] */
+    uint32_t *slot;    /* [max_dim + 1] */
+    uint32_t *buf;     /* [CO_MOVES_BUF] */
     uint64_t evals;
     co_move_site site;
 };

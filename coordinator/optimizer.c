@@ -48,15 +48,14 @@ void co_tuning_defaults(co_tuning *t)
                                 .uv_step = 0.2,
                                 .color_step = 0.05,
                                 .size_tol = 0.25};
-    d.teleport = (co_teleport_config){.threshold_half_life = 20000,
-                                      .stats_half_life = 50000,
-                                      .max_search_evals = 3000};
+    d.teleport = (co_teleport_config){
+        .threshold_half_life = 20000, .stats_half_life = 50000, .max_search_evals = 3000};
     *t = d;
 }
 
 #define DEF(field)                                                                                 \
     if (!(t->field > 0))                                                                           \
-        t->field = d.field
+    t->field = d.field
 
 static void resolve_tuning(co_tuning *t)
 {
@@ -329,8 +328,8 @@ static lm_status begin_iteration(co_optimizer *o)
     free(edges);
     it->n_plan = 0;
     if (!st && n)
-        st = co_oracle_plan(&o->oracle, ranked, n, &o->rng, o->params.edges_per_iteration,
-                            it->plan, &it->n_plan);
+        st = co_oracle_plan(&o->oracle, ranked, n, &o->rng, o->params.edges_per_iteration, it->plan,
+                            &it->n_plan);
     free(ranked);
     it->pos = 0;
     it->gain[0] = it->gain[1] = 0;
@@ -358,10 +357,9 @@ static void log_stats(const co_optimizer *o)
         }
     lm_debug("iteration %llu: share %.2f gain oracle %.0f/%u random %.0f/%u threshold %lld "
              "searches %llu failed %llu",
-             (unsigned long long)o->prog.iterations, o->oracle.share, o->it.gain[1],
-             o->it.count[1], o->it.gain[0], o->it.count[0],
-             (long long)co_teleport_threshold(&o->tp, now), (unsigned long long)o->tp.searches,
-             (unsigned long long)o->tp.searches_failed);
+             (unsigned long long)o->prog.iterations, o->oracle.share, o->it.gain[1], o->it.count[1],
+             o->it.gain[0], o->it.count[0], (long long)co_teleport_threshold(&o->tp, now),
+             (unsigned long long)o->tp.searches, (unsigned long long)o->tp.searches_failed);
 }
 
 static int touched_vertex(const void *ctx, uint32_t v)

@@ -14,12 +14,12 @@
 typedef struct co_iteration {
     int active;
     uint32_t pos, n_plan;
-    co_planned_edge *plan;     /* [edges_per_iteration] */
-    double gain[2];            /* energy reductions by source: 0 random, 1 oracle */
+    co_planned_edge *plan; /* [edges_per_iteration] */
+    double gain[2];        /* energy reductions by source: 0 random, 1 oracle */
     uint32_t count[2];
-    uint64_t *no_progress;     /* edges that gained nothing [edges_per_iteration] */
+    uint64_t *no_progress; /* edges that gained nothing [edges_per_iteration] */
     uint32_t n_no_progress;
-    co_idset touched;          /* vertices around the moves accepted in this iteration */
+    co_idset touched; /* vertices around the moves accepted in this iteration */
 } co_iteration;
 
 struct co_optimizer {
@@ -27,7 +27,7 @@ struct co_optimizer {
     lm_views *views;
     co_params params;
     co_tuning tuning; /* resolved (no zero fields) */
-    uint32_t attrs; /* effective optimised attributes */
+    uint32_t attrs;   /* effective optimised attributes */
     co_moves *mv;
     co_move_stats stats;
     co_teleport tp;

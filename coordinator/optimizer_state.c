@@ -16,13 +16,14 @@
 #define OPT_VERSION 1u
 #define OPT_END 0x444e4521u /* "!END" */
 
-/* ---- mesh -------------------------------------------------------------------------------------- */
+/* ---- mesh --------------------------------------------------------------------------------------
+ */
 
 static void save_mesh(co_bin *bp, const lm_mesh *m)
 {
     co_bin b = *bp;
-    uint32_t head[7] = {m->n_verts, m->n_wedges, m->n_tris, m->live_verts,
-                        m->live_tris, m->attrs, m->n_materials};
+    uint32_t head[7] = {m->n_verts,   m->n_wedges, m->n_tris,     m->live_verts,
+                        m->live_tris, m->attrs,    m->n_materials};
     for (int i = 0; i < 7; i++)
         co_put_u32(&b, head[i]);
     for (uint32_t v = 0; v < m->n_verts; v++)
@@ -172,7 +173,7 @@ static uint64_t remaining(FILE *fp)
 
 static lm_status load_mesh(co_bin *b, const lm_mesh *m, mesh_arrays *a)
 {
-    uint32_t *h[6] = {&a->n_verts, &a->n_wedges, &a->n_tris,
+    uint32_t *h[6] = {&a->n_verts,    &a->n_wedges,  &a->n_tris,
                       &a->live_verts, &a->live_tris, &a->attrs};
     for (int i = 0; i < 6; i++)
         *h[i] = co_get_u32(b);
@@ -181,7 +182,8 @@ static lm_status load_mesh(co_bin *b, const lm_mesh *m, mesh_arrays *a)
         return b->status;
     if (n_materials != m->n_materials)
         return co_bin_bad(b, "%u materials, the mesh has %u", n_materials, m->n_materials);
-    uint64_t need = (uint64_t)a->n_verts * 13 + (uint64_t)a->n_wedges * 41 + (uint64_t)a->n_tris * 17;
+    uint64_t need =
+        (uint64_t)a->n_verts * 13 + (uint64_t)a->n_wedges * 41 + (uint64_t)a->n_tris * 17;
     if (a->n_verts > LM_MESH_MAX_VERTS || a->n_tris > LM_MESH_MAX_TRIS ||
         a->n_wedges > LM_MESH_MAX_VERTS * 4u || a->live_verts > a->n_verts ||
         a->live_tris > a->n_tris || need > remaining(b->fp))
@@ -350,17 +352,19 @@ static lm_status load_iteration(co_bin *b, co_iteration *it, uint32_t cap)
     return b->status;
 }
 
-/* ---- whole optimizer -------------------------------------------------------------------------- */
+/* ---- whole optimizer --------------------------------------------------------------------------
+ */
 
 /* Every tuning number, in a fixed order (they decide the run as much as the seed does). */
 static uint32_t tuning_values(const co_tuning *t, double *v)
 {
     const co_moves_config *m = &t->moves;
     const co_teleport_config *p = &t->teleport;
-    double x[] = {m->max_set_verts, m->max_dim, m->pos_step, m->normal_step, m->uv_step,
-                  m->color_step, m->size_tol, m->f_rtol, p->threshold_half_life,
-                  p->stats_half_life, p->max_search_evals, t->stats_half_life,
-                  t->stats_min_weight, t->oracle_share, t->oracle_min_share,
+    double x[] = {m->max_set_verts,    m->max_dim,          m->pos_step,
+                  m->normal_step,      m->uv_step,          m->color_step,
+                  m->size_tol,         m->f_rtol,           p->threshold_half_life,
+                  p->stats_half_life,  p->max_search_evals, t->stats_half_life,
+                  t->stats_min_weight, t->oracle_share,     t->oracle_min_share,
                   t->oracle_max_share, t->oracle_max_age};
     uint32_t n = sizeof x / sizeof *x;
     if (v)
@@ -503,8 +507,8 @@ static lm_status resend_mesh(co_optimizer *o)
     if (!st)
         st = o->views->ops->energy(o->views, &e, NULL);
     if (!st && e != o->prog.energy)
-        lm_warn("resumed mesh renders to energy %lld, the checkpoint recorded %lld",
-                (long long)e, (long long)o->prog.energy);
+        lm_warn("resumed mesh renders to energy %lld, the checkpoint recorded %lld", (long long)e,
+                (long long)o->prog.energy);
     return st;
 }
 

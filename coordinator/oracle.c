@@ -214,7 +214,8 @@ lm_status co_oracle_update_stale(co_oracle *o, uint64_t iteration, const uint64_
     for (uint32_t i = 0; i < o->n_stale; i++) {
         const co_stale_edge *e = &o->stale[i];
         uint32_t a = (uint32_t)(e->key >> 32), b = (uint32_t)e->key;
-        if (iteration - e->iteration > o->max_age || (touched && (touched(ctx, a) || touched(ctx, b))))
+        if (iteration - e->iteration > o->max_age ||
+            (touched && (touched(ctx, a) || touched(ctx, b))))
             continue;
         o->stale[k++] = *e;
     }

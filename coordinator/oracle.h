@@ -33,10 +33,10 @@ typedef struct co_stale_edge {
 } co_stale_edge;
 
 typedef struct co_oracle {
-    double share;               /* fraction of an iteration's edges taken from the ranking */
+    double share; /* fraction of an iteration's edges taken from the ranking */
     double min_share, max_share;
-    uint32_t max_age;           /* iterations a stale edge stays skipped at most */
-    co_stale_edge *stale;       /* sorted by key: edges the oracle skips */
+    uint32_t max_age;     /* iterations a stale edge stays skipped at most */
+    co_stale_edge *stale; /* sorted by key: edges the oracle skips */
     uint32_t n_stale, cap_stale;
 } co_oracle;
 

@@ -225,8 +225,8 @@ static lm_status amoeba(run *r, uint32_t *best, int *conv)
 }
 
 lm_status co_simplex_minimize(co_simplex *s, uint32_t dim, double *x, const double *step,
-                              const double *f0, const co_simplex_opts *opts,
-                              co_simplex_eval_fn fn, void *ctx, co_simplex_result *res)
+                              const double *f0, const co_simplex_opts *opts, co_simplex_eval_fn fn,
+                              void *ctx, co_simplex_result *res)
 {
     static const co_simplex_opts none = {0};
     const co_simplex_opts *o = opts ? opts : &none;

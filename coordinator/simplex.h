@@ -40,7 +40,7 @@ void co_simplex_destroy(co_simplex *s);
  * it is f(x), known already, and not evaluated again. On return x holds the best point found and
  * res its value. dim == 0 evaluates x once (unless f0 is given). */
 lm_status co_simplex_minimize(co_simplex *s, uint32_t dim, double *x, const double *step,
-                              const double *f0, const co_simplex_opts *opts,
-                              co_simplex_eval_fn fn, void *ctx, co_simplex_result *res);
+                              const double *f0, const co_simplex_opts *opts, co_simplex_eval_fn fn,
+                              void *ctx, co_simplex_result *res);
 
 #endif

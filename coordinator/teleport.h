@@ -26,17 +26,17 @@ typedef struct co_teleport_config {
 typedef struct co_teleport {
     co_teleport_config cfg;
     co_cq *queue;
-    int64_t last_collapse; /* collapse ΔE when the last teleport completed (>= 0) */
-    uint64_t last_time;    /* evaluation clock then */
+    int64_t last_collapse;      /* collapse ΔE when the last teleport completed (>= 0) */
+    uint64_t last_time;         /* evaluation clock then */
     co_stat improve[CO_LEVELS]; /* level l -> l+1: (ΔE at l+1) - (estimate at l) */
     uint64_t searches, searches_failed, collapses_tried;
 } co_teleport;
 
 typedef struct co_teleport_result {
-    int legal;        /* the split was possible */
-    int accepted;     /* split and collapse both committed */
-    int64_t delta;    /* ΔE committed by this teleport (0 if rejected) */
-    uint32_t evals;   /* evaluations spent (split + search) */
+    int legal;      /* the split was possible */
+    int accepted;   /* split and collapse both committed */
+    int64_t delta;  /* ΔE committed by this teleport (0 if rejected) */
+    uint32_t evals; /* evaluations spent (split + search) */
     uint32_t collapse_attempts;
 } co_teleport_result;
 

@@ -79,8 +79,13 @@ static double now(void)
 
 static int parse(int argc, char **argv, opts *o)
 {
-    *o = (opts){.device = "auto", .frac = 0.01, .views = 20, .size = 256, .evals = 300000,
-                .every = 25000, .seed = 1};
+    *o = (opts){.device = "auto",
+                .frac = 0.01,
+                .views = 20,
+                .size = 256,
+                .evals = 300000,
+                .every = 25000,
+                .seed = 1};
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
         if (a[0] != '-') {
@@ -121,7 +126,8 @@ static int parse(int argc, char **argv, opts *o)
             o->initial = v;
         else if (!strcmp(a, "--attrs"))
             o->attrs = (strstr(v, "normal") ? LM_ATTR_NORMAL : 0) |
-                       (strstr(v, "uv") ? LM_ATTR_UV : 0) | (strstr(v, "color") ? LM_ATTR_COLOR : 0);
+                       (strstr(v, "uv") ? LM_ATTR_UV : 0) |
+                       (strstr(v, "color") ? LM_ATTR_COLOR : 0);
         else
             return 0;
     }

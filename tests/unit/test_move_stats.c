@@ -56,8 +56,8 @@ static void test_stat_attenuation(void **state)
     assert_true(fabs(v.mean - (-40 * 0.25) / 1.5) < 1e-9);
 }
 
-static void add_spread(co_move_stats *st, co_move_kind k, int l, double de, double spread,
-                       double t, int n, uint64_t *now)
+static void add_spread(co_move_stats *st, co_move_kind k, int l, double de, double spread, double t,
+                       int n, uint64_t *now)
 {
     for (int i = 0; i < n; i++) {
         co_move_stats_add(st, k, l, de + (i % 2 ? spread : -spread), t, *now);
@@ -85,9 +85,9 @@ static void test_best_and_gating(void **state)
     /* without data everything is tried */
     assert_true(co_move_stats_should_try(&st, CO_MOVE_SWAP, 2, 0, 0));
     uint64_t now = 0;
-    add_n(&st, CO_MOVE_NOOP, 1, -100, 10, 20, &now);  /* -10 per evaluation */
-    add_n(&st, CO_MOVE_NOOP, 2, -150, 50, 20, &now);  /* -3 per evaluation */
-    add_n(&st, CO_MOVE_SWAP, 0, -20, 1, 20, &now);    /* -20 per evaluation: the best */
+    add_n(&st, CO_MOVE_NOOP, 1, -100, 10, 20, &now); /* -10 per evaluation */
+    add_n(&st, CO_MOVE_NOOP, 2, -150, 50, 20, &now); /* -3 per evaluation */
+    add_n(&st, CO_MOVE_SWAP, 0, -20, 1, 20, &now);   /* -20 per evaluation: the best */
     assert_true(co_move_stats_best(&st, now, &k, &l));
     assert_int_equal(k, CO_MOVE_SWAP);
     assert_int_equal(l, 0);
@@ -161,8 +161,11 @@ static void test_cheap_failures_are_retried(void **state)
     add_spread(&st, CO_MOVE_NOOP, 1, -60000, 50000, 60, 100, &now);
     /* 30 evaluations against 6000: the swap is little used, and its spread is not taken as 0 */
     assert_true(co_move_stats_should_try(&st, CO_MOVE_SWAP, 0, 0, now));
-    /* but not once this edge has made progress */
-    assert_false(co_move_stats_should_try(&st, CO_MOVE_SWAP, 0, -1000, now));
+    /* and, costing one evaluation, also after this edge has made progress */
+    assert_true(co_move_stats_should_try(&st, CO_MOVE_SWAP, 0, -100000, now));
+    /* an expensive operation is not started after much progress: no-op level 1 itself */
+    assert_true(co_move_stats_should_try(&st, CO_MOVE_NOOP, 1, 0, now));
+    assert_false(co_move_stats_should_try(&st, CO_MOVE_NOOP, 1, -100000, now));
     /* an expensive operation with the same record is not worth it */
     co_move_stats st2;
     co_move_stats_init(&st2, 1e9, 1.0);

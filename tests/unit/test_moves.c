@@ -301,7 +301,8 @@ static void test_vertex_sets(void **state)
     assert_true(has(&s, site.c) && has(&s, site.d));
     assert_int_equal(co_moves_vertex_set(m, &site, 3, &s), LM_OK);
     uint32_t na[64], nb[64];
-    uint32_t ka = lm_mesh_vertex_neighbors(m, a, na, 64), kb = lm_mesh_vertex_neighbors(m, b, nb, 64);
+    uint32_t ka = lm_mesh_vertex_neighbors(m, a, na, 64),
+             kb = lm_mesh_vertex_neighbors(m, b, nb, 64);
     assert_int_equal(s.n, ka + kb - 2); /* a, b, and their rings; c, d and a, b shared */
     assert_true(s.ids[0] == a && s.ids[1] == b);
     site.kind = CO_MOVE_SWAP;
@@ -373,9 +374,9 @@ static void test_teleport(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_vertex_sets),    cmocka_unit_test(test_noop_accept),
-        cmocka_unit_test(test_color_accept),   cmocka_unit_test(test_swap_accept),
-        cmocka_unit_test(test_split_accept),   cmocka_unit_test(test_collapse_accept),
+        cmocka_unit_test(test_vertex_sets),     cmocka_unit_test(test_noop_accept),
+        cmocka_unit_test(test_color_accept),    cmocka_unit_test(test_swap_accept),
+        cmocka_unit_test(test_split_accept),    cmocka_unit_test(test_collapse_accept),
         cmocka_unit_test(test_reject_restores), cmocka_unit_test(test_illegal),
         cmocka_unit_test(test_teleport),
     };

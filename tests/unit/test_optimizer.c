@@ -80,9 +80,9 @@ static void test_energy_falls(void **state)
     co_progress p0, p;
     co_optimizer_progress(r.o, &p0);
     assert_true(p0.energy_start > 0 && p0.energy == p0.energy_start && p0.evals == 0);
-    run_to(&r, 5000);
+    run_to(&r, 3000);
     co_optimizer_progress(r.o, &p);
-    assert_true(p.evals >= 5000);
+    assert_true(p.evals >= 3000);
     assert_true(p.energy < p0.energy_start * 0.8);
     assert_true(p.energy == views_energy(r.v));
     assert_int_equal(p.live_verts, p0.live_verts);
@@ -114,9 +114,9 @@ static void test_determinism(void **state)
     run_start(&a, 5);
     run_start(&b, 5);
     run_start(&c, 6);
-    run_to(&a, 3000);
-    run_to(&b, 3000);
-    run_to(&c, 3000);
+    run_to(&a, 1500);
+    run_to(&b, 1500);
+    run_to(&c, 1500);
     uint64_t ha = lm_mesh_hash(co_optimizer_mesh(a.o)), hb = lm_mesh_hash(co_optimizer_mesh(b.o));
     assert_true(ha == hb);
     assert_true(lm_mesh_hash(co_optimizer_mesh(c.o)) != ha); /* the seed matters */
@@ -147,20 +147,20 @@ static lm_status load_bytes(co_optimizer *o, const char *buf, size_t len)
 static void test_resume_equals_uninterrupted(void **state)
 {
     (void)state;
-    const uint64_t stops[2] = {1500, 4100}; /* likely in the middle of an iteration */
+    const uint64_t stops[2] = {700, 1900}; /* likely in the middle of an iteration */
     for (int s = 0; s < 2; s++) {
         run a, b;
         run_start(&a, 3);
         run_to(&a, stops[s]);
         size_t len;
         char *ck = save_bytes(a.o, &len);
-        run_to(&a, 7000);
+        run_to(&a, 3200);
         run_start(&b, 3);
         assert_int_equal(load_bytes(b.o, ck, len), LM_OK);
         co_progress pa, pb;
         co_optimizer_progress(b.o, &pb);
         assert_true(pb.evals >= stops[s]);
-        run_to(&b, 7000);
+        run_to(&b, 3200);
         co_optimizer_progress(a.o, &pa);
         co_optimizer_progress(b.o, &pb);
         assert_memory_equal(&pa, &pb, sizeof pa);

@@ -61,8 +61,8 @@ static void fv_destroy(lm_views *v)
     (void)v;
 }
 
-static const lm_views_ops fake_ops = {fv_set_mesh, fv_evaluate, fv_commit, fv_energy,
-                                      fv_potentials, fv_info, fv_destroy};
+static const lm_views_ops fake_ops = {fv_set_mesh,   fv_evaluate, fv_commit, fv_energy,
+                                      fv_potentials, fv_info,     fv_destroy};
 
 typedef struct fixture {
     lm_mesh *m;

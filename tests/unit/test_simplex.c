@@ -193,9 +193,9 @@ static void test_errors(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_bowl_converges),   cmocka_unit_test(test_rosenbrock_2d),
-        cmocka_unit_test(test_rosenbrock_3d),    cmocka_unit_test(test_rosenbrock_4d),
-        cmocka_unit_test(test_eval_limit),       cmocka_unit_test(test_known_f0_and_dim0),
+        cmocka_unit_test(test_bowl_converges),     cmocka_unit_test(test_rosenbrock_2d),
+        cmocka_unit_test(test_rosenbrock_3d),      cmocka_unit_test(test_rosenbrock_4d),
+        cmocka_unit_test(test_eval_limit),         cmocka_unit_test(test_known_f0_and_dim0),
         cmocka_unit_test(test_flat_stops_at_once), cmocka_unit_test(test_errors),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
