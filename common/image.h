@@ -1,5 +1,6 @@
 /* common/image.h — 8-bit RGBA images in memory and their file I/O (through OpenImageIO, whose
- * C++ lives only in common/image_io_oiio.cpp behind this C header). Rows are stored top to bottom. */
+ * C++ lives only in common/image_io_oiio.cpp behind this C header). Rows are stored top to bottom.
+ */
 #ifndef LM_COMMON_IMAGE_H
 #define LM_COMMON_IMAGE_H
 
@@ -21,7 +22,8 @@ lm_status lm_image_create(int width, int height, lm_image **out);
 void lm_image_destroy(lm_image *img);
 lm_status lm_image_clone(const lm_image *src, lm_image **out);
 
-/* Read any format OpenImageIO knows; converted to RGBA8 (grey/RGB expanded, alpha 255 if absent). */
+/* Read any format OpenImageIO knows; converted to RGBA8 (grey/RGB expanded, alpha 255 if absent).
+ */
 lm_status lm_image_read(const char *path, lm_image **out);
 
 /* Decode an image held in memory (e.g. a texture embedded in a glTF/GLB/FBX file). hint_ext

@@ -12,7 +12,7 @@
 #include "common/mesh.h"
 
 typedef struct lm_load_options {
-    uint32_t max_tris; /* 0 = default limit (LM_MESH_MAX_TRIS) */
+    uint32_t max_tris;   /* 0 = default limit (LM_MESH_MAX_TRIS) */
     int keep_degenerate; /* 0 = drop zero-area / repeated-index triangles */
 } lm_load_options;
 
@@ -29,8 +29,9 @@ lm_status lm_mesh_load_memory(const void *data, size_t size, const char *ext_hin
 lm_status lm_mesh_save(const char *path, const lm_mesh *m);
 
 /* Atomic file helpers shared by every writer: open "<path>.tmp.XXXXXX" beside path, then commit
- * (fflush, fsync, rename) or abort (unlink). A writer that must write tmp_path by name (OpenImageIO)
- * closes fp and sets it to NULL before writing; commit then syncs the file by name. */
+ * (fflush, fsync, rename) or abort (unlink). A writer that must write tmp_path by name
+ * (OpenImageIO) closes fp and sets it to NULL before writing; commit then syncs the file by name.
+ */
 typedef struct lm_atomic_file {
     char *final_path;
     char *tmp_path;
