@@ -198,6 +198,8 @@ static lm_status reserve_stale(co_oracle *o, uint32_t n)
 /* Sort by key and keep the newest entry per key. */
 static void normalise(co_oracle *o)
 {
+    if (o->n_stale == 0)
+        return; /* o->stale may be NULL: qsort's argument must not be */
     qsort(o->stale, o->n_stale, sizeof *o->stale, cmp_stale);
     uint32_t k = 0;
     for (uint32_t i = 0; i < o->n_stale; i++)
