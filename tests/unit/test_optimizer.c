@@ -164,6 +164,10 @@ static void test_resume_equals_uninterrupted(void **state)
         co_optimizer_progress(a.o, &pa);
         co_optimizer_progress(b.o, &pb);
         assert_memory_equal(&pa, &pb, sizeof pa);
+        /* the run went through every kind of move, teleports (split + collapse search) included */
+        for (int k = 0; k < CO_MOVE_KINDS; k++)
+            assert_true(pa.attempted[k] > 0);
+        assert_true(pa.accepted[CO_MOVE_SPLIT] > 0);
         assert_true(lm_mesh_hash(co_optimizer_mesh(a.o)) == lm_mesh_hash(co_optimizer_mesh(b.o)));
         size_t la, lb;
         char *sa = save_bytes(a.o, &la), *sb = save_bytes(b.o, &lb);
