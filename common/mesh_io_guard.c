@@ -1,7 +1,7 @@
 /* common/mesh_io_guard.c — checks on the raw bytes of a model before assimp sees them, for the
  * input classes assimp 5.2 mis-handles: header counts far beyond what the file holds (assimp
  * allocates them up front), truncated GLB containers. OFF, PLY and STL have their own walkers
- * (mesh_io_guard_{off,ply,stl}.c). Also the list of formats lm_mesh_load accepts. */
+ * (mesh_io_guard_{off,ply,stl,dae}.c). Also the list of formats lm_mesh_load accepts. */
 #include <ctype.h>
 #include <string.h>
 
@@ -75,5 +75,7 @@ lm_status lm_io_guard(const uint8_t *data, size_t size, const char *ext, const c
         return lm_io_guard_stl(data, size, name, max_tris);
     if (!strcmp(ext, "glb"))
         return guard_glb(data, size, name);
+    if (!strcmp(ext, "dae"))
+        return lm_io_guard_dae(data, size, name);
     return LM_OK;
 }

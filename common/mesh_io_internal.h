@@ -30,6 +30,7 @@ lm_status lm_io_guard(const uint8_t *data, size_t size, const char *ext, const c
 lm_status lm_io_guard_off(const uint8_t *data, size_t size, const char *name, uint32_t max_tris);
 lm_status lm_io_guard_ply(const uint8_t *data, size_t size, const char *name, uint32_t max_tris);
 lm_status lm_io_guard_stl(const uint8_t *data, size_t size, const char *name, uint32_t max_tris);
+lm_status lm_io_guard_dae(const uint8_t *data, size_t size, const char *name);
 
 /* ---- mesh_io_aifs.c: the only file system assimp gets -------------------------------------- */
 

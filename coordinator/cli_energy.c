@@ -1,15 +1,17 @@
 /* coordinator/cli_energy.c — `lumesh energy ORIGINAL MODEL [--views N] [--size S] [--heldout]
  * [--device D]`: the image energy E = Σ (Ŷ - Y)² of MODEL against ORIGINAL over views framed by
- * the original's bounding sphere, printed as JSON (total, per view, mean squared error, and the
- * renderer that made every image). */
+ * the original's bounding sphere, printed as JSON (total, per view, mean squared error, the
+ * silhouette coverage, and the renderer that made every image). */
 #include <getopt.h>
 #include <stdio.h>
 #include <stdlib.h>
 
 #include "common/mesh_io.h"
 #include "coordinator/cli_args.h"
+#include "coordinator/compare.h"
 #include "coordinator/progress.h"
 #include "coordinator/view_setup.h"
+#include "worker/views_local.h"
 
 #define CMD "energy"
 
@@ -23,7 +25,10 @@ static void usage(FILE *f)
 {
     fputs("usage: lumesh energy ORIGINAL MODEL [--views N] [--size S] [--heldout] [--device D]\n"
           "Prints as JSON the image energy of MODEL against ORIGINAL: the sum over views and\n"
-          "pixels of the squared difference of 8-bit luminance (total, per_view, mse).\n"
+          "pixels of the squared difference of 8-bit luminance (total, per_view, mse), and\n"
+          "the silhouette coverage: pixels where the original shows a surface (original_px),\n"
+          "where MODEL shows background there instead (missing_px: holes, cracks) and where\n"
+          "MODEL covers the original's background (extra_px).\n"
           "  --views N     views around the original (default 20; 12 icosahedron, 20\n"
           "                dodecahedron, others a spherical Fibonacci set)\n"
           "  --size S      image side in pixels (default 256)\n"
@@ -76,7 +81,8 @@ static int parse(int argc, char **argv, energy_args *a)
     return -1;
 }
 
-static void print_json(const energy_args *a, lm_views *v, int64_t total, const int64_t *per)
+static void print_json(const energy_args *a, lm_views *v, int64_t total, const int64_t *per,
+                       const co_coverage *cov)
 {
     lm_views_info info;
     v->ops->info(v, &info);
@@ -84,10 +90,39 @@ static void print_json(const energy_args *a, lm_views *v, int64_t total, const i
     printf("{\"total\": %lld, \"per_view\": [", (long long)total);
     for (uint32_t h = 0; h < info.n_views; h++)
         printf("%s%lld", h ? ", " : "", (long long)per[h]);
-    printf("], \"mse\": %.6f, \"views\": %u, \"size\": %d, \"heldout\": %s, \"renderer\": ",
+    printf("], \"mse\": %.6f, \"views\": %u, \"size\": %d, \"heldout\": %s, ",
            (double)total / pixels, info.n_views, info.width, a->heldout ? "true" : "false");
+    if (cov)
+        printf("\"coverage\": {\"original_px\": %llu, \"missing_px\": %llu, \"extra_px\": %llu}, ",
+               (unsigned long long)cov->original_px, (unsigned long long)cov->missing_px,
+               (unsigned long long)cov->extra_px);
+    else
+        printf("\"coverage\": null, ");
+    printf("\"renderer\": ");
     co_json_string(stdout, info.renderer);
     printf("}\n");
+}
+
+/* Coverage of the model in `v` (its last full render) against the original's, rendered in a
+ * second set of views; 0 (and no message) where the device has no depth images. */
+static int model_coverage(const lm_mesh *orig, const lm_view_set *vs, const char *device,
+                          lm_views *v, co_coverage *out)
+{
+    lm_views *ov = NULL;
+    uint8_t *om = NULL, *mm = NULL;
+    lm_status st = wk_views_local_create(orig, vs, device, &ov);
+    if (st == LM_OK)
+        st = co_coverage_masks(ov, &om);
+    if (st == LM_OK)
+        st = co_coverage_masks(v, &mm);
+    if (st == LM_OK)
+        *out = co_coverage_compare(
+            om, mm, (size_t)vs->count * (size_t)vs->views[0].width * (size_t)vs->views[0].height);
+    free(om);
+    free(mm);
+    lm_views_destroy(ov);
+    lm_clear_error();
+    return st == LM_OK;
 }
 
 int co_cli_energy(int argc, char **argv)
@@ -109,8 +144,10 @@ int co_cli_energy(int argc, char **argv)
         st = co_views_with_model(orig, model, vs, a.device, &v);
     if (st == LM_OK)
         st = v->ops->energy(v, &total, per);
+    co_coverage cov;
+    int have_cov = st == LM_OK && model_coverage(orig, vs, a.device, v, &cov);
     if (st == LM_OK)
-        print_json(&a, v, total, per);
+        print_json(&a, v, total, per, have_cov ? &cov : NULL);
     lm_views_destroy(v);
     free(vs);
     lm_mesh_destroy(orig);

@@ -43,6 +43,37 @@ lm_status co_compare_energies(const lm_mesh *original, const lm_view_set *views,
     return st;
 }
 
+lm_status co_coverage_masks(lm_views *views, uint8_t **masks)
+{
+    *masks = NULL;
+    lm_views_info info;
+    views->ops->info(views, &info);
+    size_t plane = (size_t)info.width * (size_t)info.height;
+    uint8_t *m = malloc(plane * info.n_views);
+    if (!m)
+        return lm_fail(LM_E_NOMEM, "out of memory for coverage masks");
+    lm_status st = LM_OK;
+    for (uint32_t i = 0; st == LM_OK && i < info.n_views; i++)
+        st = wk_views_local_read_coverage(views, i, m + plane * i);
+    if (st != LM_OK) {
+        free(m);
+        return st;
+    }
+    *masks = m;
+    return LM_OK;
+}
+
+co_coverage co_coverage_compare(const uint8_t *original, const uint8_t *model, size_t n)
+{
+    co_coverage c = {0, 0, 0};
+    for (size_t i = 0; i < n; i++) {
+        c.original_px += original[i];
+        c.missing_px += original[i] && !model[i];
+        c.extra_px += !original[i] && model[i];
+    }
+    return c;
+}
+
 /* Copy a bottom-row-first RGBA view image into cell (row, col) of the grid (top row first). */
 static void blit(lm_image *grid, const uint8_t *rgba, int w, int h, int row, int col)
 {

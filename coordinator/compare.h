@@ -10,6 +10,7 @@
 #include "common/image.h"
 #include "common/mesh.h"
 #include "common/view.h"
+#include "common/views_api.h"
 
 #define CO_COMPARE_GAP 4 /* pixels between the cells of a grid */
 
@@ -18,6 +19,20 @@
 lm_status co_compare_energies(const lm_mesh *original, const lm_view_set *views,
                               const char *device_spec, const lm_mesh *const *models, uint32_t n,
                               int64_t *energy, char *renderer);
+
+/* Silhouette coverage of a model against the original, summed over all views and pixels. */
+typedef struct co_coverage {
+    uint64_t original_px; /* pixels where the original shows a surface */
+    uint64_t missing_px;  /* ... and the model shows the background: holes, cracks, shrinkage */
+    uint64_t extra_px;    /* the model shows a surface where the original shows background */
+} co_coverage;
+
+/* Coverage masks of every view from the views' last full render (the original's right after
+ * wk_views_local_create, the model's right after set_mesh): n_views * width * height bytes,
+ * caller frees *masks. LM_E_UNSUPPORTED where the device has no depth images. */
+lm_status co_coverage_masks(lm_views *views, uint8_t **masks);
+/* Compare two mask sets of n pixels. */
+co_coverage co_coverage_compare(const uint8_t *original, const uint8_t *model, size_t n);
 
 /* A grid image: views->count rows, 1 + n columns (the original first), CO_COMPARE_GAP pixels of
  * dark grey between cells. Caller destroys *out. */

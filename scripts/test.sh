@@ -27,7 +27,9 @@ echo "== fuzz (model loading, ${LUMESH_FUZZ_SECONDS:-60} s)"
 dir=$(bash scripts/build.sh fuzz | tail -n 1)
 corpus=$(mktemp -d)
 cp tests/fuzz/corpus/mesh_load/* "$corpus"/
+# A fixed seed keeps CI reproducible (LUMESH_FUZZ_SEED=0 lets libFuzzer pick one); longer
+# exploratory runs go through the same binary with other seeds, and what they find joins the corpus.
 ASAN_OPTIONS=detect_leaks=0 "$dir/tests/fuzz_mesh_load" -max_total_time="${LUMESH_FUZZ_SECONDS:-60}" \
-  -rss_limit_mb=4096 -max_len=65536 "$corpus" 2>&1 | tail -n 5
+  -seed="${LUMESH_FUZZ_SEED:-1}" -rss_limit_mb=4096 -max_len=65536 "$corpus" 2>&1 | tail -n 5
 rm -rf "$corpus"
 echo "all tests passed"

@@ -442,3 +442,24 @@ lm_status wk_views_local_read_rgba(lm_views *base, uint32_t view, uint8_t *out)
         st = wk_renderer_read(v->r, WK_FULL_ATLAS, view, &all, out);
     return st == LM_OK ? wk_renderer_check(v->r, "reading a colour image") : st;
 }
+
+lm_status wk_views_local_read_coverage(lm_views *base, uint32_t view, uint8_t *out)
+{
+    wk_views_local *v = (wk_views_local *)base;
+    if (view >= v->views.count)
+        return lm_fail(LM_E_RANGE, "view %u of %u", view, v->views.count);
+    lm_status st = wk_vl_make_current(v);
+    if (st == LM_OK && !wk_renderer_has_depth_images(v->r))
+        return lm_fail(LM_E_UNSUPPORTED, "this device has no readable depth images");
+    size_t plane = (size_t)v->width * v->height;
+    float *z = malloc(plane * sizeof *z);
+    if (st == LM_OK && !z)
+        st = lm_fail(LM_E_NOMEM, "out of memory reading a depth image");
+    wk_rect all = {0, 0, v->width, v->height};
+    if (st == LM_OK)
+        st = wk_renderer_read_depth(v->r, WK_FULL_ATLAS, view, &all, z);
+    for (size_t i = 0; st == LM_OK && i < plane; i++)
+        out[i] = z[i] < 1.0f;
+    free(z);
+    return st == LM_OK ? wk_renderer_check(v->r, "reading a depth image") : st;
+}

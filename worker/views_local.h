@@ -44,5 +44,9 @@ lm_status wk_views_local_luma(lm_views *views, int which, uint32_t view, uint8_t
 /* The colour image of a view from the last full render (RGBA8, width*height*4 bytes, bottom row
  * first): right after create the original's, right after set_mesh the mesh's. */
 lm_status wk_views_local_read_rgba(lm_views *views, uint32_t view, uint8_t *out);
+/* Coverage of a view in the last full render: out[i] = 1 where a surface was drawn, 0 where the
+ * background shows (width*height bytes, bottom row first). LM_E_UNSUPPORTED where the device
+ * has no readable depth images. */
+lm_status wk_views_local_read_coverage(lm_views *views, uint32_t view, uint8_t *out);
 
 #endif

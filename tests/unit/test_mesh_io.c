@@ -475,6 +475,55 @@ static void test_bad_absurd_counts(void **state)
     lmt_rmdir(dir);
 }
 
+/* COLLADA: a valid triangle loads; numbers assimp would trust (array counts, accessor strides
+ * reaching past their array, skin <vcount> sums) are refused before assimp reads them. */
+static char *dae_text(const char *array_count, const char *stride, const char *extra)
+{
+    static char buf[2048];
+    snprintf(buf, sizeof buf,
+             "<?xml version=\"1.0\"?>\n<COLLADA "
+             "xmlns=\"http://www.collada.org/2005/11/COLLADASchema\" version=\"1.4.1\">\n"
+             "<library_geometries><geometry id=\"g\"><mesh><source id=\"p\">"
+             "<float_array id=\"pa\" count=\"%s\">0 0 0 1 0 0 0 1 0</float_array>"
+             "<technique_common><accessor source=\"#pa\" count=\"3\" stride=\"%s\">"
+             "<param name=\"X\" type=\"float\"/><param name=\"Y\" type=\"float\"/>"
+             "<param name=\"Z\" type=\"float\"/></accessor></technique_common></source>"
+             "<vertices id=\"v\"><input semantic=\"POSITION\" source=\"#p\"/></vertices>"
+             "<triangles count=\"1\"><input semantic=\"VERTEX\" source=\"#v\" offset=\"0\"/>"
+             "<p>0 1 2</p></triangles></mesh></geometry></library_geometries>%s\n"
+             "<library_visual_scenes><visual_scene id=\"s\"><node id=\"n\">"
+             "<instance_geometry url=\"#g\"/></node></visual_scene></library_visual_scenes>"
+             "<scene><instance_visual_scene url=\"#s\"/></scene></COLLADA>\n",
+             array_count, stride, extra);
+    return buf;
+}
+
+static void test_bad_collada(void **state)
+{
+    (void)state;
+    char *dir = lmt_mkdtemp();
+    const char *p = path_in(dir, "ok.dae");
+    write_text(p, dae_text("9", "3", ""));
+    lm_mesh *m = NULL;
+    assert_int_equal(lm_mesh_load(p, NULL, &m), LM_OK);
+    assert_int_equal(m->live_tris, 1);
+    lm_mesh_destroy(m);
+    expect_load(dir, "stride.dae", dae_text("9", "99999", ""), LM_E_FORMAT);
+    expect_load(dir, "count.dae", dae_text("4000000000", "3", ""), LM_E_FORMAT);
+    expect_load(dir, "claim.dae", dae_text("900", "3", ""), LM_E_FORMAT);
+    char junk[2048];
+    snprintf(junk, sizeof junk, "%s", dae_text("9", "3", ""));
+    memcpy(strstr(junk, "<p>0 1 2") + 4, "\x1d", 1); /* assimp loops forever on it */
+    expect_load(dir, "junk.dae", junk, LM_E_FORMAT);
+    expect_load(dir, "vcount.dae",
+                dae_text("9", "3",
+                         "<library_controllers><controller id=\"c\"><skin source=\"#g\">"
+                         "<vertex_weights count=\"2\"><vcount>900000 900000</vcount><v>0 0</v>"
+                         "</vertex_weights></skin></controller></library_controllers>"),
+                LM_E_FORMAT);
+    lmt_rmdir(dir);
+}
+
 /* ---- writing failures -------------------------------------------------------------------------
  */
 
@@ -579,6 +628,7 @@ int main(void)
         cmocka_unit_test(test_bad_numbers_and_indices),
         cmocka_unit_test(test_bad_empty_and_degenerate),
         cmocka_unit_test(test_bad_absurd_counts),
+        cmocka_unit_test(test_bad_collada),
         cmocka_unit_test(test_bad_output),
         cmocka_unit_test(test_atomic_file),
         cmocka_unit_test(test_load_memory),

@@ -1,0 +1,326 @@
+/* common/mesh_io_guard_dae.c — checks a COLLADA (.dae) file before assimp 5.2 reads it. assimp
+ * trusts the file's numbers: it reserves `count` elements up front (an absurd count is an
+ * out-of-memory), resizes skin weights to the sum of <vcount>, and reads accessor data at
+ * offset + index * stride + param without checking the source array's size (a large stride is a
+ * read far outside the heap). This walk reads the XML tags without building a tree and refuses:
+ * any count/stride/offset/set attribute larger than the file, a value array that claims more
+ * values than its text can hold, a <vcount> summing beyond the file, an accessor whose last
+ * element lies outside its source array, and index lists holding anything but integers. */
+#include <stdlib.h>
+#include <string.h>
+
+#include "common/mesh_io_internal.h"
+
+typedef struct dae_array {
+    char id[64];
+    uint64_t count;
+} dae_array;
+
+typedef struct dae_accessor {
+    char source[64];
+    uint64_t count, stride, offset, params;
+} dae_accessor;
+
+typedef struct dae_scan {
+    const char *p, *end, *name;
+    uint64_t size;
+    dae_array *arrays;
+    size_t n_arrays, cap_arrays;
+    dae_accessor *accessors;
+    size_t n_accessors, cap_accessors;
+    dae_accessor *open_accessor; /* set between <accessor> and </accessor>: counts <param>s */
+} dae_scan;
+
+/* Decimal value saturated at UINT64_MAX; leading blanks and sign skipped like strtoul10. */
+static uint64_t parse_u64(const char *s, const char *end)
+{
+    while (s < end &&
+           (*s == ' ' || *s == '\t' || *s == '\n' || *s == '\r' || *s == '+' || *s == '-'))
+        s++;
+    uint64_t v = 0;
+    for (; s < end && *s >= '0' && *s <= '9'; s++)
+        v = v > (UINT64_MAX - 9) / 10 ? UINT64_MAX : v * 10 + (uint64_t)(*s - '0');
+    return v;
+}
+
+static int is_name_char(char c)
+{
+    return c != '\0' && !strchr(" \t\r\n/>=<\"'", c);
+}
+
+/* Advance past `text`; the scan ends (p = end) when it is missing. */
+static void skip_past(dae_scan *s, const char *text)
+{
+    size_t n = strlen(text);
+    for (; s->p + n <= s->end; s->p++)
+        if (!memcmp(s->p, text, n)) {
+            s->p += n;
+            return;
+        }
+    s->p = s->end;
+}
+
+static int tag_is(const char *name, size_t len, const char *want)
+{
+    return strlen(want) == len && !memcmp(name, want, len);
+}
+
+static int name_ends_with(const char *name, size_t len, const char *suffix)
+{
+    size_t n = strlen(suffix);
+    return len >= n && !memcmp(name + len - n, suffix, n);
+}
+
+static void copy_id(char dst[64], const char *v, size_t len)
+{
+    if (len > 0 && v[0] == '#') {
+        v++;
+        len--;
+    }
+    if (len > 63)
+        len = 63;
+    memcpy(dst, v, len);
+    dst[len] = '\0';
+}
+
+static void *grow(void *items, size_t *cap, size_t need, size_t item_size)
+{
+    if (need <= *cap)
+        return items;
+    size_t next = *cap ? *cap * 2 : 16;
+    void *bigger = realloc(items, next * item_size);
+    if (bigger)
+        *cap = next;
+    return bigger;
+}
+
+/* Text between the current position and the next '<': how many values it can hold at most. */
+static uint64_t text_capacity(const dae_scan *s)
+{
+    const char *q = s->p;
+    while (q < s->end && *q != '<')
+        q++;
+    return ((uint64_t)(q - s->p) + 1) / 2;
+}
+
+/* Sum of the integers in the text up to the next '<' (saturating). */
+static uint64_t text_sum(const dae_scan *s)
+{
+    uint64_t sum = 0;
+    const char *q = s->p;
+    while (q < s->end && *q != '<') {
+        while (q < s->end && (*q < '0' || *q > '9') && *q != '<')
+            q++;
+        uint64_t v = parse_u64(q, s->end);
+        sum = sum > UINT64_MAX - v ? UINT64_MAX : sum + v;
+        while (q < s->end && *q >= '0' && *q <= '9')
+            q++;
+    }
+    return sum;
+}
+
+typedef struct dae_tag {
+    const char *name;
+    size_t len;
+    uint64_t count, stride, offset;
+    int has_count, has_stride;
+    char id[64], source[64];
+} dae_tag;
+
+static lm_status read_attribute(dae_scan *s, dae_tag *t)
+{
+    const char *an = s->p;
+    while (s->p < s->end && is_name_char(*s->p))
+        s->p++;
+    size_t alen = (size_t)(s->p - an);
+    while (s->p < s->end && (*s->p == ' ' || *s->p == '\t' || *s->p == '\r' || *s->p == '\n'))
+        s->p++;
+    if (alen == 0 || s->p >= s->end || *s->p != '=') {
+        s->p = s->end; /* not well-formed XML: assimp's parser refuses it */
+        return LM_OK;
+    }
+    s->p++;
+    while (s->p < s->end && (*s->p == ' ' || *s->p == '\t' || *s->p == '\r' || *s->p == '\n'))
+        s->p++;
+    if (s->p >= s->end || (*s->p != '"' && *s->p != '\'')) {
+        s->p = s->end;
+        return LM_OK;
+    }
+    char quote = *s->p++;
+    const char *v = s->p;
+    while (s->p < s->end && *s->p != quote)
+        s->p++;
+    size_t vlen = (size_t)(s->p - v);
+    if (s->p < s->end)
+        s->p++;
+    uint64_t num = parse_u64(v, v + vlen);
+    int numeric = tag_is(an, alen, "count") || tag_is(an, alen, "stride") ||
+                  tag_is(an, alen, "offset") || tag_is(an, alen, "set");
+    if (numeric && num > s->size)
+        return lm_fail(LM_E_FORMAT, "%s: <%.*s %.*s=\"%.*s\"> is larger than the file allows",
+                       s->name, (int)(t->len > 40 ? 40 : t->len), t->name, (int)alen, an,
+                       (int)(vlen > 20 ? 20 : vlen), v);
+    if (tag_is(an, alen, "count"))
+        t->count = num, t->has_count = 1;
+    else if (tag_is(an, alen, "stride"))
+        t->stride = num, t->has_stride = 1;
+    else if (tag_is(an, alen, "offset"))
+        t->offset = num;
+    else if (tag_is(an, alen, "id"))
+        copy_id(t->id, v, vlen);
+    else if (tag_is(an, alen, "source"))
+        copy_id(t->source, v, vlen);
+    return LM_OK;
+}
+
+/* Index lists (<p>, <vcount>, <v>, <h>): assimp reads <p> with a loop that only stops at the end
+ * of the text and does not advance over a character that is neither part of a number nor a
+ * blank (it fills memory with zeros); such text, entities and markup inside are refused. */
+static lm_status check_index_text(const dae_scan *s, const dae_tag *t)
+{
+    const char *q = s->p;
+    while (q < s->end && *q != '<') {
+        if (!strchr("0123456789+- \t\r\n", *q) || *q == '\0')
+            return lm_fail(LM_E_FORMAT, "%s: <%.*s> holds something other than integers", s->name,
+                           (int)t->len, t->name);
+        q++;
+    }
+    if (q + 1 < s->end && q[1] != '/')
+        return lm_fail(LM_E_FORMAT, "%s: markup inside <%.*s>", s->name, (int)t->len, t->name);
+    return LM_OK;
+}
+
+static int is_index_list(const dae_tag *t)
+{
+    return tag_is(t->name, t->len, "p") || tag_is(t->name, t->len, "vcount") ||
+           tag_is(t->name, t->len, "v") || tag_is(t->name, t->len, "h");
+}
+
+static lm_status record_tag(dae_scan *s, const dae_tag *t)
+{
+    if (name_ends_with(t->name, t->len, "_array") && t->has_count) {
+        uint64_t room = text_capacity(s);
+        if (t->count > room)
+            return lm_fail(LM_E_FORMAT,
+                           "%s: <%.*s id=\"%s\"> claims %llu values but holds at most %llu",
+                           s->name, (int)t->len, t->name, t->id, (unsigned long long)t->count,
+                           (unsigned long long)room);
+        dae_array *a = grow(s->arrays, &s->cap_arrays, s->n_arrays + 1, sizeof *a);
+        if (!a)
+            return lm_fail(LM_E_NOMEM, "%s: out of memory checking the file", s->name);
+        s->arrays = a;
+        memcpy(a[s->n_arrays].id, t->id, sizeof t->id);
+        a[s->n_arrays++].count = t->count;
+    } else if (tag_is(t->name, t->len, "accessor")) {
+        dae_accessor *a = grow(s->accessors, &s->cap_accessors, s->n_accessors + 1, sizeof *a);
+        if (!a)
+            return lm_fail(LM_E_NOMEM, "%s: out of memory checking the file", s->name);
+        s->accessors = a;
+        dae_accessor *acc = &a[s->n_accessors++];
+        memcpy(acc->source, t->source, sizeof t->source);
+        acc->count = t->count;
+        acc->stride = t->has_stride ? t->stride : 1;
+        acc->offset = t->offset;
+        acc->params = 0;
+        s->open_accessor = acc;
+    } else if (tag_is(t->name, t->len, "param") && s->open_accessor) {
+        s->open_accessor->params++;
+    } else if (tag_is(t->name, t->len, "vcount") && text_sum(s) > s->size) {
+        return lm_fail(LM_E_FORMAT, "%s: <vcount> adds up to more elements than the file holds",
+                       s->name);
+    }
+    return LM_OK;
+}
+
+/* One element tag after '<'. */
+static lm_status read_tag(dae_scan *s)
+{
+    if (s->p < s->end && *s->p == '/') {
+        const char *n = ++s->p;
+        while (s->p < s->end && is_name_char(*s->p))
+            s->p++;
+        if (tag_is(n, (size_t)(s->p - n), "accessor"))
+            s->open_accessor = NULL;
+        skip_past(s, ">");
+        return LM_OK;
+    }
+    dae_tag t = {.name = s->p};
+    while (s->p < s->end && is_name_char(*s->p))
+        s->p++;
+    t.len = (size_t)(s->p - t.name);
+    for (;;) {
+        while (s->p < s->end && (*s->p == ' ' || *s->p == '\t' || *s->p == '\r' || *s->p == '\n'))
+            s->p++;
+        if (s->p >= s->end)
+            return LM_OK;
+        if (*s->p == '>' || *s->p == '/') {
+            int self_closing = *s->p == '/';
+            skip_past(s, ">");
+            lm_status st = record_tag(s, &t);
+            if (self_closing && tag_is(t.name, t.len, "accessor"))
+                s->open_accessor = NULL;
+            if (st == LM_OK && !self_closing && is_index_list(&t))
+                st = check_index_text(s, &t);
+            return st;
+        }
+        lm_status st = read_attribute(s, &t);
+        if (st != LM_OK)
+            return st;
+    }
+}
+
+static const dae_array *find_array(const dae_scan *s, const char *id)
+{
+    for (size_t i = 0; i < s->n_arrays; i++)
+        if (!strcmp(s->arrays[i].id, id))
+            return &s->arrays[i];
+    return NULL;
+}
+
+/* Every element an accessor can address must lie inside its source array. */
+static lm_status check_accessors(const dae_scan *s)
+{
+    for (size_t i = 0; i < s->n_accessors; i++) {
+        const dae_accessor *a = &s->accessors[i];
+        const dae_array *arr = find_array(s, a->source);
+        if (!arr || a->count == 0)
+            continue; /* unresolved sources are refused by assimp itself */
+        uint64_t width = a->params > a->stride ? a->params : a->stride;
+        if (a->stride == 0)
+            return lm_fail(LM_E_FORMAT, "%s: accessor of \"%s\" has stride 0", s->name, a->source);
+        /* offset + (count - 1) * stride + width <= array count, without overflow */
+        int fits = width <= arr->count && a->offset <= arr->count - width &&
+                   a->count - 1 <= (arr->count - width - a->offset) / a->stride;
+        if (!fits)
+            return lm_fail(LM_E_FORMAT,
+                           "%s: accessor of %llu x %llu values reaches past the end of \"%s\" "
+                           "(%llu values)",
+                           s->name, (unsigned long long)a->count, (unsigned long long)a->stride,
+                           a->source, (unsigned long long)arr->count);
+    }
+    return LM_OK;
+}
+
+lm_status lm_io_guard_dae(const uint8_t *data, size_t size, const char *name)
+{
+    dae_scan s = {
+        .p = (const char *)data, .end = (const char *)data + size, .name = name, .size = size};
+    lm_status st = LM_OK;
+    while (st == LM_OK && s.p < s.end) {
+        if (*s.p++ != '<')
+            continue;
+        if (s.end - s.p >= 3 && !memcmp(s.p, "!--", 3))
+            skip_past(&s, "-->");
+        else if (s.end - s.p >= 8 && !memcmp(s.p, "![CDATA[", 8))
+            skip_past(&s, "]]>");
+        else if (s.p < s.end && (*s.p == '?' || *s.p == '!'))
+            skip_past(&s, ">");
+        else
+            st = read_tag(&s);
+    }
+    if (st == LM_OK)
+        st = check_accessors(&s);
+    free(s.arrays);
+    free(s.accessors);
+    return st;
+}
