@@ -6,6 +6,7 @@
  * any count/stride/offset/set attribute larger than the file, a value array that claims more
  * values than its text can hold, a <vcount> summing beyond the file, an accessor whose last
  * element lies outside its source array, and index lists holding anything but integers. */
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -14,12 +15,17 @@
 typedef struct dae_array {
     char id[64];
     uint64_t count;
+    int strings; /* Name_array, IDREF_array...: assimp keeps no numbers for it */
 } dae_array;
 
 typedef struct dae_accessor {
-    char source[64];
+    char source[64], owner[64]; /* the array it reads; the <source> it belongs to */
     uint64_t count, stride, offset, params;
 } dae_accessor;
+
+typedef struct dae_ref {
+    char id[64];
+} dae_ref;
 
 typedef struct dae_scan {
     const char *p, *end, *name;
@@ -29,6 +35,9 @@ typedef struct dae_scan {
     dae_accessor *accessors;
     size_t n_accessors, cap_accessors;
     dae_accessor *open_accessor; /* set between <accessor> and </accessor>: counts <param>s */
+    char open_source[64];        /* id of the <source> being read, "" outside one */
+    dae_ref *geometry_inputs;    /* sources read as geometry (POSITION, NORMAL, TEXCOORD...) */
+    size_t n_inputs, cap_inputs;
 } dae_scan;
 
 /* Decimal value saturated at UINT64_MAX; leading blanks and sign skipped like strtoul10. */
@@ -124,7 +133,7 @@ typedef struct dae_tag {
     size_t len;
     uint64_t count, stride, offset;
     int has_count, has_stride;
-    char id[64], source[64];
+    char id[64], source[64], semantic[32];
 } dae_tag;
 
 static lm_status read_attribute(dae_scan *s, dae_tag *t)
@@ -170,6 +179,8 @@ static lm_status read_attribute(dae_scan *s, dae_tag *t)
         copy_id(t->id, v, vlen);
     else if (tag_is(an, alen, "source"))
         copy_id(t->source, v, vlen);
+    else if (tag_is(an, alen, "semantic"))
+        snprintf(t->semantic, sizeof t->semantic, "%.*s", (int)(vlen > 31 ? 31 : vlen), v);
     return LM_OK;
 }
 
@@ -196,9 +207,19 @@ static int is_index_list(const dae_tag *t)
            tag_is(t->name, t->len, "v") || tag_is(t->name, t->len, "h");
 }
 
+static int is_geometry_semantic(const char *sem)
+{
+    static const char *const geometric[] = {"POSITION", "NORMAL",   "TEXCOORD",   "COLOR",
+                                            "TANGENT",  "BINORMAL", "TEXTANGENT", "TEXBINORMAL"};
+    for (size_t i = 0; i < sizeof geometric / sizeof geometric[0]; i++)
+        if (!strcmp(sem, geometric[i]))
+            return 1;
+    return 0;
+}
+
 static lm_status record_tag(dae_scan *s, const dae_tag *t)
 {
-    if (name_ends_with(t->name, t->len, "_array") && t->has_count) {
+    if (name_ends_with(t->name, t->len, "_array")) {
         uint64_t room = text_capacity(s);
         if (t->count > room)
             return lm_fail(LM_E_FORMAT,
@@ -210,7 +231,10 @@ static lm_status record_tag(dae_scan *s, const dae_tag *t)
             return lm_fail(LM_E_NOMEM, "%s: out of memory checking the file", s->name);
         s->arrays = a;
         memcpy(a[s->n_arrays].id, t->id, sizeof t->id);
-        a[s->n_arrays++].count = t->count;
+        a[s->n_arrays].strings =
+            tag_is(t->name, t->len, "Name_array") || tag_is(t->name, t->len, "IDREF_array") ||
+            tag_is(t->name, t->len, "SIDREF_array") || tag_is(t->name, t->len, "token_array");
+        a[s->n_arrays++].count = t->has_count ? t->count : 0; /* assimp's default */
     } else if (tag_is(t->name, t->len, "accessor")) {
         dae_accessor *a = grow(s->accessors, &s->cap_accessors, s->n_accessors + 1, sizeof *a);
         if (!a)
@@ -218,11 +242,20 @@ static lm_status record_tag(dae_scan *s, const dae_tag *t)
         s->accessors = a;
         dae_accessor *acc = &a[s->n_accessors++];
         memcpy(acc->source, t->source, sizeof t->source);
+        memcpy(acc->owner, s->open_source, sizeof s->open_source);
         acc->count = t->count;
         acc->stride = t->has_stride ? t->stride : 1;
         acc->offset = t->offset;
         acc->params = 0;
         s->open_accessor = acc;
+    } else if (tag_is(t->name, t->len, "source")) {
+        memcpy(s->open_source, t->id, sizeof t->id);
+    } else if (tag_is(t->name, t->len, "input") && is_geometry_semantic(t->semantic)) {
+        dae_ref *r = grow(s->geometry_inputs, &s->cap_inputs, s->n_inputs + 1, sizeof *r);
+        if (!r)
+            return lm_fail(LM_E_NOMEM, "%s: out of memory checking the file", s->name);
+        s->geometry_inputs = r;
+        memcpy(r[s->n_inputs++].id, t->source, sizeof t->source);
     } else if (tag_is(t->name, t->len, "param") && s->open_accessor) {
         s->open_accessor->params++;
     } else if (tag_is(t->name, t->len, "vcount") && text_sum(s) > s->size) {
@@ -241,6 +274,8 @@ static lm_status read_tag(dae_scan *s)
             s->p++;
         if (tag_is(n, (size_t)(s->p - n), "accessor"))
             s->open_accessor = NULL;
+        if (tag_is(n, (size_t)(s->p - n), "source"))
+            s->open_source[0] = '\0';
         skip_past(s, ">");
         return LM_OK;
     }
@@ -269,29 +304,39 @@ static lm_status read_tag(dae_scan *s)
     }
 }
 
-static const dae_array *find_array(const dae_scan *s, const char *id)
+static int read_as_geometry(const dae_scan *s, const char *source_id)
 {
-    for (size_t i = 0; i < s->n_arrays; i++)
-        if (!strcmp(s->arrays[i].id, id))
-            return &s->arrays[i];
-    return NULL;
+    for (size_t i = 0; i < s->n_inputs; i++)
+        if (source_id[0] && !strcmp(s->geometry_inputs[i].id, source_id))
+            return 1;
+    return 0;
 }
 
-/* Every element an accessor can address must lie inside its source array. */
-static lm_status check_accessors(const dae_scan *s)
+/* offset + (count - 1) * stride + width <= the array's count, without overflow. */
+static int accessor_fits(const dae_accessor *a, uint64_t have)
 {
-    for (size_t i = 0; i < s->n_accessors; i++) {
-        const dae_accessor *a = &s->accessors[i];
-        const dae_array *arr = find_array(s, a->source);
-        if (!arr || a->count == 0)
+    uint64_t width = a->params > a->stride ? a->params : a->stride;
+    return width <= have && a->offset <= have - width &&
+           a->count - 1 <= (have - width - a->offset) / a->stride;
+}
+
+/* Every element an accessor can address must lie inside every array of that id (assimp keeps
+ * one of duplicates), and geometry must not be read from an array of strings. */
+static lm_status check_accessor(const dae_scan *s, const dae_accessor *a)
+{
+    if (a->count == 0)
+        return LM_OK;
+    if (a->stride == 0)
+        return lm_fail(LM_E_FORMAT, "%s: accessor of \"%s\" has stride 0", s->name, a->source);
+    int geometry = read_as_geometry(s, a->owner);
+    for (size_t i = 0; i < s->n_arrays; i++) {
+        const dae_array *arr = &s->arrays[i];
+        if (strcmp(arr->id, a->source) != 0)
             continue; /* unresolved sources are refused by assimp itself */
-        uint64_t width = a->params > a->stride ? a->params : a->stride;
-        if (a->stride == 0)
-            return lm_fail(LM_E_FORMAT, "%s: accessor of \"%s\" has stride 0", s->name, a->source);
-        /* offset + (count - 1) * stride + width <= array count, without overflow */
-        int fits = width <= arr->count && a->offset <= arr->count - width &&
-                   a->count - 1 <= (arr->count - width - a->offset) / a->stride;
-        if (!fits)
+        if (arr->strings && geometry)
+            return lm_fail(LM_E_FORMAT, "%s: geometry source \"%s\" reads an array of names",
+                           s->name, a->owner);
+        if (!accessor_fits(a, arr->count))
             return lm_fail(LM_E_FORMAT,
                            "%s: accessor of %llu x %llu values reaches past the end of \"%s\" "
                            "(%llu values)",
@@ -318,9 +363,10 @@ lm_status lm_io_guard_dae(const uint8_t *data, size_t size, const char *name)
         else
             st = read_tag(&s);
     }
-    if (st == LM_OK)
-        st = check_accessors(&s);
+    for (size_t i = 0; st == LM_OK && i < s.n_accessors; i++)
+        st = check_accessor(&s, &s.accessors[i]);
     free(s.arrays);
     free(s.accessors);
+    free(s.geometry_inputs);
     return st;
 }

@@ -1,6 +1,7 @@
 /* coordinator/cli_demo.c — `lumesh demo`: generate the frog, simplify it with QEM, optimise the
- * coarse mesh, and write the three models, a before/after picture grid and a summary with
- * held-out energies (views not used by the optimisation). */
+ * coarse mesh, and write the three models, a before/after picture grid, a close-up of the coarse
+ * mesh's worst cracks and a summary with held-out energies and crack pixels (views not used by
+ * the optimisation). */
 #include <errno.h>
 #include <getopt.h>
 #include <inttypes.h>
@@ -31,7 +32,7 @@ typedef struct demo_options {
 } demo_options;
 
 typedef struct demo_paths {
-    char frog[4096], coarse[4096], optimized[4096], grid[4096];
+    char frog[4096], coarse[4096], optimized[4096], grid[4096], closeup[4096];
 } demo_paths;
 
 static const char *co_cmd = "demo";
@@ -45,9 +46,11 @@ static const char co_demo_help[] =
     "simplify it with QEM, optimise the coarse mesh so that its images match the frog's, and "
     "write\n"
     "into DIR: frog.obj, coarse.obj, optimized.obj (each with .mtl and texture) and\n"
-    "before_after.png (one row per view: original | coarse | optimized). Prints the image energy "
-    "of\n"
-    "the coarse and optimised models over 24 held-out views that the optimisation never saw.\n"
+    "before_after.png (one row per view: original | coarse | optimized) and closeup.png (the\n"
+    "window, at 4x the view size, where the coarse mesh shows the most cracks and holes). Prints\n"
+    "the image energy of the coarse and optimised models over 24 held-out views that the\n"
+    "optimisation never saw, and their cracks and holes: pixels inside the frog's silhouette\n"
+    "where the model shows the background.\n"
     "\n"
     "  -o, --output DIR     output folder, created if needed (default ./lumesh-demo)\n"
     "  --evals N            optimisation budget in energy evaluations (default %llu)\n"
@@ -141,6 +144,7 @@ static lm_status make_paths(const char *dir, demo_paths *p)
     snprintf(p->coarse, sizeof p->coarse, "%s/coarse.obj", dir);
     snprintf(p->optimized, sizeof p->optimized, "%s/optimized.obj", dir);
     snprintf(p->grid, sizeof p->grid, "%s/before_after.png", dir);
+    snprintf(p->closeup, sizeof p->closeup, "%s/closeup.png", dir);
     if (n < 0 || (size_t)n + 16 >= sizeof p->frog)
         return lm_fail(LM_E_INVALID, "folder name '%s' is too long", dir);
     return LM_OK;
@@ -204,8 +208,47 @@ static void free_models(demo_models *m)
         lm_mesh_destroy(m->optimized);
 }
 
-/* Held-out energies of coarse and optimised, and the picture grid, from the files as written. */
-static lm_status evaluate(const demo_options *o, const demo_paths *p, int64_t energy[2])
+/* What the demo measured on the files as written. */
+typedef struct demo_judgement {
+    int64_t heldout[2]; /* coarse, optimised */
+    co_coverage cov[2];
+    co_crop closeup;
+    uint64_t closeup_missing; /* the coarse mesh's uncovered pixels in the close-up */
+} demo_judgement;
+
+#define CO_DEMO_ZOOM 4 /* close-up: views rendered this many times larger, one view-size window */
+
+/* The before/after grid and the close-up of the coarse mesh's worst cracks. */
+static lm_status write_pictures(const demo_options *o, const demo_paths *p, const lm_mesh *frog,
+                                const lm_mesh *const models[2], lm_view_set *vs, demo_judgement *j)
+{
+    float centre[3], radius = 0;
+    lm_mesh_bounding_sphere(frog, centre, &radius);
+    lm_image *grid = NULL;
+    lm_status st = lm_view_set_make(vs, CO_DEMO_GRID_VIEWS, (int)o->size, centre, radius);
+    if (st == LM_OK)
+        st = co_compare_grid(frog, vs, o->device, models, 2, NULL, &grid);
+    if (st == LM_OK)
+        st = lm_image_write(p->grid, grid);
+    lm_image_destroy(grid);
+    grid = NULL;
+    int big = (int)o->size * CO_DEMO_ZOOM;
+    if (st == LM_OK && big <= LM_MAX_VIEW_SIZE) {
+        st = lm_view_set_make(vs, CO_DEMO_GRID_VIEWS, big, centre, radius);
+        if (st == LM_OK)
+            st = co_compare_find_cracks(frog, vs, o->device, models[0], (int)o->size, &j->closeup,
+                                        &j->closeup_missing);
+        if (st == LM_OK)
+            st = co_compare_grid(frog, vs, o->device, models, 2, &j->closeup, &grid);
+        if (st == LM_OK)
+            st = lm_image_write(p->closeup, grid);
+        lm_image_destroy(grid);
+    }
+    return st;
+}
+
+/* Held-out energies and coverage of coarse and optimised, and the pictures. */
+static lm_status evaluate(const demo_options *o, const demo_paths *p, demo_judgement *j)
 {
     demo_models m = {0};
     lm_status st = lm_mesh_load(p->frog, NULL, &m.frog);
@@ -223,33 +266,40 @@ static lm_status evaluate(const demo_options *o, const demo_paths *p, int64_t en
     }
     const lm_mesh *const models[2] = {m.coarse, m.optimized};
     if (st == LM_OK)
-        st = co_compare_energies(m.frog, vs, o->device, models, 2, energy, NULL);
+        st = co_compare_energies(m.frog, vs, o->device, models, 2, j->heldout, j->cov, NULL);
     if (st == LM_OK)
-        st = lm_view_set_make(vs, CO_DEMO_GRID_VIEWS, (int)o->size, centre, radius);
-    lm_image *grid = NULL;
-    if (st == LM_OK)
-        st = co_compare_grid(m.frog, vs, o->device, models, 2, &grid);
-    if (st == LM_OK)
-        st = lm_image_write(p->grid, grid);
-    if (grid)
-        lm_image_destroy(grid);
+        st = write_pictures(o, p, m.frog, models, vs, j);
     free(vs);
     free_models(&m);
     return st;
 }
 
-static void print_summary(const demo_options *o, const demo_paths *p, const co_job_summary *s,
-                          const int64_t heldout[2])
+static double percent(double part, double whole)
 {
-    double rel = heldout[0] > 0 ? 100.0 * (double)heldout[1] / (double)heldout[0] : 100.0;
+    return whole > 0 ? 100.0 * part / whole : 100.0;
+}
+
+static void print_summary(const demo_options *o, const demo_paths *p, const co_job_summary *s,
+                          const demo_judgement *j)
+{
     printf("\nheld-out energy (24 views of %" PRIu32 "x%" PRIu32 " not used by the optimisation):\n"
            "  coarse    %" PRId64 "\n  optimized %" PRId64 "  (%.1f%% of coarse)\n",
-           o->size, o->size, heldout[0], heldout[1], rel);
+           o->size, o->size, j->heldout[0], j->heldout[1],
+           percent((double)j->heldout[1], (double)j->heldout[0]));
+    printf("cracks and holes (held-out pixels inside the frog's silhouette where the model shows\n"
+           "the background):\n  coarse    %" PRIu64 "\n  optimized %" PRIu64
+           "  (%.1f%% of coarse; outline pixels missing: %" PRIu64 " -> %" PRIu64 ")\n",
+           j->cov[0].cracks_px, j->cov[1].cracks_px,
+           percent((double)j->cov[1].cracks_px, (double)j->cov[0].cracks_px), j->cov[0].missing_px,
+           j->cov[1].missing_px);
     printf("optimisation: %" PRIu64 " evaluations in %.1f s on %s\n", s->progress.evals, s->wall_s,
            s->renderer);
     printf("files in %s:\n  %s\n  %s\n  %s\n  %s  (rows: %u views; columns: original | coarse | "
            "optimized)\n",
            o->dir, p->frog, p->coarse, p->optimized, p->grid, CO_DEMO_GRID_VIEWS);
+    if (j->closeup.w > 0)
+        printf("  %s  (view %u at %dx, window at (%d, %d): original | coarse | optimized)\n",
+               p->closeup, j->closeup.view, CO_DEMO_ZOOM, j->closeup.x, j->closeup.y);
 }
 
 int co_cli_demo(int argc, char **argv)
@@ -260,16 +310,16 @@ int co_cli_demo(int argc, char **argv)
         return rc < 0 ? 0 : rc;
     demo_paths p;
     co_job_summary s;
-    int64_t heldout[2] = {0, 0};
+    demo_judgement j = {0};
     lm_status st = make_paths(o.dir, &p);
     if (st == LM_OK)
         st = make_inputs(&o, &p);
     if (st == LM_OK)
         st = optimize(&o, &p, &s);
     if (st == LM_OK)
-        st = evaluate(&o, &p, heldout);
+        st = evaluate(&o, &p, &j);
     if (st != LM_OK)
         return co_cli_fail(co_cmd, st);
-    print_summary(&o, &p, &s, heldout);
+    print_summary(&o, &p, &s, &j);
     return 0;
 }

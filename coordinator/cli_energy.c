@@ -28,7 +28,9 @@ static void usage(FILE *f)
           "pixels of the squared difference of 8-bit luminance (total, per_view, mse), and\n"
           "the silhouette coverage: pixels where the original shows a surface (original_px),\n"
           "where MODEL shows background there instead (missing_px: holes, cracks) and where\n"
-          "MODEL covers the original's background (extra_px).\n"
+          "MODEL covers the original's background (extra_px), and the missing pixels well\n"
+          "inside the original's silhouette (cracks_px: holes and cracks between parts, not a\n"
+          "thinner outline; 2 pixels from its background at 256, more for larger views).\n"
           "  --views N     views around the original (default 20; 12 icosahedron, 20\n"
           "                dodecahedron, others a spherical Fibonacci set)\n"
           "  --size S      image side in pixels (default 256)\n"
@@ -93,9 +95,10 @@ static void print_json(const energy_args *a, lm_views *v, int64_t total, const i
     printf("], \"mse\": %.6f, \"views\": %u, \"size\": %d, \"heldout\": %s, ",
            (double)total / pixels, info.n_views, info.width, a->heldout ? "true" : "false");
     if (cov)
-        printf("\"coverage\": {\"original_px\": %llu, \"missing_px\": %llu, \"extra_px\": %llu}, ",
+        printf("\"coverage\": {\"original_px\": %llu, \"missing_px\": %llu, \"extra_px\": %llu, "
+               "\"cracks_px\": %llu}, ",
                (unsigned long long)cov->original_px, (unsigned long long)cov->missing_px,
-               (unsigned long long)cov->extra_px);
+               (unsigned long long)cov->extra_px, (unsigned long long)cov->cracks_px);
     else
         printf("\"coverage\": null, ");
     printf("\"renderer\": ");
@@ -116,8 +119,7 @@ static int model_coverage(const lm_mesh *orig, const lm_view_set *vs, const char
     if (st == LM_OK)
         st = co_coverage_masks(v, &mm);
     if (st == LM_OK)
-        *out = co_coverage_compare(
-            om, mm, (size_t)vs->count * (size_t)vs->views[0].width * (size_t)vs->views[0].height);
+        st = co_coverage_compare(om, mm, vs->views[0].width, vs->views[0].height, vs->count, out);
     free(om);
     free(mm);
     lm_views_destroy(ov);

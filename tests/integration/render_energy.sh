@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Integration: `lumesh energy`, `lumesh render` and `lumesh bench eval` on the textured spider as a
 # user runs them: a model against itself has energy exactly 0; a coarse version has a positive
-# energy whose per-view values add up to the total; held-out views give another set of 24; render
+# energy whose per-view values add up to the total, and holes in it show as missing coverage;
+# held-out views give another set of 24; render
 # writes one PNG per view (and targets and differences with --against); the benchmark's JSON has
 # its numbers; bad input gives one line on stderr and exit 1.
 set -u
@@ -25,6 +26,8 @@ checks=$((checks + 1))
   fail "energy of the spider against itself failed"
 [ "$(json "$tmp/self.json" total)" = 0 ] || fail "self energy is not 0: $(cat "$tmp/self.json")"
 grep -q '"renderer": "EGL device' "$tmp/self.json" || fail "no renderer in $(cat "$tmp/self.json")"
+grep -q '"missing_px": 0, "extra_px": 0' "$tmp/self.json" && [ "$(json "$tmp/self.json" original_px)" -gt 0 ] ||
+  fail "self coverage is not exact: $(cat "$tmp/self.json")"
 
 checks=$((checks + 1))
 "$LUMESH" simplify "$spider" -o "$tmp/coarse.obj" --target-verts 200 > /dev/null ||
@@ -37,6 +40,13 @@ sum=$(sed -n 's/.*"per_view": \[\([^]]*\)\].*/\1/p' "$tmp/coarse.json" | tr -d '
 [ -n "$total" ] && [ "$total" -gt 0 ] || fail "coarse energy not positive: $(cat "$tmp/coarse.json")"
 [ "$sum" = "$total" ] || fail "per-view energies add up to $sum, total says $total"
 grep -q '"views": 12, "size": 96' "$tmp/coarse.json" || fail "views/size missing: $(cat "$tmp/coarse.json")"
+
+checks=$((checks + 1)) # holes punched into the model show up as missing coverage
+awk '/^f / && (++n % 3 == 0) {next} {print}' "$tmp/coarse.obj" > "$tmp/holes.obj"
+"$LUMESH" energy "$spider" "$tmp/holes.obj" --views 12 --size 96 > "$tmp/holes.json" ||
+  fail "energy of the spider with holes failed"
+[ "$(json "$tmp/holes.json" missing_px)" -gt "$(json "$tmp/coarse.json" missing_px)" ] ||
+  fail "holes not counted as missing coverage: $(cat "$tmp/holes.json")"
 
 checks=$((checks + 1))
 "$LUMESH" energy "$spider" "$tmp/coarse.obj" --heldout --size 64 > "$tmp/held.json" ||

@@ -515,6 +515,10 @@ static void test_bad_collada(void **state)
     snprintf(junk, sizeof junk, "%s", dae_text("9", "3", ""));
     memcpy(strstr(junk, "<p>0 1 2") + 4, "\x1d", 1); /* assimp loops forever on it */
     expect_load(dir, "junk.dae", junk, LM_E_FORMAT);
+    snprintf(junk, sizeof junk, "%s", dae_text("9", "3", ""));
+    for (char *fa; (fa = strstr(junk, "float_array"));) /* same length: positions as names */
+        memcpy(fa, "IDREF_array", 11);
+    expect_load(dir, "names.dae", junk, LM_E_FORMAT);
     expect_load(dir, "vcount.dae",
                 dae_text("9", "3",
                          "<library_controllers><controller id=\"c\"><skin source=\"#g\">"
