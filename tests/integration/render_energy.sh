@@ -2,7 +2,7 @@
 # Integration: `lumesh energy`, `lumesh render` and `lumesh bench eval` on the textured spider as a
 # user runs them: a model against itself has energy exactly 0; a coarse version has a positive
 # energy whose per-view values add up to the total, and holes in it show as missing coverage;
-# held-out views give another set of 24; render
+# held-out views give another set of 24; compare writes grids and finds the holes; render
 # writes one PNG per view (and targets and differences with --against); the benchmark's JSON has
 # its numbers; bad input gives one line on stderr and exit 1.
 set -u
@@ -61,6 +61,19 @@ for f in view_00 view_01 view_02 target_00 target_02 diff_00 diff_02; do
   [ -s "$tmp/img/$f.png" ] || fail "render wrote no $f.png"
 done
 [ "$(ls "$tmp/img" | wc -l)" = 9 ] || fail "render wrote $(ls "$tmp/img" | wc -l) files, expected 9"
+
+checks=$((checks + 1)) # compare: a grid with one column per model, and a close-up on the holes
+"$LUMESH" compare "$spider" "$tmp/coarse.obj" --views 2 --size 64 -o "$tmp/grid.png" \
+  > "$tmp/grid.json" || fail "compare failed"
+[ -s "$tmp/grid.png" ] && grep -q '"models": \[{"file"' "$tmp/grid.json" ||
+  fail "compare wrote no grid: $(cat "$tmp/grid.json")"
+"$LUMESH" compare "$spider" "$tmp/holes.obj" "$tmp/coarse.obj" --views 12 --size 96 --closeup 32 \
+  -o "$tmp/closeup.png" > "$tmp/closeup.json" || fail "compare --closeup failed"
+grep -q '"closeup": {"view": [0-9]*, "x": [0-9]*, "y": [0-9]*, "side": 32' "$tmp/closeup.json" &&
+  [ "$(json "$tmp/closeup.json" cracks_px)" -gt 0 ] ||
+  fail "close-up found no holes: $(cat "$tmp/closeup.json")"
+expect_fail_line "$LUMESH" compare "$spider" "$tmp/coarse.obj"
+expect_fail_line "$LUMESH" compare "$spider" "$tmp/coarse.obj" -o "$tmp/c.png" --closeup 512
 
 if [ -r "$bunny" ]; then
   checks=$((checks + 1))
