@@ -29,6 +29,9 @@ const char *lm_strerror(lm_status s)
 lm_status lm_failv(lm_status s, const char *fmt, va_list ap)
 {
     vsnprintf(last_message, sizeof last_message, fmt, ap);
+    for (char *c = last_message; *c; c++) /* one line, whatever a file's bytes put in it */
+        if ((unsigned char)*c < 0x20 || *c == 0x7f)
+            *c = '?';
     return s;
 }
 

@@ -519,6 +519,9 @@ static void test_bad_collada(void **state)
     for (char *fa; (fa = strstr(junk, "float_array"));) /* same length: positions as names */
         memcpy(fa, "IDREF_array", 11);
     expect_load(dir, "names.dae", junk, LM_E_FORMAT);
+    /* an attribute left open: the message quoting it stays one line */
+    expect_load(dir, "open.dae", "<o><accessor source=\"#pa\" count=\"3\" stride=\"99999949A>\n",
+                LM_E_FORMAT);
     expect_load(dir, "vcount.dae",
                 dae_text("9", "3",
                          "<library_controllers><controller id=\"c\"><skin source=\"#g\">"
