@@ -227,21 +227,54 @@ int wk_image_store_hidden(const wk_image_store *s, uint32_t view, const wk_rect 
     return 1;
 }
 
-/* Columns [*lo, *hi] of row y whose pixel centres, widened by WK_PIXEL_SLACK, meet the inside of
- * edge a->b (inside where s * cross(b - a, p - a) >= 0); a pixel of extra slack for rounding. */
-static void edge_span(const float *a, const float *b, float s, int y, int *lo, int *hi)
+/* One edge a->b of a projected triangle as a bound on the columns of row y whose pixel centres,
+ * widened by WK_PIXEL_SLACK, meet the inside of the edge (inside where s * cross(b - a, p - a)
+ * >= 0), with a pixel of extra slack for rounding. The bound is linear in y, x(y) = m * y + q:
+ * a lower one (columns >= ceil(x) - 1), an upper one (columns <= floor(x) + 1), or, for a
+ * horizontal edge, rows where B * y + q < 0 lie wholly outside. */
+typedef struct edge_bound {
+    int kind; /* 1 lower, -1 upper, 0 horizontal */
+    double m, q;
+} edge_bound;
+
+static edge_bound edge_bound_make(const float *a, const float *b, float s)
 {
     const double d = WK_PIXEL_SLACK;
     double A = -s * ((double)b[1] - a[1]), B = s * ((double)b[0] - a[0]);
-    double py = B > 0 ? y + 0.5 + d : y + 0.5 - d;
-    double rest = B * (py - a[1]) - A * a[0]; /* E(px) = A * px + rest */
-    if (A > 0) {
-        int xl = (int)ceil(-rest / A - 0.5 - d) - 1; /* px = x + 0.5 + d */
+    double py = B > 0 ? 0.5 + d : 0.5 - d; /* pixel row y is tested at y + py */
+    double C = B * (py - a[1]) - A * a[0]; /* E(px, y) = A * px + B * y + C */
+    if (A > 0)
+        return (edge_bound){1, -B / A, -C / A - 0.5 - d}; /* px = x + 0.5 + d */
+    if (A < 0)
+        return (edge_bound){-1, -B / A, -C / A - 0.5 + d}; /* px = x + 0.5 - d */
+    return (edge_bound){0, B, C};
+}
+
+/* ceil and floor of v clamped to +-1e9 (an edge nearly along the row gives huge values). */
+static int ceil_clamped(double v)
+{
+    v = v < -1e9 ? -1e9 : v > 1e9 ? 1e9 : v;
+    int i = (int)v;
+    return i + (v > i);
+}
+
+static int floor_clamped(double v)
+{
+    v = v < -1e9 ? -1e9 : v > 1e9 ? 1e9 : v;
+    int i = (int)v;
+    return i - (v < i);
+}
+
+static void edge_span(const edge_bound *e, int y, int *lo, int *hi)
+{
+    double x = e->m * y + e->q;
+    if (e->kind > 0) {
+        int xl = ceil_clamped(x) - 1;
         *lo = xl > *lo ? xl : *lo;
-    } else if (A < 0) {
-        int xh = (int)floor(-rest / A - 0.5 + d) + 1; /* px = x + 0.5 - d */
+    } else if (e->kind < 0) {
+        int xh = floor_clamped(x) + 1;
         *hi = xh < *hi ? xh : *hi;
-    } else if (rest < 0) {
+    } else if (x < 0) {
         *hi = *lo - 1; /* the whole row is outside */
     }
 }
@@ -273,10 +306,13 @@ int wk_image_store_hidden_tri_in(const wk_image_store *s, uint32_t view, const w
     if (!(fabs(area) > 1e-3))
         return wk_image_store_hidden(s, view, r, f->zmin, eps);
     float sg = area > 0 ? 1.0f : -1.0f, limit = f->zmin - eps;
+    edge_bound e[3];
+    for (int k = 0; k < 3; k++)
+        e[k] = edge_bound_make(w[k], w[(k + 1) % 3], sg);
     for (int y = r->y0; y < r->y1; y++) {
         int lo = r->x0, hi = r->x1 - 1;
         for (int k = 0; k < 3 && lo <= hi; k++)
-            edge_span(w[k], w[(k + 1) % 3], sg, y, &lo, &hi);
+            edge_span(&e[k], y, &lo, &hi);
         const float *row = s->depth + view * s->plane + (size_t)y * s->width;
         for (int x = lo; x <= hi; x++)
             if (!(row[x] < limit))
