@@ -1,7 +1,7 @@
 /* common/mesh_io_guard.c — checks on the raw bytes of a model before assimp sees them, for the
  * input classes assimp 5.2 mis-handles: header counts far beyond what the file holds (assimp
  * allocates them up front), truncated GLB containers. OFF, PLY and STL have their own walkers
- * (mesh_io_guard_{off,ply,stl,dae}.c). Also the list of formats lm_mesh_load accepts. */
+ * (mesh_io_guard_{off,ply,stl,dae,gltf}.c). Also the list of formats lm_mesh_load accepts. */
 #include <ctype.h>
 #include <string.h>
 
@@ -46,7 +46,8 @@ static lm_status guard_glb(const uint8_t *d, size_t size, const char *name)
         return lm_fail(LM_E_FORMAT, "%s: truncated GLB (header says %u bytes, file has %zu)", name,
                        length, size);
     if (version != 2)
-        return LM_OK; /* glTF 1.0 binary: assimp's own checks */
+        return lm_fail(LM_E_UNSUPPORTED, "%s: GLB version %u is not supported (2 is)", name,
+                       version);
     uint64_t at = 12;
     for (int chunk = 0; at + 8 <= length; chunk++) {
         uint32_t clen = le32(d + at), ctype = le32(d + at + 4);
@@ -59,7 +60,7 @@ static lm_status guard_glb(const uint8_t *d, size_t size, const char *name)
     }
     if (at == 12)
         return lm_fail(LM_E_FORMAT, "%s: GLB has no JSON chunk", name);
-    return LM_OK;
+    return lm_io_guard_gltf_json(d + 20, le32(d + 12), name);
 }
 
 lm_status lm_io_guard(const uint8_t *data, size_t size, const char *ext, const char *name,
@@ -77,5 +78,7 @@ lm_status lm_io_guard(const uint8_t *data, size_t size, const char *ext, const c
         return guard_glb(data, size, name);
     if (!strcmp(ext, "dae"))
         return lm_io_guard_dae(data, size, name);
+    if (!strcmp(ext, "gltf"))
+        return lm_io_guard_gltf_json(data, size, name);
     return LM_OK;
 }

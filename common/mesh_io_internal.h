@@ -31,6 +31,8 @@ lm_status lm_io_guard_off(const uint8_t *data, size_t size, const char *name, ui
 lm_status lm_io_guard_ply(const uint8_t *data, size_t size, const char *name, uint32_t max_tris);
 lm_status lm_io_guard_stl(const uint8_t *data, size_t size, const char *name, uint32_t max_tris);
 lm_status lm_io_guard_dae(const uint8_t *data, size_t size, const char *name);
+/* The JSON of a .gltf file or of a .glb's first chunk. */
+lm_status lm_io_guard_gltf_json(const uint8_t *json, size_t size, const char *name);
 
 /* ---- mesh_io_aifs.c: the only file system assimp gets -------------------------------------- */
 

@@ -475,6 +475,20 @@ static void test_bad_absurd_counts(void **state)
     lmt_rmdir(dir);
 }
 
+/* glTF: assimp guesses another format from the bytes when its glTF reader refuses them, so JSON
+ * that does not parse, or names no 2.x version, is refused before assimp sees it. */
+static void test_bad_gltf(void **state)
+{
+    (void)state;
+    char *dir = lmt_mkdtemp();
+    expect_load(dir, "md5.gltf", "MD5Version 10\ncommandline \"\"\nnumJoints 1\n", LM_E_FORMAT);
+    expect_load(dir, "nan.gltf", "{\"asset\": {\"version\": \"2.0\"}, \"x\": NaN}", LM_E_FORMAT);
+    expect_load(dir, "dup.gltf", "{\"asset\": {\"version\": \"2.0\"}, \"asset\": {}}", LM_E_FORMAT);
+    expect_load(dir, "nover.gltf", "{\"asset\": {\"generator\": \"x\"}}", LM_E_FORMAT);
+    expect_load(dir, "v1.gltf", "{\"asset\": {\"version\": \"1.0\"}}", LM_E_UNSUPPORTED);
+    lmt_rmdir(dir);
+}
+
 /* COLLADA: a valid triangle loads; numbers assimp would trust (array counts, accessor strides
  * reaching past their array, skin <vcount> sums) are refused before assimp reads them. */
 static char *dae_text(const char *array_count, const char *stride, const char *extra)
@@ -636,6 +650,7 @@ int main(void)
         cmocka_unit_test(test_bad_empty_and_degenerate),
         cmocka_unit_test(test_bad_absurd_counts),
         cmocka_unit_test(test_bad_collada),
+        cmocka_unit_test(test_bad_gltf),
         cmocka_unit_test(test_bad_output),
         cmocka_unit_test(test_atomic_file),
         cmocka_unit_test(test_load_memory),
