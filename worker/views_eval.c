@@ -263,35 +263,39 @@ static lm_status reserve_bytes(uint8_t **buf, size_t *cap, size_t need)
     return LM_OK;
 }
 
-/* Clear the regions of jobs [j0, j1) in their patch's scratch atlas (patch i of the batch uses
- * atlas 1 + i - p0), one call per atlas. */
-static lm_status clear_regions(wk_views_local *v, size_t j0, size_t j1, uint32_t p0)
+/* Clear and draw the regions of jobs [a, b) of one patch in its scratch atlas (patch i of the
+ * batch uses atlas 1 + i - p0): one quad draw for the clears, then the regions. Patches go one
+ * after the other because binding another framebuffer makes Mesa rasterise what was drawn so
+ * far (llvmpipe flushes its scene): one atlas switch per patch instead of two. */
+static lm_status draw_patch_jobs(wk_views_local *v, size_t a, size_t b, uint32_t p0)
 {
-    lm_status st = LM_OK;
-    for (size_t a = j0; st == LM_OK && a < j1;) {
-        size_t b = a;
-        v->n_regions = 0;
-        for (; b < j1 && v->jobs[b].patch == v->jobs[a].patch; b++) {
-            v->region_views[v->n_regions] = v->jobs[b].view;
-            v->region_rects[v->n_regions++] = v->jobs[b].rect;
-        }
-        st = wk_renderer_clear_regions(v->r, 1 + v->jobs[a].patch - p0, v->region_views,
-                                       v->region_rects, v->n_regions);
-        a = b;
+    uint32_t atlas = 1 + v->jobs[a].patch - p0;
+    v->n_regions = 0;
+    for (size_t j = a; j < b; j++) {
+        v->region_views[v->n_regions] = v->jobs[j].view;
+        v->region_rects[v->n_regions++] = v->jobs[j].rect;
+    }
+    lm_status st =
+        wk_renderer_clear_regions(v->r, atlas, v->region_views, v->region_rects, v->n_regions);
+    for (size_t j = a; st == LM_OK && j < b; j++) {
+        const wk_job *job = &v->jobs[j];
+        wk_draw d = {atlas, job->view, job->first, job->count, job->rect};
+        st = wk_renderer_draw(v->r, v->table, &d, v->stream_mat);
     }
     return st;
 }
 
-/* Draw jobs [j0, j1): clear all regions, draw all, then read them all back (one sync). */
+/* Draw jobs [j0, j1): per patch, clear its regions and draw them; then read them all back (one
+ * sync). */
 static lm_status run_jobs(wk_views_local *v, size_t j0, size_t j1, uint32_t p0)
 {
     lm_status st = wk_renderer_upload(v->r, v->stream, v->stream_n);
-    if (st == LM_OK)
-        st = clear_regions(v, j0, j1, p0);
-    for (size_t j = j0; st == LM_OK && j < j1; j++) {
-        const wk_job *job = &v->jobs[j];
-        wk_draw d = {1 + job->patch - p0, job->view, job->first, job->count, job->rect};
-        st = wk_renderer_draw(v->r, v->table, &d, v->stream_mat);
+    for (size_t a = j0; st == LM_OK && a < j1;) {
+        size_t b = a;
+        while (b < j1 && v->jobs[b].patch == v->jobs[a].patch)
+            b++;
+        st = draw_patch_jobs(v, a, b, p0);
+        a = b;
     }
     if (st == LM_OK)
         st = reserve_bytes(&v->luma, &v->cap_luma, v->n_luma);
