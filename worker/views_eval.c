@@ -452,7 +452,7 @@ static uint32_t last_p0(const wk_views_local *v)
 
 /* Depth images of patch k's regions, read from its scratch atlas at commit time only: evaluations
  * far outnumber commits, so evaluate neither writes nor reads them (a fragment writing one render
- * target less saves ≈ 10% of an evaluation) and commit re-renders the patch with them. */
+ * target less saves ≈ 4% of an evaluation) and commit re-renders the patch with them. */
 static lm_status read_depths(wk_views_local *v, uint32_t k)
 {
     uint32_t p0 = last_p0(v);
