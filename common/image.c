@@ -36,7 +36,7 @@ void lm_image_destroy(lm_image *img)
 lm_status lm_image_clone(const lm_image *src, lm_image **out)
 {
     LM_ASSERT(src != NULL && src->channels == 4);
-    lm_image *img;
+    lm_image *img = NULL;
     lm_status s = lm_image_create(src->width, src->height, &img);
     if (s)
         return s;

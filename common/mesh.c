@@ -4,6 +4,7 @@
 #include "common/mesh.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -187,7 +188,7 @@ lm_status lm_mesh_add_material(lm_mesh *m, const char *name, const float diffuse
     lm_material *mat = &a[m->n_materials];
     memset(mat, 0, sizeof *mat);
     if (name)
-        strncpy(mat->name, name, sizeof mat->name - 1);
+        snprintf(mat->name, sizeof mat->name, "%s", name);
     static const float white[4] = {1, 1, 1, 1};
     memcpy(mat->diffuse, diffuse ? diffuse : white, sizeof mat->diffuse);
     if (texture_path) {

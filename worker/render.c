@@ -14,6 +14,7 @@ typedef struct wk_atlas {
     GLuint fbo[LM_MAX_VIEWS]; /* one per page */
     GLuint color[LM_MAX_VIEWS], depth[LM_MAX_VIEWS];
     GLuint zimage[LM_MAX_VIEWS]; /* R32F copy of the winning fragments' depth (0 if unsupported) */
+    int zimage_off;              /* draws leave the depth image alone (draw buffer 1 is NONE) */
 } wk_atlas;
 
 typedef struct wk_tile {
@@ -553,6 +554,22 @@ lm_status wk_renderer_read(wk_renderer *r, uint32_t atlas, uint32_t view, const 
     if (st == LM_OK)
         read_region(r, GL_COLOR_ATTACHMENT0, view, rect, GL_RGBA, GL_UNSIGNED_BYTE, rgba);
     return st;
+}
+
+lm_status wk_renderer_write_depth_images(wk_renderer *r, uint32_t atlas, int on)
+{
+    static const GLenum both[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
+    static const GLenum colour[2] = {GL_COLOR_ATTACHMENT0, GL_NONE};
+    wk_atlas *a;
+    lm_status st = get_atlas(r, atlas, &a);
+    if (st != LM_OK || !r->depth_images || a->zimage_off == !on)
+        return st;
+    for (int p = 0; p < r->n_pages; p++) {
+        bind_fbo(r, a->fbo[p]);
+        glDrawBuffers(2, on ? both : colour);
+    }
+    a->zimage_off = !on;
+    return LM_OK;
 }
 
 int wk_renderer_has_depth_images(wk_renderer *r)

@@ -72,6 +72,10 @@ lm_status wk_renderer_read(wk_renderer *r, uint32_t atlas, uint32_t view, const 
 int wk_renderer_has_depth_images(wk_renderer *r);
 lm_status wk_renderer_read_depth(wk_renderer *r, uint32_t atlas, uint32_t view, const wk_rect *rect,
                                  float *depth);
+/* Whether draws and region clears into an atlas also write its depth image (on when created).
+ * Off, every fragment writes one render target less; the depth image of what is drawn then is
+ * stale and must not be read. Colours and the depth test are the same either way. */
+lm_status wk_renderer_write_depth_images(wk_renderer *r, uint32_t atlas, int on);
 
 /* GL errors since the last check, as an lm_status naming `what`. */
 lm_status wk_renderer_check(wk_renderer *r, const char *what);

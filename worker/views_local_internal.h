@@ -36,6 +36,7 @@ typedef struct wk_views_local {
     int buckets_ready; /* buckets match the replica */
     int table;         /* material table of the current mesh */
     int occlusion;     /* skip views where a patch is certainly hidden (needs depth images) */
+    int scratch_depth; /* region renders write the scratch atlases' depth images (commit only) */
     /* the stream of one upload */
     lm_corner *stream;
     uint32_t *stream_mat;
