@@ -107,11 +107,9 @@ static void print_json(const compare_args *a, const int64_t *energy, const co_co
     for (uint32_t i = 0; i < a->n_models; i++) {
         printf("%s{\"file\": ", i ? ", " : "");
         co_json_string(stdout, a->models[i]);
-        printf(", \"energy\": %lld, \"coverage\": {\"original_px\": %llu, \"missing_px\": %llu, "
-               "\"extra_px\": %llu, \"cracks_px\": %llu}}",
-               (long long)energy[i], (unsigned long long)cov[i].original_px,
-               (unsigned long long)cov[i].missing_px, (unsigned long long)cov[i].extra_px,
-               (unsigned long long)cov[i].cracks_px);
+        printf(", \"energy\": %lld, \"coverage\": ", (long long)energy[i]);
+        co_coverage_print_json(stdout, &cov[i]);
+        printf("}");
     }
     printf("], \"views\": %s, \"size\": %u, \"image\": ", a->heldout ? "\"heldout\"" : "null",
            a->size);
@@ -136,7 +134,7 @@ static lm_status run(const compare_args *a, const lm_mesh *orig, const lm_mesh *
     uint64_t crop_cracks = 0;
     lm_image *grid = NULL;
     lm_status st =
-        co_compare_energies(orig, vs, a->device, models, a->n_models, energy, cov, renderer);
+        co_compare_energies(orig, vs, a->device, models, a->n_models, energy, NULL, cov, renderer);
     if (st == LM_OK && a->closeup)
         st = co_compare_find_cracks(orig, vs, a->device, models[0], (int)a->closeup, &crop,
                                     &crop_cracks);

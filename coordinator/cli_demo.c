@@ -266,7 +266,7 @@ static lm_status evaluate(const demo_options *o, const demo_paths *p, demo_judge
     }
     const lm_mesh *const models[2] = {m.coarse, m.optimized};
     if (st == LM_OK)
-        st = co_compare_energies(m.frog, vs, o->device, models, 2, j->heldout, j->cov, NULL);
+        st = co_compare_energies(m.frog, vs, o->device, models, 2, j->heldout, NULL, j->cov, NULL);
     if (st == LM_OK)
         st = write_pictures(o, p, m.frog, models, vs, j);
     free(vs);

@@ -11,7 +11,6 @@
 #include "coordinator/compare.h"
 #include "coordinator/progress.h"
 #include "coordinator/view_setup.h"
-#include "worker/views_local.h"
 
 #define CMD "energy"
 
@@ -83,48 +82,20 @@ static int parse(int argc, char **argv, energy_args *a)
     return -1;
 }
 
-static void print_json(const energy_args *a, lm_views *v, int64_t total, const int64_t *per,
-                       const co_coverage *cov)
+static void print_json(const energy_args *a, const lm_view_set *vs, int64_t total,
+                       const int64_t *per, const co_coverage *cov, const char *renderer)
 {
-    lm_views_info info;
-    v->ops->info(v, &info);
-    double pixels = (double)info.n_views * info.width * info.height;
+    int size = vs->views[0].width;
+    double pixels = (double)vs->count * size * size;
     printf("{\"total\": %lld, \"per_view\": [", (long long)total);
-    for (uint32_t h = 0; h < info.n_views; h++)
+    for (uint32_t h = 0; h < vs->count; h++)
         printf("%s%lld", h ? ", " : "", (long long)per[h]);
-    printf("], \"mse\": %.6f, \"views\": %u, \"size\": %d, \"heldout\": %s, ",
-           (double)total / pixels, info.n_views, info.width, a->heldout ? "true" : "false");
-    if (cov)
-        printf("\"coverage\": {\"original_px\": %llu, \"missing_px\": %llu, \"extra_px\": %llu, "
-               "\"cracks_px\": %llu}, ",
-               (unsigned long long)cov->original_px, (unsigned long long)cov->missing_px,
-               (unsigned long long)cov->extra_px, (unsigned long long)cov->cracks_px);
-    else
-        printf("\"coverage\": null, ");
-    printf("\"renderer\": ");
-    co_json_string(stdout, info.renderer);
+    printf("], \"mse\": %.6f, \"views\": %u, \"size\": %d, \"heldout\": %s, \"coverage\": ",
+           (double)total / pixels, vs->count, size, a->heldout ? "true" : "false");
+    co_coverage_print_json(stdout, cov);
+    printf(", \"renderer\": ");
+    co_json_string(stdout, renderer);
     printf("}\n");
-}
-
-/* Coverage of the model in `v` (its last full render) against the original's, rendered in a
- * second set of views; 0 (and no message) where the device has no depth images. */
-static int model_coverage(const lm_mesh *orig, const lm_view_set *vs, const char *device,
-                          lm_views *v, co_coverage *out)
-{
-    lm_views *ov = NULL;
-    uint8_t *om = NULL, *mm = NULL;
-    lm_status st = wk_views_local_create(orig, vs, device, &ov);
-    if (st == LM_OK)
-        st = co_coverage_masks(ov, &om);
-    if (st == LM_OK)
-        st = co_coverage_masks(v, &mm);
-    if (st == LM_OK)
-        st = co_coverage_compare(om, mm, vs->views[0].width, vs->views[0].height, vs->count, out);
-    free(om);
-    free(mm);
-    lm_views_destroy(ov);
-    lm_clear_error();
-    return st == LM_OK;
 }
 
 int co_cli_energy(int argc, char **argv)
@@ -135,22 +106,19 @@ int co_cli_energy(int argc, char **argv)
         return rc;
     lm_mesh *orig = NULL, *model = NULL;
     lm_view_set *vs = NULL;
-    lm_views *v = NULL;
     int64_t total = 0, per[LM_MAX_VIEWS];
+    co_coverage cov;
+    char renderer[128] = "";
     lm_status st = lm_mesh_load(a.original, NULL, &orig);
     if (st == LM_OK)
         st = lm_mesh_load(a.model, NULL, &model);
     if (st == LM_OK)
         st = co_view_set_around(orig, a.views, (int)a.size, a.heldout, &vs);
+    const lm_mesh *const models[1] = {model};
     if (st == LM_OK)
-        st = co_views_with_model(orig, model, vs, a.device, &v);
+        st = co_compare_energies(orig, vs, a.device, models, 1, &total, per, &cov, renderer);
     if (st == LM_OK)
-        st = v->ops->energy(v, &total, per);
-    co_coverage cov;
-    int have_cov = st == LM_OK && model_coverage(orig, vs, a.device, v, &cov);
-    if (st == LM_OK)
-        print_json(&a, v, total, per, have_cov ? &cov : NULL);
-    lm_views_destroy(v);
+        print_json(&a, vs, total, per, &cov, renderer);
     free(vs);
     lm_mesh_destroy(orig);
     lm_mesh_destroy(model);

@@ -24,10 +24,12 @@ static lm_status set_model(lm_views *views, const lm_mesh *m)
     return st;
 }
 
-/* Energy and (where depth images exist) coverage of the mesh set in v, against masks `om`. */
-static lm_status judge_model(lm_views *v, const uint8_t *om, int64_t *energy, co_coverage *cov)
+/* Energy (total and per view, which may be NULL) and, where depth images exist, coverage of the
+ * mesh set in v against the original's masks `om`. */
+static lm_status judge_model(lm_views *v, const uint8_t *om, int64_t *energy, int64_t *per_view,
+                             co_coverage *cov)
 {
-    lm_status st = v->ops->energy(v, energy, NULL);
+    lm_status st = v->ops->energy(v, energy, per_view);
     if (st != LM_OK || !cov || !om)
         return st;
     uint8_t *mm = NULL;
@@ -42,7 +44,7 @@ static lm_status judge_model(lm_views *v, const uint8_t *om, int64_t *energy, co
 
 lm_status co_compare_energies(const lm_mesh *original, const lm_view_set *views,
                               const char *device_spec, const lm_mesh *const *models, uint32_t n,
-                              int64_t *energy, co_coverage *cov, char *renderer)
+                              int64_t *energy, int64_t *per_view, co_coverage *cov, char *renderer)
 {
     lm_views *v = NULL;
     uint8_t *om = NULL;
@@ -54,7 +56,9 @@ lm_status co_compare_energies(const lm_mesh *original, const lm_view_set *views,
     for (uint32_t i = 0; st == LM_OK && i < n; i++) {
         st = set_model(v, models[i]);
         if (st == LM_OK)
-            st = judge_model(v, om, &energy[i], cov ? &cov[i] : NULL);
+            st = judge_model(v, om, &energy[i],
+                             per_view ? per_view + (size_t)i * views->count : NULL,
+                             cov ? &cov[i] : NULL);
     }
     if (st == LM_OK && renderer) {
         lm_views_info info;
@@ -89,6 +93,19 @@ lm_status co_coverage_masks(lm_views *views, uint8_t **masks)
 int co_crack_margin(int width)
 {
     return width / 128 > 2 ? width / 128 : 2;
+}
+
+void co_coverage_print_json(FILE *fp, const co_coverage *c)
+{
+    if (!c->measured) {
+        fputs("null", fp);
+        return;
+    }
+    fprintf(
+        fp,
+        "{\"original_px\": %llu, \"missing_px\": %llu, \"extra_px\": %llu, \"cracks_px\": %llu}",
+        (unsigned long long)c->original_px, (unsigned long long)c->missing_px,
+        (unsigned long long)c->extra_px, (unsigned long long)c->cracks_px);
 }
 
 /* Summed-area table of a w x h byte plane: sat is (w + 1) x (h + 1), zero first row and column. */
@@ -143,6 +160,7 @@ lm_status co_coverage_compare(const uint8_t *original, const uint8_t *model, int
         free(sat);
         return lm_fail(LM_E_NOMEM, "out of memory comparing coverage");
     }
+    out->measured = 1;
     for (uint32_t v = 0; v < views; v++) {
         const uint8_t *om = original + plane * v, *mm = model + plane * v;
         crack_plane(om, mm, w, h, co_crack_margin(w), bg, sat, bg + plane);

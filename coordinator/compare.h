@@ -6,6 +6,7 @@
 #define LM_COORDINATOR_COMPARE_H
 
 #include <stdint.h>
+#include <stdio.h>
 
 #include "common/image.h"
 #include "common/mesh.h"
@@ -16,6 +17,7 @@
 
 /* Silhouette coverage of a model against the original, summed over all views and pixels. */
 typedef struct co_coverage {
+    int measured;         /* 0 where the device has no depth images: the counts are all zero */
     uint64_t original_px; /* pixels where the original shows a surface */
     uint64_t missing_px;  /* ... and the model shows the background: holes, cracks, shrinkage */
     uint64_t extra_px;    /* the model shows a surface where the original shows background */
@@ -35,12 +37,16 @@ lm_status co_coverage_masks(lm_views *views, uint8_t **masks);
 lm_status co_coverage_compare(const uint8_t *original, const uint8_t *model, int w, int h,
                               uint32_t views, co_coverage *out);
 
-/* energy[i] = E(models[i]) against the original over `views`; cov (may be NULL) receives each
- * model's silhouette coverage (all zero where the device has no depth images); renderer (may be
- * NULL, 128 bytes) receives the renderer's description. */
+/* energy[i] = E(models[i]) against the original over `views`; per_view (may be NULL) receives
+ * model i's energy in view h at [i * views->count + h]; cov (may be NULL) each model's silhouette
+ * coverage; renderer (may be NULL, 128 bytes) the renderer's description. */
 lm_status co_compare_energies(const lm_mesh *original, const lm_view_set *views,
                               const char *device_spec, const lm_mesh *const *models, uint32_t n,
-                              int64_t *energy, co_coverage *cov, char *renderer);
+                              int64_t *energy, int64_t *per_view, co_coverage *cov, char *renderer);
+
+/* `{"original_px": ..., "missing_px": ..., "extra_px": ..., "cracks_px": ...}`, or `null` when
+ * not measured. */
+void co_coverage_print_json(FILE *fp, const co_coverage *c);
 
 /* A window of one view's image (pixels, x right, y down from the top row). */
 typedef struct co_crop {
