@@ -80,6 +80,9 @@ lm_status read_opened(OIIO::ImageInput &in, const char *name, size_t encoded, lm
     int nch = spec.nchannels < 4 ? spec.nchannels : 4;
     size_t npix = (size_t)spec.width * (size_t)spec.height;
     std::vector<uint8_t> buf(npix * (size_t)nch);
+    /* No worker threads: textures are small, and models may be read in a forked child
+     * (mesh_io_isolate.c) where the parent's thread pool does not exist. */
+    in.threads(1);
     if (!in.read_image(0, 0, 0, nch, OIIO::TypeDesc::UINT8, buf.data()))
         return lm_fail(LM_E_FORMAT, "cannot decode image %s: %s", name,
                        one_line(in.geterror()).c_str());

@@ -34,6 +34,16 @@ lm_status lm_io_guard_dae(const uint8_t *data, size_t size, const char *name);
 /* The JSON of a .gltf file or of a .glb's first chunk. */
 lm_status lm_io_guard_gltf_json(const uint8_t *json, size_t size, const char *name);
 
+/* ---- mesh_io_isolate.c: readers run in a child process ------------------------------------ */
+
+/* 1 for the formats read in a child process (their assimp readers are not fully guarded). */
+int lm_io_isolated_format(const char *ext);
+typedef lm_status (*lm_io_loader)(void *ctx, lm_mesh **out);
+/* Run load(ctx) in a forked child that writes the mesh as GLB to a private temporary folder, then
+ * read that back here with opts. A crash in the child is an LM_E_FORMAT error naming `name`. */
+lm_status lm_io_load_isolated(lm_io_loader load, void *ctx, const char *name,
+                              const lm_load_options *opts, lm_mesh **out);
+
 /* ---- mesh_io_aifs.c: the only file system assimp gets -------------------------------------- */
 
 /* Serves `main_name` from memory; with allow_disk, other names are read from regular files only

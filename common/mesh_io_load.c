@@ -1,6 +1,7 @@
 /* common/mesh_io_load.c — lm_mesh_load / lm_mesh_load_memory: read the bytes, refuse hostile input
  * assimp would mis-handle (mesh_io_guard*.c), import through assimp's C API with our own file
- * system (mesh_io_aifs.c), convert the scene (mesh_io_scene.c), validate, build adjacency.
+ * system (mesh_io_aifs.c), convert the scene (mesh_io_scene.c), validate, build adjacency; FBX
+ * and COLLADA in a child process (mesh_io_isolate.c).
  *
  * assimp runs in two steps: import with ValidateDataStructure only; then, once our own checks of
  * the raw scene pass (lm_io_check_scene: faces without indices make assimp's Triangulate abort),
@@ -63,9 +64,10 @@ static lm_status import_scene(lm_aifs *fs, const char *name, const struct aiScen
     return *out ? LM_OK : import_error(name);
 }
 
-/* Guard, import, convert, validate; `dir` is NULL for memory loads. */
-static lm_status load_bytes(const uint8_t *data, size_t size, const char *ext, const char *name,
-                            const char *dir, const lm_load_options *opts, lm_mesh **out)
+/* Guard, import, convert, validate, in this process; `dir` is NULL for memory loads. */
+static lm_status load_bytes_here(const uint8_t *data, size_t size, const char *ext,
+                                 const char *name, const char *dir, const lm_load_options *opts,
+                                 lm_mesh **out)
 {
     uint32_t max_tris = opts && opts->max_tris ? opts->max_tris : LM_MESH_MAX_TRIS;
     if (max_tris > LM_MESH_MAX_TRIS)
@@ -100,6 +102,36 @@ static lm_status load_bytes(const uint8_t *data, size_t size, const char *ext, c
     }
     *out = m;
     return LM_OK;
+}
+
+/* What a child process needs to run load_bytes_here. */
+typedef struct load_job {
+    const uint8_t *data;
+    size_t size;
+    const char *ext, *name, *dir;
+    const lm_load_options *opts;
+} load_job;
+
+static lm_status load_job_run(void *ctx, lm_mesh **out)
+{
+    const load_job *j = ctx;
+    return load_bytes_here(j->data, j->size, j->ext, j->name, j->dir, j->opts, out);
+}
+
+/* The byte guards here, then the reader here or, for the formats whose assimp reader is not
+ * fully guarded, in a child process (mesh_io_isolate.c). */
+static lm_status load_bytes(const uint8_t *data, size_t size, const char *ext, const char *name,
+                            const char *dir, const lm_load_options *opts, lm_mesh **out)
+{
+    if (!lm_io_isolated_format(ext))
+        return load_bytes_here(data, size, ext, name, dir, opts, out);
+    uint32_t max_tris = opts && opts->max_tris ? opts->max_tris : LM_MESH_MAX_TRIS;
+    lm_status s = lm_io_guard(data, size, ext, name,
+                              max_tris < LM_MESH_MAX_TRIS ? max_tris : LM_MESH_MAX_TRIS);
+    if (s)
+        return s;
+    load_job j = {data, size, ext, name, dir, opts};
+    return lm_io_load_isolated(load_job_run, &j, name, opts, out);
 }
 
 lm_status lm_mesh_load(const char *path, const lm_load_options *opts, lm_mesh **out)
