@@ -64,18 +64,20 @@ static lm_status import_scene(lm_aifs *fs, const char *name, const struct aiScen
     return *out ? LM_OK : import_error(name);
 }
 
-/* Guard, import, convert, validate, in this process; `dir` is NULL for memory loads. */
-static lm_status load_bytes_here(const uint8_t *data, size_t size, const char *ext,
-                                 const char *name, const char *dir, const lm_load_options *opts,
-                                 lm_mesh **out)
+static uint32_t max_tris_of(const lm_load_options *opts)
 {
     uint32_t max_tris = opts && opts->max_tris ? opts->max_tris : LM_MESH_MAX_TRIS;
-    if (max_tris > LM_MESH_MAX_TRIS)
-        max_tris = LM_MESH_MAX_TRIS;
-    lm_status s = lm_io_guard(data, size, ext, name, max_tris);
+    return max_tris < LM_MESH_MAX_TRIS ? max_tris : LM_MESH_MAX_TRIS;
+}
+
+/* Import, convert, validate bytes that passed lm_io_guard, in this process; `dir` is NULL for
+ * memory loads. */
+static lm_status load_bytes_here(const uint8_t *data, size_t size, const char *name,
+                                 const char *dir, const lm_load_options *opts, lm_mesh **out)
+{
+    uint32_t max_tris = max_tris_of(opts);
     lm_aifs *fs = NULL;
-    if (!s)
-        s = lm_aifs_create(name, data, size, dir != NULL, &fs);
+    lm_status s = lm_aifs_create(name, data, size, dir != NULL, &fs);
     if (s)
         return s;
     const struct aiScene *sc = NULL;
@@ -108,14 +110,14 @@ static lm_status load_bytes_here(const uint8_t *data, size_t size, const char *e
 typedef struct load_job {
     const uint8_t *data;
     size_t size;
-    const char *ext, *name, *dir;
+    const char *name, *dir;
     const lm_load_options *opts;
 } load_job;
 
 static lm_status load_job_run(void *ctx, lm_mesh **out)
 {
     const load_job *j = ctx;
-    return load_bytes_here(j->data, j->size, j->ext, j->name, j->dir, j->opts, out);
+    return load_bytes_here(j->data, j->size, j->name, j->dir, j->opts, out);
 }
 
 /* The byte guards here, then the reader here or, for the formats whose assimp reader is not
@@ -123,14 +125,12 @@ static lm_status load_job_run(void *ctx, lm_mesh **out)
 static lm_status load_bytes(const uint8_t *data, size_t size, const char *ext, const char *name,
                             const char *dir, const lm_load_options *opts, lm_mesh **out)
 {
-    if (!lm_io_isolated_format(ext))
-        return load_bytes_here(data, size, ext, name, dir, opts, out);
-    uint32_t max_tris = opts && opts->max_tris ? opts->max_tris : LM_MESH_MAX_TRIS;
-    lm_status s = lm_io_guard(data, size, ext, name,
-                              max_tris < LM_MESH_MAX_TRIS ? max_tris : LM_MESH_MAX_TRIS);
+    lm_status s = lm_io_guard(data, size, ext, name, max_tris_of(opts));
     if (s)
         return s;
-    load_job j = {data, size, ext, name, dir, opts};
+    if (!lm_io_isolated_format(ext))
+        return load_bytes_here(data, size, name, dir, opts, out);
+    load_job j = {data, size, name, dir, opts};
     return lm_io_load_isolated(load_job_run, &j, name, opts, out);
 }
 

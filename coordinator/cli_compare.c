@@ -100,8 +100,9 @@ static int parse(int argc, char **argv, compare_args *a)
     return -1;
 }
 
-static void print_json(const compare_args *a, const int64_t *energy, const co_coverage *cov,
-                       const co_crop *crop, uint64_t crop_cracks, const char *renderer)
+static void print_json(const compare_args *a, uint32_t n_views, const int64_t *energy,
+                       const co_coverage *cov, const co_crop *crop, uint64_t crop_cracks,
+                       const char *renderer)
 {
     printf("{\"models\": [");
     for (uint32_t i = 0; i < a->n_models; i++) {
@@ -111,8 +112,8 @@ static void print_json(const compare_args *a, const int64_t *energy, const co_co
         co_coverage_print_json(stdout, &cov[i]);
         printf("}");
     }
-    printf("], \"views\": %s, \"size\": %u, \"image\": ", a->heldout ? "\"heldout\"" : "null",
-           a->size);
+    printf("], \"views\": %u, \"heldout\": %s, \"size\": %u, \"image\": ", n_views,
+           a->heldout ? "true" : "false", a->size);
     co_json_string(stdout, a->output);
     if (crop)
         printf(", \"closeup\": {\"view\": %u, \"x\": %d, \"y\": %d, \"side\": %d, "
@@ -145,7 +146,7 @@ static lm_status run(const compare_args *a, const lm_mesh *orig, const lm_mesh *
         st = lm_image_write(a->output, grid);
     lm_image_destroy(grid);
     if (st == LM_OK)
-        print_json(a, energy, cov, a->closeup ? &crop : NULL, crop_cracks, renderer);
+        print_json(a, vs->count, energy, cov, a->closeup ? &crop : NULL, crop_cracks, renderer);
     return st;
 }
 
