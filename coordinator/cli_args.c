@@ -8,6 +8,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 
+#include "common/view.h"
+
 lm_status co_arg_u64(const char *cmd, const char *flag, const char *val, uint64_t lo, uint64_t hi,
                      uint64_t *out)
 {
@@ -64,6 +66,23 @@ int co_cli_fail(const char *cmd, lm_status s)
     const char *msg = lm_last_error();
     fprintf(stderr, "lumesh %s: %s\n", cmd, msg && *msg ? msg : lm_strerror(s));
     return lm_exit_code(s);
+}
+
+int co_cli_bad_option(const char *cmd, int c, char **argv)
+{
+    if (c == ':')
+        return co_cli_usage_error(cmd, "option %s needs a value (see --help)", argv[optind - 1]);
+    return co_cli_usage_error(cmd, "unknown option '%s' (see --help)", argv[optind - 1]);
+}
+
+lm_status co_arg_views(const char *cmd, const char *val, uint32_t *out)
+{
+    return co_arg_u32(cmd, "--views", val, 1, LM_MAX_VIEWS, out);
+}
+
+lm_status co_arg_size(const char *cmd, const char *val, uint32_t *out)
+{
+    return co_arg_u32(cmd, "--size", val, 16, LM_MAX_VIEW_SIZE, out);
 }
 
 void co_cli_reset_getopt(void)

@@ -17,11 +17,19 @@ lm_status co_arg_u32(const char *cmd, const char *flag, const char *val, uint32_
 lm_status co_arg_double(const char *cmd, const char *flag, const char *val, double lo, double hi,
                         double *out);
 
+/* --views N and --size PIXELS, with the same ranges in every subcommand that renders views. */
+lm_status co_arg_views(const char *cmd, const char *val, uint32_t *out);
+lm_status co_arg_size(const char *cmd, const char *val, uint32_t *out);
+
 /* Print "lumesh CMD: message" (one line) to stderr; returns 1 (the user-error exit code). */
 int co_cli_usage_error(const char *cmd, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 
 /* Print "lumesh CMD: <lm_last_error() or lm_strerror(s)>" and return lm_exit_code(s). */
 int co_cli_fail(const char *cmd, lm_status s);
+
+/* What getopt_long's ':' (a flag without its value) or '?' (an unknown flag) means for the user:
+ * one line on stderr; returns 1. */
+int co_cli_bad_option(const char *cmd, int c, char **argv);
 
 /* getopt_long state is global in libc: call before each subcommand's parse (resets optind). */
 void co_cli_reset_getopt(void);

@@ -90,9 +90,9 @@ static lm_status parse_value(int c, const char *val, demo_options *o)
     case OPT_TARGET:
         return co_arg_u32(co_cmd, "--target-verts", val, 4, LM_MESH_MAX_VERTS, &o->target_verts);
     case OPT_VIEWS:
-        return co_arg_u32(co_cmd, "--views", val, 1, LM_MAX_VIEWS, &o->views);
+        return co_arg_views(co_cmd, val, &o->views);
     case OPT_SIZE:
-        return co_arg_u32(co_cmd, "--size", val, 16, LM_MAX_VIEW_SIZE, &o->size);
+        return co_arg_size(co_cmd, val, &o->size);
     case OPT_SEED:
         return co_arg_u64(co_cmd, "--seed", val, 1, UINT64_MAX, &o->seed);
     case OPT_DEVICE:
@@ -122,9 +122,7 @@ static int parse_args(int argc, char **argv, demo_options *o)
             return -1;
         }
         if (c == '?' || c == ':')
-            return co_cli_usage_error(co_cmd, "%s '%s' (try lumesh demo --help)",
-                                      c == '?' ? "unknown option" : "missing value for",
-                                      argv[optind - 1]);
+            return co_cli_bad_option(co_cmd, c, argv);
         if (parse_value(c, optarg, o) != LM_OK)
             return 1;
     }

@@ -172,10 +172,8 @@ static int parse(int argc, char **argv, int *json, const char **spec)
         } else if (c == 'h') {
             usage(stdout);
             return 0;
-        } else if (c == ':') {
-            return co_cli_usage_error(CMD, "option %s needs a value", argv[optind - 1]);
         } else {
-            return co_cli_usage_error(CMD, "unknown option '%s' (see --help)", argv[optind - 1]);
+            return co_cli_bad_option(CMD, c, argv);
         }
     }
     if (optind < argc)

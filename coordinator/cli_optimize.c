@@ -119,11 +119,11 @@ static lm_status parse_value(int c, const char *val, co_job_options *o)
     case OPT_TARGET:
         return co_arg_u32(co_cmd, "--target-verts", val, 4, LM_MESH_MAX_VERTS, &o->target_verts);
     case OPT_VIEWS:
-        st = co_arg_u32(co_cmd, "--views", val, 1, LM_MAX_VIEWS, &views);
+        st = co_arg_views(co_cmd, val, &views);
         o->views = views;
         break;
     case OPT_SIZE:
-        st = co_arg_u32(co_cmd, "--size", val, 16, LM_MAX_VIEW_SIZE, &size);
+        st = co_arg_size(co_cmd, val, &size);
         o->size = (int)size;
         break;
     case OPT_EVALS:
@@ -166,11 +166,8 @@ static int parse_args(int argc, char **argv, co_job_options *o)
                    CO_JOB_DEFAULT_CHECKPOINT_S);
             return -1;
         }
-        if (c == '?' || c == ':') {
-            const char *arg = argv[optind - 1];
-            return co_cli_usage_error(co_cmd, "%s '%s' (try lumesh optimize --help)",
-                                      c == '?' ? "unknown option" : "missing value for", arg);
-        }
+        if (c == '?' || c == ':')
+            return co_cli_bad_option(co_cmd, c, argv);
         if (c == OPT_JSON)
             o->json = 1;
         else if (parse_value(c, optarg, o) != LM_OK)

@@ -45,9 +45,9 @@ static int parse_option(int c, char **argv, render_args *a)
         a->dir = optarg;
         return -1;
     case 'v':
-        return co_arg_u32(CMD, "--views", optarg, 1, LM_MAX_VIEWS, &a->views) ? 1 : -1;
+        return co_arg_views(CMD, optarg, &a->views) ? 1 : -1;
     case 's':
-        return co_arg_u32(CMD, "--size", optarg, 16, LM_MAX_VIEW_SIZE, &a->size) ? 1 : -1;
+        return co_arg_size(CMD, optarg, &a->size) ? 1 : -1;
     case 'a':
         a->against = optarg;
         return -1;
@@ -57,10 +57,8 @@ static int parse_option(int c, char **argv, render_args *a)
     case 'h':
         usage(stdout);
         return 0;
-    case ':':
-        return co_cli_usage_error(CMD, "option %s needs a value", argv[optind - 1]);
     default:
-        return co_cli_usage_error(CMD, "unknown option '%s' (see --help)", argv[optind - 1]);
+        return co_cli_bad_option(CMD, c, argv);
     }
 }
 

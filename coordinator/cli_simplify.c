@@ -61,10 +61,8 @@ static int parse_option(int c, char **argv, simplify_args *a)
     case 'h':
         usage(stdout);
         return 0;
-    case ':':
-        return co_cli_usage_error(CMD, "option %s needs a value", argv[optind - 1]);
     default:
-        return co_cli_usage_error(CMD, "unknown option '%s' (see --help)", argv[optind - 1]);
+        return co_cli_bad_option(CMD, c, argv);
     }
 }
 
