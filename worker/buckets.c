@@ -105,8 +105,9 @@ int wk_footprint_overlaps(const wk_footprint *f, const wk_rect *r)
 {
     if (wk_rect_empty(&f->rect) || wk_rect_empty(r) || !rects_overlap(&f->rect, r))
         return 0;
-    if (!f->projected)
-        return 1;
+    if (!f->projected || (f->rect.x0 >= r->x0 && f->rect.y0 >= r->y0 && f->rect.x1 <= r->x1 &&
+                          f->rect.y1 <= r->y1))
+        return 1; /* every pixel it may touch lies in r */
     const float(*w)[2] = f->win;
     float area =
         (w[1][0] - w[0][0]) * (w[2][1] - w[0][1]) - (w[1][1] - w[0][1]) * (w[2][0] - w[0][0]);

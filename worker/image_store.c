@@ -14,7 +14,13 @@ struct wk_image_store {
     uint8_t *current;
     int64_t *energy; /* [n_views] */
     float *depth;    /* [n_views * plane] or NULL */
+    float *depth_max; /* [n_views * tiles] the greatest depth of each DEPTH_TILE² tile, or NULL */
+    int tiles_w, tiles_h;
 };
+
+/* Side of the tiles whose greatest depth is kept: a footprint's rows whose tiles all lie nearer
+ * than its nearest corner are hidden without looking at their pixels. */
+#define DEPTH_TILE 8
 
 void wk_luma_from_rgba(const uint8_t *rgba, size_t n_pixels, uint8_t *out)
 {
@@ -53,6 +59,7 @@ void wk_image_store_destroy(wk_image_store *s)
     free(s->current);
     free(s->energy);
     free(s->depth);
+    free(s->depth_max);
     free(s);
 }
 
@@ -181,12 +188,52 @@ lm_status wk_image_store_enable_depth(wk_image_store *s)
 {
     if (s->depth)
         return LM_OK;
+    s->tiles_w = (s->width + DEPTH_TILE - 1) / DEPTH_TILE;
+    s->tiles_h = (s->height + DEPTH_TILE - 1) / DEPTH_TILE;
+    size_t tiles = (size_t)s->tiles_w * (size_t)s->tiles_h;
     s->depth = malloc(s->n_views * s->plane * sizeof *s->depth);
-    if (!s->depth)
+    s->depth_max = malloc(s->n_views * tiles * sizeof *s->depth_max);
+    if (!s->depth || !s->depth_max) {
+        free(s->depth);
+        free(s->depth_max);
+        s->depth = s->depth_max = NULL;
         return lm_fail(LM_E_NOMEM, "out of memory for %u depth images", s->n_views);
+    }
     for (size_t i = 0; i < s->n_views * s->plane; i++)
         s->depth[i] = 1.0f;
+    for (size_t i = 0; i < s->n_views * tiles; i++)
+        s->depth_max[i] = 1.0f;
     return LM_OK;
+}
+
+/* Recompute the tile maxima of view over the tiles that r touches. */
+static void depth_max_update(wk_image_store *s, uint32_t view, const wk_rect *r)
+{
+    const float *z = s->depth + view * s->plane;
+    float *t = s->depth_max + view * (size_t)s->tiles_w * s->tiles_h;
+    for (int ty = r->y0 / DEPTH_TILE; ty * DEPTH_TILE < r->y1; ty++) {
+        int y1 = (ty + 1) * DEPTH_TILE < s->height ? (ty + 1) * DEPTH_TILE : s->height;
+        for (int tx = r->x0 / DEPTH_TILE; tx * DEPTH_TILE < r->x1; tx++) {
+            int x1 = (tx + 1) * DEPTH_TILE < s->width ? (tx + 1) * DEPTH_TILE : s->width;
+            float m = -INFINITY;
+            for (int y = ty * DEPTH_TILE; y < y1; y++)
+                for (int x = tx * DEPTH_TILE; x < x1; x++)
+                    m = z[(size_t)y * s->width + x] > m ? z[(size_t)y * s->width + x] : m;
+            t[(size_t)ty * s->tiles_w + tx] = m;
+        }
+    }
+}
+
+/* Whether every pixel of view in rows [ty * DEPTH_TILE, ...) of tile row ty and columns x0..x1-1
+ * is nearer than limit, by the tile maxima. */
+static int depth_tiles_below(const wk_image_store *s, uint32_t view, int ty, int x0, int x1,
+                             float limit)
+{
+    const float *t = s->depth_max + (view * (size_t)s->tiles_h + ty) * s->tiles_w;
+    for (int tx = x0 / DEPTH_TILE; tx * DEPTH_TILE < x1; tx++)
+        if (!(t[tx] < limit))
+            return 0;
+    return 1;
 }
 
 int wk_image_store_has_depth(const wk_image_store *s)
@@ -198,6 +245,8 @@ void wk_image_store_set_depth(wk_image_store *s, uint32_t view, const float *z)
 {
     LM_ASSERT(view < s->n_views && s->depth);
     memcpy(s->depth + view * s->plane, z, s->plane * sizeof *z);
+    const wk_rect whole = {0, 0, s->width, s->height};
+    depth_max_update(s, view, &whole);
 }
 
 void wk_image_store_commit_depth(wk_image_store *s, uint32_t view, const wk_rect *r,
@@ -209,6 +258,8 @@ void wk_image_store_commit_depth(wk_image_store *s, uint32_t view, const wk_rect
     for (int y = r->y0; y < r->y1; y++)
         memcpy(s->depth + view * s->plane + (size_t)y * s->width + r->x0,
                region + (size_t)(y - r->y0) * rw, (size_t)rw * sizeof *region);
+    if (!wk_rect_empty(r))
+        depth_max_update(s, view, r);
 }
 
 int wk_image_store_hidden(const wk_image_store *s, uint32_t view, const wk_rect *r, float zmin,
@@ -219,6 +270,13 @@ int wk_image_store_hidden(const wk_image_store *s, uint32_t view, const wk_rect 
         return 0;
     float limit = zmin - eps;
     for (int y = r->y0; y < r->y1; y++) {
+        if (y == r->y0 || y % DEPTH_TILE == 0) {
+            int next = (y / DEPTH_TILE + 1) * DEPTH_TILE;
+            if (depth_tiles_below(s, view, y / DEPTH_TILE, r->x0, r->x1, limit)) {
+                y = (next < r->y1 ? next : r->y1) - 1;
+                continue;
+            }
+        }
         const float *row = s->depth + view * s->plane + (size_t)y * s->width;
         for (int x = r->x0; x < r->x1; x++)
             if (!(row[x] < limit))
@@ -307,9 +365,20 @@ int wk_image_store_hidden_tri_in(const wk_image_store *s, uint32_t view, const w
         return wk_image_store_hidden(s, view, r, f->zmin, eps);
     float sg = area > 0 ? 1.0f : -1.0f, limit = f->zmin - eps;
     edge_bound e[3];
-    for (int k = 0; k < 3; k++)
-        e[k] = edge_bound_make(w[k], w[(k + 1) % 3], sg);
+    int edges = 0; /* set up on the first rows that need them */
     for (int y = r->y0; y < r->y1; y++) {
+        if (y == r->y0 || y % DEPTH_TILE == 0) {
+            int ty = y / DEPTH_TILE, next = (ty + 1) * DEPTH_TILE;
+            if (depth_tiles_below(s, view, ty, r->x0, r->x1, limit)) {
+                y = (next < r->y1 ? next : r->y1) - 1; /* all of these rows lie in front */
+                continue;
+            }
+        }
+        if (!edges) {
+            for (int k = 0; k < 3; k++)
+                e[k] = edge_bound_make(w[k], w[(k + 1) % 3], sg);
+            edges = 1;
+        }
         int lo = r->x0, hi = r->x1 - 1;
         for (int k = 0; k < 3 && lo <= hi; k++)
             edge_span(&e[k], y, &lo, &hi);
