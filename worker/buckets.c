@@ -89,16 +89,13 @@ static int rects_overlap(const wk_rect *a, const wk_rect *b)
     return a->x0 < b->x1 && b->x0 < a->x1 && a->y0 < b->y1 && b->y0 < a->y1;
 }
 
-/* Some corner of [x0,x1]x[y0,y1] is not strictly outside edge a->b (whose inside has sign s). */
+/* Some corner of [x0,x1]x[y0,y1] is not strictly outside edge a->b (whose inside has sign s): the
+ * edge function is linear, so the corner furthest inside decides. */
 static int edge_admits(const float *a, const float *b, float s, const float box[4])
 {
     float ex = b[0] - a[0], ey = b[1] - a[1];
-    for (int c = 0; c < 4; c++) {
-        float px = box[c & 1 ? 2 : 0] - a[0], py = box[c & 2 ? 3 : 1] - a[1];
-        if ((ex * py - ey * px) * s >= 0.0f)
-            return 1;
-    }
-    return 0;
+    float px = box[-ey * s >= 0.0f ? 2 : 0] - a[0], py = box[ex * s >= 0.0f ? 3 : 1] - a[1];
+    return (ex * py - ey * px) * s >= 0.0f;
 }
 
 int wk_footprint_overlaps(const wk_footprint *f, const wk_rect *r)
