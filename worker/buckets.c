@@ -102,8 +102,8 @@ int wk_footprint_overlaps(const wk_footprint *f, const wk_rect *r)
 {
     if (wk_rect_empty(&f->rect) || wk_rect_empty(r) || !rects_overlap(&f->rect, r))
         return 0;
-    if (!f->projected || (f->rect.x0 >= r->x0 && f->rect.y0 >= r->y0 && f->rect.x1 <= r->x1 &&
-                          f->rect.y1 <= r->y1))
+    if (!f->projected ||
+        (f->rect.x0 >= r->x0 && f->rect.y0 >= r->y0 && f->rect.x1 <= r->x1 && f->rect.y1 <= r->y1))
         return 1; /* every pixel it may touch lies in r */
     const float(*w)[2] = f->win;
     float area =

@@ -12,8 +12,8 @@ struct wk_image_store {
     size_t plane; /* width * height */
     uint8_t *target;
     uint8_t *current;
-    int64_t *energy; /* [n_views] */
-    float *depth;    /* [n_views * plane] or NULL */
+    int64_t *energy;  /* [n_views] */
+    float *depth;     /* [n_views * plane] or NULL */
     float *depth_max; /* [n_views * tiles] the greatest depth of each DEPTH_TILE² tile, or NULL */
     int tiles_w, tiles_h;
 };
