@@ -216,10 +216,14 @@ static void depth_max_update(wk_image_store *s, uint32_t view, const wk_rect *r)
         for (int tx = r->x0 / DEPTH_TILE; tx * DEPTH_TILE < r->x1; tx++) {
             int x1 = (tx + 1) * DEPTH_TILE < s->width ? (tx + 1) * DEPTH_TILE : s->width;
             float m = -INFINITY;
+            int nan = 0;
             for (int y = ty * DEPTH_TILE; y < y1; y++)
-                for (int x = tx * DEPTH_TILE; x < x1; x++)
-                    m = z[(size_t)y * s->width + x] > m ? z[(size_t)y * s->width + x] : m;
-            t[(size_t)ty * s->tiles_w + tx] = m;
+                for (int x = tx * DEPTH_TILE; x < x1; x++) {
+                    float v = z[(size_t)y * s->width + x];
+                    m = v > m ? v : m;
+                    nan |= v != v;
+                }
+            t[(size_t)ty * s->tiles_w + tx] = nan ? INFINITY : m; /* NaN is never "in front" */
         }
     }
 }

@@ -1,7 +1,7 @@
 /* tests/unit/test_view_buckets.c — the GL-free parts of rendering: view sets (uniform
  * directions, framing, held-out views distinct, up vector at the poles), triangle footprints and
- * bucket queries against brute force, and the image store's exact sums (region ΔE, commits, the
- * oracle's box blur). */
+ * bucket queries against brute force, the image store's exact sums (region ΔE, commits, the
+ * oracle's box blur) and its "certainly hidden" tests (whose tile maxima follow every commit). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -189,6 +189,64 @@ static void fill(uint8_t *p, size_t n)
         p[i] = (uint8_t)(urand() * 256);
 }
 
+static int brute_hidden(const float *z, int w, const wk_rect *r, float limit)
+{
+    for (int y = r->y0; y < r->y1; y++)
+        for (int x = r->x0; x < r->x1; x++)
+            if (!(z[y * w + x] < limit))
+                return 0;
+    return 1;
+}
+
+static wk_rect random_rect(int w, int h)
+{
+    wk_rect r;
+    r.x0 = (int)(urand() * w);
+    r.y0 = (int)(urand() * h);
+    r.x1 = r.x0 + 1 + (int)(urand() * (w - r.x0));
+    r.y1 = r.y0 + 1 + (int)(urand() * (h - r.y0));
+    return r;
+}
+
+/* The hidden tests skip rows by tile maxima of the depth images: after any sequence of whole and
+ * region updates (NaN included) they still answer exactly as a scan of every pixel. */
+static void test_hidden_tiles(void **state)
+{
+    (void)state;
+    enum { W = 45, H = 37 }; /* not multiples of the tile side */
+    wk_image_store *s;
+    assert_int_equal(wk_image_store_create(2, W, H, &s), LM_OK);
+    assert_int_equal(wk_image_store_enable_depth(s), LM_OK);
+    static float z[W * H], region[W * H];
+    for (int i = 0; i < W * H; i++)
+        z[i] = 0.2f + 0.3f * (float)urand();
+    wk_image_store_set_depth(s, 1, z);
+    int agreed_hidden = 0;
+    for (int it = 0; it < 4000; it++) {
+        if (it % 7 == 0) { /* a commit: a region gets new depths, sometimes far or NaN */
+            wk_rect r = random_rect(W, H);
+            int rw = r.x1 - r.x0;
+            for (int y = r.y0; y < r.y1; y++)
+                for (int x = r.x0; x < r.x1; x++) {
+                    double u = urand();
+                    float v = u < 0.02 ? NAN : u < 0.1 ? 1.0f : 0.2f + 0.3f * (float)urand();
+                    region[(y - r.y0) * rw + (x - r.x0)] = v;
+                    z[y * W + x] = v;
+                }
+            wk_image_store_commit_depth(s, 1, &r, region);
+        }
+        wk_rect q = random_rect(W, H);
+        float zmin = 0.3f + 0.7f * (float)urand(), eps = 1e-5f;
+        int want = brute_hidden(z, W, &q, zmin - eps);
+        assert_int_equal(wk_image_store_hidden(s, 1, &q, zmin, eps), want);
+        wk_footprint f = {.rect = q, .projected = 0, .zmin = zmin};
+        assert_int_equal(wk_image_store_hidden_tri(s, 1, &f, eps), want);
+        agreed_hidden += want;
+    }
+    assert_true(agreed_hidden > 100); /* both answers occur */
+    wk_image_store_destroy(s);
+}
+
 static void test_image_store_sums(void **state)
 {
     (void)state;
@@ -245,6 +303,7 @@ int main(void)
         cmocka_unit_test(test_buckets_brute_force),
         cmocka_unit_test(test_footprint_conservative),
         cmocka_unit_test(test_image_store_sums),
+        cmocka_unit_test(test_hidden_tiles),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
