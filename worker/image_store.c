@@ -228,16 +228,20 @@ static void depth_max_update(wk_image_store *s, uint32_t view, const wk_rect *r)
     }
 }
 
-/* Whether every pixel of view in rows [ty * DEPTH_TILE, ...) of tile row ty and columns x0..x1-1
- * is nearer than limit, by the tile maxima. */
-static int depth_tiles_below(const wk_image_store *s, uint32_t view, int ty, int x0, int x1,
-                             float limit)
+/* At row y of r (its first row or the first of a tile row): the last row of y's tile row within
+ * r when every pixel there lies nearer than limit by the tile maxima (those rows are hidden),
+ * else y - 1. */
+static int rows_in_front(const wk_image_store *s, uint32_t view, const wk_rect *r, int y,
+                         float limit)
 {
+    if (y != r->y0 && y % DEPTH_TILE != 0)
+        return y - 1;
+    int ty = y / DEPTH_TILE, next = (ty + 1) * DEPTH_TILE;
     const float *t = s->depth_max + (view * (size_t)s->tiles_h + ty) * s->tiles_w;
-    for (int tx = x0 / DEPTH_TILE; tx * DEPTH_TILE < x1; tx++)
+    for (int tx = r->x0 / DEPTH_TILE; tx * DEPTH_TILE < r->x1; tx++)
         if (!(t[tx] < limit))
-            return 0;
-    return 1;
+            return y - 1;
+    return (next < r->y1 ? next : r->y1) - 1;
 }
 
 int wk_image_store_has_depth(const wk_image_store *s)
@@ -274,12 +278,10 @@ int wk_image_store_hidden(const wk_image_store *s, uint32_t view, const wk_rect 
         return 0;
     float limit = zmin - eps;
     for (int y = r->y0; y < r->y1; y++) {
-        if (y == r->y0 || y % DEPTH_TILE == 0) {
-            int next = (y / DEPTH_TILE + 1) * DEPTH_TILE;
-            if (depth_tiles_below(s, view, y / DEPTH_TILE, r->x0, r->x1, limit)) {
-                y = (next < r->y1 ? next : r->y1) - 1;
-                continue;
-            }
+        int last = rows_in_front(s, view, r, y, limit);
+        if (last >= y) {
+            y = last; /* rows y..last are hidden */
+            continue;
         }
         const float *row = s->depth + view * s->plane + (size_t)y * s->width;
         for (int x = r->x0; x < r->x1; x++)
@@ -371,12 +373,10 @@ int wk_image_store_hidden_tri_in(const wk_image_store *s, uint32_t view, const w
     edge_bound e[3];
     int edges = 0; /* set up on the first rows that need them */
     for (int y = r->y0; y < r->y1; y++) {
-        if (y == r->y0 || y % DEPTH_TILE == 0) {
-            int ty = y / DEPTH_TILE, next = (ty + 1) * DEPTH_TILE;
-            if (depth_tiles_below(s, view, ty, r->x0, r->x1, limit)) {
-                y = (next < r->y1 ? next : r->y1) - 1; /* all of these rows lie in front */
-                continue;
-            }
+        int last = rows_in_front(s, view, r, y, limit);
+        if (last >= y) {
+            y = last; /* rows y..last are hidden */
+            continue;
         }
         if (!edges) {
             for (int k = 0; k < 3; k++)
