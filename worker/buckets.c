@@ -61,15 +61,19 @@ void wk_tri_footprint(const lm_view *v, const lm_tri_data *t, wk_footprint *out)
     float lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
     out->projected = 0;
     out->zmin = INFINITY;
+    out->zmax = -INFINITY;
     for (int k = 0; k < 3; k++) {
-        float *win = out->win[k], w;
-        if (!lm_view_project(v, t->c[k].pos, win, &w) || !isfinite(win[0]) || !isfinite(win[1])) {
+        float *win = out->win[k], w, z = NAN;
+        if (lm_view_project(v, t->c[k].pos, win, &w))
+            z = window_depth(v, t->c[k].pos, w);
+        if (!isfinite(z) || !isfinite(win[0]) || !isfinite(win[1])) {
             out->rect = (wk_rect){0, 0, v->width, v->height};
             out->zmin = -INFINITY;
+            out->zmax = INFINITY;
             return;
         }
-        float z = window_depth(v, t->c[k].pos, w);
         out->zmin = z < out->zmin ? z : out->zmin;
+        out->zmax = z > out->zmax ? z : out->zmax;
         for (int a = 0; a < 2; a++) {
             lo[a] = win[a] < lo[a] ? win[a] : lo[a];
             hi[a] = win[a] > hi[a] ? win[a] : hi[a];

@@ -39,7 +39,8 @@ typedef struct wk_footprint {
     wk_rect rect;
     int projected; /* win and zmin hold the corners' window coordinates */
     float win[3][2];
-    float zmin; /* least window depth of the corners (0 near .. 1 far) */
+    float zmin; /* least window depth of the corners (0 near .. 1 far; -inf if not projected) */
+    float zmax; /* greatest window depth of the corners (+inf when not projected) */
 } wk_footprint;
 
 void wk_tri_footprint(const lm_view *v, const lm_tri_data *t, wk_footprint *out);

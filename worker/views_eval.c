@@ -50,6 +50,22 @@ static void sort_added(lm_tri_data *a, size_t n)
     }
 }
 
+/* v->cover_patch for patch p (whose removed ids are alive). */
+static lm_status check_boundary(wk_views_local *v, const lm_patch *p)
+{
+    if (p->n_removed > v->cap_removed_tris) {
+        const lm_tri_data **a = realloc(v->removed_tris, p->n_removed * sizeof *a);
+        if (!a)
+            return lm_fail(LM_E_NOMEM, "out of memory for a patch of %u triangles", p->n_removed);
+        v->removed_tris = a;
+        v->cap_removed_tris = p->n_removed;
+    }
+    for (uint32_t i = 0; i < p->n_removed; i++)
+        v->removed_tris[i] = &v->rep.tris[p->removed[i]];
+    return wk_cover_patch_prepare(&v->cover_patch, v->removed_tris, p->n_removed, p->added,
+                                  p->n_added);
+}
+
 /* Validates p against the replica, marks its removed ids with a fresh stamp and leaves its added
  * records sorted by id in v->sorted_added. */
 static lm_status prepare_patch(wk_views_local *v, const lm_patch *p, uint32_t *stamp)
@@ -93,7 +109,7 @@ static lm_status prepare_patch(wk_views_local *v, const lm_patch *p, uint32_t *s
                            i > 0 && v->sorted_added[i - 1].id == id ? "listed twice"
                                                                     : "alive and not removed");
     }
-    return LM_OK;
+    return v->occlusion ? check_boundary(v, p) : LM_OK;
 }
 
 /* ---- jobs ------------------------------------------------------------------------------- */
@@ -156,9 +172,17 @@ static lm_status patch_region(wk_views_local *v, const lm_patch *p, uint32_t h, 
         v->cap_visible = p->n_removed;
     }
     uint32_t n_vis = 0;
+    lm_status st = v->occlusion
+                       ? wk_cover_begin(&v->cover, &v->cover_patch,
+                                        (size_t)p->n_removed + p->n_added, v->width, v->height)
+                       : LM_OK;
+    if (st != LM_OK)
+        return st;
     for (uint32_t i = 0; i < p->n_removed; i++) {
         const wk_footprint *f = wk_buckets_footprint(v->buckets[h], p->removed[i]);
         if (v->occlusion) {
+            if (!v->cover_patch.twin[i])
+                wk_cover_feed(&v->cover, f, 0);
             if (wk_image_store_hidden_tri(v->img, h, f, WK_HIDDEN_EPS))
                 continue;
             v->visible[n_vis++] = f->rect;
@@ -168,6 +192,8 @@ static lm_status patch_region(wk_views_local *v, const lm_patch *p, uint32_t h, 
     for (uint32_t i = 0; i < p->n_added; i++) {
         wk_footprint f;
         wk_tri_footprint(&v->views.views[h], &p->added[i], &f);
+        if (v->occlusion && !v->cover_patch.twin[p->n_removed + i])
+            wk_cover_feed(&v->cover, &f, 1);
         if (v->occlusion && wk_image_store_hidden_tri(v->img, h, &f, WK_HIDDEN_EPS)) {
             uint32_t k = 0;
             while (k < n_vis && !rects_meet(&v->visible[k], &f.rect))
@@ -182,16 +208,25 @@ static lm_status patch_region(wk_views_local *v, const lm_patch *p, uint32_t h, 
 }
 
 /* Whether kept triangle id can be left out of the redraw of region r in view h: it is certainly
- * hidden in r behind the current surface, and that surface is redrawn unchanged because no visible
- * removed triangle (the first n_vis of v->visible) meets it. Its fragments are then deeper than
- * the redrawn ones at every pixel of r, so it changes no pixel. */
+ * hidden in r behind the current surface, and where that surface changes the new one stays in
+ * front of it: either no visible removed triangle (the first n_vis of v->visible) meets it, or
+ * the added triangles cover the removed ones' pixels nearer than it (v->cover). Where the surface
+ * is kept it is redrawn unchanged. Its fragments are then deeper than the redrawn ones at every
+ * pixel of r, so it changes no pixel. */
 static int occluded_in_region(const wk_views_local *v, uint32_t h, uint32_t id, const wk_rect *r,
                               uint32_t n_vis)
 {
     const wk_footprint *f = wk_buckets_footprint(v->buckets[h], id);
-    for (uint32_t k = 0; k < n_vis; k++)
-        if (rects_meet(&v->visible[k], &f->rect))
+    uint32_t k = 0;
+    while (k < n_vis && !rects_meet(&v->visible[k], &f->rect))
+        k++;
+    if (k < n_vis) {
+        wk_rect in = {
+            f->rect.x0 > r->x0 ? f->rect.x0 : r->x0, f->rect.y0 > r->y0 ? f->rect.y0 : r->y0,
+            f->rect.x1 < r->x1 ? f->rect.x1 : r->x1, f->rect.y1 < r->y1 ? f->rect.y1 : r->y1};
+        if (!wk_cover_front_of(&v->cover, &in, f->zmin - WK_HIDDEN_EPS))
             return 0;
+    }
     return wk_image_store_hidden_tri_in(v->img, h, f, r, WK_HIDDEN_EPS);
 }
 
@@ -339,6 +374,9 @@ void wk_vl_free_eval(wk_views_local *v)
     free(v->mark);
     free(v->sorted_added);
     free(v->visible);
+    free(v->removed_tris);
+    wk_cover_patch_free(&v->cover_patch);
+    wk_cover_free(&v->cover);
 }
 
 static lm_status cache_patch(wk_views_local *v, const lm_patch *p)

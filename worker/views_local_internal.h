@@ -4,6 +4,7 @@
 #define LM_WORKER_VIEWS_LOCAL_INTERNAL_H
 
 #include "worker/buckets.h"
+#include "worker/cover.h"
 #include "worker/gl_context.h"
 #include "worker/image_store.h"
 #include "worker/render.h"
@@ -59,6 +60,10 @@ typedef struct wk_views_local {
     size_t cap_sorted;
     wk_rect *visible; /* rectangles of a patch's visible removed triangles in one view */
     uint32_t cap_visible;
+    const lm_tri_data **removed_tris; /* the records a patch removes */
+    uint32_t cap_removed_tris;
+    wk_cover_patch cover_patch; /* of the patch being planned */
+    wk_cover cover;             /* of that patch in the view being planned */
     /* regions to clear in one scratch atlas */
     uint32_t region_views[LM_MAX_VIEWS];
     wk_rect region_rects[LM_MAX_VIEWS];
