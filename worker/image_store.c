@@ -16,6 +16,7 @@ struct wk_image_store {
     float *depth;     /* [n_views * plane] or NULL */
     float *depth_max; /* [n_views * tiles] the greatest depth of each DEPTH_TILE² tile, or NULL */
     int tiles_w, tiles_h;
+    uint32_t *depth_version; /* [n_views] changes whenever the view's depth image does */
 };
 
 /* Side of the tiles whose greatest depth is kept: a footprint's rows whose tiles all lie nearer
@@ -60,6 +61,7 @@ void wk_image_store_destroy(wk_image_store *s)
     free(s->energy);
     free(s->depth);
     free(s->depth_max);
+    free(s->depth_version);
     free(s);
 }
 
@@ -193,10 +195,13 @@ lm_status wk_image_store_enable_depth(wk_image_store *s)
     size_t tiles = (size_t)s->tiles_w * (size_t)s->tiles_h;
     s->depth = malloc(s->n_views * s->plane * sizeof *s->depth);
     s->depth_max = malloc(s->n_views * tiles * sizeof *s->depth_max);
-    if (!s->depth || !s->depth_max) {
+    s->depth_version = calloc(s->n_views, sizeof *s->depth_version);
+    if (!s->depth || !s->depth_max || !s->depth_version) {
         free(s->depth);
         free(s->depth_max);
+        free(s->depth_version);
         s->depth = s->depth_max = NULL;
+        s->depth_version = NULL;
         return lm_fail(LM_E_NOMEM, "out of memory for %u depth images", s->n_views);
     }
     for (size_t i = 0; i < s->n_views * s->plane; i++)
@@ -211,6 +216,7 @@ static void depth_max_update(wk_image_store *s, uint32_t view, const wk_rect *r)
 {
     const float *z = s->depth + view * s->plane;
     float *t = s->depth_max + view * (size_t)s->tiles_w * s->tiles_h;
+    s->depth_version[view]++;
     for (int ty = r->y0 / DEPTH_TILE; ty * DEPTH_TILE < r->y1; ty++) {
         int y1 = (ty + 1) * DEPTH_TILE < s->height ? (ty + 1) * DEPTH_TILE : s->height;
         for (int tx = r->x0 / DEPTH_TILE; tx * DEPTH_TILE < r->x1; tx++) {
@@ -268,6 +274,12 @@ void wk_image_store_commit_depth(wk_image_store *s, uint32_t view, const wk_rect
                region + (size_t)(y - r->y0) * rw, (size_t)rw * sizeof *region);
     if (!wk_rect_empty(r))
         depth_max_update(s, view, r);
+}
+
+uint32_t wk_image_store_depth_version(const wk_image_store *s, uint32_t view)
+{
+    LM_ASSERT(view < s->n_views);
+    return s->depth_version ? s->depth_version[view] : 0;
 }
 
 int wk_image_store_hidden(const wk_image_store *s, uint32_t view, const wk_rect *r, float zmin,

@@ -44,6 +44,10 @@ void wk_image_store_commit_region(wk_image_store *s, uint32_t view, const wk_rec
 int64_t wk_image_store_energy(const wk_image_store *s, uint32_t view);
 int64_t wk_image_store_energy_recompute(const wk_image_store *s, uint32_t view);
 
+/* A counter that changes whenever the depth image of view does (0 without depth images): results
+ * of the hidden tests below stay true while it stays the same. */
+uint32_t wk_image_store_depth_version(const wk_image_store *s, uint32_t view);
+
 /* Depth images (optional): per view the window depth of the visible surface (1 where background),
  * kept alongside the current images to skip views where a change is certainly hidden. */
 lm_status wk_image_store_enable_depth(wk_image_store *s);

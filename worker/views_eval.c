@@ -10,6 +10,10 @@
 
 #include "worker/views_local_internal.h"
 
+/* Change this far behind the visible surface is certainly hidden (window depth units; a 24-bit
+ * depth step is 6e-8). */
+#define WK_HIDDEN_EPS 1e-5f
+
 /* ---- patch checks and the per-patch id marks ---------------------------------------------- */
 
 static lm_status mark_reserve(wk_views_local *v, size_t need)
@@ -26,6 +30,44 @@ static lm_status mark_reserve(wk_views_local *v, size_t need)
     v->mark = m;
     v->cap_mark = cap;
     return LM_OK;
+}
+
+/* The whole-footprint hidden memo for ids below need (forgotten when it grows). */
+static lm_status hidden_reserve(wk_views_local *v, size_t need)
+{
+    if (need <= v->cap_hidden)
+        return LM_OK;
+    size_t cap = v->cap_hidden ? v->cap_hidden : 1024;
+    while (cap < need)
+        cap *= 2;
+    wk_hidden_memo *m = calloc((size_t)v->views.count * cap, sizeof *m);
+    if (!m)
+        return lm_fail(LM_E_NOMEM, "out of memory for %zu hidden-test memos", cap);
+    free(v->hidden);
+    v->hidden = m;
+    v->cap_hidden = cap;
+    return LM_OK;
+}
+
+/* Whether alive triangle id (footprint f) is certainly hidden in view h, remembered until the
+ * view's depth image or the triangle changes. */
+static int hidden_whole(wk_views_local *v, uint32_t h, uint32_t id, const wk_footprint *f)
+{
+    wk_hidden_memo *m = &v->hidden[(size_t)h * v->cap_hidden + id];
+    uint32_t version = wk_image_store_depth_version(v->img, h);
+    if (!m->known || m->version != version) {
+        m->hidden = (uint8_t)wk_image_store_hidden_tri(v->img, h, f, WK_HIDDEN_EPS);
+        m->version = version;
+        m->known = 1;
+    }
+    return m->hidden;
+}
+
+static void hidden_forget(wk_views_local *v, uint32_t id)
+{
+    if (id < v->cap_hidden)
+        for (uint32_t h = 0; h < v->views.count; h++)
+            v->hidden[(size_t)h * v->cap_hidden + id].known = 0;
 }
 
 static uint32_t next_stamp(wk_views_local *v)
@@ -82,6 +124,8 @@ static lm_status prepare_patch(wk_views_local *v, const lm_patch *p, uint32_t *s
         need = p->added[i].id + 1u > need ? p->added[i].id + 1u : need;
     }
     lm_status st = mark_reserve(v, need);
+    if (st == LM_OK && v->occlusion)
+        st = hidden_reserve(v, need);
     if (st != LM_OK)
         return st;
     *stamp = next_stamp(v);
@@ -147,10 +191,6 @@ static int cmp_u32(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
-/* Change this far behind the visible surface is certainly hidden (window depth units; a 24-bit
- * depth step is 6e-8). */
-#define WK_HIDDEN_EPS 1e-5f
-
 static int rects_meet(const wk_rect *a, const wk_rect *b)
 {
     return a->x0 < b->x1 && b->x0 < a->x1 && a->y0 < b->y1 && b->y0 < a->y1;
@@ -183,7 +223,7 @@ static lm_status patch_region(wk_views_local *v, const lm_patch *p, uint32_t h, 
         if (v->occlusion) {
             if (!v->cover_patch.twin[i])
                 wk_cover_feed(&v->cover, f, 0);
-            if (wk_image_store_hidden_tri(v->img, h, f, WK_HIDDEN_EPS))
+            if (hidden_whole(v, h, p->removed[i], f))
                 continue;
             v->visible[n_vis++] = f->rect;
         }
@@ -213,7 +253,7 @@ static lm_status patch_region(wk_views_local *v, const lm_patch *p, uint32_t h, 
  * the added triangles cover the removed ones' pixels nearer than it (v->cover). Where the surface
  * is kept it is redrawn unchanged. Its fragments are then deeper than the redrawn ones at every
  * pixel of r, so it changes no pixel. */
-static int occluded_in_region(const wk_views_local *v, uint32_t h, uint32_t id, const wk_rect *r,
+static int occluded_in_region(wk_views_local *v, uint32_t h, uint32_t id, const wk_rect *r,
                               uint32_t n_vis)
 {
     const wk_footprint *f = wk_buckets_footprint(v->buckets[h], id);
@@ -227,7 +267,8 @@ static int occluded_in_region(const wk_views_local *v, uint32_t h, uint32_t id, 
         if (!wk_cover_front_of(&v->cover, &in, f->zmin - WK_HIDDEN_EPS))
             return 0;
     }
-    return wk_image_store_hidden_tri_in(v->img, h, f, r, WK_HIDDEN_EPS);
+    return hidden_whole(v, h, id, f) ||
+           wk_image_store_hidden_tri_in(v->img, h, f, r, WK_HIDDEN_EPS);
 }
 
 /* Stream (T_R \ T) ∪ T' for view h in ascending id order; T' = v->sorted_added (n_added); with
@@ -375,6 +416,7 @@ void wk_vl_free_eval(wk_views_local *v)
     free(v->sorted_added);
     free(v->visible);
     free(v->removed_tris);
+    free(v->hidden);
     wk_cover_patch_free(&v->cover_patch);
     wk_cover_free(&v->cover);
 }
@@ -464,11 +506,13 @@ lm_status wk_vl_evaluate(lm_views *base, const lm_patch *patches, uint32_t n, in
 static lm_status apply_patch(wk_views_local *v, const lm_patch *p)
 {
     for (uint32_t i = 0; i < p->n_removed; i++) {
+        hidden_forget(v, p->removed[i]);
         for (uint32_t h = 0; h < v->views.count; h++)
             wk_buckets_remove(v->buckets[h], p->removed[i]);
         wk_replica_kill(&v->rep, p->removed[i]);
     }
     for (uint32_t i = 0; i < p->n_added; i++) {
+        hidden_forget(v, p->added[i].id);
         lm_status st = wk_replica_put(&v->rep, &p->added[i]);
         for (uint32_t h = 0; st == LM_OK && h < v->views.count; h++) {
             wk_footprint f;

@@ -23,6 +23,12 @@ typedef struct wk_job {
     size_t luma;         /* offset of its pixels in the batch's luminance buffer */
 } wk_job;
 
+/* A remembered "certainly hidden" answer for one triangle in one view. */
+typedef struct wk_hidden_memo {
+    uint32_t version; /* the view's depth version it was computed at */
+    uint8_t known, hidden;
+} wk_hidden_memo;
+
 typedef struct wk_views_local {
     lm_views base;
     wk_gl_context *ctx;
@@ -62,6 +68,8 @@ typedef struct wk_views_local {
     uint32_t cap_visible;
     const lm_tri_data **removed_tris; /* the records a patch removes */
     uint32_t cap_removed_tris;
+    wk_hidden_memo *hidden; /* [view * cap_hidden + id]: the whole-footprint hidden test */
+    size_t cap_hidden;
     wk_cover_patch cover_patch; /* of the patch being planned */
     wk_cover cover;             /* of that patch in the view being planned */
     /* regions to clear in one scratch atlas */
