@@ -364,6 +364,14 @@ int wk_image_store_hidden_tri(const wk_image_store *s, uint32_t view, const wk_f
 int wk_image_store_hidden_tri_in(const wk_image_store *s, uint32_t view, const wk_footprint *f,
                                  const wk_rect *clip, float eps)
 {
+    return wk_image_store_hidden_tri_witness(s, view, f, clip, eps, NULL);
+}
+
+int wk_image_store_hidden_tri_witness(const wk_image_store *s, uint32_t view, const wk_footprint *f,
+                                      const wk_rect *clip, float eps, int witness[2])
+{
+    if (witness)
+        witness[0] = witness[1] = -1;
     wk_rect c = f->rect, *r = &c;
     c.x0 = clip->x0 > c.x0 ? clip->x0 : c.x0;
     c.y0 = clip->y0 > c.y0 ? clip->y0 : c.y0;
@@ -400,8 +408,11 @@ int wk_image_store_hidden_tri_in(const wk_image_store *s, uint32_t view, const w
             edge_span(&e[k], y, &lo, &hi);
         const float *row = s->depth + view * s->plane + (size_t)y * s->width;
         for (int x = lo; x <= hi; x++)
-            if (!(row[x] < limit))
+            if (!(row[x] < limit)) {
+                if (witness)
+                    witness[0] = x, witness[1] = y;
                 return 0;
+            }
     }
     return 1;
 }

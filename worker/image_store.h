@@ -67,6 +67,10 @@ int wk_image_store_hidden_tri(const wk_image_store *s, uint32_t view, const wk_f
 /* The same over those of the footprint's pixels that lie in clip (1 when none does). */
 int wk_image_store_hidden_tri_in(const wk_image_store *s, uint32_t view, const wk_footprint *f,
                                  const wk_rect *clip, float eps);
+/* The same, and when it answers 0 after finding a pixel of the footprint in clip that is not
+ * hidden, that pixel in witness (else -1, -1). */
+int wk_image_store_hidden_tri_witness(const wk_image_store *s, uint32_t view, const wk_footprint *f,
+                                      const wk_rect *clip, float eps, int witness[2]);
 
 /* The oracle's image: out[y*width+x] = Σ over the (2 radius + 1)² window around (x, y), clipped to
  * the image, of (Ŷ - Y)². radius in 0..64; out has width*height entries. */

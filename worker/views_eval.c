@@ -49,18 +49,23 @@ static lm_status hidden_reserve(wk_views_local *v, size_t need)
     return LM_OK;
 }
 
-/* Whether alive triangle id (footprint f) is certainly hidden in view h, remembered until the
- * view's depth image or the triangle changes. */
-static int hidden_whole(wk_views_local *v, uint32_t h, uint32_t id, const wk_footprint *f)
+/* The whole-footprint hidden test of alive triangle id (footprint f) in view h, remembered until
+ * the view's depth image or the triangle changes. */
+static const wk_hidden_memo *hidden_whole(wk_views_local *v, uint32_t h, uint32_t id,
+                                          const wk_footprint *f)
 {
     wk_hidden_memo *m = &v->hidden[(size_t)h * v->cap_hidden + id];
     uint32_t version = wk_image_store_depth_version(v->img, h);
     if (!m->known || m->version != version) {
-        m->hidden = (uint8_t)wk_image_store_hidden_tri(v->img, h, f, WK_HIDDEN_EPS);
+        int w[2];
+        m->hidden =
+            (uint8_t)wk_image_store_hidden_tri_witness(v->img, h, f, &f->rect, WK_HIDDEN_EPS, w);
+        m->witness[0] = (int16_t)w[0];
+        m->witness[1] = (int16_t)w[1];
         m->version = version;
         m->known = 1;
     }
-    return m->hidden;
+    return m;
 }
 
 static void hidden_forget(wk_views_local *v, uint32_t id)
@@ -223,7 +228,7 @@ static lm_status patch_region(wk_views_local *v, const lm_patch *p, uint32_t h, 
         if (v->occlusion) {
             if (!v->cover_patch.twin[i])
                 wk_cover_feed(&v->cover, f, 0);
-            if (hidden_whole(v, h, p->removed[i], f))
+            if (hidden_whole(v, h, p->removed[i], f)->hidden)
                 continue;
             v->visible[n_vis++] = f->rect;
         }
@@ -257,6 +262,10 @@ static int occluded_in_region(wk_views_local *v, uint32_t h, uint32_t id, const 
                               uint32_t n_vis)
 {
     const wk_footprint *f = wk_buckets_footprint(v->buckets[h], id);
+    const wk_hidden_memo *m = hidden_whole(v, h, id, f);
+    const int16_t *w = m->witness;
+    if (!m->hidden && w[0] >= r->x0 && w[0] < r->x1 && w[1] >= r->y0 && w[1] < r->y1)
+        return 0; /* a pixel of it in r shows it now */
     uint32_t k = 0;
     while (k < n_vis && !rects_meet(&v->visible[k], &f->rect))
         k++;
@@ -267,8 +276,7 @@ static int occluded_in_region(wk_views_local *v, uint32_t h, uint32_t id, const 
         if (!wk_cover_front_of(&v->cover, &in, f->zmin - WK_HIDDEN_EPS))
             return 0;
     }
-    return hidden_whole(v, h, id, f) ||
-           wk_image_store_hidden_tri_in(v->img, h, f, r, WK_HIDDEN_EPS);
+    return m->hidden || wk_image_store_hidden_tri_in(v->img, h, f, r, WK_HIDDEN_EPS);
 }
 
 /* Stream (T_R \ T) ∪ T' for view h in ascending id order; T' = v->sorted_added (n_added); with

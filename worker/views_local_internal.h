@@ -27,6 +27,7 @@ typedef struct wk_job {
 typedef struct wk_hidden_memo {
     uint32_t version; /* the view's depth version it was computed at */
     uint8_t known, hidden;
+    int16_t witness[2]; /* when not hidden: a pixel of the footprint that shows it, or -1 */
 } wk_hidden_memo;
 
 typedef struct wk_views_local {
