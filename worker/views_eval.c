@@ -201,6 +201,13 @@ static int rects_meet(const wk_rect *a, const wk_rect *b)
     return a->x0 < b->x1 && b->x0 < a->x1 && a->y0 < b->y1 && b->y0 < a->y1;
 }
 
+/* Whether rectangle a lies in b (an empty a always does). */
+static int rect_within(const wk_rect *a, const wk_rect *b)
+{
+    return wk_rect_empty(a) ||
+           (a->x0 >= b->x0 && a->y0 >= b->y0 && a->x1 <= b->x1 && a->y1 <= b->y1);
+}
+
 /* The region of patch p in view h: the rectangles of the removed and added triangles that may show.
  * With occlusion on, a removed triangle certainly hidden behind the visible surface is left out
  * (its removal changes no pixel), and so is an added one that is certainly hidden where no visible
@@ -239,6 +246,8 @@ static lm_status patch_region(wk_views_local *v, const lm_patch *p, uint32_t h, 
         wk_tri_footprint(&v->views.views[h], &p->added[i], &f);
         if (v->occlusion && !v->cover_patch.twin[p->n_removed + i])
             wk_cover_feed(&v->cover, &f, 1);
+        if (rect_within(&f.rect, r))
+            continue; /* the region holds it whether it shows or not */
         if (v->occlusion && wk_image_store_hidden_tri(v->img, h, &f, WK_HIDDEN_EPS)) {
             uint32_t k = 0;
             while (k < n_vis && !rects_meet(&v->visible[k], &f.rect))
