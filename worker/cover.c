@@ -164,14 +164,7 @@ lm_status wk_cover_begin(wk_cover *c, const wk_cover_patch *cp, size_t n_tris, i
     c->n = 0;
     c->width = width;
     c->height = height;
-    if (n_tris <= c->cap)
-        return LM_OK;
-    wk_cover_tri *t = realloc(c->tris, n_tris * sizeof *t);
-    if (!t)
-        return lm_fail(LM_E_NOMEM, "out of memory for %zu patch triangles", n_tris);
-    c->tris = t;
-    c->cap = n_tris;
-    return LM_OK;
+    return reserve((void **)&c->tris, &c->cap_bytes, n_tris * sizeof *c->tris);
 }
 
 void wk_cover_free(wk_cover *c)
@@ -203,7 +196,7 @@ void wk_cover_feed(wk_cover *c, const wk_footprint *f, int added)
 {
     if (!c->same_boundary || wk_rect_empty(&f->rect))
         return; /* an empty rectangle: the triangle covers no pixel of the view */
-    LM_ASSERT(c->n < c->cap);
+    LM_ASSERT((c->n + 1) * sizeof *c->tris <= c->cap_bytes);
     c->tris[c->n++] = (wk_cover_tri){f->rect, f->zmax, footprint_sign(c, f), added};
 }
 

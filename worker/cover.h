@@ -48,7 +48,7 @@ typedef struct wk_cover_tri {
 typedef struct wk_cover {
     int same_boundary; /* of the patch */
     wk_cover_tri *tris;
-    size_t n, cap;
+    size_t n, cap_bytes;
     int width, height;
 } wk_cover;
 

@@ -16,13 +16,20 @@
 
 /* ---- patch checks and the per-patch id marks ---------------------------------------------- */
 
+/* A per-id capacity of at least need: cap doubled (from 1024) as often as it takes. */
+static size_t grown_cap(size_t cap, size_t need)
+{
+    cap = cap ? cap : 1024;
+    while (cap < need)
+        cap *= 2;
+    return cap;
+}
+
 static lm_status mark_reserve(wk_views_local *v, size_t need)
 {
     if (need <= v->cap_mark)
         return LM_OK;
-    size_t cap = v->cap_mark ? v->cap_mark : 1024;
-    while (cap < need)
-        cap *= 2;
+    size_t cap = grown_cap(v->cap_mark, need);
     uint32_t *m = realloc(v->mark, cap * sizeof *m);
     if (!m)
         return lm_fail(LM_E_NOMEM, "out of memory for %zu triangle marks", cap);
@@ -37,9 +44,7 @@ static lm_status hidden_reserve(wk_views_local *v, size_t need)
 {
     if (need <= v->cap_hidden)
         return LM_OK;
-    size_t cap = v->cap_hidden ? v->cap_hidden : 1024;
-    while (cap < need)
-        cap *= 2;
+    size_t cap = grown_cap(v->cap_hidden, need);
     wk_hidden_memo *m = calloc((size_t)v->views.count * cap, sizeof *m);
     if (!m)
         return lm_fail(LM_E_NOMEM, "out of memory for %zu hidden-test memos", cap);
