@@ -88,11 +88,6 @@ void wk_tri_footprint(const lm_view *v, const lm_tri_data *t, wk_footprint *out)
     out->projected = 1;
 }
 
-static int rects_overlap(const wk_rect *a, const wk_rect *b)
-{
-    return a->x0 < b->x1 && b->x0 < a->x1 && a->y0 < b->y1 && b->y0 < a->y1;
-}
-
 /* Some corner of [x0,x1]x[y0,y1] is not strictly outside edge a->b (whose inside has sign s): the
  * edge function is linear, so the corner furthest inside decides. */
 static int edge_admits(const float *a, const float *b, float s, const float box[4])
@@ -104,7 +99,7 @@ static int edge_admits(const float *a, const float *b, float s, const float box[
 
 int wk_footprint_overlaps(const wk_footprint *f, const wk_rect *r)
 {
-    if (wk_rect_empty(&f->rect) || wk_rect_empty(r) || !rects_overlap(&f->rect, r))
+    if (wk_rect_empty(&f->rect) || wk_rect_empty(r) || !wk_rects_meet(&f->rect, r))
         return 0;
     if (!f->projected ||
         (f->rect.x0 >= r->x0 && f->rect.y0 >= r->y0 && f->rect.x1 <= r->x1 && f->rect.y1 <= r->y1))

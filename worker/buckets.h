@@ -25,6 +25,18 @@ static inline int wk_rect_empty(const wk_rect *r)
 
 /* r := r ∪ s (an empty operand is ignored). */
 void wk_rect_union(wk_rect *r, const wk_rect *s);
+/* Whether rectangles a and b share a pixel. */
+static inline int wk_rects_meet(const wk_rect *a, const wk_rect *b)
+{
+    return a->x0 < b->x1 && b->x0 < a->x1 && a->y0 < b->y1 && b->y0 < a->y1;
+}
+
+/* a ∩ b (possibly empty). */
+static inline wk_rect wk_rect_intersect(const wk_rect *a, const wk_rect *b)
+{
+    return (wk_rect){a->x0 > b->x0 ? a->x0 : b->x0, a->y0 > b->y0 ? a->y0 : b->y0,
+                     a->x1 < b->x1 ? a->x1 : b->x1, a->y1 < b->y1 ? a->y1 : b->y1};
+}
 
 /* Slack, in pixels, between our projection of a corner and the rasteriser's (which snaps to 1/256
  * pixel after its own float arithmetic): a pixel counts as touched when its centre lies within

@@ -200,11 +200,6 @@ void wk_cover_feed(wk_cover *c, const wk_footprint *f, int added)
     c->tris[c->n++] = (wk_cover_tri){f->rect, f->zmax, footprint_sign(c, f), added};
 }
 
-static int rects_meet(const wk_rect *a, const wk_rect *b)
-{
-    return a->x0 < b->x1 && b->x0 < a->x1 && a->y0 < b->y1 && b->y0 < a->y1;
-}
-
 int wk_cover_front_of(const wk_cover *c, const wk_rect *r, float z)
 {
     if (!c->same_boundary)
@@ -212,7 +207,7 @@ int wk_cover_front_of(const wk_cover *c, const wk_rect *r, float z)
     int sign = 0;
     for (size_t i = 0; i < c->n; i++) {
         const wk_cover_tri *t = &c->tris[i];
-        if (!rects_meet(&t->rect, r))
+        if (!wk_rects_meet(&t->rect, r))
             continue;
         if (t->sign == 0 || (sign && t->sign != sign) || (t->added && !(t->zmax < z)))
             return 0;

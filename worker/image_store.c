@@ -372,11 +372,7 @@ int wk_image_store_hidden_tri_witness(const wk_image_store *s, uint32_t view, co
 {
     if (witness)
         witness[0] = witness[1] = -1;
-    wk_rect c = f->rect, *r = &c;
-    c.x0 = clip->x0 > c.x0 ? clip->x0 : c.x0;
-    c.y0 = clip->y0 > c.y0 ? clip->y0 : c.y0;
-    c.x1 = clip->x1 < c.x1 ? clip->x1 : c.x1;
-    c.y1 = clip->y1 < c.y1 ? clip->y1 : c.y1;
+    wk_rect c = wk_rect_intersect(&f->rect, clip), *r = &c;
     if (wk_rect_empty(r))
         return 1; /* no pixel of clip */
     if (!f->projected)

@@ -201,11 +201,6 @@ static int cmp_u32(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
-static int rects_meet(const wk_rect *a, const wk_rect *b)
-{
-    return a->x0 < b->x1 && b->x0 < a->x1 && a->y0 < b->y1 && b->y0 < a->y1;
-}
-
 /* Whether rectangle a lies in b (an empty a always does). */
 static int rect_within(const wk_rect *a, const wk_rect *b)
 {
@@ -255,7 +250,7 @@ static lm_status patch_region(wk_views_local *v, const lm_patch *p, uint32_t h, 
             continue; /* the region holds it whether it shows or not */
         if (v->occlusion && wk_image_store_hidden_tri(v->img, h, &f, WK_HIDDEN_EPS)) {
             uint32_t k = 0;
-            while (k < n_vis && !rects_meet(&v->visible[k], &f.rect))
+            while (k < n_vis && !wk_rects_meet(&v->visible[k], &f.rect))
                 k++;
             if (k == n_vis)
                 continue;
@@ -281,12 +276,10 @@ static int occluded_in_region(wk_views_local *v, uint32_t h, uint32_t id, const 
     if (!m->hidden && w[0] >= r->x0 && w[0] < r->x1 && w[1] >= r->y0 && w[1] < r->y1)
         return 0; /* a pixel of it in r shows it now */
     uint32_t k = 0;
-    while (k < n_vis && !rects_meet(&v->visible[k], &f->rect))
+    while (k < n_vis && !wk_rects_meet(&v->visible[k], &f->rect))
         k++;
     if (k < n_vis) {
-        wk_rect in = {
-            f->rect.x0 > r->x0 ? f->rect.x0 : r->x0, f->rect.y0 > r->y0 ? f->rect.y0 : r->y0,
-            f->rect.x1 < r->x1 ? f->rect.x1 : r->x1, f->rect.y1 < r->y1 ? f->rect.y1 : r->y1};
+        wk_rect in = wk_rect_intersect(&f->rect, r);
         if (!wk_cover_front_of(&v->cover, &in, f->zmin - WK_HIDDEN_EPS))
             return 0;
     }
