@@ -14,10 +14,7 @@
 static uint64_t rng_state = 0x9E3779B97F4A7C15ull;
 static double urand(void)
 {
-    rng_state ^= rng_state << 13;
-    rng_state ^= rng_state >> 7;
-    rng_state ^= rng_state << 17;
-    return (double)(rng_state >> 11) / 9007199254740992.0;
+    return lmt_urand(&rng_state);
 }
 
 /* A triangle with corners at (x, y) in window pixels and window depth z (positions in "3D" are the

@@ -166,3 +166,11 @@ lm_mesh *lmt_make_grid(int n)
     assert_int_equal(lm_mesh_build_adjacency(m), LM_OK);
     return m;
 }
+
+double lmt_urand(uint64_t *s)
+{
+    *s ^= *s << 13;
+    *s ^= *s >> 7;
+    *s ^= *s << 17;
+    return (double)(*s >> 11) / 9007199254740992.0;
+}

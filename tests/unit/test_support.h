@@ -25,5 +25,7 @@ void lmt_rmdir(char *dir);
 lm_mesh *lmt_make_sphere(int subdivisions);
 /* A flat n x n grid of vertices in z=0 (open, with boundary), UVs = xy. */
 lm_mesh *lmt_make_grid(int n);
+/* A uniform double in [0, 1) from xorshift64 state *s (nonzero), for reproducible random tests. */
+double lmt_urand(uint64_t *s);
 
 #endif

@@ -14,10 +14,7 @@
 static uint64_t rng_state = 88172645463325252ull;
 static double urand(void)
 {
-    rng_state ^= rng_state << 13;
-    rng_state ^= rng_state >> 7;
-    rng_state ^= rng_state << 17;
-    return (double)(rng_state >> 11) / 9007199254740992.0;
+    return lmt_urand(&rng_state);
 }
 
 static float dot3(const float *a, const float *b)
