@@ -17,8 +17,8 @@
 #include "common/mesh_topology.h"
 #include "common/simplify.h"
 #include "common/view.h"
-#include "coordinator/optimizer.h"
-#include "coordinator/optimizer_tuning.h"
+#include "coordinator/optimizer/optimizer.h"
+#include "coordinator/optimizer/optimizer_tuning.h"
 #include "worker/views_local.h"
 
 typedef struct opts {

@@ -6,7 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "coordinator/checkpoint.h"
+#include "coordinator/job/checkpoint.h"
 #include "test_support.h"
 
 typedef struct payload {

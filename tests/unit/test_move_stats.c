@@ -3,7 +3,7 @@
 #include <math.h>
 #include <string.h>
 
-#include "coordinator/move_stats.h"
+#include "coordinator/optimizer/move_stats.h"
 #include "test_support.h"
 
 static void test_erfinv(void **state)

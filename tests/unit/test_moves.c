@@ -9,8 +9,8 @@
 
 #include "common/mesh_topology.h"
 #include "common/view.h"
-#include "coordinator/moves.h"
-#include "coordinator/teleport.h"
+#include "coordinator/optimizer/moves.h"
+#include "coordinator/optimizer/teleport.h"
 #include "test_support.h"
 #include "worker/views_local.h"
 

@@ -11,7 +11,7 @@
 
 #include "common/mesh_topology.h"
 #include "common/view.h"
-#include "coordinator/optimizer.h"
+#include "coordinator/optimizer/optimizer.h"
 #include "test_support.h"
 #include "worker/views_local.h"
 

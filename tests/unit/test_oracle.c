@@ -8,7 +8,7 @@
 #include <string.h>
 
 #include "common/mesh_topology.h"
-#include "coordinator/oracle.h"
+#include "coordinator/optimizer/oracle.h"
 #include "test_support.h"
 
 typedef struct fake_views {

@@ -6,7 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "coordinator/simplex.h"
+#include "coordinator/optimizer/simplex.h"
 #include "test_support.h"
 
 typedef struct counter {

@@ -1,0 +1,317 @@
+/* coordinator/cli/cli_bench.c — `lumesh bench eval [--json] [--model FILE] [--views N] [--size S]
+ * [--evals N] [--device D] [--seed S]`: how fast the views evaluate ΔE for the optimizer's typical
+ * move. The model (default: the CGAL bunny from the test data) is simplified by QEM to 1% of its
+ * vertices; each evaluation moves one random vertex by a small random displacement (a third of a
+ * mean edge at most) and re-evaluates its 1-ring, as the downhill simplex does. Reports
+ * evaluations per second (one per readback, and four per readback), the time of a full re-render
+ * of every view and the speed-up of an incremental evaluation over it. */
+#include <getopt.h>
+#include <limits.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "common/mesh_io.h"
+#include "common/mesh_topology.h"
+#include "common/patch.h"
+#include "common/simplify.h"
+#include "coordinator/cli/bench_moves.h"
+#include "coordinator/cli/cli_args.h"
+#include "coordinator/job/progress.h"
+#include "coordinator/quality/view_setup.h"
+#include "worker/views_local.h"
+
+#define CMD "bench"
+#define BENCH_PATCHES 512
+#define BUNNY_REL "tests/data/cache/meshes/bunny00.off"
+
+typedef struct bench_args {
+    const char *model, *device;
+    uint32_t views, size, evals;
+    uint64_t seed;
+    int json;
+} bench_args;
+
+typedef struct bench_result {
+    uint32_t orig_tris, coarse_verts, coarse_tris;
+    double full_ms, evals_per_s, evals_per_s_batch, commits_per_s, tris_per_eval;
+    double regions_per_eval, pixels_per_region, evals_per_cpu_s;
+    char renderer[128];
+} bench_result;
+
+static void usage(FILE *f)
+{
+    fputs("usage: lumesh bench eval [--json] [--model FILE] [--views N] [--size S] [--evals N]\n"
+          "                         [--device D] [--seed S]\n"
+          "Measures incremental ΔE evaluations per second for single-vertex moves (1-ring\n"
+          "patches) on MODEL simplified by QEM to 1% of its vertices, and a full re-render.\n"
+          "  --model FILE   default: the CGAL bunny of the test data (" BUNNY_REL ")\n"
+          "  --views N      default 20, --size S default 256, --evals N default 5000\n"
+          "  --device D     auto (default), egl:N or host;  --json  one JSON object\n",
+          f);
+}
+
+static int parse_option(int c, char **argv, bench_args *a)
+{
+    switch (c) {
+    case 'm':
+        a->model = optarg;
+        return -1;
+    case 'v':
+        return co_arg_views(CMD, optarg, &a->views) ? 1 : -1;
+    case 's':
+        return co_arg_size(CMD, optarg, &a->size) ? 1 : -1;
+    case 'n':
+        return co_arg_u32(CMD, "--evals", optarg, 1, 100000000, &a->evals) ? 1 : -1;
+    case 'S':
+        return co_arg_u64(CMD, "--seed", optarg, 0, UINT64_MAX, &a->seed) ? 1 : -1;
+    case 'd':
+        a->device = optarg;
+        return -1;
+    case 'j':
+        a->json = 1;
+        return -1;
+    case 'h':
+        usage(stdout);
+        return 0;
+    default:
+        return co_cli_bad_option(CMD, c, argv);
+    }
+}
+
+static int parse(int argc, char **argv, bench_args *a)
+{
+    static const struct option opts[] = {{"model", required_argument, NULL, 'm'},
+                                         {"views", required_argument, NULL, 'v'},
+                                         {"size", required_argument, NULL, 's'},
+                                         {"evals", required_argument, NULL, 'n'},
+                                         {"seed", required_argument, NULL, 'S'},
+                                         {"device", required_argument, NULL, 'd'},
+                                         {"json", no_argument, NULL, 'j'},
+                                         {"help", no_argument, NULL, 'h'},
+                                         {NULL, 0, NULL, 0}};
+    if (argc < 2 || (strcmp(argv[1], "eval") && strcmp(argv[1], "--help") && strcmp(argv[1], "-h")))
+        return co_cli_usage_error(CMD, "expects a benchmark name: eval (see --help)");
+    int c, rc;
+    opterr = 0;
+    optind = 2;
+    if (strcmp(argv[1], "eval")) {
+        usage(stdout);
+        return 0;
+    }
+    while ((c = getopt_long(argc, argv, ":h", opts, NULL)) != -1)
+        if ((rc = parse_option(c, argv, a)) >= 0)
+            return rc;
+    if (optind < argc)
+        return co_cli_usage_error(CMD, "unexpected argument '%s' (see --help)", argv[optind]);
+    return -1;
+}
+
+/* The bunny of the test data: $LUMESH_TEST_DATA, the current folder, or beside the build. */
+static const char *default_model(char *buf, size_t cap)
+{
+    const char *env = getenv("LUMESH_TEST_DATA");
+    if (env && *env) {
+        snprintf(buf, cap, "%s/cache/meshes/bunny00.off", env);
+        if (access(buf, R_OK) == 0)
+            return buf;
+    }
+    if (access(BUNNY_REL, R_OK) == 0)
+        return BUNNY_REL;
+    char exe[PATH_MAX];
+    ssize_t n = readlink("/proc/self/exe", exe, sizeof exe - 1);
+    for (int up = 1; n > 0 && up <= 3; up++) {
+        exe[n] = 0;
+        char *slash = strrchr(exe, '/');
+        if (!slash)
+            break;
+        *slash = 0;
+        n = (ssize_t)(slash - exe);
+        snprintf(buf, cap, "%s/%s", exe, BUNNY_REL);
+        if (access(buf, R_OK) == 0)
+            return buf;
+    }
+    return NULL;
+}
+
+/* Mean time of a full re-render (set_mesh) of every view, in ms. */
+static lm_status time_full(lm_views *v, const lm_mesh *coarse, double *ms)
+{
+    lm_tri_data *tris;
+    size_t n;
+    lm_status st = lm_mesh_export_tris(coarse, &tris, &n);
+    const int reps = 10;
+    double t0 = co_now_s();
+    for (int i = 0; st == LM_OK && i < reps; i++)
+        st = v->ops->set_mesh(v, tris, n);
+    *ms = (co_now_s() - t0) * 1000.0 / reps;
+    free(tris);
+    return st;
+}
+
+static double cpu_s(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* Evaluations per second (wall clock, and per second of this process's CPU time when cpu_rate is
+ * not NULL), `batch` patches per evaluate call, n evaluations in all. */
+static lm_status time_evals(lm_views *v, const lm_patch *p, uint32_t np, uint32_t n, uint32_t batch,
+                            double *rate, double *cpu_rate)
+{
+    double c0 = cpu_s();
+    int64_t delta[8];
+    lm_status st = LM_OK;
+    uint32_t done = 0, k = 0;
+    double t0 = co_now_s();
+    while (st == LM_OK && done < n) {
+        uint32_t b = batch < n - done ? batch : n - done;
+        if (k + b > np)
+            k = 0;
+        st = v->ops->evaluate(v, p + k, b, delta);
+        k += b;
+        done += b;
+    }
+    *rate = done / (co_now_s() - t0);
+    if (cpu_rate)
+        *cpu_rate = done / (cpu_s() - c0);
+    return st;
+}
+
+/* Evaluate and commit (each commit reuses its evaluation's pixels), commits per second. */
+static lm_status time_commits(lm_views *v, const lm_patch *p, uint32_t n, double *rate)
+{
+    int64_t delta;
+    lm_status st = LM_OK;
+    double t0 = co_now_s();
+    for (uint32_t i = 0; st == LM_OK && i < n; i++) {
+        st = v->ops->evaluate(v, &p[i], 1, &delta);
+        if (st == LM_OK)
+            st = v->ops->commit(v, &p[i]);
+    }
+    *rate = n / (co_now_s() - t0);
+    return st;
+}
+
+static lm_status measure(const bench_args *a, lm_views *v, const lm_mesh *coarse, bench_result *r)
+{
+    lm_patch p[BENCH_PATCHES];
+    for (int i = 0; i < BENCH_PATCHES; i++)
+        lm_patch_init(&p[i]);
+    lm_status st = co_bench_vertex_moves(coarse, a->seed, p, BENCH_PATCHES);
+    double warm;
+    if (st == LM_OK)
+        st = time_full(v, coarse, &r->full_ms);
+    if (st == LM_OK)
+        st = time_evals(v, p, BENCH_PATCHES, 200, 1, &warm, NULL);
+    wk_views_local_stats s0, s1;
+    wk_views_local_get_stats(v, &s0);
+    if (st == LM_OK)
+        st = time_evals(v, p, BENCH_PATCHES, a->evals, 1, &r->evals_per_s, &r->evals_per_cpu_s);
+    wk_views_local_get_stats(v, &s1);
+    r->tris_per_eval = (double)(s1.tris_drawn - s0.tris_drawn) / (s1.evaluations - s0.evaluations);
+    r->regions_per_eval = (double)(s1.regions - s0.regions) / (s1.evaluations - s0.evaluations);
+    r->pixels_per_region =
+        (double)(s1.region_pixels - s0.region_pixels) / (s1.regions - s0.regions);
+    if (st == LM_OK)
+        st = time_evals(v, p, BENCH_PATCHES, a->evals, 4, &r->evals_per_s_batch, NULL);
+    /* commits change the mesh: they come last, each patch at most once */
+    if (st == LM_OK)
+        st = time_commits(v, p, BENCH_PATCHES / 2, &r->commits_per_s);
+    for (int i = 0; i < BENCH_PATCHES; i++)
+        lm_patch_free(&p[i]);
+    return st;
+}
+
+static void report(const bench_args *a, const char *model, const bench_result *r)
+{
+    double speedup = r->full_ms * r->evals_per_s / 1000.0;
+    const char *lp = getenv("LP_NUM_THREADS");
+    if (!a->json) {
+        printf("bench eval: %s (%u tris) -> QEM %u verts / %u tris, %u views of %u px, %s\n"
+               "  full re-render: %.3f ms\n"
+               "  evaluations:    %.0f /s (one per readback; %.0f per CPU second), %.0f /s (4 per "
+               "readback), %.1f tris drawn each\n"
+               "  regions:        %.1f per evaluation, %.0f pixels each\n"
+               "  commits:        %.0f /s (evaluate + commit)\n"
+               "  speed-up vs full re-render: %.1fx\n",
+               model, r->orig_tris, r->coarse_verts, r->coarse_tris, a->views, a->size, r->renderer,
+               r->full_ms, r->evals_per_s, r->evals_per_cpu_s, r->evals_per_s_batch,
+               r->tris_per_eval, r->regions_per_eval, r->pixels_per_region, r->commits_per_s,
+               speedup);
+        return;
+    }
+    printf("{\"bench\": \"eval\", \"model\": ");
+    co_json_string(stdout, model);
+    printf(", \"original_tris\": %u, \"coarse_verts\": %u, \"coarse_tris\": %u, \"views\": %u, "
+           "\"size\": %u, \"evals\": %u, \"evals_per_s\": %.1f, \"evals_per_cpu_s\": %.1f, "
+           "\"evals_per_s_batch4\": %.1f, "
+           "\"commits_per_s\": %.1f, \"tris_per_eval\": %.1f, \"regions_per_eval\": %.1f, "
+           "\"pixels_per_region\": %.1f, \"full_render_ms\": %.3f, "
+           "\"speedup_vs_full\": %.2f, \"lp_num_threads\": ",
+           r->orig_tris, r->coarse_verts, r->coarse_tris, a->views, a->size, a->evals,
+           r->evals_per_s, r->evals_per_cpu_s, r->evals_per_s_batch, r->commits_per_s,
+           r->tris_per_eval, r->regions_per_eval, r->pixels_per_region, r->full_ms, speedup);
+    co_json_string(stdout, lp ? lp : "");
+    printf(", \"renderer\": ");
+    co_json_string(stdout, r->renderer);
+    printf("}\n");
+}
+
+static lm_status run(const bench_args *a, const char *model_path, bench_result *r)
+{
+    lm_mesh *orig = NULL, *coarse = NULL;
+    lm_view_set *vs = NULL;
+    lm_views *v = NULL;
+    lm_status st = lm_mesh_load(model_path, NULL, &orig);
+    if (st == LM_OK) {
+        uint32_t target = orig->live_verts / 100 > 4 ? orig->live_verts / 100 : 4;
+        st = lm_simplify(orig, LM_SIMPLIFY_QEM, target, &coarse);
+        if (st == LM_E_RANGE && coarse)
+            st = LM_OK; /* near enough for a benchmark */
+    }
+    if (st == LM_OK)
+        st = lm_mesh_build_adjacency(coarse);
+    if (st == LM_OK)
+        st = co_view_set_around(orig, a->views, (int)a->size, 0, &vs);
+    if (st == LM_OK)
+        st = co_views_with_model(orig, coarse, vs, a->device, &v);
+    if (st == LM_OK) {
+        lm_views_info info;
+        v->ops->info(v, &info);
+        snprintf(r->renderer, sizeof r->renderer, "%s", info.renderer);
+        r->orig_tris = orig->live_tris;
+        r->coarse_verts = coarse->live_verts;
+        r->coarse_tris = coarse->live_tris;
+        st = measure(a, v, coarse, r);
+    }
+    lm_views_destroy(v);
+    free(vs);
+    lm_mesh_destroy(orig);
+    lm_mesh_destroy(coarse);
+    return st;
+}
+
+int co_cli_bench(int argc, char **argv)
+{
+    bench_args a = {.views = 20, .size = 256, .evals = 5000, .seed = 1, .device = "auto"};
+    int rc = parse(argc, argv, &a);
+    if (rc >= 0)
+        return rc;
+    char buf[PATH_MAX + 64];
+    const char *model = a.model ? a.model : default_model(buf, sizeof buf);
+    if (!model)
+        return co_cli_usage_error(CMD, "the bunny (" BUNNY_REL ") was not found; run "
+                                       "scripts/install-deps.sh or pass --model FILE");
+    bench_result r = {0};
+    lm_status st = run(&a, model, &r);
+    if (st != LM_OK)
+        return co_cli_fail(CMD, st);
+    report(&a, model, &r);
+    return 0;
+}

@@ -1,0 +1,172 @@
+/* coordinator/cli/cli_compare.c — `lumesh compare ORIGINAL MODEL... -o IMAGE [--views N |
+ * --heldout]
+ * [--size S] [--closeup SIDE] [--device D]`: judges one or more models against the original
+ * (image energy and silhouette coverage, as JSON on stdout) and writes a picture grid with the
+ * columns original | model 1 | model 2 ...: one row per view, or with --closeup the SIDE x SIDE
+ * window where the first model shows the most cracks and holes. */
+#include <getopt.h>
+#include <stdio.h>
+#include <stdlib.h>
+
+#include "common/image.h"
+#include "common/mesh_io.h"
+#include "coordinator/cli/cli_args.h"
+#include "coordinator/job/progress.h"
+#include "coordinator/quality/compare.h"
+#include "coordinator/quality/view_setup.h"
+
+#define CMD "compare"
+#define MAX_MODELS 16
+
+typedef struct compare_args {
+    const char *original, *output, *device;
+    const char *models[MAX_MODELS];
+    uint32_t n_models, views, size, closeup;
+    int heldout;
+} compare_args;
+
+static void usage(FILE *f)
+{
+    fputs("usage: lumesh compare ORIGINAL MODEL... -o IMAGE [--views N | --heldout] [--size S]\n"
+          "                      [--closeup SIDE] [--device D]\n"
+          "Judges up to 16 models against ORIGINAL and writes a picture grid to IMAGE (PNG or any\n"
+          "format OpenImageIO writes): columns original | MODEL 1 | MODEL 2 ..., one row per\n"
+          "view. Prints JSON: per model the image energy and the silhouette coverage (see\n"
+          "lumesh energy --help), and where the close-up was taken.\n"
+          "  -o, --output IMAGE  the picture grid (written atomically)\n"
+          "  --views N           views around the original (default 4)\n"
+          "  --heldout           the 24 held-out views instead\n"
+          "  --size S            image side in pixels (default 256)\n"
+          "  --closeup SIDE      one SIDE x SIDE window instead of whole views: the one, over all\n"
+          "                      views, where the first MODEL shows the most cracks and holes\n"
+          "                      (pixels inside the original's silhouette left uncovered); render\n"
+          "                      with --size larger than SIDE to magnify\n"
+          "  --device D          auto (default), egl:N or host\n"
+          "  -h, --help          this text\n",
+          f);
+}
+
+static int parse_option(int c, char **argv, compare_args *a)
+{
+    switch (c) {
+    case 'o':
+        a->output = optarg;
+        return -1;
+    case 'v':
+        return co_arg_views(CMD, optarg, &a->views) ? 1 : -1;
+    case 'H':
+        a->heldout = 1;
+        return -1;
+    case 's':
+        return co_arg_size(CMD, optarg, &a->size) ? 1 : -1;
+    case 'c':
+        return co_arg_u32(CMD, "--closeup", optarg, 8, LM_MAX_VIEW_SIZE, &a->closeup) ? 1 : -1;
+    case 'd':
+        a->device = optarg;
+        return -1;
+    case 'h':
+        usage(stdout);
+        return 0;
+    default:
+        return co_cli_bad_option(CMD, c, argv);
+    }
+}
+
+static int parse(int argc, char **argv, compare_args *a)
+{
+    static const struct option opts[] = {
+        {"output", required_argument, NULL, 'o'},  {"views", required_argument, NULL, 'v'},
+        {"heldout", no_argument, NULL, 'H'},       {"size", required_argument, NULL, 's'},
+        {"closeup", required_argument, NULL, 'c'}, {"device", required_argument, NULL, 'd'},
+        {"help", no_argument, NULL, 'h'},          {NULL, 0, NULL, 0}};
+    int c, rc;
+    opterr = 0;
+    while ((c = getopt_long(argc, argv, ":o:h", opts, NULL)) != -1)
+        if ((rc = parse_option(c, argv, a)) >= 0)
+            return rc;
+    if (optind + 2 > argc)
+        return co_cli_usage_error(CMD, "expects ORIGINAL and at least one MODEL (see --help)");
+    if (argc - optind - 1 > MAX_MODELS)
+        return co_cli_usage_error(CMD, "at most %d models", MAX_MODELS);
+    if (!a->output)
+        return co_cli_usage_error(CMD, "needs -o IMAGE (see --help)");
+    if (a->closeup > a->size)
+        return co_cli_usage_error(CMD, "--closeup %u is larger than --size %u", a->closeup,
+                                  a->size);
+    a->original = argv[optind];
+    for (int i = optind + 1; i < argc; i++)
+        a->models[a->n_models++] = argv[i];
+    return -1;
+}
+
+static void print_json(const compare_args *a, uint32_t n_views, const int64_t *energy,
+                       const co_coverage *cov, const co_crop *crop, uint64_t crop_cracks,
+                       const char *renderer)
+{
+    printf("{\"models\": [");
+    for (uint32_t i = 0; i < a->n_models; i++) {
+        printf("%s{\"file\": ", i ? ", " : "");
+        co_json_string(stdout, a->models[i]);
+        printf(", \"energy\": %lld, \"coverage\": ", (long long)energy[i]);
+        co_coverage_print_json(stdout, &cov[i]);
+        printf("}");
+    }
+    printf("], \"views\": %u, \"heldout\": %s, \"size\": %u, \"image\": ", n_views,
+           a->heldout ? "true" : "false", a->size);
+    co_json_string(stdout, a->output);
+    if (crop)
+        printf(", \"closeup\": {\"view\": %u, \"x\": %d, \"y\": %d, \"side\": %d, "
+               "\"cracks_px\": %llu}",
+               crop->view, crop->x, crop->y, crop->w, (unsigned long long)crop_cracks);
+    printf(", \"renderer\": ");
+    co_json_string(stdout, renderer);
+    printf("}\n");
+}
+
+/* Energies and coverage, then the grid (whole views or the close-up), then the JSON. */
+static lm_status run(const compare_args *a, const lm_mesh *orig, const lm_mesh *const *models,
+                     const lm_view_set *vs)
+{
+    int64_t energy[MAX_MODELS];
+    co_coverage cov[MAX_MODELS];
+    char renderer[128] = "";
+    co_crop crop = {0, 0, 0, 0, 0};
+    uint64_t crop_cracks = 0;
+    lm_image *grid = NULL;
+    lm_status st =
+        co_compare_energies(orig, vs, a->device, models, a->n_models, energy, NULL, cov, renderer);
+    if (st == LM_OK && a->closeup)
+        st = co_compare_find_cracks(orig, vs, a->device, models[0], (int)a->closeup, &crop,
+                                    &crop_cracks);
+    if (st == LM_OK)
+        st = co_compare_grid(orig, vs, a->device, models, a->n_models, a->closeup ? &crop : NULL,
+                             &grid);
+    if (st == LM_OK)
+        st = lm_image_write(a->output, grid);
+    lm_image_destroy(grid);
+    if (st == LM_OK)
+        print_json(a, vs->count, energy, cov, a->closeup ? &crop : NULL, crop_cracks, renderer);
+    return st;
+}
+
+int co_cli_compare(int argc, char **argv)
+{
+    compare_args a = {.views = 4, .size = 256, .device = "auto"};
+    int rc = parse(argc, argv, &a);
+    if (rc >= 0)
+        return rc;
+    lm_mesh *orig = NULL, *models[MAX_MODELS] = {NULL};
+    lm_view_set *vs = NULL;
+    lm_status st = lm_mesh_load(a.original, NULL, &orig);
+    for (uint32_t i = 0; st == LM_OK && i < a.n_models; i++)
+        st = lm_mesh_load(a.models[i], NULL, &models[i]);
+    if (st == LM_OK)
+        st = co_view_set_around(orig, a.views, (int)a.size, a.heldout, &vs);
+    if (st == LM_OK)
+        st = run(&a, orig, (const lm_mesh *const *)models, vs);
+    free(vs);
+    lm_mesh_destroy(orig);
+    for (uint32_t i = 0; i < a.n_models; i++)
+        lm_mesh_destroy(models[i]);
+    return st ? co_cli_fail(CMD, st) : 0;
+}

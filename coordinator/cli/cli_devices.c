@@ -1,0 +1,212 @@
+/* coordinator/cli/cli_devices.c — `lumesh devices [--json] [--device SPEC]`: the EGL devices (GPUs
+ * first, then Mesa's software renderer) with their node, renderer and whether a context works,
+ * the USB devices with known accelerators flagged, and the device a spec selects. */
+#include <getopt.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "common/error.h"
+#include "coordinator/cli/cli_args.h"
+#include "worker/gl_context.h"
+#include "worker/usb_devices.h"
+
+#define CMD "devices"
+
+typedef struct devices_report {
+    wk_device_info egl[WK_MAX_DEVICES];
+    int egl_count;
+    wk_usb_device usb[WK_MAX_USB_DEVICES];
+    int usb_count;
+    const char *spec;
+    int selected; /* index into egl[], -1 if none */
+    lm_status select_status;
+    char select_error[512];
+} devices_report;
+
+/* Length of the valid UTF-8 sequence at s (1..4), or 0 if the bytes there are not one. */
+static int utf8_len(const unsigned char *s)
+{
+    int n = s[0] >= 0xf0 && s[0] <= 0xf4 ? 4 : s[0] >= 0xe0 ? 3 : s[0] >= 0xc2 ? 2 : 0;
+    if (s[0] >= 0xf8)
+        return 0;
+    for (int i = 1; i < n; i++) {
+        if ((s[i] & 0xc0) != 0x80)
+            return 0;
+    }
+    return n;
+}
+
+/* A JSON string literal: quotes, escapes, control characters as \u00XX, invalid UTF-8 as '?'. */
+static void json_str(FILE *f, const char *str)
+{
+    const unsigned char *s = (const unsigned char *)(str ? str : "");
+    fputc('"', f);
+    while (*s) {
+        if (*s == '"' || *s == '\\') {
+            fprintf(f, "\\%c", *s++);
+        } else if (*s < 0x20) {
+            fprintf(f, "\\u%04x", *s++);
+        } else if (*s < 0x80) {
+            fputc(*s++, f);
+        } else {
+            int n = utf8_len(s);
+            if (n == 0) {
+                fputc('?', f);
+                s++;
+            } else {
+                fwrite(s, 1, (size_t)n, f);
+                s += n;
+            }
+        }
+    }
+    fputc('"', f);
+}
+
+static void print_json_egl(FILE *f, const devices_report *r)
+{
+    fputs("  \"egl_devices\": [", f);
+    for (int i = 0; i < r->egl_count; i++) {
+        const wk_device_info *d = &r->egl[i];
+        fprintf(f, "%s\n    {\"index\": %d, \"spec\": \"egl:%d\", \"kind\": \"%s\", \"node\": ",
+                i ? "," : "", d->index, d->index, d->is_software ? "software" : "gpu");
+        json_str(f, d->node);
+        fputs(", \"vendor\": ", f);
+        json_str(f, d->vendor);
+        fputs(", \"renderer\": ", f);
+        json_str(f, d->renderer);
+        fprintf(f, ", \"usable\": %s}", d->usable ? "true" : "false");
+    }
+    fputs(r->egl_count ? "\n  ],\n" : "],\n", f);
+}
+
+static void print_json_usb(FILE *f, const devices_report *r)
+{
+    fputs("  \"usb_devices\": [", f);
+    for (int i = 0; i < r->usb_count; i++) {
+        const wk_usb_device *u = &r->usb[i];
+        fprintf(f,
+                "%s\n    {\"bus\": %u, \"address\": %u, \"id\": \"%04x:%04x\", \"class\": %u, "
+                "\"product\": ",
+                i ? "," : "", u->bus, u->address, u->vendor_id, u->product_id, u->device_class);
+        json_str(f, u->product);
+        fprintf(f, ", \"accelerator\": %s, \"accelerator_name\": ",
+                u->is_accelerator ? "true" : "false");
+        json_str(f, u->accelerator);
+        fputc('}', f);
+    }
+    fputs(r->usb_count ? "\n  ],\n" : "],\n", f);
+}
+
+static void print_json(FILE *f, const devices_report *r)
+{
+    fputs("{\n", f);
+    print_json_egl(f, r);
+    print_json_usb(f, r);
+    fputs("  \"selection\": {\"spec\": ", f);
+    json_str(f, r->spec);
+    if (r->selected >= 0) {
+        const wk_device_info *d = &r->egl[r->selected];
+        fprintf(f, ", \"selected\": \"egl:%d\", \"kind\": \"%s\", \"renderer\": ", d->index,
+                d->is_software ? "software" : "gpu");
+        json_str(f, d->renderer);
+    } else {
+        fputs(", \"selected\": null, \"error\": ", f);
+        json_str(f, r->select_error);
+    }
+    fputs("}\n}\n", f);
+}
+
+static void print_text(FILE *f, const devices_report *r)
+{
+    fprintf(f, "EGL devices: %d (GPUs first)\n", r->egl_count);
+    if (r->egl_count)
+        fprintf(f, "  %-7s %-9s %-22s %-7s %s\n", "DEVICE", "KIND", "NODE", "USABLE", "RENDERER");
+    for (int i = 0; i < r->egl_count; i++) {
+        const wk_device_info *d = &r->egl[i];
+        char spec[16];
+        snprintf(spec, sizeof spec, "egl:%d", d->index);
+        fprintf(f, "  %-7s %-9s %-22s %-7s %s\n", spec, d->is_software ? "software" : "gpu",
+                d->node[0] ? d->node : "-", d->usable ? "yes" : "no",
+                d->renderer[0] ? d->renderer : "(no context)");
+    }
+    fprintf(f, "USB devices: %d\n", r->usb_count);
+    for (int i = 0; i < r->usb_count; i++) {
+        const wk_usb_device *u = &r->usb[i];
+        fprintf(f, "  bus %03u addr %03u  %04x:%04x  %s%s%s%s%s\n", u->bus, u->address,
+                u->vendor_id, u->product_id, u->is_accelerator ? "ACCELERATOR: " : "",
+                u->accelerator, u->is_accelerator && u->product[0] ? " — " : "", u->product,
+                !u->is_accelerator && !u->product[0] ? "(unrecognised)" : "");
+    }
+    if (r->selected >= 0) {
+        const wk_device_info *d = &r->egl[r->selected];
+        fprintf(f, "selected: egl:%d (%s, %s) for --device %s\n", d->index,
+                d->is_software ? "software" : "gpu", d->renderer, r->spec);
+    } else {
+        fprintf(f, "selected: none for --device %s (%s)\n", r->spec, r->select_error);
+    }
+}
+
+static void usage(FILE *f)
+{
+    fputs("usage: lumesh devices [--json] [--device auto|host|egl:N]\n"
+          "Lists EGL rendering devices (GPUs first, then Mesa's software renderer), probing each\n"
+          "with an OpenGL ES 3 context, and USB devices with known accelerators flagged; then the\n"
+          "device that --device (default auto) selects, as lumesh-worker would choose it.\n",
+          f);
+}
+
+/* Returns -1 to go on, else the exit code. */
+static int parse(int argc, char **argv, int *json, const char **spec)
+{
+    static const struct option opts[] = {{"json", no_argument, NULL, 'j'},
+                                         {"device", required_argument, NULL, 'd'},
+                                         {"help", no_argument, NULL, 'h'},
+                                         {NULL, 0, NULL, 0}};
+    int c;
+    opterr = 0;
+    while ((c = getopt_long(argc, argv, ":jd:h", opts, NULL)) != -1) {
+        if (c == 'j') {
+            *json = 1;
+        } else if (c == 'd') {
+            *spec = optarg;
+        } else if (c == 'h') {
+            usage(stdout);
+            return 0;
+        } else {
+            return co_cli_bad_option(CMD, c, argv);
+        }
+    }
+    if (optind < argc)
+        return co_cli_usage_error(CMD, "unexpected argument '%s' (see --help)", argv[optind]);
+    return -1;
+}
+
+int co_cli_devices(int argc, char **argv)
+{
+    devices_report r; /* ~40 KiB */
+    int json = 0, rc;
+    memset(&r, 0, sizeof r);
+    r.spec = "auto";
+    if ((rc = parse(argc, argv, &json, &r.spec)) >= 0)
+        return rc;
+    int ignored;
+    lm_status st = wk_egl_choose_device(r.spec, NULL, 0, &ignored);
+    if (st == LM_E_INVALID) /* a malformed spec is a usage error before any probing */
+        return co_cli_fail(CMD, st);
+    st = wk_egl_list_devices(r.egl, WK_MAX_DEVICES, &r.egl_count);
+    if (st == LM_OK)
+        st = wk_usb_list_devices(r.usb, WK_MAX_USB_DEVICES, &r.usb_count);
+    if (st != LM_OK)
+        return co_cli_fail(CMD, st);
+    r.selected = -1;
+    r.select_status = wk_egl_choose_device(r.spec, r.egl, r.egl_count, &r.selected);
+    if (r.select_status != LM_OK)
+        snprintf(r.select_error, sizeof r.select_error, "%s", lm_last_error());
+    if (json)
+        print_json(stdout, &r);
+    else
+        print_text(stdout, &r);
+    if (r.select_status != LM_OK)
+        return co_cli_fail(CMD, r.select_status);
+    return 0;
+}

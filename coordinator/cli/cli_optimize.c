@@ -1,0 +1,198 @@
+/* coordinator/cli/cli_optimize.c — `lumesh optimize`: flags → co_job_options → co_job_run. */
+#include <getopt.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "common/view.h"
+#include "coordinator/cli/cli_args.h"
+#include "coordinator/job/job.h"
+
+static const char co_optimize_help[] =
+    "usage: lumesh optimize ORIGINAL -o OUT [--initial COARSE | --target-verts N] [--views 20]\n"
+    "                       [--size 256] [--evals N] [--time SECONDS] [--seed S]\n"
+    "                       [--checkpoint FILE [--checkpoint-every N|Ns]] [--resume FILE]\n"
+    "                       [--attrs pos,normal,uv,color] [--device D] [--json]\n"
+    "\n"
+    "Improve a coarse mesh so that its rendered images match the original's from many viewpoints\n"
+    "(Lindstrom & Turk 2001): vertex positions and attributes by downhill simplex, connectivity "
+    "by\n"
+    "edge swaps, collapses and vertex teleports. The same inputs and seed give a byte-identical\n"
+    "output, also after a --resume.\n"
+    "\n"
+    "  ORIGINAL                the detailed model (OBJ+MTL, PLY, OFF, STL, glTF 2.0/GLB, FBX, "
+    "DAE)\n"
+    "  -o, --output OUT        where to write the result (.obj with .mtl and textures, .ply, "
+    ".glb);\n"
+    "                          written atomically\n"
+    "  --initial COARSE        start from this coarse mesh instead of simplifying the original\n"
+    "  --target-verts N        vertices of the QEM coarse mesh (default: 1%% of the original's\n"
+    "                          vertices, at least %u)\n"
+    "  --views N               number of viewpoints around the original (default %u)\n"
+    "  --size PIXELS           side of each square view image (default %d)\n"
+    "  --evals N               budget of energy evaluations, counted from the start of the job\n"
+    "                          (default %llu)\n"
+    "  --time SECONDS          also stop after this much wall-clock time (default: no limit)\n"
+    "  --seed S                random seed (default 1)\n"
+    "  --checkpoint FILE       write checkpoints (atomically) to FILE at iteration boundaries,\n"
+    "                          and when the run stops\n"
+    "  --checkpoint-every N|Ns every N evaluations, or every N seconds with an 's' suffix\n"
+    "                          (default every %.0f seconds)\n"
+    "  --resume FILE           continue from a checkpoint written with the same original and\n"
+    "                          options (a larger --evals extends a finished run); checkpoints\n"
+    "                          then go on to FILE unless --checkpoint is given\n"
+    "  --attrs LIST            attributes to optimise besides positions, from pos,normal,uv,color\n"
+    "                          (default: uv if the original has a texture, color if it has vertex\n"
+    "                          colours); normals not listed are derived from the geometry\n"
+    "  --device D              rendering device: auto (GPU if any, else software), host, egl:N\n"
+    "                          (default auto; see lumesh devices)\n"
+    "  --json                  newline-delimited JSON progress records and a final summary on\n"
+    "                          stdout instead of the human progress line on stderr\n"
+    "  -h, --help              this help\n"
+    "\n"
+    "Exit status: 0 success, 1 bad input or flag (one line on stderr), 2 internal failure.\n";
+
+enum {
+    OPT_INITIAL = 256,
+    OPT_TARGET,
+    OPT_VIEWS,
+    OPT_SIZE,
+    OPT_EVALS,
+    OPT_TIME,
+    OPT_SEED,
+    OPT_CHECKPOINT,
+    OPT_CHECKPOINT_EVERY,
+    OPT_RESUME,
+    OPT_ATTRS,
+    OPT_DEVICE,
+    OPT_JSON,
+};
+
+static const struct option co_optimize_opts[] = {
+    {"output", required_argument, NULL, 'o'},
+    {"initial", required_argument, NULL, OPT_INITIAL},
+    {"target-verts", required_argument, NULL, OPT_TARGET},
+    {"views", required_argument, NULL, OPT_VIEWS},
+    {"size", required_argument, NULL, OPT_SIZE},
+    {"evals", required_argument, NULL, OPT_EVALS},
+    {"time", required_argument, NULL, OPT_TIME},
+    {"seed", required_argument, NULL, OPT_SEED},
+    {"checkpoint", required_argument, NULL, OPT_CHECKPOINT},
+    {"checkpoint-every", required_argument, NULL, OPT_CHECKPOINT_EVERY},
+    {"resume", required_argument, NULL, OPT_RESUME},
+    {"attrs", required_argument, NULL, OPT_ATTRS},
+    {"device", required_argument, NULL, OPT_DEVICE},
+    {"json", no_argument, NULL, OPT_JSON},
+    {"help", no_argument, NULL, 'h'},
+    {NULL, 0, NULL, 0},
+};
+
+static const char *co_cmd = "optimize";
+
+/* "5000" = every 5000 evaluations, "30s" = every 30 seconds. */
+static lm_status parse_every(const char *val, co_job_options *o)
+{
+    size_t n = strlen(val);
+    if (n > 1 && val[n - 1] == 's') {
+        char num[64];
+        if (n - 1 >= sizeof num)
+            return co_cli_usage_error(co_cmd, "--checkpoint-every: '%s' is too long", val),
+                   LM_E_INVALID;
+        memcpy(num, val, n - 1);
+        num[n - 1] = '\0';
+        return co_arg_double(co_cmd, "--checkpoint-every", num, 0.001, 1e9, &o->checkpoint_every_s);
+    }
+    return co_arg_u64(co_cmd, "--checkpoint-every", val, 1, UINT64_MAX / 2,
+                      &o->checkpoint_every_evals);
+}
+
+static lm_status parse_value(int c, const char *val, co_job_options *o)
+{
+    uint32_t views, size;
+    lm_status st = LM_OK;
+    switch (c) {
+    case 'o':
+        o->output_path = val;
+        break;
+    case OPT_INITIAL:
+        o->initial_path = val;
+        break;
+    case OPT_TARGET:
+        return co_arg_u32(co_cmd, "--target-verts", val, 4, LM_MESH_MAX_VERTS, &o->target_verts);
+    case OPT_VIEWS:
+        st = co_arg_views(co_cmd, val, &views);
+        o->views = views;
+        break;
+    case OPT_SIZE:
+        st = co_arg_size(co_cmd, val, &size);
+        o->size = (int)size;
+        break;
+    case OPT_EVALS:
+        return co_arg_u64(co_cmd, "--evals", val, 1, UINT64_MAX / 2, &o->max_evals);
+    case OPT_TIME:
+        return co_arg_double(co_cmd, "--time", val, 0.001, 1e9, &o->time_limit_s);
+    case OPT_SEED:
+        return co_arg_u64(co_cmd, "--seed", val, 1, UINT64_MAX, &o->seed);
+    case OPT_CHECKPOINT:
+        o->checkpoint_path = val;
+        break;
+    case OPT_CHECKPOINT_EVERY:
+        return parse_every(val, o);
+    case OPT_RESUME:
+        o->resume_path = val;
+        break;
+    case OPT_ATTRS: {
+        uint32_t attrs;
+        o->attrs = val;
+        if (co_job_parse_attrs(val, &attrs) != LM_OK)
+            return co_cli_fail(co_cmd, LM_E_INVALID), LM_E_INVALID;
+        break;
+    }
+    case OPT_DEVICE:
+        o->device_spec = val;
+        break;
+    }
+    return st;
+}
+
+/* Returns 0 to go on, -1 after --help, or the exit code of a flag error. */
+static int parse_args(int argc, char **argv, co_job_options *o)
+{
+    opterr = 0;
+    int c;
+    while ((c = getopt_long(argc, argv, ":o:h", co_optimize_opts, NULL)) != -1) {
+        if (c == 'h') {
+            printf(co_optimize_help, CO_JOB_MIN_TARGET_VERTS, CO_JOB_DEFAULT_VIEWS,
+                   CO_JOB_DEFAULT_SIZE, (unsigned long long)CO_JOB_DEFAULT_EVALS,
+                   CO_JOB_DEFAULT_CHECKPOINT_S);
+            return -1;
+        }
+        if (c == '?' || c == ':')
+            return co_cli_bad_option(co_cmd, c, argv);
+        if (c == OPT_JSON)
+            o->json = 1;
+        else if (parse_value(c, optarg, o) != LM_OK)
+            return 1;
+    }
+    if (optind >= argc)
+        return co_cli_usage_error(co_cmd, "missing ORIGINAL model (try lumesh optimize --help)");
+    if (argc - optind > 1)
+        return co_cli_usage_error(co_cmd, "unexpected argument '%s'", argv[optind + 1]);
+    o->original_path = argv[optind];
+    if (!o->output_path)
+        return co_cli_usage_error(co_cmd, "missing -o OUT");
+    if (o->initial_path && o->target_verts)
+        return co_cli_usage_error(co_cmd, "--initial and --target-verts exclude each other");
+    return 0;
+}
+
+int co_cli_optimize(int argc, char **argv)
+{
+    co_job_options o = {0};
+    int rc = parse_args(argc, argv, &o);
+    if (rc)
+        return rc < 0 ? 0 : rc;
+    lm_status st = co_job_run(&o, NULL);
+    if (st != LM_OK)
+        return co_cli_fail(co_cmd, st);
+    return 0;
+}

@@ -1,0 +1,199 @@
+/* coordinator/cli/cli_render.c — `lumesh render MODEL -o DIR [--views N] [--size S]
+ * [--against ORIGINAL] [--device D]`: writes the colour images of MODEL's views as
+ * DIR/view_00.png ...; with --against, the views are framed by ORIGINAL and DIR also receives the
+ * original's images (target_XX.png) and the amplified absolute luminance differences
+ * (diff_XX.png, 4 x |Ŷ - Y| clamped to 255). */
+#include <errno.h>
+#include <getopt.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+#include "common/image.h"
+#include "common/mesh_io.h"
+#include "coordinator/cli/cli_args.h"
+#include "coordinator/quality/view_setup.h"
+#include "worker/views_local.h"
+
+#define CMD "render"
+#define DIFF_GAIN 4
+
+typedef struct render_args {
+    const char *model, *dir, *against, *device;
+    uint32_t views, size;
+} render_args;
+
+static void usage(FILE *f)
+{
+    fputs("usage: lumesh render MODEL -o DIR [--views N] [--size S] [--against ORIGINAL]\n"
+          "                     [--device D]\n"
+          "Writes the view images of MODEL as DIR/view_00.png, view_01.png, ...\n"
+          "  -o, --output DIR      folder for the PNGs (created if missing)\n"
+          "  --views N             views (default 20), --size S  image side (default 256)\n"
+          "  --against ORIGINAL    frame the views by ORIGINAL and also write its images\n"
+          "                        (target_XX.png) and luminance differences (diff_XX.png)\n"
+          "  --device D            auto (default), egl:N or host\n"
+          "  -h, --help            this text\n",
+          f);
+}
+
+static int parse_option(int c, char **argv, render_args *a)
+{
+    switch (c) {
+    case 'o':
+        a->dir = optarg;
+        return -1;
+    case 'v':
+        return co_arg_views(CMD, optarg, &a->views) ? 1 : -1;
+    case 's':
+        return co_arg_size(CMD, optarg, &a->size) ? 1 : -1;
+    case 'a':
+        a->against = optarg;
+        return -1;
+    case 'd':
+        a->device = optarg;
+        return -1;
+    case 'h':
+        usage(stdout);
+        return 0;
+    default:
+        return co_cli_bad_option(CMD, c, argv);
+    }
+}
+
+static int parse(int argc, char **argv, render_args *a)
+{
+    static const struct option opts[] = {{"output", required_argument, NULL, 'o'},
+                                         {"views", required_argument, NULL, 'v'},
+                                         {"size", required_argument, NULL, 's'},
+                                         {"against", required_argument, NULL, 'a'},
+                                         {"device", required_argument, NULL, 'd'},
+                                         {"help", no_argument, NULL, 'h'},
+                                         {NULL, 0, NULL, 0}};
+    int c, rc;
+    opterr = 0;
+    while ((c = getopt_long(argc, argv, ":o:h", opts, NULL)) != -1)
+        if ((rc = parse_option(c, argv, a)) >= 0)
+            return rc;
+    if (optind >= argc)
+        return co_cli_usage_error(CMD, "missing MODEL (see --help)");
+    if (optind + 1 < argc)
+        return co_cli_usage_error(CMD, "unexpected argument '%s' (see --help)", argv[optind + 1]);
+    a->model = argv[optind];
+    if (!a->dir)
+        return co_cli_usage_error(CMD, "missing -o DIR (see --help)");
+    return -1;
+}
+
+static lm_status ensure_dir(const char *dir)
+{
+    if (mkdir(dir, 0777) != 0 && errno != EEXIST)
+        return lm_fail(LM_E_IO, "cannot create folder %s: %s", dir, strerror(errno));
+    struct stat sb;
+    if (stat(dir, &sb) != 0 || !S_ISDIR(sb.st_mode))
+        return lm_fail(LM_E_IO, "%s is not a folder", dir);
+    return LM_OK;
+}
+
+/* Write the colour image of a view (GL rows are bottom first; files top first). */
+static lm_status write_colour(lm_views *v, uint32_t view, int size, const char *dir,
+                              const char *prefix, uint8_t *rgba)
+{
+    lm_status st = wk_views_local_read_rgba(v, view, rgba);
+    lm_image *img = NULL;
+    if (st == LM_OK)
+        st = lm_image_create(size, size, &img);
+    if (st != LM_OK)
+        return st;
+    size_t row = (size_t)size * 4;
+    for (int y = 0; y < size; y++)
+        memcpy(img->pixels + row * y, rgba + row * (size - 1 - y), row);
+    char path[4096];
+    snprintf(path, sizeof path, "%s/%s_%02u.png", dir, prefix, view);
+    st = lm_image_write(path, img);
+    lm_image_destroy(img);
+    return st;
+}
+
+static lm_status write_diff(lm_views *v, uint32_t view, int size, const char *dir, uint8_t *buf)
+{
+    size_t plane = (size_t)size * size;
+    uint8_t *t = buf, *y = buf + plane, *d = buf + 2 * plane;
+    lm_status st = wk_views_local_luma(v, 1, view, t);
+    if (st == LM_OK)
+        st = wk_views_local_luma(v, 0, view, y);
+    if (st != LM_OK)
+        return st;
+    for (int r = 0; r < size; r++)
+        for (int x = 0; x < size; x++) {
+            size_t src = (size_t)(size - 1 - r) * size + x;
+            int diff = abs((int)t[src] - (int)y[src]) * DIFF_GAIN;
+            d[(size_t)r * size + x] = (uint8_t)(diff > 255 ? 255 : diff);
+        }
+    char path[4096];
+    snprintf(path, sizeof path, "%s/diff_%02u.png", dir, view);
+    return lm_image_write_gray(path, d, size, size);
+}
+
+static lm_status set_model(lm_views *v, const lm_mesh *model)
+{
+    lm_tri_data *tris = NULL;
+    size_t n = 0;
+    lm_status st = wk_views_local_set_materials(v, model->materials, model->n_materials);
+    if (st == LM_OK)
+        st = lm_mesh_export_tris(model, &tris, &n);
+    if (st == LM_OK)
+        st = v->ops->set_mesh(v, tris, n);
+    free(tris);
+    return st;
+}
+
+/* The colour images of the last full render are read: right after creation the framing model's
+ * (the original with --against, else the model itself), after set_mesh the model's. */
+static lm_status render_all(const render_args *a, const lm_mesh *framing, const lm_mesh *model,
+                            const lm_view_set *vs, uint8_t *buf)
+{
+    lm_views *v = NULL;
+    lm_status st = wk_views_local_create(framing, vs, a->device, &v);
+    for (uint32_t h = 0; st == LM_OK && a->against && h < vs->count; h++)
+        st = write_colour(v, h, (int)a->size, a->dir, "target", buf);
+    if (st == LM_OK && a->against)
+        st = set_model(v, model);
+    for (uint32_t h = 0; st == LM_OK && h < vs->count; h++)
+        st = write_colour(v, h, (int)a->size, a->dir, "view", buf);
+    for (uint32_t h = 0; st == LM_OK && a->against && h < vs->count; h++)
+        st = write_diff(v, h, (int)a->size, a->dir, buf);
+    lm_views_destroy(v);
+    return st;
+}
+
+int co_cli_render(int argc, char **argv)
+{
+    render_args a = {.views = 20, .size = 256, .device = "auto"};
+    int rc = parse(argc, argv, &a);
+    if (rc >= 0)
+        return rc;
+    lm_mesh *model = NULL, *orig = NULL;
+    lm_view_set *vs = NULL;
+    uint8_t *buf = malloc((size_t)a.size * a.size * 4);
+    lm_status st = buf ? LM_OK : lm_fail(LM_E_NOMEM, "out of memory for %u-pixel images", a.size);
+    if (st == LM_OK)
+        st = lm_mesh_load(a.model, NULL, &model);
+    if (st == LM_OK && a.against)
+        st = lm_mesh_load(a.against, NULL, &orig);
+    if (st == LM_OK)
+        st = co_view_set_around(orig ? orig : model, a.views, (int)a.size, 0, &vs);
+    if (st == LM_OK)
+        st = ensure_dir(a.dir);
+    if (st == LM_OK)
+        st = render_all(&a, orig ? orig : model, model, vs, buf);
+    if (st == LM_OK)
+        fprintf(stderr, "lumesh render: wrote %u view%s to %s\n", vs->count,
+                vs->count == 1 ? "" : "s", a.dir);
+    free(buf);
+    free(vs);
+    lm_mesh_destroy(model);
+    lm_mesh_destroy(orig);
+    return st ? co_cli_fail(CMD, st) : 0;
+}

@@ -1,0 +1,64 @@
+/* coordinator/job/checkpoint.h — checkpoint files: what lets a killed job continue to the same
+ * result.
+ *
+ * A checkpoint is one file, all integers little-endian:
+ *   "LUMESHCK" magic (8 bytes), u32 version, u32 key size,
+ *   the job key (hash of the original file's bytes, hash of the --initial file's bytes or 0, seed,
+ *   target vertex count, views, image size, optimised attributes),
+ *   u64 payload length, the payload (the optimizer's own serialisation), and a u64 FNV-1a checksum
+ * of every byte before it. Writes are atomic: the whole file is assembled in memory, written to a
+ * temporary file in the same folder, flushed, fsync'ed, renamed over the old one, and the folder is
+ * fsync'ed; a failure at any point leaves the previous checkpoint as it was. Reads verify magic,
+ * version, length, checksum and key before handing the payload to the loader, and name the first
+ * problem in one line. */
+#ifndef LM_COORDINATOR_CHECKPOINT_H
+#define LM_COORDINATOR_CHECKPOINT_H
+
+#include <stdint.h>
+#include <stdio.h>
+
+#include "common/error.h"
+
+#define CO_CHECKPOINT_VERSION 1u
+/* Refuse to read checkpoints larger than this (a corrupted length must not allocate terabytes). */
+#define CO_CHECKPOINT_MAX_BYTES ((uint64_t)1 << 34)
+
+/* The job options a checkpoint is only valid for. */
+typedef struct co_checkpoint_key {
+    uint64_t original_hash; /* co_checkpoint_hash_file() of the original model file */
+    uint64_t initial_hash;  /* same for the --initial file; 0 when the coarse mesh came from QEM */
+    uint64_t seed;
+    uint32_t target_verts; /* resolved target of the initial simplification; 0 with --initial */
+    uint32_t views;
+    uint32_t size;
+    uint32_t attrs; /* LM_ATTR_* optimised besides positions */
+} co_checkpoint_key;
+
+/* Writes the payload to fp (a memory stream); returns LM_OK or an error (nothing is written then).
+ */
+typedef lm_status (*co_checkpoint_save_fn)(const void *ctx, FILE *fp);
+/* Reads the payload from fp (a memory stream over exactly the payload bytes). */
+typedef lm_status (*co_checkpoint_load_fn)(void *ctx, FILE *fp);
+
+/* 64-bit FNV-1a of a file's bytes; LM_E_IO naming the file when it cannot be read. */
+lm_status co_checkpoint_hash_file(const char *path, uint64_t *out);
+/* 64-bit FNV-1a of a buffer, continuing from `h` (start with CO_FNV_OFFSET). */
+#define CO_FNV_OFFSET 0xcbf29ce484222325ull
+uint64_t co_fnv1a(uint64_t h, const void *data, size_t n);
+
+/* Atomically replace `path` with a checkpoint of `key` and the payload `save` produces. */
+lm_status co_checkpoint_write(const char *path, const co_checkpoint_key *key,
+                              co_checkpoint_save_fn save, const void *ctx);
+
+/* Verify `path` against `expect` and feed its payload to `load`. Errors (one line, naming the
+ * file): LM_E_IO unreadable; LM_E_FORMAT not a checkpoint, other version, truncated, corrupted, or
+ * payload not fully consumed; LM_E_INVALID written for another original or other options (names
+ * which). */
+lm_status co_checkpoint_read(const char *path, const co_checkpoint_key *expect,
+                             co_checkpoint_load_fn load, void *ctx);
+
+/* Only the checks of co_checkpoint_read (file, frame, checksum, key): lets a job refuse a bad
+ * --resume before it spends time rendering. */
+lm_status co_checkpoint_verify(const char *path, const co_checkpoint_key *expect);
+
+#endif

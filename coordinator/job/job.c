@@ -1,0 +1,478 @@
+/* coordinator/job/job.c — one optimisation job: set-up stages, the optimisation loop with progress
+ * and checkpoints, and the atomic output. Reads as: resolve options → load original → coarse mesh →
+ * views → optimizer (→ resume) → loop → save. */
+#include "coordinator/job/job.h"
+
+#include <errno.h>
+#include <inttypes.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "common/mesh.h"
+#include "common/mesh_io.h"
+#include "common/mesh_topology.h"
+#include "common/simplify.h"
+#include "common/view.h"
+#include "coordinator/job/checkpoint.h"
+#include "coordinator/optimizer/optimizer.h"
+#include "worker/views_local.h"
+
+/* Steps in a row that make no evaluation before the job calls the optimisation converged. */
+#define CO_JOB_MAX_IDLE_STEPS 16
+/* Wall-clock seconds of work asked of one optimizer step (between progress reports). */
+#define CO_JOB_STEP_SECONDS 0.25
+
+typedef struct co_job {
+    co_job_options o; /* defaults resolved */
+    uint32_t attrs;
+    const char *checkpoint_path;
+    lm_mesh *original;
+    lm_views *views;
+    co_optimizer *opt;
+    co_checkpoint_key key;
+    co_reporter rep;
+    struct timespec t0;
+    double loop_start_s; /* seconds from t0 to the start of the optimisation loop */
+    double loop_limit_s; /* the loop's share of the time limit; 0 = none */
+    uint64_t resumed_from_evals;
+    char renderer[128];
+} co_job;
+
+static double seconds_since(const struct timespec *t0)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)(t.tv_sec - t0->tv_sec) + 1e-9 * (double)(t.tv_nsec - t0->tv_nsec);
+}
+
+lm_status co_job_parse_attrs(const char *spec, uint32_t *out)
+{
+    uint32_t attrs = 0;
+    const char *p = spec;
+    if (!spec || !*spec)
+        return lm_fail(LM_E_INVALID, "--attrs needs a list such as pos,normal,uv,color");
+    while (*p) {
+        size_t n = strcspn(p, ",");
+        if (n == 3 && strncmp(p, "pos", 3) == 0)
+            ;
+        else if (n == 6 && strncmp(p, "normal", 6) == 0)
+            attrs |= LM_ATTR_NORMAL;
+        else if (n == 2 && strncmp(p, "uv", 2) == 0)
+            attrs |= LM_ATTR_UV;
+        else if ((n == 5 && strncmp(p, "color", 5) == 0) ||
+                 (n == 6 && strncmp(p, "colour", 6) == 0))
+            attrs |= LM_ATTR_COLOR;
+        else
+            return lm_fail(LM_E_INVALID,
+                           "--attrs: unknown attribute '%.*s' (use pos,normal,uv,color)", (int)n,
+                           p);
+        p += n;
+        if (*p == ',' && *++p == '\0')
+            return lm_fail(LM_E_INVALID, "--attrs: trailing comma in '%s'", spec);
+    }
+    *out = attrs;
+    return LM_OK;
+}
+
+/* Fail before any work when an output can never be written. */
+static lm_status check_writable(const char *what, const char *path)
+{
+    const char *slash = strrchr(path, '/');
+    char dir[4096];
+    if (!slash)
+        snprintf(dir, sizeof dir, ".");
+    else
+        snprintf(dir, sizeof dir, "%.*s", (int)(slash == path ? 1 : slash - path), path);
+    if (access(dir, W_OK) != 0)
+        return lm_fail(LM_E_IO, "cannot write %s '%s': folder '%s': %s", what, path, dir,
+                       strerror(errno));
+    return LM_OK;
+}
+
+static lm_status check_output_path(const char *path)
+{
+    const char *dot = strrchr(path, '.');
+    const char *slash = strrchr(path, '/');
+    if (!dot || (slash && dot < slash) ||
+        (strcasecmp(dot, ".obj") && strcasecmp(dot, ".ply") && strcasecmp(dot, ".glb")))
+        return lm_fail(LM_E_INVALID, "output '%s': use a .obj, .ply or .glb file name", path);
+    return check_writable("output", path);
+}
+
+static lm_status resolve_options(co_job *j, const co_job_options *in)
+{
+    j->o = *in;
+    co_job_options *o = &j->o;
+    if (!o->original_path || !o->output_path)
+        return lm_fail(LM_E_INVALID, "an original model and an output path are required");
+    if (o->initial_path && o->target_verts)
+        return lm_fail(LM_E_INVALID, "--initial and --target-verts exclude each other");
+    if (!o->views)
+        o->views = CO_JOB_DEFAULT_VIEWS;
+    if (!o->size)
+        o->size = CO_JOB_DEFAULT_SIZE;
+    if (o->views > LM_MAX_VIEWS)
+        return lm_fail(LM_E_RANGE, "--views %" PRIu32 " is above %d", o->views, LM_MAX_VIEWS);
+    if (o->size < 16 || o->size > LM_MAX_VIEW_SIZE)
+        return lm_fail(LM_E_RANGE, "--size %d is outside 16..%d", o->size, LM_MAX_VIEW_SIZE);
+    if (!o->max_evals)
+        o->max_evals = CO_JOB_DEFAULT_EVALS;
+    if (!o->seed)
+        o->seed = 1;
+    if (!(o->time_limit_s >= 0) || !(o->checkpoint_every_s >= 0))
+        return lm_fail(LM_E_RANGE, "time limits must be positive numbers");
+    if (!o->checkpoint_every_s && !o->checkpoint_every_evals)
+        o->checkpoint_every_s = CO_JOB_DEFAULT_CHECKPOINT_S;
+    if (!o->device_spec)
+        o->device_spec = "auto";
+    j->checkpoint_path = o->checkpoint_path ? o->checkpoint_path : o->resume_path;
+    lm_status st = check_output_path(o->output_path);
+    if (st == LM_OK && j->checkpoint_path)
+        st = check_writable("checkpoint", j->checkpoint_path);
+    return st;
+}
+
+static int has_texture(const lm_mesh *m)
+{
+    for (uint32_t i = 0; i < m->n_materials; i++)
+        if (m->materials[i].texture)
+            return 1;
+    return 0;
+}
+
+/* Attributes to optimise: the user's list (checked against the model) or the default. */
+static lm_status choose_attrs(co_job *j)
+{
+    const lm_mesh *m = j->original;
+    if (!j->o.attrs) {
+        j->attrs = 0;
+        if ((m->attrs & LM_ATTR_UV) && has_texture(m))
+            j->attrs |= LM_ATTR_UV;
+        if (m->attrs & LM_ATTR_COLOR)
+            j->attrs |= LM_ATTR_COLOR;
+        return LM_OK;
+    }
+    lm_status st = co_job_parse_attrs(j->o.attrs, &j->attrs);
+    if (st != LM_OK)
+        return st;
+    if ((j->attrs & LM_ATTR_UV) && !(m->attrs & LM_ATTR_UV))
+        return lm_fail(LM_E_INVALID, "--attrs uv: '%s' has no texture coordinates",
+                       j->o.original_path);
+    if ((j->attrs & LM_ATTR_COLOR) && !(m->attrs & LM_ATTR_COLOR))
+        return lm_fail(LM_E_INVALID, "--attrs color: '%s' has no vertex colours",
+                       j->o.original_path);
+    return LM_OK;
+}
+
+static lm_status resolve_target(co_job *j)
+{
+    uint32_t live = j->original->live_verts;
+    if (j->o.initial_path)
+        return LM_OK;
+    if (live < 8)
+        return lm_fail(LM_E_RANGE, "'%s' has only %" PRIu32 " vertices, too few to simplify",
+                       j->o.original_path, live);
+    if (!j->o.target_verts) {
+        uint32_t t = live / 100;
+        if (t < CO_JOB_MIN_TARGET_VERTS)
+            t = CO_JOB_MIN_TARGET_VERTS;
+        if (t > live / 2)
+            t = live / 2;
+        j->o.target_verts = t;
+    }
+    if (j->o.target_verts < 4 || j->o.target_verts >= live)
+        return lm_fail(LM_E_RANGE,
+                       "--target-verts %" PRIu32 " must be in 4..%" PRIu32
+                       " (below the original's %" PRIu32 " vertices)",
+                       j->o.target_verts, live - 1, live);
+    return LM_OK;
+}
+
+static void note(co_job *j, const char *event, const char *fmt, ...)
+    __attribute__((format(printf, 3, 4)));
+static void note(co_job *j, const char *event, const char *fmt, ...)
+{
+    char buf[512];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(buf, sizeof buf, fmt, ap);
+    va_end(ap);
+    co_reporter_note(&j->rep, event, buf);
+}
+
+static lm_status load_original(co_job *j)
+{
+    lm_status st = lm_mesh_load(j->o.original_path, NULL, &j->original);
+    if (st != LM_OK)
+        return st;
+    st = choose_attrs(j);
+    if (st == LM_OK)
+        st = resolve_target(j);
+    if (st == LM_OK)
+        note(j, "original", "%s: %" PRIu32 " vertices, %" PRIu32 " triangles", j->o.original_path,
+             j->original->live_verts, j->original->live_tris);
+    return st;
+}
+
+/* QEM of the original, or the user's --initial mesh. */
+static lm_status make_coarse(co_job *j, lm_mesh **out)
+{
+    *out = NULL;
+    if (j->o.initial_path)
+        return lm_mesh_load(j->o.initial_path, NULL, out);
+    lm_status st = lm_simplify(j->original, LM_SIMPLIFY_QEM, j->o.target_verts, out);
+    if (st == LM_E_RANGE && *out) {
+        note(j, "warning", "%s; going on with %" PRIu32 " vertices", lm_last_error(),
+             (*out)->live_verts);
+        st = LM_OK;
+    } else if (st != LM_OK && *out) {
+        lm_mesh_destroy(*out);
+        *out = NULL;
+    }
+    return st;
+}
+
+/* Normals not optimised are derived from geometry: wedges that differ only in them are merged so
+ * that they make no seams, and they are recomputed. Adjacency is rebuilt for the optimizer. */
+static lm_status prepare_coarse(co_job *j, lm_mesh *m)
+{
+    if (!(j->attrs & LM_ATTR_NORMAL)) {
+        lm_mesh_merge_wedges(m, LM_ATTR_UV | LM_ATTR_COLOR);
+        lm_mesh_compute_normals(m);
+    }
+    lm_status st = lm_mesh_compact(m);
+    if (st == LM_OK)
+        st = lm_mesh_build_adjacency(m);
+    if (st == LM_OK)
+        st = lm_mesh_validate(m);
+    if (st == LM_OK)
+        note(j, "coarse", "%s: %" PRIu32 " vertices, %" PRIu32 " triangles",
+             j->o.initial_path ? j->o.initial_path : "QEM", m->live_verts, m->live_tris);
+    return st;
+}
+
+static lm_status make_views(co_job *j)
+{
+    lm_view_set *vs = malloc(sizeof *vs);
+    if (!vs)
+        return lm_fail(LM_E_NOMEM, "out of memory for the view set");
+    float centre[3], radius;
+    lm_mesh_bounding_sphere(j->original, centre, &radius);
+    lm_status st = lm_view_set_make(vs, j->o.views, j->o.size, centre, radius);
+    if (st == LM_OK)
+        st = wk_views_local_create(j->original, vs, j->o.device_spec, &j->views);
+    free(vs);
+    if (st != LM_OK)
+        return st;
+    lm_views_info info;
+    j->views->ops->info(j->views, &info);
+    snprintf(j->renderer, sizeof j->renderer, "%s", info.renderer);
+    note(j, "views", "%" PRIu32 " views of %dx%d on %s", info.n_views, info.width, info.height,
+         info.renderer);
+    return LM_OK;
+}
+
+static lm_status make_key(co_job *j)
+{
+    co_checkpoint_key *k = &j->key;
+    memset(k, 0, sizeof *k);
+    lm_status st = co_checkpoint_hash_file(j->o.original_path, &k->original_hash);
+    if (st == LM_OK && j->o.initial_path)
+        st = co_checkpoint_hash_file(j->o.initial_path, &k->initial_hash);
+    k->seed = j->o.seed;
+    k->target_verts = j->o.initial_path ? 0 : j->o.target_verts;
+    k->views = j->o.views;
+    k->size = (uint32_t)j->o.size;
+    k->attrs = j->attrs;
+    return st;
+}
+
+static lm_status save_payload(const void *ctx, FILE *fp)
+{
+    return co_optimizer_save((const co_optimizer *)ctx, fp);
+}
+
+static lm_status load_payload(void *ctx, FILE *fp)
+{
+    return co_optimizer_load((co_optimizer *)ctx, fp);
+}
+
+static lm_status make_optimizer(co_job *j)
+{
+    lm_mesh *coarse = NULL;
+    lm_status st = make_coarse(j, &coarse);
+    if (st == LM_OK)
+        st = prepare_coarse(j, coarse);
+    /* The coarse mesh's material ids index its own materials (an --initial file has its own). */
+    if (st == LM_OK)
+        st = wk_views_local_set_materials(j->views, coarse->materials, coarse->n_materials);
+    co_params params = {.seed = j->o.seed, .attrs = j->attrs};
+    if (st == LM_OK)
+        st = co_optimizer_create(coarse, j->views, &params, &j->opt);
+    if (st != LM_OK) {
+        lm_mesh_destroy(coarse); /* the optimizer takes it only on success */
+        return st;
+    }
+    if (!j->o.resume_path)
+        return LM_OK;
+    st = co_checkpoint_read(j->o.resume_path, &j->key, load_payload, j->opt);
+    if (st != LM_OK)
+        return st;
+    co_progress p;
+    co_optimizer_progress(j->opt, &p);
+    j->resumed_from_evals = p.evals;
+    note(j, "resumed", "%s at %" PRIu64 " evaluations", j->o.resume_path, p.evals);
+    return LM_OK;
+}
+
+static void write_checkpoint(co_job *j, const co_progress *p)
+{
+    lm_status st = co_checkpoint_write(j->checkpoint_path, &j->key, save_payload, j->opt);
+    if (st != LM_OK)
+        note(j, "warning", "checkpoint not written: %s", lm_last_error());
+    else if (j->rep.style == CO_REPORT_JSON)
+        note(j, "checkpoint", "%s at %" PRIu64 " evaluations", j->checkpoint_path, p->evals);
+}
+
+/* Why the loop stops now, or NULL to go on. */
+static const char *stop_reason(const co_job *j, const co_progress *p, double t, int idle)
+{
+    if (p->evals >= j->o.max_evals)
+        return "evals";
+    if (j->loop_limit_s > 0 && t >= j->loop_limit_s)
+        return "time";
+    if (idle >= CO_JOB_MAX_IDLE_STEPS)
+        return "converged";
+    return NULL;
+}
+
+/* Evaluations to ask of the next step: about CO_JOB_STEP_SECONDS of work at the rate so far, so
+ * that progress and the time limit are looked at often even when an iteration takes minutes. */
+static uint64_t step_chunk(uint64_t done, double t)
+{
+    double rate = t > 0 ? (double)done / t : 0.0;
+    double chunk = rate > 0 ? rate * CO_JOB_STEP_SECONDS : 256.0;
+    return chunk < 64 ? 64 : chunk > 1e6 ? 1000000 : (uint64_t)chunk;
+}
+
+/* Optimise until the budget, the time limit, or nothing is left to evaluate. The optimizer stops
+ * between moves when it reaches the evaluation count it is given and goes on with the same
+ * iteration at the next call, so the chunking changes nothing in the result. Periodic checkpoints
+ * are written at iteration boundaries, and a last one when the loop stops. */
+static lm_status run_loop(co_job *j, const char **reason)
+{
+    co_progress p;
+    co_optimizer_progress(j->opt, &p);
+    const uint64_t evals0 = p.evals;
+    uint64_t ck_evals = p.evals;
+    double ck_s = 0.0, t = 0.0;
+    int idle = 0;
+    co_reporter_update(&j->rep, &p, 0.0, 1);
+    while (!(*reason = stop_reason(j, &p, t, idle))) {
+        uint64_t before = p.evals, before_it = p.iterations;
+        uint64_t target = p.evals + step_chunk(p.evals - evals0, t);
+        lm_status st = co_optimizer_step(j->opt, target < j->o.max_evals ? target : j->o.max_evals);
+        if (st != LM_OK)
+            return st;
+        co_optimizer_progress(j->opt, &p);
+        idle = p.evals == before ? idle + 1 : 0;
+        t = seconds_since(&j->t0) - j->loop_start_s;
+        co_reporter_update(&j->rep, &p, t, 0);
+        int due =
+            (j->o.checkpoint_every_evals && p.evals - ck_evals >= j->o.checkpoint_every_evals) ||
+            (j->o.checkpoint_every_s > 0 && t - ck_s >= j->o.checkpoint_every_s);
+        if (j->checkpoint_path && due && p.iterations != before_it) {
+            write_checkpoint(j, &p);
+            ck_evals = p.evals;
+            ck_s = t;
+        }
+    }
+    if (j->checkpoint_path && p.evals != ck_evals)
+        write_checkpoint(j, &p);
+    co_reporter_update(&j->rep, &p, t, 1);
+    return LM_OK;
+}
+
+/* Output: a compacted copy of the optimizer's mesh, written atomically (textures kept). */
+static lm_status write_output(co_job *j)
+{
+    lm_mesh *copy;
+    lm_status st = lm_mesh_clone(co_optimizer_mesh(j->opt), &copy);
+    if (st != LM_OK)
+        return st;
+    st = lm_mesh_compact(copy);
+    if (st == LM_OK)
+        st = lm_mesh_save(j->o.output_path, copy);
+    lm_mesh_destroy(copy);
+    return st;
+}
+
+static lm_status job_stages(co_job *j, co_job_summary *summary)
+{
+    lm_status st = load_original(j);
+    if (st == LM_OK)
+        st = make_key(j);
+    if (st == LM_OK && j->o.resume_path)
+        st = co_checkpoint_verify(j->o.resume_path, &j->key);
+    if (st == LM_OK)
+        st = make_views(j);
+    if (st == LM_OK)
+        st = make_optimizer(j);
+    if (st != LM_OK)
+        return st;
+    /* The time limit counts set-up too; the loop gets what is left of it. */
+    j->loop_start_s = seconds_since(&j->t0);
+    if (j->o.time_limit_s > 0) {
+        double left = j->o.time_limit_s - j->loop_start_s;
+        j->loop_limit_s = j->rep.time_limit_s = left > 1e-3 ? left : 1e-3;
+    }
+    const char *reason = NULL;
+    st = run_loop(j, &reason);
+    if (st == LM_OK)
+        st = write_output(j);
+    if (st != LM_OK)
+        return st;
+    memset(summary, 0, sizeof *summary);
+    co_optimizer_progress(j->opt, &summary->progress);
+    summary->wall_s = seconds_since(&j->t0);
+    summary->optimize_s = summary->wall_s - j->loop_start_s;
+    summary->stop_reason = reason;
+    summary->output_path = j->o.output_path;
+    summary->resumed_from_evals = j->resumed_from_evals;
+    snprintf(summary->renderer, sizeof summary->renderer, "%s", j->renderer);
+    co_reporter_summary(&j->rep, summary);
+    return LM_OK;
+}
+
+lm_status co_job_run(const co_job_options *opts, co_job_summary *summary)
+{
+    co_job *j = calloc(1, sizeof *j);
+    if (!j)
+        return lm_fail(LM_E_NOMEM, "out of memory");
+    clock_gettime(CLOCK_MONOTONIC, &j->t0);
+    co_job_summary local;
+    lm_status st = resolve_options(j, opts);
+    if (st == LM_OK) {
+        FILE *out = opts->json ? stdout : stderr;
+        co_report_style style =
+            opts->quiet ? CO_REPORT_QUIET : co_report_style_for(out, opts->json);
+        co_reporter_init(&j->rep, style, out, j->o.max_evals, 0.0);
+        st = job_stages(j, summary ? summary : &local);
+    }
+    if (st == LM_OK)
+        co_reporter_end_line(&j->rep);
+    else
+        co_reporter_abandon_line(&j->rep);
+    if (j->opt)
+        co_optimizer_destroy(j->opt);
+    lm_views_destroy(j->views);
+    if (j->original)
+        lm_mesh_destroy(j->original);
+    free(j);
+    return st;
+}

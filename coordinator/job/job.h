@@ -1,0 +1,54 @@
+/* coordinator/job/job.h — one optimisation job, end to end: load the original, make (or load) the
+ * coarse mesh, render the target views, run the optimizer until its evaluation budget or time
+ * limit, report progress, write periodic checkpoints, and save the result atomically.
+ *
+ * Determinism: with the same inputs, options and seed the output file is byte-identical, whether
+ * the run was uninterrupted or resumed from any of its checkpoints: the optimizer's state is
+ * complete between moves, the evaluation budget counts from the start of the job, and resuming
+ * with a larger --evals continues exactly where a run with the smaller budget stopped.
+ * Periodic checkpoints are written at edge-iteration boundaries; a last one when the job stops. */
+#ifndef LM_COORDINATOR_JOB_H
+#define LM_COORDINATOR_JOB_H
+
+#include <stdint.h>
+
+#include "common/error.h"
+#include "coordinator/job/progress.h"
+
+#define CO_JOB_DEFAULT_VIEWS 20u
+#define CO_JOB_DEFAULT_SIZE 256
+#define CO_JOB_DEFAULT_EVALS 100000ull
+#define CO_JOB_DEFAULT_CHECKPOINT_S 60.0
+#define CO_JOB_MIN_TARGET_VERTS 100u
+
+/* Zero means default for every field. */
+typedef struct co_job_options {
+    const char *original_path; /* required */
+    const char *output_path;   /* required: .obj, .ply or .glb */
+    const char *initial_path;  /* the coarse mesh to start from; NULL = QEM of the original */
+    uint32_t target_verts;     /* QEM target; 0 = 1% of the original's vertices, at least 100 */
+    uint32_t views;            /* 0 = 20 */
+    int size;                  /* image side in pixels; 0 = 256 */
+    uint64_t max_evals;        /* evaluation budget counted from the start of the job; 0 = 100000 */
+    double time_limit_s;       /* wall-clock limit for this process; 0 = none */
+    uint64_t seed;             /* 0 = 1 */
+    const char *attrs;         /* "pos,normal,uv,color" subset; NULL = uv if textured, color if
+                                  coloured; normals not listed are derived from geometry */
+    const char *checkpoint_path;     /* NULL = none (with resume_path: that file) */
+    uint64_t checkpoint_every_evals; /* 0 = by time only */
+    double checkpoint_every_s;       /* 0 = 60 s unless checkpoint_every_evals is set */
+    const char *resume_path;         /* continue from this checkpoint */
+    int json;                        /* NDJSON progress + summary on stdout */
+    int quiet;                       /* no progress and no summary (callers that report) */
+    const char *device_spec;         /* renderer device: "auto" (NULL), "host", "egl:N" */
+} co_job_options;
+
+/* Parse an --attrs list ("pos,normal,uv,color"; "pos" alone = positions only) into LM_ATTR_* bits.
+ * LM_E_INVALID naming the bad word. */
+lm_status co_job_parse_attrs(const char *spec, uint32_t *out);
+
+/* Run the job. On success the output exists (written atomically) and *summary (may be NULL) holds
+ * the final counters; output_path in it points into opts. */
+lm_status co_job_run(const co_job_options *opts, co_job_summary *summary);
+
+#endif

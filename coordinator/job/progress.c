@@ -1,0 +1,283 @@
+/* coordinator/job/progress.c — progress line / plain lines / JSON records, and the final summary.
+ */
+#include "coordinator/job/progress.h"
+
+#include <inttypes.h>
+#include <string.h>
+#include <sys/ioctl.h>
+#include <unistd.h>
+
+#include "common/log.h"
+
+static const double co_report_period[] = {
+    [CO_REPORT_QUIET] = 1e30,
+    [CO_REPORT_TTY] = 0.2,
+    [CO_REPORT_LINES] = 5.0,
+    [CO_REPORT_JSON] = 1.0,
+};
+
+const char *co_report_move_name(co_move_kind k)
+{
+    switch (k) {
+    case CO_MOVE_NOOP:
+        return "noop";
+    case CO_MOVE_SWAP:
+        return "swap";
+    case CO_MOVE_SPLIT:
+        return "split";
+    case CO_MOVE_COLLAPSE:
+        return "collapse";
+    default:
+        return "?";
+    }
+}
+
+co_report_style co_report_style_for(FILE *out, int json)
+{
+    if (json)
+        return CO_REPORT_JSON;
+    return isatty(fileno(out)) ? CO_REPORT_TTY : CO_REPORT_LINES;
+}
+
+void co_reporter_init(co_reporter *r, co_report_style style, FILE *out, uint64_t max_evals,
+                      double time_limit_s)
+{
+    memset(r, 0, sizeof *r);
+    r->style = style;
+    r->out = out;
+    r->summary_out = style == CO_REPORT_JSON ? out : stdout;
+    r->max_evals = max_evals;
+    r->time_limit_s = time_limit_s;
+    r->last_report_s = -1.0;
+    r->start_evals = UINT64_MAX;
+}
+
+void co_json_string(FILE *fp, const char *s)
+{
+    fputc('"', fp);
+    for (const unsigned char *p = (const unsigned char *)(s ? s : ""); *p; p++) {
+        if (*p == '"' || *p == '\\')
+            fprintf(fp, "\\%c", *p);
+        else if (*p == '\n')
+            fputs("\\n", fp);
+        else if (*p == '\t')
+            fputs("\\t", fp);
+        else if (*p < 0x20)
+            fprintf(fp, "\\u%04x", *p);
+        else
+            fputc(*p, fp);
+    }
+    fputc('"', fp);
+}
+
+static double relative(const co_progress *p)
+{
+    return p->energy_start > 0 ? (double)p->energy / (double)p->energy_start : 1.0;
+}
+
+/* Evaluations per second in this process, and the ETA (< 0 when unbounded or unknown). */
+static double rate_of(const co_reporter *r, const co_progress *p, double elapsed_s)
+{
+    if (r->start_evals == UINT64_MAX || elapsed_s <= 0 || p->evals < r->start_evals)
+        return 0.0;
+    return (double)(p->evals - r->start_evals) / elapsed_s;
+}
+
+static double eta_of(const co_reporter *r, const co_progress *p, double elapsed_s, double rate)
+{
+    double eta = -1.0;
+    if (r->max_evals && rate > 0)
+        eta = p->evals >= r->max_evals ? 0.0 : (double)(r->max_evals - p->evals) / rate;
+    if (r->time_limit_s > 0) {
+        double left = r->time_limit_s > elapsed_s ? r->time_limit_s - elapsed_s : 0.0;
+        if (eta < 0 || left < eta)
+            eta = left;
+    }
+    return eta;
+}
+
+static void json_counts(FILE *fp, const char *name, const uint64_t *counts)
+{
+    fprintf(fp, "\"%s\":{", name);
+    for (int k = 0; k < CO_MOVE_KINDS; k++)
+        fprintf(fp, "%s\"%s\":%" PRIu64, k ? "," : "", co_report_move_name((co_move_kind)k),
+                counts[k]);
+    fputc('}', fp);
+}
+
+static void json_progress(const co_reporter *r, const co_progress *p, double elapsed_s, double rate,
+                          double eta)
+{
+    FILE *fp = r->out;
+    fprintf(fp,
+            "{\"type\":\"progress\",\"elapsed_s\":%.3f,\"evals\":%" PRIu64
+            ",\"evals_per_s\":%.1f,\"iterations\":%" PRIu64 ",\"energy_start\":%" PRId64
+            ",\"energy\":%" PRId64 ",\"energy_rel\":%.6f,",
+            elapsed_s, p->evals, rate, p->iterations, p->energy_start, p->energy, relative(p));
+    json_counts(fp, "accepted", p->accepted);
+    fputc(',', fp);
+    json_counts(fp, "attempted", p->attempted);
+    fprintf(fp, ",\"verts\":%" PRIu32 ",\"tris\":%" PRIu32 ",\"eta_s\":", p->live_verts,
+            p->live_tris);
+    if (eta >= 0)
+        fprintf(fp, "%.1f}\n", eta);
+    else
+        fputs("null}\n", fp);
+    fflush(fp);
+}
+
+/* Columns of the terminal behind `fp` (80 if unknown). */
+static int terminal_columns(FILE *fp)
+{
+    struct winsize ws;
+    if (ioctl(fileno(fp), TIOCGWINSZ, &ws) == 0 && ws.ws_col >= 20)
+        return ws.ws_col;
+    return 80;
+}
+
+/* Replace the TTY line with `text`, cut to the terminal's width so that '\r' can rewrite it. */
+static void tty_line(co_reporter *r, const char *text)
+{
+    int cols = terminal_columns(r->out) - 1;
+    fprintf(r->out, "\r\033[K%.*s", cols, text);
+    r->line_open = 1;
+    fflush(r->out);
+}
+
+static void human_progress(co_reporter *r, const co_progress *p, double rate, double eta)
+{
+    char line[512];
+    size_t n = 0;
+#define CO_APPEND(...)                                                                             \
+    if (n < sizeof line)                                                                           \
+    n += (size_t)snprintf(line + n, sizeof line - n, __VA_ARGS__)
+    CO_APPEND("energy %.2f%% | %" PRIu64, 100.0 * relative(p), p->evals);
+    if (r->max_evals)
+        CO_APPEND("/%" PRIu64, r->max_evals);
+    CO_APPEND(" evals %.0f/s", rate);
+    if (eta >= 0)
+        CO_APPEND(" | ETA %d:%02d", (int)(eta / 60), (int)eta % 60);
+    CO_APPEND(" | accepted:");
+    for (int k = 0; k < CO_MOVE_KINDS; k++)
+        CO_APPEND(" %s %" PRIu64, co_report_move_name((co_move_kind)k), p->accepted[k]);
+    CO_APPEND(" | %" PRIu32 " verts", p->live_verts);
+#undef CO_APPEND
+    if (r->style == CO_REPORT_TTY) {
+        tty_line(r, line);
+    } else {
+        fprintf(r->out, "%s\n", line);
+        fflush(r->out);
+    }
+}
+
+void co_reporter_update(co_reporter *r, const co_progress *p, double elapsed_s, int force)
+{
+    if (r->start_evals == UINT64_MAX)
+        r->start_evals = p->evals;
+    if (r->style == CO_REPORT_QUIET)
+        return;
+    if (r->last_report_s >= 0 &&
+        (force ? p->evals == r->last_evals
+               : elapsed_s - r->last_report_s < co_report_period[r->style]))
+        return;
+    r->last_report_s = elapsed_s;
+    r->last_evals = p->evals;
+    double rate = rate_of(r, p, elapsed_s);
+    double eta = eta_of(r, p, elapsed_s, rate);
+    if (r->style == CO_REPORT_JSON)
+        json_progress(r, p, elapsed_s, rate, eta);
+    else
+        human_progress(r, p, rate, eta);
+}
+
+void co_reporter_end_line(co_reporter *r)
+{
+    if (r->line_open && r->out) {
+        fputc('\n', r->out);
+        r->line_open = 0;
+    }
+}
+
+void co_reporter_abandon_line(co_reporter *r)
+{
+    if (r->line_open && r->out) {
+        fputs("\r\033[K", r->out);
+        fflush(r->out);
+        r->line_open = 0;
+    }
+}
+
+void co_reporter_note(co_reporter *r, const char *event, const char *detail)
+{
+    if (r->style == CO_REPORT_JSON) {
+        fputs("{\"type\":\"event\",\"event\":", r->out);
+        co_json_string(r->out, event);
+        fputs(",\"detail\":", r->out);
+        co_json_string(r->out, detail);
+        fputs("}\n", r->out);
+        fflush(r->out);
+    } else if (strcmp(event, "warning") == 0) {
+        co_reporter_end_line(r);
+        lm_warn("%s", detail);
+    } else if (r->style == CO_REPORT_TTY) {
+        char line[512];
+        snprintf(line, sizeof line, "%s: %s", event, detail);
+        tty_line(r, line);
+    } else {
+        lm_info("%s: %s", event, detail);
+    }
+}
+
+static void json_summary(FILE *fp, const co_job_summary *s)
+{
+    const co_progress *p = &s->progress;
+    double run_evals = (double)(p->evals - s->resumed_from_evals);
+    fprintf(fp,
+            "{\"type\":\"summary\",\"energy_start\":%" PRId64 ",\"energy_end\":%" PRId64
+            ",\"energy_rel\":%.6f,\"evals\":%" PRIu64 ",\"resumed_from_evals\":%" PRIu64
+            ",\"iterations\":%" PRIu64 ",\"wall_s\":%.3f,\"optimize_s\":%.3f,\"evals_per_s\":%.1f"
+            ",\"stop_reason\":",
+            p->energy_start, p->energy, relative(p), p->evals, s->resumed_from_evals, p->iterations,
+            s->wall_s, s->optimize_s, s->optimize_s > 0 ? run_evals / s->optimize_s : 0.0);
+    co_json_string(fp, s->stop_reason);
+    fputs(",\"output\":", fp);
+    co_json_string(fp, s->output_path);
+    fputs(",\"renderer\":", fp);
+    co_json_string(fp, s->renderer);
+    fprintf(fp, ",\"verts\":%" PRIu32 ",\"tris\":%" PRIu32 ",", p->live_verts, p->live_tris);
+    json_counts(fp, "accepted", p->accepted);
+    fputc(',', fp);
+    json_counts(fp, "attempted", p->attempted);
+    fputs("}\n", fp);
+}
+
+static void human_summary(FILE *fp, const co_job_summary *s)
+{
+    const co_progress *p = &s->progress;
+    uint64_t run_evals = p->evals - s->resumed_from_evals;
+    fprintf(fp, "energy %" PRId64 " -> %" PRId64 " (%.2f%% of start) after %" PRIu64 " evaluations",
+            p->energy_start, p->energy, 100.0 * relative(p), p->evals);
+    if (s->resumed_from_evals)
+        fprintf(fp, " (%" PRIu64 " after resuming)", run_evals);
+    fprintf(fp, ", %.1f s (%.1f s optimising, %.0f evals/s); stopped by %s\n", s->wall_s,
+            s->optimize_s, s->optimize_s > 0 ? (double)run_evals / s->optimize_s : 0.0,
+            s->stop_reason);
+    fputs("accepted moves:", fp);
+    for (int k = 0; k < CO_MOVE_KINDS; k++)
+        fprintf(fp, " %s %" PRIu64 "/%" PRIu64 "%s", co_report_move_name((co_move_kind)k),
+                p->accepted[k], p->attempted[k], k + 1 < CO_MOVE_KINDS ? "," : "");
+    fprintf(fp, "; %" PRIu32 " vertices, %" PRIu32 " triangles\n", p->live_verts, p->live_tris);
+    fprintf(fp, "wrote %s (renderer: %s)\n", s->output_path, s->renderer);
+}
+
+void co_reporter_summary(co_reporter *r, const co_job_summary *s)
+{
+    if (r->style == CO_REPORT_QUIET)
+        return;
+    co_reporter_end_line(r);
+    if (r->style == CO_REPORT_JSON)
+        json_summary(r->summary_out, s);
+    else
+        human_summary(r->summary_out, s);
+    fflush(r->summary_out);
+}

@@ -1,0 +1,66 @@
+/* coordinator/job/progress.h — telling the user how a job is going, and the final summary.
+ * Three styles: a single updating line on a terminal; plain lines every few seconds otherwise; or
+ * newline-delimited JSON records (one object per line, "type":"progress" then one
+ * "type":"summary"). The reporter only formats; the job decides when to call it. */
+#ifndef LM_COORDINATOR_PROGRESS_H
+#define LM_COORDINATOR_PROGRESS_H
+
+#include <stdint.h>
+#include <stdio.h>
+
+#include "coordinator/optimizer/optimizer.h"
+
+typedef enum co_report_style {
+    CO_REPORT_QUIET, /* nothing */
+    CO_REPORT_TTY,   /* one line rewritten with '\r' (at most every 0.2 s) */
+    CO_REPORT_LINES, /* a plain line every 5 s */
+    CO_REPORT_JSON,  /* a JSON record every second */
+} co_report_style;
+
+typedef struct co_reporter {
+    co_report_style style;
+    FILE *out;            /* progress records */
+    FILE *summary_out;    /* the final summary: stdout (JSON style: `out`) */
+    uint64_t max_evals;   /* budget (for the ETA); 0 = unbounded */
+    double time_limit_s;  /* 0 = none */
+    double last_report_s; /* elapsed time of the last report, < 0 before the first */
+    uint64_t start_evals; /* evaluations at the first update (rates count this process only) */
+    uint64_t last_evals;  /* evaluations at the last report */
+    int line_open;        /* a TTY line is showing and needs a newline before other output */
+} co_reporter;
+
+/* What a finished job reports. */
+typedef struct co_job_summary {
+    co_progress progress;    /* final counters (energy_start, energy, evals, accepted...) */
+    double wall_s;           /* seconds the whole job took in this process (load to output) */
+    double optimize_s;       /* of which the optimisation loop */
+    const char *stop_reason; /* "evals", "time" or "converged" */
+    const char *output_path;
+    char renderer[128];
+    uint64_t resumed_from_evals; /* evaluations done before this process started (0 = fresh) */
+} co_job_summary;
+
+/* The style for a stream: JSON if asked, TTY if `out` is a terminal, plain lines otherwise. */
+co_report_style co_report_style_for(FILE *out, int json);
+
+void co_reporter_init(co_reporter *r, co_report_style style, FILE *out, uint64_t max_evals,
+                      double time_limit_s);
+/* Report if enough time passed since the last report (always when `force`). */
+void co_reporter_update(co_reporter *r, const co_progress *p, double elapsed_s, int force);
+/* A set-up step or event ("original", "views", "checkpoint", "warning"...): a JSON event record;
+ * on a terminal a transient status on the progress line; otherwise an info-level log line
+ * (hidden by default). "warning" events are always shown (log warning) except in JSON style. */
+void co_reporter_note(co_reporter *r, const char *event, const char *detail);
+/* End a showing TTY line with a newline (keeps it), or erase it (before an error message). */
+void co_reporter_end_line(co_reporter *r);
+void co_reporter_abandon_line(co_reporter *r);
+/* Close the TTY line, and write the summary to summary_out (JSON record in JSON style, human lines
+ * otherwise; nothing when quiet). */
+void co_reporter_summary(co_reporter *r, const co_job_summary *s);
+
+/* JSON string literal (quoted and escaped) to fp. */
+void co_json_string(FILE *fp, const char *s);
+/* Name of a move kind for reports: "noop", "swap", "split", "collapse". */
+const char *co_report_move_name(co_move_kind k);
+
+#endif

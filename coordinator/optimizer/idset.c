@@ -1,0 +1,92 @@
+/* coordinator/optimizer/idset.c — insertion-ordered id sets with generation stamps. */
+#include "coordinator/optimizer/idset.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+void co_idset_init(co_idset *s)
+{
+    memset(s, 0, sizeof *s);
+    s->gen = 1;
+}
+
+void co_idset_free(co_idset *s)
+{
+    free(s->ids);
+    free(s->stamp);
+    co_idset_init(s);
+}
+
+void co_idset_clear(co_idset *s)
+{
+    s->n = 0;
+    if (++s->gen == 0) { /* wrapped: forget every stamp */
+        if (s->stamp)
+            memset(s->stamp, 0, (size_t)s->range * sizeof *s->stamp);
+        s->gen = 1;
+    }
+}
+
+static lm_status grow_range(co_idset *s, uint32_t id)
+{
+    uint64_t r = s->range ? s->range : 256;
+    while (r <= id)
+        r *= 2;
+    if (r > UINT32_MAX)
+        r = UINT32_MAX;
+    uint32_t *st = realloc(s->stamp, (size_t)r * sizeof *st);
+    if (!st)
+        return lm_fail(LM_E_NOMEM, "out of memory growing an id set to %llu ids",
+                       (unsigned long long)r);
+    memset(st + s->range, 0, (size_t)(r - s->range) * sizeof *st);
+    s->stamp = st;
+    s->range = (uint32_t)r;
+    return LM_OK;
+}
+
+lm_status co_idset_add(co_idset *s, uint32_t id)
+{
+    if (id >= s->range) {
+        lm_status st = grow_range(s, id);
+        if (st)
+            return st;
+    }
+    if (s->stamp[id] == s->gen)
+        return LM_OK;
+    if (s->n == s->cap) {
+        uint32_t c = s->cap ? s->cap * 2 : 64;
+        uint32_t *a = realloc(s->ids, (size_t)c * sizeof *a);
+        if (!a)
+            return lm_fail(LM_E_NOMEM, "out of memory growing an id set to %u members", c);
+        s->ids = a;
+        s->cap = c;
+    }
+    s->stamp[id] = s->gen;
+    s->ids[s->n++] = id;
+    return LM_OK;
+}
+
+int co_idset_has(const co_idset *s, uint32_t id)
+{
+    return id < s->range && s->stamp[id] == s->gen;
+}
+
+void co_idset_sort(co_idset *s)
+{
+    for (uint32_t i = 1; i < s->n; i++) {
+        uint32_t x = s->ids[i], k = i;
+        for (; k > 0 && s->ids[k - 1] > x; k--)
+            s->ids[k] = s->ids[k - 1];
+        s->ids[k] = x;
+    }
+}
+
+void co_idset_truncate(co_idset *s, uint32_t n)
+{
+    if (n >= s->n)
+        return;
+    /* dropped members must leave the set too */
+    for (uint32_t i = n; i < s->n; i++)
+        s->stamp[s->ids[i]] = 0;
+    s->n = n;
+}

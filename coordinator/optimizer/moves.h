@@ -1,0 +1,100 @@
+/* coordinator/optimizer/moves.h — one operation (connectivity move × optimisation level, paper §5.2
+ * and Table 1) on one edge: perform the connectivity change on the mesh (journaled), optimise the
+ * level's vertex set by downhill simplex over positions and the --attrs wedge attributes, and
+ * accept (apply and commit to the views) or reject (roll back).
+ *
+ * Every candidate is turned into a patch of the affected triangles (ids before vs ids now) and
+ * priced by views->ops->evaluate, one batch per simplex batch. Normals that are not optimised are
+ * derived: area-weighted vertex normals recomputed for every vertex whose neighbourhood changed,
+ * exactly as lm_mesh_compute_normals computes them. Points that leave the bounding region or are
+ * not finite are refused without being evaluated.
+ * Ownership: borrows the mesh and the views; owns its journal, simplex and scratch memory (no
+ * allocation per evaluation once warm). */
+#ifndef LM_COORDINATOR_MOVES_H
+#define LM_COORDINATOR_MOVES_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "common/mesh.h"
+#include "common/mesh_topology.h"
+#include "common/views_api.h"
+#include "coordinator/optimizer/idset.h"
+#include "coordinator/optimizer/optimizer.h"
+
+/* Zero means default for every field. */
+typedef struct co_moves_config {
+    uint32_t attrs;         /* LM_ATTR_* optimised besides positions; normals otherwise derived */
+    uint32_t evals_per_dim; /* simplex limit: evals_per_dim * n; 0 = 32 */
+    uint32_t max_set_verts; /* vertex sets are cut to this many (core vertices kept); 0 = 16 */
+    uint32_t max_dim;       /* and to this many parameters; 0 = 160 */
+    double pos_step;        /* initial displacement: fraction of mean incident edge length; 0=0.2 */
+    double normal_step;     /* absolute; 0 = 0.15 */
+    double uv_step;         /* fraction of the mean uv edge length at the wedge; 0 = 0.2 */
+    double color_step;      /* absolute; 0 = 0.05 */
+    double size_tol;        /* simplex size tolerance (relative to the steps); 0 = simplex's */
+    double f_rtol;          /* simplex relative value tolerance; 0 = none */
+    float centre[3];        /* positions farther than bound_radius from centre are refused */
+    float bound_radius;     /* 0 = no bound */
+} co_moves_config;
+
+/* Where an operation acts: the edge, its opposite vertices, and the vertex the move creates
+ * (split) or keeps (collapse: a survives). */
+typedef struct co_move_site {
+    co_move_kind kind;
+    uint32_t a, b;
+    uint32_t c, d; /* third vertices of the edge's triangles; LM_NONE where absent */
+    uint32_t v;    /* split: new vertex; collapse: a; otherwise LM_NONE */
+} co_move_site;
+
+typedef struct co_move_result {
+    int legal;         /* the connectivity change was allowed (else nothing was evaluated) */
+    int accepted;      /* applied to the mesh and committed to the views */
+    int64_t delta;     /* best ΔE found against the committed mesh (INT64_MAX if none) */
+    uint32_t evals;    /* evaluations spent */
+    uint32_t set_size; /* vertices optimised */
+    co_move_site site;
+} co_move_result;
+
+typedef struct co_moves co_moves;
+
+lm_status co_moves_create(lm_mesh *mesh, lm_views *views, const co_moves_config *cfg,
+                          co_moves **out);
+void co_moves_destroy(co_moves *mv);
+
+/* Try `kind` at `level` on edge (a, b); accept when the best ΔE < accept_below. Illegal moves
+ * return LM_OK with res->legal = 0. Errors from the views are returned. */
+lm_status co_moves_try(co_moves *mv, co_move_kind kind, int level, uint32_t a, uint32_t b,
+                       int64_t accept_below, co_move_result *res);
+
+/* Triangles removed (committed ids) and present now around the last accepted move (sorted).
+ * Valid until the next co_moves_try. */
+void co_moves_last_change(const co_moves *mv, const uint32_t **before, uint32_t *n_before,
+                          const uint32_t **now, uint32_t *n_now);
+
+/* The mesh the moves act on. */
+const lm_mesh *co_moves_mesh(const co_moves *mv);
+
+/* Evaluations sent to the views since creation (the optimizer's clock). */
+uint64_t co_moves_evals(const co_moves *mv);
+void co_moves_set_evals(co_moves *mv, uint64_t evals);
+
+/* Undo support across accepted moves: a journal position, rolling the mesh back to it and
+ * re-sending the whole mesh to the views, and forgetting the journal (changes kept). */
+size_t co_moves_mark(const co_moves *mv);
+lm_status co_moves_revert(co_moves *mv, size_t mark);
+void co_moves_forget(co_moves *mv);
+
+/* The vertex set of Table 1 for `level` of site->kind, on the mesh after the connectivity change:
+ *   no-op    1: ⌊e⌋ = {a,b}   2: ⌊⌊⌈e⌉⌋⌋ = {a,b,c,d}   3: ⌊⌈⌊e⌋⌉⌋ (a, b and their rings)
+ *   swap     0: ∅   1: ⌊e'⌋ = {c,d}   2: ⌊⌊⌈e'⌉⌋⌋ = {c,d,a,b}   3: ⌊⌈⌊e'⌋⌉⌋
+ *   split    0,1: {v}   2: v ∪ ⌊⌊⌈e⌉⌋⌋ \ ⌊e⌋ = {v,c,d}   3: v ∪ ⌊⌈⌊e⌋⌉⌋
+ *   collapse 0,1: {v}   2: {v,c,d}   3: ⌊⌈v⌉⌋
+ * Core vertices come first, ring vertices after in ascending order. Level 0 is not optimised. */
+lm_status co_moves_vertex_set(const lm_mesh *m, const co_move_site *site, int level, co_idset *out);
+
+/* Area-weighted normal of vertex v written into all its wedges (journaled), computed like
+ * lm_mesh_compute_normals. */
+void co_moves_derive_normal(lm_mesh *m, uint32_t v, lm_journal *j);
+
+#endif

@@ -1,0 +1,406 @@
+/* coordinator/optimizer/optimizer.c — the Lindstrom–Turk optimizer (paper §5) as one object:
+ * iterations of 64 edges chosen by the oracle and at random; on each edge the operations no-op
+ * (levels 1-3), swap (0-3) and teleport (0-3) in that order, each attempted when Inequality 3 says
+ * so; the statistics, the teleport's collapse queue and the progress counters kept up to date.
+ * Checkpointing lives in optimizer_state.c. */
+#include "coordinator/optimizer/optimizer.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "common/log.h"
+#include "common/mesh_topology.h"
+#include "coordinator/optimizer/optimizer_internal.h"
+
+static lm_status prepare_mesh(co_optimizer *o)
+{
+    lm_mesh *m = o->mesh;
+    lm_status st = lm_mesh_build_adjacency(m);
+    if (st)
+        return st;
+    if (!(o->attrs & LM_ATTR_NORMAL)) {
+        /* derived normals: no seams from normals, and every normal as the moves derive them */
+        lm_mesh_merge_wedges(m, LM_ATTR_UV | LM_ATTR_COLOR);
+        lm_mesh_compute_normals(m);
+    }
+    lm_tri_data *tris;
+    size_t n;
+    if ((st = lm_mesh_export_tris(m, &tris, &n)))
+        return st;
+    st = o->views->ops->set_mesh(o->views, tris, n);
+    free(tris);
+    return st;
+}
+
+void co_tuning_defaults(co_tuning *t)
+{
+    co_tuning d = {.stats_half_life = 20000,
+                   .stats_min_weight = 1.0,
+                   .oracle_share = 0.5,
+                   .oracle_min_share = 0.125,
+                   .oracle_max_share = 0.875,
+                   .oracle_max_age = 16};
+    d.moves = (co_moves_config){.max_set_verts = 8,
+                                .max_dim = 160,
+                                .pos_step = 0.2,
+                                .normal_step = 0.15,
+                                .uv_step = 0.2,
+                                .color_step = 0.05,
+                                .size_tol = 0.25};
+    d.teleport = (co_teleport_config){
+        .threshold_half_life = 20000, .stats_half_life = 50000, .max_search_evals = 3000};
+    *t = d;
+}
+
+#define DEF(field)                                                                                 \
+    if (!(t->field > 0))                                                                           \
+    t->field = d.field
+
+static void resolve_tuning(co_tuning *t)
+{
+    co_tuning d;
+    co_tuning_defaults(&d);
+    DEF(stats_half_life);
+    DEF(stats_min_weight);
+    DEF(oracle_share);
+    DEF(oracle_min_share);
+    DEF(oracle_max_share);
+    DEF(oracle_max_age);
+    DEF(moves.max_set_verts);
+    DEF(moves.max_dim);
+    DEF(moves.pos_step);
+    DEF(moves.normal_step);
+    DEF(moves.uv_step);
+    DEF(moves.color_step);
+    DEF(moves.size_tol);
+    DEF(teleport.threshold_half_life);
+    DEF(teleport.stats_half_life);
+    DEF(teleport.max_search_evals);
+}
+
+#undef DEF
+
+static lm_status make_moves(co_optimizer *o)
+{
+    co_moves_config mc = o->tuning.moves;
+    mc.attrs = o->attrs;
+    mc.evals_per_dim = o->params.simplex_evals_per_dim;
+    float r;
+    lm_mesh_bounding_sphere(o->mesh, mc.centre, &r);
+    mc.bound_radius = 4.0f * r;
+    return co_moves_create(o->mesh, o->views, &mc, &o->mv);
+}
+
+static lm_status alloc_iteration(co_optimizer *o)
+{
+    uint32_t n = o->params.edges_per_iteration;
+    o->it.plan = calloc(n, sizeof *o->it.plan);
+    o->it.no_progress = calloc(n, sizeof *o->it.no_progress);
+    if (!o->it.plan || !o->it.no_progress)
+        return lm_fail(LM_E_NOMEM, "out of memory for an iteration of %u edges", n);
+    return LM_OK;
+}
+
+static lm_status create_parts(co_optimizer *o)
+{
+    lm_status st = prepare_mesh(o);
+    if (!st)
+        st = make_moves(o);
+    if (!st)
+        st = co_teleport_init(&o->tp, &o->tuning.teleport, o->mesh);
+    if (!st)
+        st = alloc_iteration(o);
+    if (!st)
+        st = o->views->ops->energy(o->views, &o->prog.energy_start, NULL);
+    o->prog.energy = o->prog.energy_start;
+    return st;
+}
+
+lm_status co_optimizer_create(lm_mesh *mesh, lm_views *views, const co_params *params,
+                              co_optimizer **out)
+{
+    return co_optimizer_create_tuned(mesh, views, params, NULL, out);
+}
+
+lm_status co_optimizer_create_tuned(lm_mesh *mesh, lm_views *views, const co_params *params,
+                                    const co_tuning *tuning, co_optimizer **out)
+{
+    *out = NULL;
+    if (!mesh || !views)
+        return lm_fail(LM_E_INVALID, "optimizer: a mesh and views are required");
+    co_optimizer *o = calloc(1, sizeof *o);
+    if (!o)
+        return lm_fail(LM_E_NOMEM, "out of memory creating the optimizer");
+    o->mesh = mesh;
+    o->views = views;
+    if (params)
+        o->params = *params;
+    if (tuning)
+        o->tuning = *tuning;
+    resolve_tuning(&o->tuning);
+    if (!o->params.seed)
+        o->params.seed = 1;
+    if (!o->params.edges_per_iteration)
+        o->params.edges_per_iteration = 64;
+    if (!o->params.simplex_evals_per_dim)
+        o->params.simplex_evals_per_dim = 32;
+    if (o->params.edges_per_iteration > 1u << 20 || o->params.simplex_evals_per_dim > 1u << 16) {
+        co_optimizer_destroy(o); /* the mesh was taken: it goes too */
+        return lm_fail(LM_E_RANGE, "optimizer: edges per iteration or evaluations per dimension "
+                                   "out of range");
+    }
+    o->attrs = o->params.attrs & (LM_ATTR_NORMAL | (mesh->attrs & (LM_ATTR_UV | LM_ATTR_COLOR)));
+    co_rng_seed(&o->rng, o->params.seed);
+    co_move_stats_init(&o->stats, o->tuning.stats_half_life, o->tuning.stats_min_weight);
+    co_oracle_init(&o->oracle);
+    o->oracle.share = o->tuning.oracle_share;
+    o->oracle.min_share = o->tuning.oracle_min_share;
+    o->oracle.max_share = o->tuning.oracle_max_share;
+    o->oracle.max_age = o->tuning.oracle_max_age;
+    co_idset_init(&o->it.touched);
+    lm_status st = create_parts(o);
+    if (st) {
+        co_optimizer_destroy(o);
+        return st;
+    }
+    *out = o;
+    return LM_OK;
+}
+
+void co_optimizer_destroy(co_optimizer *opt)
+{
+    if (!opt)
+        return;
+    co_moves_destroy(opt->mv);
+    co_teleport_free(&opt->tp);
+    co_oracle_free(&opt->oracle);
+    free(opt->it.plan);
+    free(opt->it.no_progress);
+    co_idset_free(&opt->it.touched);
+    lm_mesh_destroy(opt->mesh);
+    free(opt);
+}
+
+const lm_mesh *co_optimizer_mesh(const co_optimizer *opt)
+{
+    return opt->mesh;
+}
+
+void co_optimizer_progress(const co_optimizer *opt, co_progress *out)
+{
+    *out = opt->prog;
+    out->evals = co_moves_evals(opt->mv);
+    out->live_verts = opt->mesh->live_verts;
+    out->live_tris = opt->mesh->live_tris;
+}
+
+/* ---- one operation --------------------------------------------------------------------------- */
+
+typedef struct op_outcome {
+    int legal, accepted;
+    int64_t delta; /* committed ΔE (0 when rejected) */
+    uint32_t evals;
+} op_outcome;
+
+static lm_status run_teleport(co_optimizer *o, int level, uint32_t a, uint32_t b, op_outcome *r)
+{
+    co_teleport_result t;
+    lm_status st = co_teleport_try(&o->tp, o->mv, level, a, b, &t);
+    *r = (op_outcome){t.legal, t.accepted, t.accepted ? t.delta : 0, t.evals};
+    o->prog.attempted[CO_MOVE_COLLAPSE] += t.collapse_attempts;
+    o->prog.accepted[CO_MOVE_COLLAPSE] += t.accepted ? 1 : 0;
+    return st;
+}
+
+/* The edge and the vertices of the triangles around the last accepted change. */
+static lm_status mark_touched(co_optimizer *o, uint32_t a, uint32_t b)
+{
+    const uint32_t *before, *now;
+    uint32_t nb, nn;
+    co_moves_last_change(o->mv, &before, &nb, &now, &nn);
+    lm_status st = co_idset_add(&o->it.touched, a);
+    if (!st)
+        st = co_idset_add(&o->it.touched, b);
+    for (uint32_t i = 0; i < nn && !st; i++)
+        if (o->mesh->tri_alive[now[i]])
+            for (int k = 0; k < 3 && !st; k++)
+                st = co_idset_add(&o->it.touched, lm_tri_vertex(o->mesh, now[i], k));
+    return st;
+}
+
+static lm_status run_op(co_optimizer *o, co_move_kind kind, int level, uint32_t a, uint32_t b,
+                        op_outcome *r)
+{
+    lm_status st;
+    if (kind == CO_MOVE_SPLIT) {
+        st = run_teleport(o, level, a, b, r);
+    } else {
+        co_move_result mr;
+        st = co_moves_try(o->mv, kind, level, a, b, 0, &mr);
+        *r = (op_outcome){mr.legal, mr.accepted, mr.accepted ? mr.delta : 0, mr.evals};
+        if (!st && mr.accepted) {
+            const uint32_t *before, *now;
+            uint32_t nb, nn;
+            co_moves_last_change(o->mv, &before, &nb, &now, &nn);
+            st = co_teleport_note_change(&o->tp, o->mesh, now, nn);
+        }
+    }
+    if (!st && r->accepted)
+        st = mark_touched(o, a, b);
+    if (st || !r->legal)
+        return st;
+    o->prog.attempted[kind]++;
+    o->prog.accepted[kind] += r->accepted ? 1 : 0;
+    o->prog.energy += r->delta;
+    co_move_stats_add(&o->stats, kind, level, (double)r->delta, r->evals, co_moves_evals(o->mv));
+    return LM_OK;
+}
+
+/* ---- one edge (paper §5.3) ----------------------------------------------------------------- */
+
+static const co_move_kind edge_moves[3] = {CO_MOVE_NOOP, CO_MOVE_SWAP, CO_MOVE_SPLIT};
+
+/* Operations in their fixed order, each when Inequality 3 holds; a connectivity change that is
+ * accepted ends the edge (it no longer exists). */
+static lm_status edge_ops(co_optimizer *o, uint32_t a, uint32_t b, int64_t *total, int *tried)
+{
+    for (int k = 0; k < 3; k++) {
+        co_move_kind kind = edge_moves[k];
+        for (int level = kind == CO_MOVE_NOOP ? 1 : 0; level < CO_LEVELS; level++) {
+            if (!lm_mesh_edge_exists(o->mesh, a, b))
+                return LM_OK;
+            uint64_t now = co_moves_evals(o->mv);
+            if (!co_move_stats_should_try(&o->stats, kind, level, (double)*total, now))
+                continue;
+            op_outcome r;
+            lm_status st = run_op(o, kind, level, a, b, &r);
+            if (st)
+                return st;
+            if (!r.legal)
+                break;
+            *tried = 1;
+            *total += r.delta;
+            if (r.accepted && kind != CO_MOVE_NOOP)
+                return LM_OK;
+        }
+    }
+    return LM_OK;
+}
+
+static lm_status optimise_edge(co_optimizer *o, uint32_t a, uint32_t b, int64_t *total)
+{
+    *total = 0;
+    if (!lm_mesh_edge_exists(o->mesh, a, b))
+        return LM_OK;
+    int tried = 0;
+    lm_status st = edge_ops(o, a, b, total, &tried);
+    if (!st && !tried) {
+        /* Nothing looked worth it: try the most efficient operation anyway, so that the clock
+         * (and with it the attenuation of the statistics) always moves on. */
+        co_move_kind kind = CO_MOVE_NOOP;
+        int level = 1;
+        co_move_stats_best(&o->stats, co_moves_evals(o->mv), &kind, &level);
+        op_outcome r;
+        st = run_op(o, kind, level, a, b, &r);
+        if (!st && !r.legal)
+            st = run_op(o, CO_MOVE_NOOP, 1, a, b, &r);
+        if (!st && r.legal)
+            *total += r.delta;
+    }
+    co_moves_forget(o->mv);
+    return st;
+}
+
+/* ---- iterations (paper §5.4) ----------------------------------------------------------------- */
+
+static lm_status begin_iteration(co_optimizer *o)
+{
+    co_iteration *it = &o->it;
+    uint32_t(*edges)[2];
+    size_t n;
+    lm_status st = lm_mesh_list_edges(o->mesh, &edges, &n);
+    if (st)
+        return st;
+    co_ranked_edge *ranked = NULL;
+    if (n)
+        st = co_oracle_rank(o->views, o->mesh, (const uint32_t(*)[2])edges, n, &ranked);
+    free(edges);
+    it->n_plan = 0;
+    if (!st && n)
+        st = co_oracle_plan(&o->oracle, ranked, n, &o->rng, o->params.edges_per_iteration, it->plan,
+                            &it->n_plan);
+    free(ranked);
+    it->pos = 0;
+    it->gain[0] = it->gain[1] = 0;
+    it->count[0] = it->count[1] = 0;
+    it->n_no_progress = 0;
+    it->active = !st;
+    return st;
+}
+
+/* Debug log: the statistics behind Inequality 3, once per iteration. */
+static void log_stats(const co_optimizer *o)
+{
+    if (lm_log_get_level() < LM_LOG_DEBUG)
+        return;
+    static const char *names[CO_MOVE_KINDS] = {"noop", "swap", "tele", "coll"};
+    uint64_t now = co_moves_evals(o->mv);
+    for (int k = 0; k < CO_MOVE_KINDS; k++)
+        for (int l = 0; l < CO_LEVELS; l++) {
+            co_stat_view v;
+            co_stat_get(&o->stats.op[k][l], now, o->stats.half_life, &v);
+            if (o->stats.op[k][l].count)
+                lm_debug("stats %s%d: n %llu f %.2f dE %.0f sd %.0f t %.1f eff %.2f", names[k], l,
+                         (unsigned long long)o->stats.op[k][l].count, v.f, v.mean, v.sigma, v.t,
+                         v.mean / (v.t > 0 ? v.t : 1));
+        }
+    lm_debug("iteration %llu: share %.2f gain oracle %.0f/%u random %.0f/%u threshold %lld "
+             "searches %llu failed %llu",
+             (unsigned long long)o->prog.iterations, o->oracle.share, o->it.gain[1], o->it.count[1],
+             o->it.gain[0], o->it.count[0], (long long)co_teleport_threshold(&o->tp, now),
+             (unsigned long long)o->tp.searches, (unsigned long long)o->tp.searches_failed);
+}
+
+static int touched_vertex(const void *ctx, uint32_t v)
+{
+    return co_idset_has((const co_idset *)ctx, v);
+}
+
+static lm_status end_iteration(co_optimizer *o)
+{
+    co_iteration *it = &o->it;
+    log_stats(o);
+    it->active = 0;
+    co_oracle_balance(&o->oracle, it->gain[1], it->count[1], it->gain[0], it->count[0]);
+    lm_status st = co_oracle_update_stale(&o->oracle, o->prog.iterations, it->no_progress,
+                                          it->n_no_progress, touched_vertex, &it->touched);
+    o->prog.iterations++;
+    co_idset_clear(&it->touched);
+    return st;
+}
+
+lm_status co_optimizer_step(co_optimizer *opt, uint64_t max_evals)
+{
+    co_iteration *it = &opt->it;
+    lm_status st = LM_OK;
+    if (co_moves_evals(opt->mv) >= max_evals)
+        return LM_OK;
+    if (!it->active && (st = begin_iteration(opt)))
+        return st;
+    while (it->pos < it->n_plan) {
+        if (co_moves_evals(opt->mv) >= max_evals)
+            return LM_OK;
+        const co_planned_edge *e = &it->plan[it->pos];
+        int64_t total;
+        if ((st = optimise_edge(opt, e->a, e->b, &total)))
+            return st;
+        int src = e->from_oracle ? 1 : 0;
+        it->gain[src] += (double)-total;
+        it->count[src]++;
+        if (total >= 0)
+            it->no_progress[it->n_no_progress++] = co_edge_key(e->a, e->b);
+        it->pos++;
+    }
+    return end_iteration(opt);
+}

@@ -1,0 +1,62 @@
+/* coordinator/optimizer/optimizer.h — the Lindstrom–Turk optimizer (paper §5) as one object.
+ * It owns the coarse mesh being optimized and talks to the views only through common/views_api.h.
+ * Time is counted in ΔE evaluations; with the same inputs and seed the sequence of decisions, and
+ * so the output, is identical. All state needed to continue is serialisable (checkpoints), so a run
+ * resumed from a checkpoint ends with the same result as an uninterrupted one. */
+#ifndef LM_COORDINATOR_OPTIMIZER_H
+#define LM_COORDINATOR_OPTIMIZER_H
+
+#include <stdint.h>
+#include <stdio.h>
+
+#include "common/mesh.h"
+#include "common/views_api.h"
+
+/* Move kinds (paper Table 1), each with optimisation levels 0..3. */
+typedef enum co_move_kind {
+    CO_MOVE_NOOP,
+    CO_MOVE_SWAP,
+    CO_MOVE_SPLIT,
+    CO_MOVE_COLLAPSE,
+    CO_MOVE_KINDS
+} co_move_kind;
+
+typedef struct co_params {
+    uint64_t seed;  /* 0 = default 1 */
+    uint32_t attrs; /* LM_ATTR_* optimised besides positions; normals not in the set are derived */
+    uint32_t edges_per_iteration;   /* 0 = 64 */
+    uint32_t simplex_evals_per_dim; /* 0 = 32 (at most 32n evaluations per simplex run) */
+} co_params;
+
+typedef struct co_progress {
+    uint64_t evals;                   /* ΔE evaluations so far */
+    uint64_t iterations;              /* edge iterations (64 edges each) */
+    int64_t energy_start, energy;     /* E at start and now */
+    uint64_t accepted[CO_MOVE_KINDS]; /* accepted moves by kind (teleports count as SPLIT) */
+    uint64_t attempted[CO_MOVE_KINDS];
+    uint32_t live_verts, live_tris;
+} co_progress;
+
+typedef struct co_optimizer co_optimizer;
+
+/* Takes ownership of `mesh` (the coarse mesh; adjacency built) and borrows `views` (whose target
+ * images are already rendered); sends the mesh to the views (set_mesh). The mesh is owned by the
+ * optimizer even when creation fails (it is destroyed then). */
+lm_status co_optimizer_create(lm_mesh *mesh, lm_views *views, const co_params *params,
+                              co_optimizer **out);
+void co_optimizer_destroy(co_optimizer *opt);
+
+/* Optimise one edge iteration (about 64 edges) unless the evaluation budget `max_evals` (absolute
+ * count since the start of the job) is reached first; stops between moves. */
+lm_status co_optimizer_step(co_optimizer *opt, uint64_t max_evals);
+
+void co_optimizer_progress(const co_optimizer *opt, co_progress *out);
+/* The current mesh (owned by the optimizer; valid until the next step/destroy). */
+const lm_mesh *co_optimizer_mesh(const co_optimizer *opt);
+
+/* Serialise the complete state (mesh, statistics, scheduler, PRNG, counters) / restore it into an
+ * optimizer created on the same original, views and params. Versioned binary, checked on read. */
+lm_status co_optimizer_save(const co_optimizer *opt, FILE *fp);
+lm_status co_optimizer_load(co_optimizer *opt, FILE *fp);
+
+#endif

@@ -1,0 +1,28 @@
+/* coordinator/optimizer/optimizer_tuning.h — the numbers the paper leaves open (step sizes,
+ * tolerances, attenuation, oracle share bounds, collapse search limits), for benchmarks and
+ * experiments. co_optimizer_create uses co_tuning_defaults(); a checkpoint records the tuning and
+ * is only loaded by an optimizer with the same one. Zero means default for every field. */
+#ifndef LM_COORDINATOR_OPTIMIZER_TUNING_H
+#define LM_COORDINATOR_OPTIMIZER_TUNING_H
+
+#include "coordinator/optimizer/moves.h"
+#include "coordinator/optimizer/optimizer.h"
+#include "coordinator/optimizer/teleport.h"
+
+typedef struct co_tuning {
+    co_moves_config moves;       /* steps, set limits, simplex tolerances (attrs, bounds ignored) */
+    co_teleport_config teleport; /* threshold attenuation, collapse search limit */
+    double stats_half_life;      /* evaluations for a statistic's weight to halve */
+    double stats_min_weight;     /* operations with less attenuated weight are always tried */
+    double oracle_share, oracle_min_share, oracle_max_share;
+    uint32_t oracle_max_age; /* iterations an edge tried without progress is skipped at most */
+} co_tuning;
+
+/* Fill every field with the value used when it is zero. */
+void co_tuning_defaults(co_tuning *t);
+
+/* co_optimizer_create with explicit tuning (NULL = defaults). */
+lm_status co_optimizer_create_tuned(lm_mesh *mesh, lm_views *views, const co_params *params,
+                                    const co_tuning *tuning, co_optimizer **out);
+
+#endif

@@ -1,0 +1,63 @@
+/* coordinator/optimizer/teleport.h — the vertex teleport (paper §5.3): split an edge at its
+ * midpoint and optimise (a level of the split move); accept the split only if its ΔE pays for the
+ * cheapest collapse elsewhere (a threshold from the energy of the last completed collapse,
+ * attenuated over time); then search the priority queue of collapse estimates (levels -1..3) for a
+ * collapse whose ΔE is below the split's gain, raising levels of estimates that are too high,
+ * stopping when the best remaining estimate has less than a 3σ chance of succeeding; if none is
+ * found, collapse the cheapest edge anyway (an occasional uphill move). The vertex count is
+ * unchanged afterwards. Also owns the queue upkeep after every accepted move (estimates around it
+ * go back to the default state). */
+#ifndef LM_COORDINATOR_TELEPORT_H
+#define LM_COORDINATOR_TELEPORT_H
+
+#include <stdint.h>
+#include <stdio.h>
+
+#include "coordinator/optimizer/collapse_queue.h"
+#include "coordinator/optimizer/move_stats.h"
+#include "coordinator/optimizer/moves.h"
+
+typedef struct co_teleport_config {
+    double threshold_half_life; /* evaluations for the collapse-cost estimate to halve; 0 = 20000 */
+    double stats_half_life;     /* of the level-improvement statistics; 0 = 50000 */
+    uint32_t max_search_evals;  /* per collapse search; 0 = 3000 */
+} co_teleport_config;
+
+typedef struct co_teleport {
+    co_teleport_config cfg;
+    co_cq *queue;
+    int64_t last_collapse;      /* collapse ΔE when the last teleport completed (>= 0) */
+    uint64_t last_time;         /* evaluation clock then */
+    co_stat improve[CO_LEVELS]; /* level l -> l+1: (ΔE at l+1) - (estimate at l) */
+    uint64_t searches, searches_failed, collapses_tried;
+} co_teleport;
+
+typedef struct co_teleport_result {
+    int legal;      /* the split was possible */
+    int accepted;   /* split and collapse both committed */
+    int64_t delta;  /* ΔE committed by this teleport (0 if rejected) */
+    uint32_t evals; /* evaluations spent (split + search) */
+    uint32_t collapse_attempts;
+} co_teleport_result;
+
+/* Every edge of m starts in the default state (m may be NULL: empty queue). */
+lm_status co_teleport_init(co_teleport *tp, const co_teleport_config *cfg, const lm_mesh *m);
+void co_teleport_free(co_teleport *tp);
+
+/* Current threshold: the attenuated cost of the cheapest collapse. */
+int64_t co_teleport_threshold(const co_teleport *tp, uint64_t now);
+
+/* Teleport at `level` (0..3) on edge (a, b). */
+lm_status co_teleport_try(co_teleport *tp, co_moves *mv, int level, uint32_t a, uint32_t b,
+                          co_teleport_result *res);
+
+/* After any accepted move: put the collapse estimates of the edges of the triangles now around it
+ * back to the default state. */
+lm_status co_teleport_note_change(co_teleport *tp, const lm_mesh *m, const uint32_t *now,
+                                  uint32_t n_now);
+
+/* Checkpoint (binary, values as raw bits; the queue as entries sorted by edge). */
+lm_status co_teleport_save(const co_teleport *tp, FILE *fp);
+lm_status co_teleport_load(co_teleport *tp, FILE *fp);
+
+#endif
