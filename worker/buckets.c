@@ -251,6 +251,21 @@ lm_status wk_buckets_insert(wk_buckets *b, uint32_t id, const wk_footprint *f)
     return LM_OK;
 }
 
+lm_status wk_buckets_fill(wk_buckets *b, const lm_view *view, const wk_replica *rep)
+{
+    wk_buckets_clear(b);
+    for (size_t id = 0; id < rep->cap; id++) {
+        if (!rep->alive[id])
+            continue;
+        wk_footprint f;
+        wk_tri_footprint(view, &rep->tris[id], &f);
+        lm_status st = wk_buckets_insert(b, (uint32_t)id, &f);
+        if (st != LM_OK)
+            return st;
+    }
+    return LM_OK;
+}
+
 void wk_buckets_remove(wk_buckets *b, uint32_t id)
 {
     LM_ASSERT(id < b->cap_ids && b->present[id]);

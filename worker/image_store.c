@@ -143,6 +143,34 @@ void wk_image_store_commit_region(wk_image_store *s, uint32_t view, const wk_rec
                region + (size_t)(y - r->y0) * rw, (size_t)rw);
 }
 
+void wk_image_store_commit_pixels(wk_image_store *s, uint32_t view, const uint32_t *idx,
+                                  const uint8_t *y, size_t n)
+{
+    LM_ASSERT(view < s->n_views);
+    const uint8_t *t = s->target + view * s->plane;
+    uint8_t *cur = s->current + view * s->plane;
+    int64_t delta = 0;
+    for (size_t i = 0; i < n; i++) {
+        LM_ASSERT(idx[i] < s->plane);
+        int a = (int)t[idx[i]] - (int)y[i], b = (int)t[idx[i]] - (int)cur[idx[i]];
+        delta += a * a - b * b;
+        cur[idx[i]] = y[i];
+    }
+    s->energy[view] += delta;
+}
+
+void wk_image_store_energies(const wk_image_store *s, int64_t *total, int64_t *per_view)
+{
+    int64_t sum = 0;
+    for (uint32_t h = 0; h < s->n_views; h++) {
+        if (per_view)
+            per_view[h] = s->energy[h];
+        sum += s->energy[h];
+    }
+    if (total)
+        *total = sum;
+}
+
 int64_t wk_image_store_energy(const wk_image_store *s, uint32_t view)
 {
     LM_ASSERT(view < s->n_views);
@@ -411,4 +439,28 @@ int wk_image_store_hidden_tri_witness(const wk_image_store *s, uint32_t view, co
             }
     }
     return 1;
+}
+
+lm_status wk_image_store_potentials(const wk_image_store *s, const lm_view_set *views, int radius,
+                                    const float (*points)[3], size_t n, int64_t *out)
+{
+    LM_ASSERT(views->count == s->n_views);
+    uint32_t *blur = malloc(s->plane * sizeof *blur);
+    if (!blur)
+        return lm_fail(LM_E_NOMEM, "out of memory for the oracle's images");
+    memset(out, 0, n * sizeof *out);
+    lm_status st = LM_OK;
+    for (uint32_t h = 0; st == LM_OK && h < s->n_views; h++) {
+        st = wk_image_store_blurred_diff(s, h, radius, blur);
+        for (size_t i = 0; st == LM_OK && i < n; i++) {
+            float win[2];
+            if (!lm_view_project(&views->views[h], points[i], win, NULL))
+                continue;
+            if (!(win[0] >= 0 && win[0] < s->width && win[1] >= 0 && win[1] < s->height))
+                continue;
+            out[i] += blur[(size_t)win[1] * s->width + (size_t)win[0]];
+        }
+    }
+    free(blur);
+    return st;
 }

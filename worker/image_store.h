@@ -13,6 +13,7 @@
 #include <stdint.h>
 
 #include "common/error.h"
+#include "common/view.h"
 #include "worker/buckets.h"
 
 /* Luminance from RGBA8 with fixed integer NTSC weights: Y = (77 R + 150 G + 29 B + 128) >> 8. */
@@ -39,6 +40,14 @@ int64_t wk_image_store_region_delta(const wk_image_store *s, uint32_t view, cons
 /* Copy `region` into the current image over r and update E_h by the region's delta. */
 void wk_image_store_commit_region(wk_image_store *s, uint32_t view, const wk_rect *r,
                                   const uint8_t *region);
+
+/* Set the current luminance of pixels idx[i] (y * width + x, each at most once) to y[i] and
+ * update E_h exactly. */
+void wk_image_store_commit_pixels(wk_image_store *s, uint32_t view, const uint32_t *idx,
+                                  const uint8_t *y, size_t n);
+
+/* Σ of E_h over the views (total) and each E_h (per_view, n_views entries); either may be NULL. */
+void wk_image_store_energies(const wk_image_store *s, int64_t *total, int64_t *per_view);
 
 /* E_h as kept, and recomputed from scratch (for checks). */
 int64_t wk_image_store_energy(const wk_image_store *s, uint32_t view);
@@ -76,5 +85,13 @@ int wk_image_store_hidden_tri_witness(const wk_image_store *s, uint32_t view, co
  * the image, of (Ŷ - Y)². radius in 0..64; out has width*height entries. */
 lm_status wk_image_store_blurred_diff(const wk_image_store *s, uint32_t view, int radius,
                                       uint32_t *out);
+
+#define WK_ORACLE_RADIUS 4 /* the oracle's blur radius (a 9x9 window) */
+
+/* The oracle's potentials: for each world point the sum over the views (views->count = n_views,
+ * of this store's size) of its blurred difference image (radius) at the point's pixel, 0 where it
+ * projects outside or behind the eye. */
+lm_status wk_image_store_potentials(const wk_image_store *s, const lm_view_set *views, int radius,
+                                    const float (*points)[3], size_t n, int64_t *out);
 
 #endif
