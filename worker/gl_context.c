@@ -236,6 +236,29 @@ lm_status wk_gl_context_create(const char *spec, wk_gl_context **out)
     return open_spec(&procs, spec ? spec : "auto", kind, index, devs, n, out);
 }
 
+lm_status wk_gl_context_create_gpu(wk_gl_context **out)
+{
+    wk_egl_procs procs;
+    wk_egl_raw_device devs[WK_MAX_DEVICES];
+    int n = 0;
+    LM_ASSERT(out != NULL);
+    *out = NULL;
+    if (wk_egl_load_procs(&procs) != LM_OK ||
+        wk_egl_query_raw_devices(&procs, devs, WK_MAX_DEVICES, &n) != LM_OK)
+        return lm_fail(LM_E_UNSUPPORTED, "no EGL device enumeration (%s)", lm_last_error());
+    for (int i = 0; i < n; i++) {
+        if (devs[i].is_software)
+            continue;
+        if (open_on(&procs, &devs[i], out) == LM_OK)
+            return LM_OK;
+        lm_info("device auto: skipping %s", lm_last_error());
+    }
+    return lm_fail(LM_E_UNSUPPORTED,
+                   "none of the %d EGL device(s) is a GPU with an OpenGL ES 3 "
+                   "context",
+                   n);
+}
+
 void wk_gl_context_destroy(wk_gl_context *ctx)
 {
     if (!ctx)

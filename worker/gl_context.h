@@ -30,6 +30,9 @@ typedef struct wk_gl_context wk_gl_context;
 
 /* spec NULL means "auto". On success the new context is current on the calling thread. */
 lm_status wk_gl_context_create(const char *spec, wk_gl_context **out);
+/* The first GPU (not a software device) that yields a working context, current on return;
+ * LM_E_UNSUPPORTED when there is none (no EGL device enumeration, no GPU, none working). */
+lm_status wk_gl_context_create_gpu(wk_gl_context **out);
 void wk_gl_context_destroy(wk_gl_context *ctx);
 lm_status wk_gl_context_make_current(wk_gl_context *ctx);
 /* "EGL device N: <GL_RENDERER>, <GL_VERSION>" — recorded with every image and energy. */

@@ -8,9 +8,9 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "worker/cpu_views.h"
+#include "worker/device_choice.h"
 #include "worker/views_local_internal.h"
-
-#define WK_ORACLE_RADIUS 4
 
 lm_status wk_vl_make_current(wk_views_local *v)
 {
@@ -186,16 +186,9 @@ static lm_status build_replica(wk_views_local *v, const lm_tri_data *tris, size_
 lm_status wk_vl_build_buckets(wk_views_local *v)
 {
     for (uint32_t h = 0; h < v->views.count; h++) {
-        wk_buckets_clear(v->buckets[h]);
-        for (size_t id = 0; id < v->rep.cap; id++) {
-            if (!v->rep.alive[id])
-                continue;
-            wk_footprint f;
-            wk_tri_footprint(&v->views.views[h], &v->rep.tris[id], &f);
-            lm_status st = wk_buckets_insert(v->buckets[h], (uint32_t)id, &f);
-            if (st != LM_OK)
-                return st;
-        }
+        lm_status st = wk_buckets_fill(v->buckets[h], &v->views.views[h], &v->rep);
+        if (st != LM_OK)
+            return st;
     }
     v->buckets_ready = 1;
     return LM_OK;
@@ -249,15 +242,7 @@ static lm_status vl_energy(lm_views *base, int64_t *total, int64_t *per_view)
     wk_views_local *v = (wk_views_local *)base;
     if (!v->mesh_set)
         return lm_fail(LM_E_INVALID, "energy asked before a mesh was set");
-    int64_t sum = 0;
-    for (uint32_t h = 0; h < v->views.count; h++) {
-        int64_t e = wk_image_store_energy(v->img, h);
-        if (per_view)
-            per_view[h] = e;
-        sum += e;
-    }
-    if (total)
-        *total = sum;
+    wk_image_store_energies(v->img, total, per_view);
     return LM_OK;
 }
 
@@ -266,24 +251,7 @@ static lm_status vl_potentials(lm_views *base, const float (*points)[3], size_t 
     wk_views_local *v = (wk_views_local *)base;
     if (!v->mesh_set)
         return lm_fail(LM_E_INVALID, "potentials asked before a mesh was set");
-    uint32_t *blur = malloc((size_t)v->width * v->height * sizeof *blur);
-    if (!blur)
-        return lm_fail(LM_E_NOMEM, "out of memory for the oracle's images");
-    memset(out, 0, n * sizeof *out);
-    lm_status st = LM_OK;
-    for (uint32_t h = 0; st == LM_OK && h < v->views.count; h++) {
-        st = wk_image_store_blurred_diff(v->img, h, WK_ORACLE_RADIUS, blur);
-        for (size_t i = 0; st == LM_OK && i < n; i++) {
-            float win[2];
-            if (!lm_view_project(&v->views.views[h], points[i], win, NULL))
-                continue;
-            if (!(win[0] >= 0 && win[0] < v->width && win[1] >= 0 && win[1] < v->height))
-                continue;
-            out[i] += blur[(size_t)win[1] * v->width + (size_t)win[0]];
-        }
-    }
-    free(blur);
-    return st;
+    return wk_image_store_potentials(v->img, &v->views, WK_ORACLE_RADIUS, points, n, out);
 }
 
 static void vl_info(lm_views *base, lm_views_info *out)
@@ -335,11 +303,9 @@ static lm_status check_views(const lm_view_set *views)
     return LM_OK;
 }
 
-static lm_status create_parts(wk_views_local *v, const lm_mesh *original, const char *spec)
+static lm_status create_parts(wk_views_local *v, const lm_mesh *original)
 {
-    lm_status st = wk_gl_context_create(spec ? spec : "auto", &v->ctx);
-    if (st == LM_OK)
-        st = wk_vl_make_current(v);
+    lm_status st = wk_vl_make_current(v);
     if (st == LM_OK)
         st = wk_renderer_create(&v->views, &v->r);
     if (st == LM_OK)
@@ -365,15 +331,23 @@ lm_status wk_views_local_create(const lm_mesh *original, const lm_view_set *view
         if (original->tri_alive[t] && original->tris[t].material >= original->n_materials)
             return lm_fail(LM_E_RANGE, "original triangle %u uses material %u of %u", t,
                            original->tris[t].material, original->n_materials);
+    wk_gl_context *ctx = NULL;
+    if ((st = wk_device_open(device_spec, &ctx)) != LM_OK)
+        return st;
+    if (!ctx) /* "cpu", or "auto" without a GPU */
+        return wk_cpu_views_create(original, views, out);
     wk_views_local *v = calloc(1, sizeof *v);
-    if (!v)
+    if (!v) {
+        wk_gl_context_destroy(ctx);
         return lm_fail(LM_E_NOMEM, "out of memory creating the views");
+    }
     v->base.ops = &vl_ops;
+    v->ctx = ctx;
     v->views = *views;
     v->width = views->views[0].width;
     v->height = views->views[0].height;
     wk_replica_init(&v->rep);
-    st = create_parts(v, original, device_spec);
+    st = create_parts(v, original);
     if (st == LM_OK) {
         tri_source src = {.mesh = original};
         st = render_full(v, 0, &src, 1);
@@ -390,6 +364,8 @@ lm_status wk_views_local_create(const lm_mesh *original, const lm_view_set *view
 
 lm_status wk_views_local_set_materials(lm_views *base, const lm_material *mats, uint32_t n)
 {
+    if (wk_cpu_views_is(base))
+        return wk_cpu_views_set_materials(base, mats, n);
     wk_views_local *v = (wk_views_local *)base;
     lm_status st = wk_vl_make_current(v);
     if (st == LM_OK)
@@ -402,6 +378,8 @@ lm_status wk_views_local_set_materials(lm_views *base, const lm_material *mats, 
 
 lm_status wk_views_local_set_occlusion(lm_views *base, int on)
 {
+    if (wk_cpu_views_is(base))
+        return wk_cpu_views_set_occlusion(base, on);
     wk_views_local *v = (wk_views_local *)base;
     if (on && !wk_image_store_has_depth(v->img))
         return lm_fail(LM_E_UNSUPPORTED, "this device cannot render depth images");
@@ -417,11 +395,17 @@ lm_status wk_views_local_set_occlusion(lm_views *base, int on)
 
 void wk_views_local_get_stats(lm_views *base, wk_views_local_stats *out)
 {
+    if (wk_cpu_views_is(base)) {
+        wk_cpu_views_get_stats(base, out);
+        return;
+    }
     *out = ((wk_views_local *)base)->stats;
 }
 
 lm_status wk_views_local_luma(lm_views *base, int which, uint32_t view, uint8_t *out)
 {
+    if (wk_cpu_views_is(base))
+        return wk_cpu_views_luma(base, which, view, out);
     wk_views_local *v = (wk_views_local *)base;
     if (view >= v->views.count)
         return lm_fail(LM_E_RANGE, "view %u of %u", view, v->views.count);
@@ -433,6 +417,8 @@ lm_status wk_views_local_luma(lm_views *base, int which, uint32_t view, uint8_t 
 
 lm_status wk_views_local_read_rgba(lm_views *base, uint32_t view, uint8_t *out)
 {
+    if (wk_cpu_views_is(base))
+        return wk_cpu_views_read_rgba(base, view, out);
     wk_views_local *v = (wk_views_local *)base;
     if (view >= v->views.count)
         return lm_fail(LM_E_RANGE, "view %u of %u", view, v->views.count);
@@ -445,6 +431,8 @@ lm_status wk_views_local_read_rgba(lm_views *base, uint32_t view, uint8_t *out)
 
 lm_status wk_views_local_read_coverage(lm_views *base, uint32_t view, uint8_t *out)
 {
+    if (wk_cpu_views_is(base))
+        return wk_cpu_views_read_coverage(base, view, out);
     wk_views_local *v = (wk_views_local *)base;
     if (view >= v->views.count)
         return lm_fail(LM_E_RANGE, "view %u of %u", view, v->views.count);

@@ -7,6 +7,8 @@
 
 #include "common/error.h"
 #include "common/log.h"
+#include "worker/cpu_self_test.h"
+#include "worker/device_choice.h"
 #include "worker/gl_context.h"
 #include "worker/self_test.h"
 
@@ -19,15 +21,15 @@ typedef struct worker_args {
 
 static void usage(FILE *f)
 {
-    fputs("usage: lumesh-worker --connect ADDR [--device auto|egl:N|host] [--self-test]\n"
+    fputs("usage: lumesh-worker --connect ADDR [--device auto|cpu|egl:N|host] [--self-test]\n"
           "\n"
           "Renders views for a lumesh coordinator.\n"
           "\n"
           "  --connect ADDR   coordinator address, e.g. tcp://host:5555\n"
           "                   (not available in this version: distribution lands later)\n"
-          "  --device SPEC    rendering device: auto (first working GPU, else the software\n"
-          "                   renderer), host (Mesa llvmpipe), egl:N (device N as listed by\n"
-          "                   `lumesh devices`); default auto\n"
+          "  --device SPEC    rendering device: auto (first working GPU, else cpu), cpu\n"
+          "                   (lumesh's exact CPU rasteriser), host (Mesa llvmpipe), egl:N\n"
+          "                   (device N as listed by `lumesh devices`); default auto\n"
           "  --self-test      create a context on the device, render and check a test image,\n"
           "                   print the device and \"self-test ok\"\n"
           "  -v, --verbose    log device choice details to stderr\n"
@@ -79,12 +81,12 @@ static lm_status self_test(const char *device)
 {
     wk_gl_context *ctx = NULL;
     int red = 0;
-    lm_status st = wk_gl_context_create(device, &ctx);
+    lm_status st = wk_device_open(device, &ctx);
     if (st != LM_OK)
         return st;
-    st = wk_self_test_run(ctx, &red);
+    st = ctx ? wk_self_test_run(ctx, &red) : wk_cpu_self_test_run(&red);
     if (st == LM_OK) {
-        printf("%s\n", wk_gl_context_description(ctx));
+        printf("%s\n", ctx ? wk_gl_context_description(ctx) : "cpu: " WK_CPU_RASTERISER);
         printf("self-test ok (32x32 clear + triangle, %d/1024 pixels covered)\n", red);
     }
     wk_gl_context_destroy(ctx);

@@ -1,0 +1,650 @@
+/* worker/cpu_eval.c — incremental ΔE on the CPU rasteriser: a patch is applied to each view's
+ * keys in place, the changed pixels logged, shaded and summed into ΔE, then rolled back
+ * (evaluate) or kept (commit). Per view:
+ *
+ *   A. holes: the pixels where a removed triangle is the visible surface (found by rasterising it
+ *      and comparing keys; none when its visible-pixel count is 0) become background; the old key
+ *      there is a lower bound of every kept triangle's key (it beat them all). A removed triangle
+ *      re-added with the same id and bit-identical corners (a "twin": only its attributes change)
+ *      keeps its keys; its pixels are only marked for shading.
+ *   B. the added triangles (twins aside) are drawn by min-update, skipping 8x8 tiles whose
+ *      depth maximum lies in front of them.
+ *   C. a hole whose new key is not below its bound may show a kept triangle: those triangles come
+ *      from the buckets (a query over the unresolved pixels' box, drawn only in tiles holding such
+ *      pixels). Elsewhere no kept triangle can win: each loses to the old surface already.
+ *   D. every logged pixel is shaded with its new visible triangle; ΔE is the exact int64 sum of
+ *      (Ŷ - Y')² - (Ŷ - Y)² over them.
+ *
+ * Every step is a min over keys, so the result equals a full render pixel for pixel. */
+#include <stdlib.h>
+#include <string.h>
+
+#include "worker/cpu_views_internal.h"
+
+enum { F_HOLE = 1, F_RESHADE = 2, F_NEW = 3 };
+
+/* ---- scratch ------------------------------------------------------------------------------ */
+
+lm_status wk_cpu_eval_init(wk_cpu_views *v)
+{
+    wk_cpu_eval *e = &v->eval;
+    e->log.stamp = calloc(v->plane, sizeof *e->log.stamp);
+    e->log.idx = malloc(v->plane * sizeof *e->log.idx);
+    e->log.xy = malloc(v->plane * sizeof *e->log.xy);
+    e->log.old = malloc(v->plane * sizeof *e->log.old);
+    e->log.flag = malloc(v->plane);
+    e->owned = malloc(v->plane * sizeof *e->owned);
+    e->luma = malloc(v->plane);
+    e->rgb = malloc(v->plane * 3);
+    e->tile_old = malloc(v->tiles * sizeof *e->tile_old);
+    e->tile_idx = malloc(v->tiles * sizeof *e->tile_idx);
+    e->tile_stamp = calloc(v->tiles, sizeof *e->tile_stamp);
+    e->tile_mask = calloc(v->tiles, 1);
+    e->mask_idx = malloc(v->tiles * sizeof *e->mask_idx);
+    e->cmax = malloc(v->tiles * sizeof *e->cmax);
+    if (!e->log.stamp || !e->log.idx || !e->log.xy || !e->log.old || !e->log.flag || !e->owned ||
+        !e->luma || !e->rgb || !e->tile_old || !e->tile_idx || !e->tile_stamp || !e->tile_mask ||
+        !e->mask_idx || !e->cmax)
+        return lm_fail(LM_E_NOMEM, "out of memory for the evaluation scratch of %zu pixels",
+                       v->plane);
+    return LM_OK;
+}
+
+void wk_cpu_eval_free(wk_cpu_eval *e)
+{
+    void *p[] = {e->log.stamp,     e->log.idx,     e->log.xy,
+                 e->log.old,       e->log.flag,    e->owned,
+                 e->luma,          e->rgb,         e->tile_old,
+                 e->tile_idx,      e->tile_stamp,  e->tile_mask,
+                 e->mask_idx,      e->cmax,        e->set.sub,
+                 e->set.tri,       e->set.shade,   e->set.shade_ready,
+                 e->removed_stamp, e->added_stamp, e->twin_stamp,
+                 e->twin_of,       e->loc_stamp,   e->loc_first,
+                 e->loc_n,         e->cand.ids};
+    for (size_t i = 0; i < sizeof p / sizeof *p; i++)
+        free(p[i]);
+    memset(e, 0, sizeof *e);
+}
+
+static lm_status grow_ids(void **a, size_t elem, size_t old, size_t cap)
+{
+    uint8_t *b = realloc(*a, cap * elem);
+    if (!b)
+        return lm_fail(LM_E_NOMEM, "out of memory for %zu per-triangle entries", cap);
+    memset(b + old * elem, 0, (cap - old) * elem);
+    *a = b;
+    return LM_OK;
+}
+
+static lm_status ids_reserve(wk_cpu_eval *e, size_t need)
+{
+    if (need <= e->cap_ids)
+        return LM_OK;
+    size_t cap = e->cap_ids ? e->cap_ids : 1024, old = e->cap_ids;
+    while (cap < need)
+        cap *= 2;
+    void **u32[] = {(void **)&e->removed_stamp, (void **)&e->added_stamp, (void **)&e->twin_stamp,
+                    (void **)&e->twin_of,       (void **)&e->loc_stamp,   (void **)&e->loc_first};
+    for (size_t i = 0; i < sizeof u32 / sizeof *u32; i++)
+        if (grow_ids(u32[i], sizeof(uint32_t), old, cap) != LM_OK)
+            return LM_E_NOMEM;
+    if (grow_ids((void **)&e->loc_n, 1, old, cap) != LM_OK)
+        return LM_E_NOMEM;
+    e->cap_ids = cap;
+    return LM_OK;
+}
+
+static lm_status setups_reserve(wk_cpu_setups *s, size_t need)
+{
+    if (need <= s->cap)
+        return LM_OK;
+    size_t cap = s->cap ? s->cap : 256;
+    while (cap < need)
+        cap *= 2;
+    wk_cpu_sub *a = realloc(s->sub, cap * sizeof *a);
+    if (a)
+        s->sub = a;
+    const lm_tri_data **t = realloc(s->tri, cap * sizeof *t);
+    if (t)
+        s->tri = t;
+    wk_cpu_shade *sh = realloc(s->shade, cap * sizeof *sh);
+    if (sh)
+        s->shade = sh;
+    uint8_t *r = realloc(s->shade_ready, cap);
+    if (r)
+        s->shade_ready = r;
+    if (!a || !t || !sh || !r)
+        return lm_fail(LM_E_NOMEM, "out of memory for %zu triangle setups", cap);
+    s->cap = cap;
+    return LM_OK;
+}
+
+/* ---- the patch ---------------------------------------------------------------------------- */
+
+static int same_corners(const lm_tri_data *a, const lm_tri_data *b)
+{
+    for (int k = 0; k < 3; k++)
+        if (memcmp(a->c[k].pos, b->c[k].pos, sizeof a->c[k].pos))
+            return 0;
+    return 1;
+}
+
+static lm_status check_added(const wk_cpu_views *v, const lm_patch *p, size_t *need)
+{
+    uint32_t n_mat = v->mats[v->table].n;
+    for (uint32_t i = 0; i < p->n_added; i++) {
+        if (p->added[i].id >= LM_MESH_MAX_TRIS)
+            return lm_fail(LM_E_RANGE, "patch adds triangle id %u beyond the limit",
+                           p->added[i].id);
+        if (p->added[i].material >= n_mat)
+            return lm_fail(LM_E_RANGE, "patch triangle %u uses material %u of %u", p->added[i].id,
+                           p->added[i].material, n_mat);
+        *need = p->added[i].id + 1u > *need ? p->added[i].id + 1u : *need;
+    }
+    return LM_OK;
+}
+
+static uint32_t next_patch_stamp(wk_cpu_eval *e)
+{
+    if (++e->patch_now == 0) {
+        size_t bytes = e->cap_ids * sizeof(uint32_t);
+        memset(e->removed_stamp, 0, bytes);
+        memset(e->added_stamp, 0, bytes);
+        memset(e->twin_stamp, 0, bytes);
+        e->patch_now = 1;
+    }
+    return e->patch_now;
+}
+
+/* Validates p against the replica, stamps its removed and added ids and finds the twins. */
+static lm_status prepare_patch(wk_cpu_views *v, const lm_patch *p)
+{
+    wk_cpu_eval *e = &v->eval;
+    size_t need = v->rep.cap;
+    lm_status st = check_added(v, p, &need);
+    if (st == LM_OK)
+        st = ids_reserve(e, need);
+    if (st != LM_OK)
+        return st;
+    uint32_t now = next_patch_stamp(e);
+    for (uint32_t i = 0; i < p->n_removed; i++) {
+        uint32_t id = p->removed[i];
+        if (!wk_replica_alive(&v->rep, id) || e->removed_stamp[id] == now)
+            return lm_fail(LM_E_INVALID, "patch removes triangle %u which is %s", id,
+                           wk_replica_alive(&v->rep, id) ? "listed twice" : "not in the mesh");
+        e->removed_stamp[id] = now;
+    }
+    for (uint32_t i = 0; i < p->n_added; i++) {
+        uint32_t id = p->added[i].id;
+        int twice = e->added_stamp[id] == now, removed = e->removed_stamp[id] == now;
+        if (twice || (wk_replica_alive(&v->rep, id) && !removed))
+            return lm_fail(LM_E_INVALID, "patch adds triangle %u which is %s", id,
+                           twice ? "listed twice" : "alive and not removed");
+        e->added_stamp[id] = now;
+        if (v->occlusion && removed && same_corners(&p->added[i], &v->rep.tris[id])) {
+            e->twin_stamp[id] = now;
+            e->twin_of[id] = i;
+        }
+    }
+    return LM_OK;
+}
+
+static int is_twin(const wk_cpu_eval *e, uint32_t id)
+{
+    return e->twin_stamp[id] == e->patch_now;
+}
+
+/* ---- one (patch, view) pass --------------------------------------------------------------- */
+
+static void pass_begin(wk_cpu_views *v)
+{
+    wk_cpu_eval *e = &v->eval;
+    if (++e->log.now == 0) {
+        memset(e->log.stamp, 0, v->plane * sizeof *e->log.stamp);
+        memset(e->tile_stamp, 0, v->tiles * sizeof *e->tile_stamp);
+        memset(e->loc_stamp, 0, e->cap_ids * sizeof *e->loc_stamp);
+        e->log.now = 1;
+    }
+    e->log.n = 0;
+    e->set.n = 0;
+    e->n_raised = 0;
+}
+
+/* The subs of record t (triangle t->id) set up for this pass, registered once per pass. */
+static lm_status register_tri(wk_cpu_views *v, uint32_t h, const lm_tri_data *t, uint32_t *first,
+                              uint32_t *n)
+{
+    wk_cpu_eval *e = &v->eval;
+    if (e->loc_stamp[t->id] != e->log.now) {
+        lm_status st = setups_reserve(&e->set, e->set.n + WK_CPU_MAX_SUBS);
+        if (st != LM_OK)
+            return st;
+        int k = wk_cpu_tri_setup(&v->cviews[h], t, e->set.sub + e->set.n);
+        for (int i = 0; i < k; i++) {
+            e->set.tri[e->set.n + i] = t;
+            e->set.shade_ready[e->set.n + i] = 0;
+        }
+        e->loc_stamp[t->id] = e->log.now;
+        e->loc_first[t->id] = (uint32_t)e->set.n;
+        e->loc_n[t->id] = (uint8_t)k;
+        e->set.n += (size_t)k;
+    }
+    *first = e->loc_first[t->id];
+    *n = e->loc_n[t->id];
+    return LM_OK;
+}
+
+static uint32_t tile_of(const wk_cpu_views *v, uint32_t xy)
+{
+    return (uint32_t)(WK_CPU_Y(xy) / WK_CPU_TILE) * (uint32_t)v->tiles_w +
+           (uint32_t)(WK_CPU_X(xy) / WK_CPU_TILE);
+}
+
+/* Raise the maximum of pixel xy's tile to the background (it now holds a hole). */
+static void raise_tile(wk_cpu_views *v, wk_cpu_keys *k, uint32_t xy)
+{
+    wk_cpu_eval *e = &v->eval;
+    uint32_t t = tile_of(v, xy);
+    if (!k->tmax || e->tile_stamp[t] == e->log.now)
+        return;
+    e->tile_stamp[t] = e->log.now;
+    e->tile_idx[e->n_raised] = t;
+    e->tile_old[e->n_raised++] = k->tmax[t];
+    k->tmax[t] = WK_CPU_KEY_BG;
+}
+
+/* Step A for removed triangle id: its visible pixels (those whose key carries its id, all within
+ * its bucket rectangle) become holes or, for a twin, pixels to shade again. */
+static lm_status punch(wk_cpu_views *v, const lm_patch *p, uint32_t h, uint32_t id, wk_cpu_keys *k)
+{
+    wk_cpu_eval *e = &v->eval;
+    size_t limit = v->occlusion ? v->count[h][id] : v->plane, found = 0;
+    if (limit == 0)
+        return LM_OK; /* it shows nowhere */
+    int twin = is_twin(e, id);
+    if (twin) {
+        uint32_t first, n; /* its subs, for shading and step C */
+        lm_status st = register_tri(v, h, &p->added[e->twin_of[id]], &first, &n);
+        if (st != LM_OK)
+            return st;
+    }
+    const wk_rect *r = &wk_buckets_footprint(v->buckets[h], id)->rect;
+    const uint32_t tag = id << 3;
+    for (int y = r->y0; y < r->y1 && found < limit; y++) {
+        uint64_t *row = k->key + (size_t)y * v->width;
+        for (int x = r->x0; x < r->x1; x++) {
+            if (((uint32_t)row[x] & ~7u) != tag)
+                continue;
+            uint32_t q = (uint32_t)y * (uint32_t)v->width + (uint32_t)x, xy = WK_CPU_XY(x, y);
+            wk_cpu_log_pixel(&e->log, q, xy, row[x], twin ? F_RESHADE : F_HOLE);
+            if (!twin) {
+                row[x] = WK_CPU_KEY_BG;
+                raise_tile(v, k, xy);
+            }
+            if (++found == limit)
+                break;
+        }
+    }
+    return LM_OK;
+}
+
+/* Step B: the added triangles that are not twins, drawn with logging. */
+static lm_status draw_added(wk_cpu_views *v, const lm_patch *p, uint32_t h, wk_cpu_keys *k)
+{
+    wk_cpu_eval *e = &v->eval;
+    const wk_cpu_clip all = {{0, 0, v->width, v->height}, NULL};
+    for (uint32_t i = 0; i < p->n_added; i++) {
+        if (is_twin(e, p->added[i].id))
+            continue;
+        uint32_t first, n;
+        lm_status st = register_tri(v, h, &p->added[i], &first, &n);
+        if (st != LM_OK)
+            return st;
+        for (uint32_t j = 0; j < n; j++)
+            wk_cpu_draw(&e->set.sub[first + j], k, &all, &e->log, F_NEW);
+        v->stats.tris_drawn += n;
+    }
+    return LM_OK;
+}
+
+static void update_tile(const wk_cpu_views *v, wk_cpu_keys *k, uint32_t t)
+{
+    int x = (int)(t % (uint32_t)v->tiles_w) * WK_CPU_TILE,
+        y = (int)(t / (uint32_t)v->tiles_w) * WK_CPU_TILE;
+    const wk_rect one = {x, y, x + 1, y + 1};
+    wk_cpu_keys_update_tiles(k, &one);
+}
+
+/* The box of the holes not certainly filled and, with occlusion, the mask of their tiles and per
+ * tile the greatest key among them (only those pixels can still change: a kept triangle behind
+ * that key everywhere in a tile changes nothing there); 0 if there are none. A hole is filled for
+ * certain when its new key is not above a lower bound of every kept triangle's key there: the old
+ * key (the removed triangle beat them all) or, with occlusion, the second least key's bound. */
+static int unresolved(wk_cpu_views *v, uint32_t h, const wk_cpu_keys *k, wk_rect *box)
+{
+    wk_cpu_eval *e = &v->eval;
+    const uint64_t *bound = v->occlusion ? v->second + h * v->plane : NULL;
+    *box = (wk_rect){v->width, v->height, 0, 0};
+    e->n_mask = 0;
+    for (size_t j = 0; j < e->log.n; j++) {
+        uint32_t q = e->log.idx[j];
+        if (e->log.flag[j] != F_HOLE || k->key[q] <= (bound ? bound[q] : e->log.old[j]))
+            continue;
+        int x = WK_CPU_X(e->log.xy[j]), y = WK_CPU_Y(e->log.xy[j]);
+        box->x0 = x < box->x0 ? x : box->x0;
+        box->y0 = y < box->y0 ? y : box->y0;
+        box->x1 = x + 1 > box->x1 ? x + 1 : box->x1;
+        box->y1 = y + 1 > box->y1 ? y + 1 : box->y1;
+        uint32_t t = tile_of(v, e->log.xy[j]);
+        if (!v->occlusion)
+            continue;
+        if (!e->tile_mask[t]) {
+            e->tile_mask[t] = 1;
+            e->mask_idx[e->n_mask++] = t;
+            e->cmax[t] = 0;
+        }
+        e->cmax[t] = k->key[q] > e->cmax[t] ? k->key[q] : e->cmax[t];
+    }
+    return box->x0 < box->x1;
+}
+
+/* The least key a triangle's fragments may have, from its bucket footprint (0 when unknown): its
+ * nearest corner's window depth, less a margin far above the float error of that projection. */
+static uint64_t footprint_bound(const wk_footprint *f)
+{
+    double z = (double)f->zmin - 1e-5;
+    if (!f->projected || !(z > 0.0))
+        return 0;
+    return z < 1.0 ? (uint64_t)(z * 4294967296.0) << 32 : 0xFFFFFFFF00000000ull;
+}
+
+/* Whether some masked tile meeting rectangle r has a maximum at or above bound. */
+static int masked_tiles_behind(const wk_cpu_views *v, const wk_rect *r, uint64_t bound)
+{
+    const wk_cpu_eval *e = &v->eval;
+    for (size_t i = 0; i < e->n_mask; i++) {
+        uint32_t t = e->mask_idx[i];
+        int x = (int)(t % (uint32_t)v->tiles_w) * WK_CPU_TILE;
+        int y = (int)(t / (uint32_t)v->tiles_w) * WK_CPU_TILE;
+        wk_rect tile = {x, y, x + WK_CPU_TILE, y + WK_CPU_TILE};
+        if (e->cmax[t] >= bound && wk_rects_meet(&tile, r))
+            return 1;
+    }
+    return 0;
+}
+
+/* Whether candidate id (a kept triangle) may show in front somewhere in the masked tiles. */
+static int candidate_may_show(const wk_cpu_views *v, uint32_t h, uint32_t id)
+{
+    if (!v->occlusion)
+        return 1;
+    const wk_footprint *f = wk_buckets_footprint(v->buckets[h], id);
+    return masked_tiles_behind(v, &f->rect, footprint_bound(f));
+}
+
+/* Step C: kept triangles (and twins) whose footprint meets the unresolved holes. */
+static lm_status fill_unresolved(wk_cpu_views *v, const lm_patch *p, uint32_t h, wk_cpu_keys *k)
+{
+    wk_cpu_eval *e = &v->eval;
+    wk_cpu_clip clip = {{0, 0, 0, 0}, v->occlusion ? e->tile_mask : NULL};
+    if (!unresolved(v, h, k, &clip.rect))
+        return LM_OK;
+    wk_cpu_keys kc = *k; /* depth rejection against the unresolved pixels' maxima */
+    if (v->occlusion)
+        kc.tmax = e->cmax;
+    e->cand.n = 0;
+    lm_status st = wk_buckets_query(v->buckets[h], &clip.rect, &e->cand);
+    for (size_t i = 0; st == LM_OK && i < e->cand.n; i++) {
+        uint32_t id = e->cand.ids[i], first, n;
+        const lm_tri_data *t = &v->rep.tris[id];
+        if (e->removed_stamp[id] == e->patch_now) {
+            if (!is_twin(e, id))
+                continue;
+            t = &p->added[e->twin_of[id]];
+        }
+        if (!candidate_may_show(v, h, id))
+            continue;
+        st = register_tri(v, h, t, &first, &n);
+        for (uint32_t j = 0; st == LM_OK && j < n; j++)
+            wk_cpu_draw(&e->set.sub[first + j], &kc, &clip, &e->log, F_NEW);
+        v->stats.tris_drawn += n;
+    }
+    for (size_t i = 0; i < e->n_mask; i++)
+        e->tile_mask[e->mask_idx[i]] = 0;
+    return st;
+}
+
+/* The setup index of the sub that key belongs to (drawn during this pass). */
+static lm_status sub_of_key(wk_cpu_views *v, uint64_t key, uint32_t *out)
+{
+    wk_cpu_eval *e = &v->eval;
+    uint32_t id = WK_CPU_KEY_ID(key), j = e->loc_first[id], end = j + e->loc_n[id];
+    if (e->loc_stamp[id] != e->log.now)
+        return lm_fail(LM_E_INTERNAL, "a pixel shows triangle %u, which this pass never drew", id);
+    while (j < end && e->set.sub[j].tag != (uint32_t)key)
+        j++;
+    LM_ASSERT(j < end);
+    *out = j;
+    return LM_OK;
+}
+
+/* The shading of setup j, made on first use. */
+static const wk_cpu_shade *shade_of(wk_cpu_views *v, uint32_t h, uint32_t j)
+{
+    wk_cpu_setups *set = &v->eval.set;
+    if (!set->shade_ready[j]) {
+        wk_cpu_shade_setup(&set->sub[j], set->tri[j], v->views.views[h].dir, &v->mats[v->table],
+                           &set->shade[j]);
+        set->shade_ready[j] = 1;
+    }
+    return &set->shade[j];
+}
+
+/* Step D: new luminance of every logged pixel (runs of pixels of one sub shaded together) and
+ * the view's ΔE. */
+static lm_status shade_log(wk_cpu_views *v, uint32_t h, const wk_cpu_keys *k, int64_t *delta)
+{
+    wk_cpu_eval *e = &v->eval;
+    for (size_t i = 0; i < e->log.n;) {
+        uint64_t key = k->key[e->log.idx[i]];
+        size_t end = i + 1;
+        while (end < e->log.n && (uint32_t)k->key[e->log.idx[end]] == (uint32_t)key)
+            end++;
+        if (key == WK_CPU_KEY_BG) {
+            memset(e->luma + i, WK_CPU_BACKGROUND, end - i);
+        } else {
+            uint32_t j = 0;
+            lm_status st = sub_of_key(v, key, &j);
+            if (st != LM_OK)
+                return st;
+            wk_cpu_shade_pixels(&e->set.sub[j], shade_of(v, h, j), e->log.xy + i, end - i, e->rgb,
+                                e->luma + i);
+        }
+        i = end;
+    }
+    const uint8_t *tgt = wk_image_store_target(v->img, h), *cur = wk_image_store_current(v->img, h);
+    int64_t d = 0;
+    for (size_t i = 0; i < e->log.n; i++) {
+        uint32_t q = e->log.idx[i];
+        int a = (int)tgt[q] - (int)e->luma[i], b = (int)tgt[q] - (int)cur[q];
+        d += a * a - b * b;
+    }
+    *delta += d;
+    return LM_OK;
+}
+
+static lm_status view_pass(wk_cpu_views *v, const lm_patch *p, uint32_t h, wk_cpu_keys *k,
+                           int64_t *delta)
+{
+    pass_begin(v);
+    if (!v->occlusion)
+        k->tmax = NULL;
+    lm_status st = LM_OK;
+    for (uint32_t i = 0; st == LM_OK && i < p->n_removed; i++)
+        st = punch(v, p, h, p->removed[i], k);
+    if (st == LM_OK)
+        st = draw_added(v, p, h, k);
+    if (st == LM_OK)
+        st = fill_unresolved(v, p, h, k);
+    if (st == LM_OK)
+        st = shade_log(v, h, k, delta);
+    wk_cpu_log *log = &v->eval.log;
+    v->stats.regions += log->n > 0;
+    v->stats.region_pixels += log->n;
+    v->stats.views_skipped += log->n == 0;
+    return st;
+}
+
+/* Put the keys and tile maxima back as they were before the pass. */
+static void roll_back(wk_cpu_views *v, uint32_t h)
+{
+    wk_cpu_eval *e = &v->eval;
+    wk_cpu_keys k = wk_cpu_view_keys(v, h);
+    for (size_t j = 0; j < e->log.n; j++)
+        k.key[e->log.idx[j]] = e->log.old[j];
+    for (size_t i = 0; i < e->n_raised; i++)
+        k.tmax[e->tile_idx[i]] = e->tile_old[i];
+}
+
+/* The bounds of the second least keys after the pass: a visible triangle that stays but is
+ * beaten now, and every fragment of an added triangle that is not the visible one, may be the
+ * second least key of its pixel (kept ones behind keep bounds that are still true). */
+static void keep_second(wk_cpu_views *v, uint32_t h, const lm_patch *p)
+{
+    wk_cpu_eval *e = &v->eval;
+    wk_cpu_keys k = wk_cpu_view_keys(v, h);
+    k.tmax = NULL;
+    k.second = v->second + h * v->plane;
+    for (size_t j = 0; j < e->log.n; j++) {
+        uint32_t q = e->log.idx[j];
+        uint64_t old = e->log.old[j];
+        if (old == WK_CPU_KEY_BG || old == k.key[q])
+            continue;
+        uint32_t id = WK_CPU_KEY_ID(old);
+        if (e->removed_stamp[id] != e->patch_now || is_twin(e, id))
+            k.second[q] = old < k.second[q] ? old : k.second[q];
+    }
+    const wk_cpu_clip all = {{0, 0, v->width, v->height}, NULL};
+    for (uint32_t i = 0; i < p->n_added; i++) {
+        uint32_t id = p->added[i].id;
+        if (is_twin(e, id) || e->loc_stamp[id] != e->log.now)
+            continue;
+        for (uint32_t j = 0; j < e->loc_n[id]; j++)
+            wk_cpu_draw(&e->set.sub[e->loc_first[id] + j], &k, &all, NULL, 0);
+    }
+}
+
+/* Keep the pass: luminance and energy, visible-pixel counts, exact tile maxima, second keys. */
+static void keep(wk_cpu_views *v, uint32_t h, const lm_patch *p)
+{
+    wk_cpu_eval *e = &v->eval;
+    wk_cpu_keys k = wk_cpu_view_keys(v, h);
+    wk_image_store_commit_pixels(v->img, h, e->log.idx, e->luma, e->log.n);
+    uint32_t *count = v->count[h];
+    for (size_t j = 0; j < e->log.n; j++) {
+        uint64_t now = k.key[e->log.idx[j]];
+        if (e->log.old[j] != WK_CPU_KEY_BG)
+            count[WK_CPU_KEY_ID(e->log.old[j])]--;
+        if (now != WK_CPU_KEY_BG)
+            count[WK_CPU_KEY_ID(now)]++;
+    }
+    for (size_t j = 0; j < e->log.n; j++) { /* tiles raised for holes have the stamp already */
+        uint32_t t = tile_of(v, e->log.xy[j]);
+        if (e->tile_stamp[t] != e->log.now) {
+            e->tile_stamp[t] = e->log.now;
+            update_tile(v, &k, t);
+        }
+    }
+    for (size_t i = 0; i < e->n_raised; i++)
+        update_tile(v, &k, e->tile_idx[i]);
+    keep_second(v, h, p);
+}
+
+/* ---- evaluate and commit ------------------------------------------------------------------ */
+
+lm_status wk_cpu_build_buckets(wk_cpu_views *v)
+{
+    for (uint32_t h = 0; h < v->views.count; h++) {
+        lm_status st = wk_buckets_fill(v->buckets[h], &v->views.views[h], &v->rep);
+        if (st != LM_OK)
+            return st;
+    }
+    v->buckets_ready = 1;
+    return LM_OK;
+}
+
+static lm_status ready(wk_cpu_views *v)
+{
+    if (!v->mesh_set)
+        return lm_fail(LM_E_INVALID, "no mesh set: call set_mesh before evaluate/commit");
+    return v->buckets_ready ? LM_OK : wk_cpu_build_buckets(v);
+}
+
+lm_status wk_cpu_evaluate(lm_views *base, const lm_patch *patches, uint32_t n, int64_t *delta)
+{
+    wk_cpu_views *v = (wk_cpu_views *)base;
+    lm_status st = ready(v);
+    if (st != LM_OK)
+        return st;
+    memset(delta, 0, n * sizeof *delta);
+    for (uint32_t i = 0; st == LM_OK && i < n; i++) {
+        st = prepare_patch(v, &patches[i]);
+        for (uint32_t h = 0; st == LM_OK && h < v->views.count; h++) {
+            wk_cpu_keys k = wk_cpu_view_keys(v, h);
+            st = view_pass(v, &patches[i], h, &k, &delta[i]);
+            roll_back(v, h);
+        }
+        v->stats.evaluations++;
+    }
+    v->stats.batches++;
+    return st;
+}
+
+/* Replica and buckets follow the committed patch. */
+static lm_status apply_patch(wk_cpu_views *v, const lm_patch *p)
+{
+    for (uint32_t i = 0; i < p->n_removed; i++) {
+        for (uint32_t h = 0; h < v->views.count; h++)
+            wk_buckets_remove(v->buckets[h], p->removed[i]);
+        wk_replica_kill(&v->rep, p->removed[i]);
+    }
+    for (uint32_t i = 0; i < p->n_added; i++) {
+        lm_status st = wk_replica_put(&v->rep, &p->added[i]);
+        for (uint32_t h = 0; st == LM_OK && h < v->views.count; h++) {
+            wk_footprint f;
+            wk_tri_footprint(&v->views.views[h], &p->added[i], &f);
+            st = wk_buckets_insert(v->buckets[h], p->added[i].id, &f);
+        }
+        if (st != LM_OK)
+            return st;
+    }
+    return LM_OK;
+}
+
+lm_status wk_cpu_commit(lm_views *base, const lm_patch *patch)
+{
+    wk_cpu_views *v = (wk_cpu_views *)base;
+    lm_status st = ready(v);
+    if (st == LM_OK)
+        st = prepare_patch(v, patch);
+    if (st == LM_OK)
+        st = wk_cpu_count_reserve(v, v->eval.cap_ids);
+    if (st != LM_OK)
+        return st; /* nothing changed yet */
+    for (uint32_t h = 0; st == LM_OK && h < v->views.count; h++) {
+        wk_cpu_keys k = wk_cpu_view_keys(v, h);
+        int64_t unused = 0;
+        st = view_pass(v, patch, h, &k, &unused);
+        if (st == LM_OK)
+            keep(v, h, patch);
+        else
+            roll_back(v, h);
+    }
+    if (st == LM_OK)
+        st = apply_patch(v, patch);
+    if (st != LM_OK) {
+        v->mesh_set = 0; /* half-applied: refuse further work until set_mesh */
+        v->buckets_ready = 0;
+    }
+    return st;
+}

@@ -1,0 +1,45 @@
+/* worker/cpu_shade.h — the CPU backend's fragment colour, the light model of the GL shaders
+ * (worker/render_program.c): per corner colour × material diffuse × (0.15 + 0.85 |n·l|) with the
+ * light along the view direction (normals as given, two-sided), interpolated perspective-correct,
+ * times the texture (trilinear, level of detail from the exact screen derivatives of the texture
+ * coordinates at the pixel), clamped and rounded to 8 bits. A pure function of the sub, the
+ * triangle, the material and the pixel: a full render and a redrawn region agree bit for bit. */
+#ifndef LM_WORKER_CPU_SHADE_H
+#define LM_WORKER_CPU_SHADE_H
+
+#include <stdint.h>
+
+#include "common/patch.h"
+#include "worker/cpu_raster.h"
+#include "worker/cpu_texture.h"
+
+#define WK_CPU_BACKGROUND 128 /* background grey (8-bit), as the GL renderer's WK_BACKGROUND */
+
+typedef struct wk_cpu_shade {
+    /* Perspective-correct interpolation as planes over the sub's pixels, each evaluated at (x, y)
+     * as (p[0] + p[1] dx) + p[2] dy with dx = x - x0, dy = y - y0: the denominator D = Σ e_k / w_k
+     * and the numerators Σ e_k a_k / w_k of the lit colour's channels and the texture
+     * coordinates; an attribute is its numerator / D. */
+    double den[3], col[3][3], uv[2][3];
+    const wk_cpu_texture *tex; /* NULL: untextured */
+    double tex_w, tex_h;       /* level 0 size */
+} wk_cpu_shade;
+
+/* Shading constants of sub s of triangle t (material table mats; t->material < mats->n). */
+void wk_cpu_shade_setup(const wk_cpu_sub *s, const lm_tri_data *t, const float light[3],
+                        const wk_cpu_materials *mats, wk_cpu_shade *out);
+
+/* RGB8 of the sub at pixel (x, y), which it covers. */
+void wk_cpu_shade_pixel(const wk_cpu_sub *s, const wk_cpu_shade *sh, int x, int y, uint8_t rgb[3]);
+
+/* The same at n pixels xy[i] (WK_CPU_XY, covered by the sub): their colour into rgb (3 n bytes,
+ * by channel: red i at rgb[i], green at rgb[n + i], blue at rgb[2 n + i]) and their luminance
+ * into luma[i]. Bit for bit what wk_cpu_shade_pixel and wk_luma give, pixel by pixel. */
+void wk_cpu_shade_pixels(const wk_cpu_sub *s, const wk_cpu_shade *sh, const uint32_t *xy, size_t n,
+                         uint8_t *rgb, uint8_t *luma);
+
+/* 2^8 log2(sqrt(r2)) rounded down (the level of detail of a footprint whose squared size is r2
+ * texels²), by integer squaring; very negative for r2 <= 0, large for huge or infinite r2. */
+int wk_cpu_lod_q8(double r2);
+
+#endif

@@ -1,0 +1,100 @@
+/* worker/cpu_views_internal.h — state of the CPU views backend, shared by cpu_views.c (life
+ * cycle, extras), cpu_render.c (full renders) and cpu_eval.c (evaluate, commit). */
+#ifndef LM_WORKER_CPU_VIEWS_INTERNAL_H
+#define LM_WORKER_CPU_VIEWS_INTERNAL_H
+
+#include "worker/buckets.h"
+#include "worker/cpu_raster.h"
+#include "worker/cpu_shade.h"
+#include "worker/cpu_texture.h"
+#include "worker/cpu_views.h"
+#include "worker/image_store.h"
+#include "worker/replica.h"
+
+/* Subs set up during one (patch, view) pass, with what shading them needs. */
+typedef struct wk_cpu_setups {
+    wk_cpu_sub *sub;
+    const lm_tri_data **tri; /* the record each sub shades with */
+    wk_cpu_shade *shade;
+    uint8_t *shade_ready;
+    size_t n, cap;
+} wk_cpu_setups;
+
+/* Scratch of evaluate and commit (cpu_eval.c). Per-id arrays have cap_ids entries. */
+typedef struct wk_cpu_eval {
+    wk_cpu_log log;     /* arrays of one view's size */
+    uint32_t *owned;    /* [plane] pixels found by wk_cpu_owned */
+    uint8_t *luma;      /* [plane] new luminance of the logged pixels, in log order */
+    uint8_t *rgb;       /* [3 plane] colours of a full render's pixels of one sub */
+    uint64_t *tile_old; /* raised tiles' maxima before the pass */
+    uint32_t *tile_idx, *tile_stamp;
+    size_t n_raised;
+    uint8_t *tile_mask; /* [tiles]: tiles with unresolved pixels */
+    uint32_t *mask_idx;
+    uint64_t *cmax; /* [tiles]: greatest key of a masked tile's unresolved pixels */
+    size_t n_mask;
+    wk_cpu_setups set;
+    size_t cap_ids;
+    uint32_t *removed_stamp, *added_stamp, *twin_stamp, *twin_of; /* per id */
+    uint32_t patch_now;
+    uint32_t *loc_stamp, *loc_first; /* per id: its subs in `set` during this pass */
+    uint8_t *loc_n;
+    wk_idlist cand;
+} wk_cpu_eval;
+
+typedef struct wk_cpu_views {
+    lm_views base;
+    lm_view_set views;
+    wk_cpu_view cviews[LM_MAX_VIEWS];
+    int width, height, tiles_w, tiles_h;
+    size_t plane, tiles;
+    wk_image_store *img;
+    wk_buckets *buckets[LM_MAX_VIEWS];
+    wk_replica rep;
+    wk_cpu_materials mats[2]; /* 0: the original's, 1: the current model's when set */
+    int table;                /* material table of the current mesh */
+    int mesh_set, buckets_ready, occlusion;
+    uint64_t *keys; /* [n_views * plane] keys of the current mesh (of the target while creating) */
+    uint64_t *tmax; /* [n_views * tiles] */
+    uint64_t *second;              /* [n_views * plane] lower bounds of the second least keys */
+    uint32_t *count[LM_MAX_VIEWS]; /* visible pixels of each current triangle id [cap_count] */
+    size_t cap_count;
+    uint8_t *rgba; /* [n_views * plane * 4] colours of the last full render */
+    wk_cpu_eval eval;
+    wk_views_local_stats stats;
+} wk_cpu_views;
+
+static inline wk_cpu_keys wk_cpu_view_keys(wk_cpu_views *v, uint32_t h)
+{
+    return (wk_cpu_keys){.key = v->keys + h * v->plane,
+                         .tmax = v->tmax + h * v->tiles,
+                         .width = v->width,
+                         .height = v->height,
+                         .tiles_w = v->tiles_w};
+}
+
+/* A source of triangle records for a full render: an original mesh's alive triangles or the
+ * replica's. */
+typedef struct wk_cpu_source {
+    const lm_mesh *mesh;
+    const wk_replica *rep;
+} wk_cpu_source;
+
+/* Full render of view h from src with material table `table` (cpu_render.c): keys, tile maxima,
+ * colours, and luminance into y; visible pixel counts per id into count (cap_count ids, or NULL
+ * when not wanted, then counted in scratch). */
+lm_status wk_cpu_render_view(wk_cpu_views *v, uint32_t h, const wk_cpu_source *src, int table,
+                             uint8_t *y, uint32_t *count);
+
+/* Grow the visible-pixel counts to at least need ids (new ones 0). */
+lm_status wk_cpu_count_reserve(wk_cpu_views *v, size_t need);
+
+/* cpu_eval.c */
+lm_status wk_cpu_evaluate(lm_views *base, const lm_patch *patches, uint32_t n, int64_t *delta);
+lm_status wk_cpu_commit(lm_views *base, const lm_patch *patch);
+lm_status wk_cpu_eval_init(wk_cpu_views *v);
+void wk_cpu_eval_free(wk_cpu_eval *e);
+/* (Re)build every view's buckets from the replica. */
+lm_status wk_cpu_build_buckets(wk_cpu_views *v);
+
+#endif
