@@ -50,7 +50,7 @@ static void usage(FILE *f)
           "patches) on MODEL simplified by QEM to 1% of its vertices, and a full re-render.\n"
           "  --model FILE   default: the CGAL bunny of the test data (" BUNNY_REL ")\n"
           "  --views N      default 20, --size S default 256, --evals N default 5000\n"
-          "  --device D     auto (default), egl:N or host;  --json  one JSON object\n",
+          "  --device D     auto (default), cpu, egl:N or host;  --json  one JSON object\n",
           f);
 }
 

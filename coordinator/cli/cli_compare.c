@@ -41,7 +41,7 @@ static void usage(FILE *f)
           "                      views, where the first MODEL shows the most cracks and holes\n"
           "                      (pixels inside the original's silhouette left uncovered); render\n"
           "                      with --size larger than SIDE to magnify\n"
-          "  --device D          auto (default), egl:N or host\n"
+          "  --device D          auto (default), cpu, egl:N or host\n"
           "  -h, --help          this text\n",
           f);
 }

@@ -59,7 +59,7 @@ static const char co_demo_help[] =
     "  --views N            optimisation views (default %u)\n"
     "  --size PIXELS        side of every view image (default %d)\n"
     "  --seed S             seed of the frog and of the optimiser (default 1)\n"
-    "  --device D           rendering device: auto, host, egl:N (default auto)\n"
+    "  --device D           rendering device: auto, cpu, host, egl:N (default auto)\n"
     "  -h, --help           this help\n";
 
 enum { OPT_EVALS = 256, OPT_TRIS, OPT_TARGET, OPT_VIEWS, OPT_SIZE, OPT_SEED, OPT_DEVICE };

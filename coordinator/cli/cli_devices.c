@@ -1,12 +1,14 @@
 /* coordinator/cli/cli_devices.c — `lumesh devices [--json] [--device SPEC]`: the EGL devices (GPUs
  * first, then Mesa's software renderer) with their node, renderer and whether a context works,
- * the USB devices with known accelerators flagged, and the device a spec selects. */
+ * lumesh's CPU rasteriser ("cpu", always there), the USB devices with known accelerators flagged,
+ * and the device a spec selects (worker/device_choice.h). */
 #include <getopt.h>
 #include <stdio.h>
 #include <string.h>
 
 #include "common/error.h"
 #include "coordinator/cli/cli_args.h"
+#include "worker/device_choice.h"
 #include "worker/gl_context.h"
 #include "worker/usb_devices.h"
 
@@ -18,7 +20,7 @@ typedef struct devices_report {
     wk_usb_device usb[WK_MAX_USB_DEVICES];
     int usb_count;
     const char *spec;
-    int selected; /* index into egl[], -1 if none */
+    int selected; /* index into egl[], -1 for the CPU rasteriser (when select_status is LM_OK) */
     lm_status select_status;
     char select_error[512];
 } devices_report;
@@ -101,14 +103,20 @@ static void print_json(FILE *f, const devices_report *r)
 {
     fputs("{\n", f);
     print_json_egl(f, r);
+    fputs("  \"cpu_device\": {\"spec\": \"cpu\", \"kind\": \"cpu\", \"renderer\": ", f);
+    json_str(f, WK_CPU_RASTERISER);
+    fputs(", \"usable\": true},\n", f);
     print_json_usb(f, r);
     fputs("  \"selection\": {\"spec\": ", f);
     json_str(f, r->spec);
-    if (r->selected >= 0) {
+    if (r->select_status == LM_OK && r->selected >= 0) {
         const wk_device_info *d = &r->egl[r->selected];
         fprintf(f, ", \"selected\": \"egl:%d\", \"kind\": \"%s\", \"renderer\": ", d->index,
                 d->is_software ? "software" : "gpu");
         json_str(f, d->renderer);
+    } else if (r->select_status == LM_OK) {
+        fputs(", \"selected\": \"cpu\", \"kind\": \"cpu\", \"renderer\": ", f);
+        json_str(f, WK_CPU_RASTERISER);
     } else {
         fputs(", \"selected\": null, \"error\": ", f);
         json_str(f, r->select_error);
@@ -129,6 +137,7 @@ static void print_text(FILE *f, const devices_report *r)
                 d->node[0] ? d->node : "-", d->usable ? "yes" : "no",
                 d->renderer[0] ? d->renderer : "(no context)");
     }
+    fprintf(f, "CPU renderer: cpu (%s), always usable\n", WK_CPU_RASTERISER);
     fprintf(f, "USB devices: %d\n", r->usb_count);
     for (int i = 0; i < r->usb_count; i++) {
         const wk_usb_device *u = &r->usb[i];
@@ -137,10 +146,12 @@ static void print_text(FILE *f, const devices_report *r)
                 u->accelerator, u->is_accelerator && u->product[0] ? " — " : "", u->product,
                 !u->is_accelerator && !u->product[0] ? "(unrecognised)" : "");
     }
-    if (r->selected >= 0) {
+    if (r->select_status == LM_OK && r->selected >= 0) {
         const wk_device_info *d = &r->egl[r->selected];
         fprintf(f, "selected: egl:%d (%s, %s) for --device %s\n", d->index,
                 d->is_software ? "software" : "gpu", d->renderer, r->spec);
+    } else if (r->select_status == LM_OK) {
+        fprintf(f, "selected: cpu (cpu, %s) for --device %s\n", WK_CPU_RASTERISER, r->spec);
     } else {
         fprintf(f, "selected: none for --device %s (%s)\n", r->spec, r->select_error);
     }
@@ -148,10 +159,11 @@ static void print_text(FILE *f, const devices_report *r)
 
 static void usage(FILE *f)
 {
-    fputs("usage: lumesh devices [--json] [--device auto|host|egl:N]\n"
+    fputs("usage: lumesh devices [--json] [--device auto|cpu|host|egl:N]\n"
           "Lists EGL rendering devices (GPUs first, then Mesa's software renderer), probing each\n"
-          "with an OpenGL ES 3 context, and USB devices with known accelerators flagged; then the\n"
-          "device that --device (default auto) selects, as lumesh-worker would choose it.\n",
+          "with an OpenGL ES 3 context, lumesh's CPU rasteriser (cpu) and USB devices with known\n"
+          "accelerators flagged; then the device that --device (default auto: the first working\n"
+          "GPU, else cpu) selects, as lumesh-worker would choose it.\n",
           f);
 }
 
@@ -189,9 +201,8 @@ int co_cli_devices(int argc, char **argv)
     r.spec = "auto";
     if ((rc = parse(argc, argv, &json, &r.spec)) >= 0)
         return rc;
-    int ignored;
-    lm_status st = wk_egl_choose_device(r.spec, NULL, 0, &ignored);
-    if (st == LM_E_INVALID) /* a malformed spec is a usage error before any probing */
+    lm_status st = wk_device_check_spec(r.spec);
+    if (st != LM_OK) /* a malformed spec is a usage error before any probing */
         return co_cli_fail(CMD, st);
     st = wk_egl_list_devices(r.egl, WK_MAX_DEVICES, &r.egl_count);
     if (st == LM_OK)
@@ -199,7 +210,7 @@ int co_cli_devices(int argc, char **argv)
     if (st != LM_OK)
         return co_cli_fail(CMD, st);
     r.selected = -1;
-    r.select_status = wk_egl_choose_device(r.spec, r.egl, r.egl_count, &r.selected);
+    r.select_status = wk_device_choose(r.spec, r.egl, r.egl_count, &r.selected);
     if (r.select_status != LM_OK)
         snprintf(r.select_error, sizeof r.select_error, "%s", lm_last_error());
     if (json)

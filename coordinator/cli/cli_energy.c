@@ -34,7 +34,7 @@ static void usage(FILE *f)
           "                dodecahedron, others a spherical Fibonacci set)\n"
           "  --size S      image side in pixels (default 256)\n"
           "  --heldout     the 24 held-out views instead (the paper's evaluation protocol)\n"
-          "  --device D    auto (default), egl:N or host\n"
+          "  --device D    auto (default), cpu, egl:N or host\n"
           "  -h, --help    this text\n",
           f);
 }

@@ -43,7 +43,7 @@ static const char co_optimize_help[] =
     "  --attrs LIST            attributes to optimise besides positions, from pos,normal,uv,color\n"
     "                          (default: uv if the original has a texture, color if it has vertex\n"
     "                          colours); normals not listed are derived from the geometry\n"
-    "  --device D              rendering device: auto (GPU if any, else software), host, egl:N\n"
+    "  --device D              rendering device: auto (GPU if any, else cpu), cpu, host, egl:N\n"
     "                          (default auto; see lumesh devices)\n"
     "  --json                  newline-delimited JSON progress records and a final summary on\n"
     "                          stdout instead of the human progress line on stderr\n"

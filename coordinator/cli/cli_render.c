@@ -33,7 +33,7 @@ static void usage(FILE *f)
           "  --views N             views (default 20), --size S  image side (default 256)\n"
           "  --against ORIGINAL    frame the views by ORIGINAL and also write its images\n"
           "                        (target_XX.png) and luminance differences (diff_XX.png)\n"
-          "  --device D            auto (default), egl:N or host\n"
+          "  --device D            auto (default), cpu, egl:N or host\n"
           "  -h, --help            this text\n",
           f);
 }

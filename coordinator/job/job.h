@@ -40,7 +40,7 @@ typedef struct co_job_options {
     const char *resume_path;         /* continue from this checkpoint */
     int json;                        /* NDJSON progress + summary on stdout */
     int quiet;                       /* no progress and no summary (callers that report) */
-    const char *device_spec;         /* renderer device: "auto" (NULL), "host", "egl:N" */
+    const char *device_spec;         /* renderer device: "auto" (NULL), "cpu", "host", "egl:N" */
 } co_job_options;
 
 /* Parse an --attrs list ("pos,normal,uv,color"; "pos" alone = positions only) into LM_ATTR_* bits.

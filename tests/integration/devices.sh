@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # tests/integration/devices.sh — `lumesh devices` (text and JSON) and `lumesh-worker --self-test`
-# as real processes, on whatever devices this machine has (llvmpipe at least), plus bad specs.
+# as real processes, on whatever devices this machine has (llvmpipe and the CPU rasteriser at
+# least), plus bad specs.
 set -euo pipefail
 : "${LUMESH:?}" "${LUMESH_WORKER:?}"
 tmp=$(mktemp -d)
@@ -12,9 +13,10 @@ fail() { echo "FAIL: $*" >&2; exit 1; }
 cat "$tmp/out.txt"
 grep -q '^EGL devices: [1-9]' "$tmp/out.txt" || fail "no EGL device listed"
 grep -Eq '^  egl:[0-9]+ +software .* yes ' "$tmp/out.txt" || fail "no usable software device"
+grep -q '^CPU renderer: cpu (lumesh exact rasteriser [0-9]' "$tmp/out.txt" || fail "no CPU renderer"
 grep -q '^USB devices: [0-9]' "$tmp/out.txt" || fail "no USB section"
-grep -Eq '^selected: egl:[0-9]+ \((gpu|software), .*OpenGL ES 3' "$tmp/out.txt" ||
-    fail "no selection line"
+grep -Eq '^selected: (egl:[0-9]+ \(gpu, .*OpenGL ES 3|cpu \(cpu, lumesh)' "$tmp/out.txt" ||
+    fail "no selection line (auto: a GPU or the CPU rasteriser)"
 
 # JSON: valid, and consistent with the text listing.
 "$LUMESH" devices --json >"$tmp/out.json" || fail "lumesh devices --json exited $?"
@@ -27,13 +29,20 @@ assert egl and any(e["kind"] == "software" and e["usable"] for e in egl), egl
 kinds = [e["kind"] for e in egl]
 assert kinds == sorted(kinds, key=lambda k: k != "gpu"), kinds  # GPUs first
 assert isinstance(d["usb_devices"], list)
+assert d["cpu_device"]["spec"] == "cpu" and d["cpu_device"]["usable"], d["cpu_device"]
 sel = d["selection"]
-assert sel["spec"] == "auto" and sel["selected"].startswith("egl:"), sel
+gpus = [e for e in egl if e["kind"] == "gpu" and e["usable"]]
+want = "egl:%d" % gpus[0]["index"] if gpus else "cpu"  # auto: the first working GPU, else cpu
+assert sel["spec"] == "auto" and sel["selected"] == want, (sel, want)
 PY
 "$LUMESH" devices --json --device host | python3 -c '
 import json, sys
 s = json.load(sys.stdin)["selection"]
 assert s["kind"] == "software", s' || fail "--device host did not select the software device"
+"$LUMESH" devices --json --device cpu | python3 -c '
+import json, sys
+s = json.load(sys.stdin)["selection"]
+assert s["selected"] == "cpu" and s["kind"] == "cpu", s' || fail "--device cpu did not select cpu"
 
 # A bad spec for `devices`: exit 1, one line on stderr, nothing on stdout.
 set +e
@@ -49,6 +58,9 @@ cat "$tmp/st.txt"
 grep -q '^EGL device [0-9]*: .*OpenGL ES 3' "$tmp/st.txt" || fail "no device description"
 grep -q '^self-test ok' "$tmp/st.txt" || fail "no 'self-test ok'"
 "$LUMESH_WORKER" --self-test >/dev/null || fail "self-test with --device auto failed"
+"$LUMESH_WORKER" --self-test --device cpu >"$tmp/st.txt" || fail "self-test --device cpu exited $?"
+grep -q '^cpu: lumesh exact rasteriser' "$tmp/st.txt" && grep -q '^self-test ok' "$tmp/st.txt" ||
+    fail "CPU self-test: $(cat "$tmp/st.txt")"
 
 # Bad device values: exit 1 with exactly one line on stderr.
 for spec in gpu egl:99 egl:x ''; do

@@ -25,9 +25,19 @@ checks=$((checks + 1))
 "$LUMESH" energy "$spider" "$spider" --views 6 --size 64 > "$tmp/self.json" ||
   fail "energy of the spider against itself failed"
 [ "$(json "$tmp/self.json" total)" = 0 ] || fail "self energy is not 0: $(cat "$tmp/self.json")"
-grep -q '"renderer": "EGL device' "$tmp/self.json" || fail "no renderer in $(cat "$tmp/self.json")"
+grep -Eq '"renderer": "(EGL device|cpu: lumesh)' "$tmp/self.json" ||
+  fail "no renderer in $(cat "$tmp/self.json")"
 grep -q '"missing_px": 0, "extra_px": 0' "$tmp/self.json" && [ "$(json "$tmp/self.json" original_px)" -gt 0 ] ||
   fail "self coverage is not exact: $(cat "$tmp/self.json")"
+
+checks=$((checks + 1)) # each renderer names itself in the JSON, and a model matches itself on both
+for dev in cpu host; do
+  "$LUMESH" energy "$spider" "$spider" --views 4 --size 48 --device "$dev" > "$tmp/$dev.json" ||
+    fail "energy --device $dev failed"
+  [ "$(json "$tmp/$dev.json" total)" = 0 ] || fail "--device $dev self energy: $(cat "$tmp/$dev.json")"
+done
+grep -q '"renderer": "cpu: lumesh exact rasteriser' "$tmp/cpu.json" || fail "cpu: $(cat "$tmp/cpu.json")"
+grep -q '"renderer": "EGL device [0-9]*: llvmpipe' "$tmp/host.json" || fail "host: $(cat "$tmp/host.json")"
 
 checks=$((checks + 1))
 "$LUMESH" simplify "$spider" -o "$tmp/coarse.obj" --target-verts 200 > /dev/null ||
@@ -89,6 +99,7 @@ expect_fail_line "$LUMESH" energy "$spider"
 expect_fail_line "$LUMESH" energy "$spider" "$spider" --views 0
 expect_fail_line "$LUMESH" energy "$spider" "$spider" --size 100000
 expect_fail_line "$LUMESH" energy "$spider" "$spider" --device egl:99
+expect_fail_line "$LUMESH" energy "$spider" "$spider" --device gpu
 expect_fail_line "$LUMESH" render "$spider"
 expect_fail_line "$LUMESH" render "$tmp/missing.obj" -o "$tmp/x"
 expect_fail_line "$LUMESH" bench nosuch
