@@ -45,9 +45,12 @@ static void render(uint64_t *key, uint8_t (*rgb)[3])
         wk_cpu_shade sh;
         wk_cpu_shade_setup(&subs[i], &st_tri, view.dir, &mats, &sh);
         size_t m = wk_cpu_owned(&subs[i], &k, &all.rect, owned, ST_SIZE * ST_SIZE);
+        uint8_t c[3 * ST_SIZE * ST_SIZE], luma[ST_SIZE * ST_SIZE];
+        wk_cpu_shade_pixels(&subs[i], &sh, owned, m, c, luma);
         for (size_t j = 0; j < m; j++) {
             int x = WK_CPU_X(owned[j]), y = WK_CPU_Y(owned[j]);
-            wk_cpu_shade_pixel(&subs[i], &sh, x, y, rgb[y * ST_SIZE + x]);
+            for (int ch = 0; ch < 3; ch++)
+                rgb[y * ST_SIZE + x][ch] = c[ch * m + j];
         }
     }
 }

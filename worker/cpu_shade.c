@@ -43,6 +43,11 @@ void wk_cpu_shade_setup(const wk_cpu_sub *s, const lm_tri_data *t, const float l
     for (int a = 0; a < 2; a++)
         plane_of(s, at[3 + a], out->uv[a]);
     plane_of(s, at[5], out->den);
+    for (int i = 0; i < 3; i++) {
+        out->fden[i] = (float)out->den[i];
+        for (int ch = 0; ch < 3; ch++)
+            out->fcol[ch][i] = (float)out->col[ch][i];
+    }
     out->tex = mats->tex[t->material];
     out->tex_w = out->tex ? out->tex->level[0].width : 0;
     out->tex_h = out->tex ? out->tex->level[0].height : 0;
@@ -74,8 +79,8 @@ int wk_cpu_lod_q8(double r2)
 
 static uint8_t to_unorm8(double c)
 {
-    c = isgreater(c, 0.0) ? c : 0.0; /* quiet comparisons (branch-free); NaN -> 0 */
-    c = isless(c, 1.0) ? c : 1.0;
+    c = c > 0.0 ? c : 0.0; /* NaN -> 0 */
+    c = c < 1.0 ? c : 1.0;
     return (uint8_t)(c * 255.0 + 0.5);
 }
 
@@ -96,7 +101,8 @@ static inline double plane_at(const double p[3], double dx, double dy)
     return (p[0] + p[1] * dx) + p[2] * dy;
 }
 
-void wk_cpu_shade_pixel(const wk_cpu_sub *s, const wk_cpu_shade *sh, int x, int y, uint8_t rgb[3])
+/* A textured pixel. */
+static void shade_pixel(const wk_cpu_sub *s, const wk_cpu_shade *sh, int x, int y, uint8_t rgb[3])
 {
     double dx = (double)(x - s->x0), dy = (double)(y - s->y0);
     double inv = 1.0 / plane_at(sh->den, dx, dy);
@@ -119,22 +125,30 @@ static inline uint8_t luma_of(const uint8_t c[3])
     return (uint8_t)((77u * c[0] + 150u * c[1] + 29u * c[2] + 128u) >> 8);
 }
 
-/* Untextured pixels in one loop without calls or branches (the compiler's vectoriser may widen
- * it: the same IEEE operations lane by lane). Channels go to c (3 n bytes, planar by channel). */
+static inline uint8_t unorm8f(float c)
+{
+    c = c > 0.0f ? c : 0.0f; /* NaN -> 0 */
+    c = c < 1.0f ? c : 1.0f;
+    return (uint8_t)(int)(c * 255.0f + 0.5f);
+}
+
+/* Untextured pixels in one loop without calls (the vectoriser widens it: the same IEEE float
+ * operations lane by lane, so the bits do not depend on the width). Channels go to c (3 n bytes,
+ * planar by channel). */
 static void shade_plain(const wk_cpu_sub *s, const wk_cpu_shade *sh, const uint32_t *xy, size_t n,
                         uint8_t *restrict c, uint8_t *restrict luma)
 {
-    const double d0 = sh->den[0], d1 = sh->den[1], d2 = sh->den[2];
-    const double r0 = sh->col[0][0], r1 = sh->col[0][1], r2 = sh->col[0][2];
-    const double g0 = sh->col[1][0], g1 = sh->col[1][1], g2 = sh->col[1][2];
-    const double b0 = sh->col[2][0], b1 = sh->col[2][1], b2 = sh->col[2][2];
+    const float d0 = sh->fden[0], d1 = sh->fden[1], d2 = sh->fden[2];
+    const float r0 = sh->fcol[0][0], r1 = sh->fcol[0][1], r2 = sh->fcol[0][2];
+    const float g0 = sh->fcol[1][0], g1 = sh->fcol[1][1], g2 = sh->fcol[1][2];
+    const float b0 = sh->fcol[2][0], b1 = sh->fcol[2][1], b2 = sh->fcol[2][2];
     const int x0 = s->x0, y0 = s->y0;
     for (size_t i = 0; i < n; i++) {
-        double dx = (double)((int)(xy[i] & 0xFFFF) - x0), dy = (double)((int)(xy[i] >> 16) - y0);
-        double inv = 1.0 / ((d0 + d1 * dx) + d2 * dy);
-        uint8_t r = to_unorm8(((r0 + r1 * dx) + r2 * dy) * inv);
-        uint8_t g = to_unorm8(((g0 + g1 * dx) + g2 * dy) * inv);
-        uint8_t b = to_unorm8(((b0 + b1 * dx) + b2 * dy) * inv);
+        float dx = (float)((int)(xy[i] & 0xFFFF) - x0), dy = (float)((int)(xy[i] >> 16) - y0);
+        float inv = 1.0f / ((d0 + d1 * dx) + d2 * dy);
+        uint8_t r = unorm8f(((r0 + r1 * dx) + r2 * dy) * inv);
+        uint8_t g = unorm8f(((g0 + g1 * dx) + g2 * dy) * inv);
+        uint8_t b = unorm8f(((b0 + b1 * dx) + b2 * dy) * inv);
         c[i] = r;
         c[n + i] = g;
         c[2 * n + i] = b;
@@ -151,7 +165,7 @@ void wk_cpu_shade_pixels(const wk_cpu_sub *s, const wk_cpu_shade *sh, const uint
     }
     for (size_t i = 0; i < n; i++) {
         uint8_t c[3];
-        wk_cpu_shade_pixel(s, sh, WK_CPU_X(xy[i]), WK_CPU_Y(xy[i]), c);
+        shade_pixel(s, sh, WK_CPU_X(xy[i]), WK_CPU_Y(xy[i]), c);
         luma[i] = luma_of(c);
         rgb[i] = c[0];
         rgb[n + i] = c[1];

@@ -21,6 +21,7 @@ typedef struct wk_cpu_shade {
      * and the numerators Σ e_k a_k / w_k of the lit colour's channels and the texture
      * coordinates; an attribute is its numerator / D. */
     double den[3], col[3][3], uv[2][3];
+    float fden[3], fcol[3][3]; /* the same rounded to float, for untextured pixels */
     const wk_cpu_texture *tex; /* NULL: untextured */
     double tex_w, tex_h;       /* level 0 size */
 } wk_cpu_shade;
@@ -29,12 +30,11 @@ typedef struct wk_cpu_shade {
 void wk_cpu_shade_setup(const wk_cpu_sub *s, const lm_tri_data *t, const float light[3],
                         const wk_cpu_materials *mats, wk_cpu_shade *out);
 
-/* RGB8 of the sub at pixel (x, y), which it covers. */
-void wk_cpu_shade_pixel(const wk_cpu_sub *s, const wk_cpu_shade *sh, int x, int y, uint8_t rgb[3]);
-
-/* The same at n pixels xy[i] (WK_CPU_XY, covered by the sub): their colour into rgb (3 n bytes,
- * by channel: red i at rgb[i], green at rgb[n + i], blue at rgb[2 n + i]) and their luminance
- * into luma[i]. Bit for bit what wk_cpu_shade_pixel and wk_luma give, pixel by pixel. */
+/* RGB8 and luminance of the sub at n pixels xy[i] (WK_CPU_XY, each covered by it): colour into
+ * rgb (3 n bytes, by channel: red i at rgb[i], green at rgb[n + i], blue at rgb[2 n + i]),
+ * luminance (wk_luma of it) into luma[i]. Each pixel's value depends on the sub and the pixel
+ * only, never on the other pixels of the call. Untextured pixels are interpolated in float (a
+ * loop the vectoriser widens), textured ones in double. */
 void wk_cpu_shade_pixels(const wk_cpu_sub *s, const wk_cpu_shade *sh, const uint32_t *xy, size_t n,
                          uint8_t *rgb, uint8_t *luma);
 
