@@ -253,6 +253,27 @@ static void raise_tile(wk_cpu_views *v, wk_cpu_keys *k, uint32_t xy)
     k->tmax[t] = WK_CPU_KEY_BG;
 }
 
+/* Step A for a twin: its visible pixels (found along its subs' rows) are to be shaded again. */
+static lm_status punch_twin(wk_cpu_views *v, const lm_patch *p, uint32_t h, uint32_t id,
+                            wk_cpu_keys *k, size_t limit)
+{
+    wk_cpu_eval *e = &v->eval;
+    uint32_t first, n; /* its subs, for shading and step C */
+    lm_status st = register_tri(v, h, &p->added[e->twin_of[id]], &first, &n);
+    const wk_rect all = {0, 0, v->width, v->height};
+    size_t found = 0;
+    for (uint32_t i = 0; st == LM_OK && i < n && found < limit; i++) {
+        size_t m = wk_cpu_owned(&e->set.sub[first + i], k, &all, e->owned, limit - found);
+        for (size_t j = 0; j < m; j++) {
+            uint32_t xy = e->owned[j];
+            uint32_t q = (uint32_t)WK_CPU_Y(xy) * (uint32_t)v->width + (uint32_t)WK_CPU_X(xy);
+            wk_cpu_log_pixel(&e->log, q, xy, k->key[q], F_RESHADE);
+        }
+        found += m;
+    }
+    return st;
+}
+
 /* Step A for removed triangle id: its visible pixels (those whose key carries its id, all within
  * its bucket rectangle) become holes or, for a twin, pixels to shade again. */
 static lm_status punch(wk_cpu_views *v, const lm_patch *p, uint32_t h, uint32_t id, wk_cpu_keys *k)
@@ -262,12 +283,8 @@ static lm_status punch(wk_cpu_views *v, const lm_patch *p, uint32_t h, uint32_t 
     if (limit == 0)
         return LM_OK; /* it shows nowhere */
     int twin = is_twin(e, id);
-    if (twin) {
-        uint32_t first, n; /* its subs, for shading and step C */
-        lm_status st = register_tri(v, h, &p->added[e->twin_of[id]], &first, &n);
-        if (st != LM_OK)
-            return st;
-    }
+    if (twin)
+        return punch_twin(v, p, h, id, k, limit);
     const wk_rect *r = &wk_buckets_footprint(v->buckets[h], id)->rect;
     const uint32_t tag = id << 3;
     for (int y = r->y0; y < r->y1 && found < limit; y++) {
@@ -276,11 +293,9 @@ static lm_status punch(wk_cpu_views *v, const lm_patch *p, uint32_t h, uint32_t 
             if (((uint32_t)row[x] & ~7u) != tag)
                 continue;
             uint32_t q = (uint32_t)y * (uint32_t)v->width + (uint32_t)x, xy = WK_CPU_XY(x, y);
-            wk_cpu_log_pixel(&e->log, q, xy, row[x], twin ? F_RESHADE : F_HOLE);
-            if (!twin) {
-                row[x] = WK_CPU_KEY_BG;
-                raise_tile(v, k, xy);
-            }
+            wk_cpu_log_pixel(&e->log, q, xy, row[x], F_HOLE);
+            row[x] = WK_CPU_KEY_BG;
+            raise_tile(v, k, xy);
             if (++found == limit)
                 break;
         }
