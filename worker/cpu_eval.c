@@ -210,16 +210,20 @@ static void pass_begin(wk_cpu_views *v)
     e->n_raised = 0;
 }
 
-/* The subs of record t (triangle t->id) set up for this pass, registered once per pass. */
-static lm_status register_tri(wk_cpu_views *v, uint32_t h, const lm_tri_data *t, uint32_t *first,
-                              uint32_t *n)
+/* The subs of record t (triangle t->id) set up for this pass, registered once per pass; when
+ * `current`, t has the corners of the current triangle of its id (kept, or a twin) and the subs
+ * come from the table of the current triangles'. */
+static lm_status register_tri(wk_cpu_views *v, uint32_t h, const lm_tri_data *t, int current,
+                              uint32_t *first, uint32_t *n)
 {
     wk_cpu_eval *e = &v->eval;
     if (e->loc_stamp[t->id] != e->log.now) {
         lm_status st = setups_reserve(&e->set, e->set.n + WK_CPU_MAX_SUBS);
         if (st != LM_OK)
             return st;
-        int k = wk_cpu_tri_setup(&v->cviews[h], t, e->set.sub + e->set.n);
+        wk_cpu_sub *out = e->set.sub + e->set.n;
+        int k = current ? wk_cpu_subcache_setup(&v->subcache, &v->cviews[h], h, t, out)
+                        : wk_cpu_tri_setup(&v->cviews[h], t, out);
         for (int i = 0; i < k; i++) {
             e->set.tri[e->set.n + i] = t;
             e->set.shade_ready[e->set.n + i] = 0;
@@ -253,29 +257,8 @@ static void raise_tile(wk_cpu_views *v, wk_cpu_keys *k, uint32_t xy)
     k->tmax[t] = WK_CPU_KEY_BG;
 }
 
-/* Step A for a twin: its visible pixels (found along its subs' rows) are to be shaded again. */
-static lm_status punch_twin(wk_cpu_views *v, const lm_patch *p, uint32_t h, uint32_t id,
-                            wk_cpu_keys *k, size_t limit)
-{
-    wk_cpu_eval *e = &v->eval;
-    uint32_t first, n; /* its subs, for shading and step C */
-    lm_status st = register_tri(v, h, &p->added[e->twin_of[id]], &first, &n);
-    const wk_rect all = {0, 0, v->width, v->height};
-    size_t found = 0;
-    for (uint32_t i = 0; st == LM_OK && i < n && found < limit; i++) {
-        size_t m = wk_cpu_owned(&e->set.sub[first + i], k, &all, e->owned, limit - found);
-        for (size_t j = 0; j < m; j++) {
-            uint32_t xy = e->owned[j];
-            uint32_t q = (uint32_t)WK_CPU_Y(xy) * (uint32_t)v->width + (uint32_t)WK_CPU_X(xy);
-            wk_cpu_log_pixel(&e->log, q, xy, k->key[q], F_RESHADE);
-        }
-        found += m;
-    }
-    return st;
-}
-
-/* Step A for removed triangle id: its visible pixels (those whose key carries its id, all within
- * its bucket rectangle) become holes or, for a twin, pixels to shade again. */
+/* Step A for removed triangle id: its visible pixels (found along its subs' rows, the key
+ * carrying its tag) become holes or, for a twin, pixels to shade again. */
 static lm_status punch(wk_cpu_views *v, const lm_patch *p, uint32_t h, uint32_t id, wk_cpu_keys *k)
 {
     wk_cpu_eval *e = &v->eval;
@@ -283,22 +266,31 @@ static lm_status punch(wk_cpu_views *v, const lm_patch *p, uint32_t h, uint32_t 
     if (limit == 0)
         return LM_OK; /* it shows nowhere */
     int twin = is_twin(e, id);
-    if (twin)
-        return punch_twin(v, p, h, id, k, limit);
-    const wk_rect *r = &wk_buckets_footprint(v->buckets[h], id)->rect;
-    const uint32_t tag = id << 3;
-    for (int y = r->y0; y < r->y1 && found < limit; y++) {
-        uint64_t *row = k->key + (size_t)y * v->width;
-        for (int x = r->x0; x < r->x1; x++) {
-            if (((uint32_t)row[x] & ~7u) != tag)
-                continue;
-            uint32_t q = (uint32_t)y * (uint32_t)v->width + (uint32_t)x, xy = WK_CPU_XY(x, y);
-            wk_cpu_log_pixel(&e->log, q, xy, row[x], F_HOLE);
-            row[x] = WK_CPU_KEY_BG;
-            raise_tile(v, k, xy);
-            if (++found == limit)
-                break;
+    wk_cpu_sub local[WK_CPU_MAX_SUBS];
+    const wk_cpu_sub *subs = local;
+    uint32_t first = 0, n = 0;
+    if (twin) { /* registered: its new record shades it, step C may draw it */
+        lm_status st = register_tri(v, h, &p->added[e->twin_of[id]], 1, &first, &n);
+        if (st != LM_OK)
+            return st;
+        subs = e->set.sub + first;
+    } else {
+        n = (uint32_t)wk_cpu_subcache_setup(&v->subcache, &v->cviews[h], h, &v->rep.tris[id],
+                                            local);
+    }
+    const wk_rect all = {0, 0, v->width, v->height};
+    for (uint32_t i = 0; i < n && found < limit; i++) {
+        size_t m = wk_cpu_owned(&subs[i], k, &all, e->owned, limit - found);
+        for (size_t j = 0; j < m; j++) {
+            uint32_t xy = e->owned[j];
+            uint32_t q = (uint32_t)WK_CPU_Y(xy) * (uint32_t)v->width + (uint32_t)WK_CPU_X(xy);
+            wk_cpu_log_pixel(&e->log, q, xy, k->key[q], twin ? F_RESHADE : F_HOLE);
+            if (!twin) {
+                k->key[q] = WK_CPU_KEY_BG;
+                raise_tile(v, k, xy);
+            }
         }
+        found += m;
     }
     return LM_OK;
 }
@@ -312,7 +304,7 @@ static lm_status draw_added(wk_cpu_views *v, const lm_patch *p, uint32_t h, wk_c
         if (is_twin(e, p->added[i].id))
             continue;
         uint32_t first, n;
-        lm_status st = register_tri(v, h, &p->added[i], &first, &n);
+        lm_status st = register_tri(v, h, &p->added[i], 0, &first, &n);
         if (st != LM_OK)
             return st;
         for (uint32_t j = 0; j < n; j++)
@@ -419,7 +411,7 @@ static lm_status fill_unresolved(wk_cpu_views *v, const lm_patch *p, uint32_t h,
         }
         if (!candidate_may_show(v, h, id))
             continue;
-        st = register_tri(v, h, t, &first, &n);
+        st = register_tri(v, h, t, 1, &first, &n);
         for (uint32_t j = 0; st == LM_OK && j < n; j++)
             wk_cpu_draw(&e->set.sub[first + j], &kc, &clip, &e->log, F_NEW);
         v->stats.tris_drawn += n;
@@ -622,9 +614,13 @@ static lm_status apply_patch(wk_cpu_views *v, const lm_patch *p)
         for (uint32_t h = 0; h < v->views.count; h++)
             wk_buckets_remove(v->buckets[h], p->removed[i]);
         wk_replica_kill(&v->rep, p->removed[i]);
+        wk_cpu_subcache_forget(&v->subcache, p->removed[i]);
     }
     for (uint32_t i = 0; i < p->n_added; i++) {
+        wk_cpu_subcache_forget(&v->subcache, p->added[i].id);
         lm_status st = wk_replica_put(&v->rep, &p->added[i]);
+        if (st == LM_OK)
+            st = wk_cpu_subcache_reserve(&v->subcache, v->rep.cap);
         for (uint32_t h = 0; st == LM_OK && h < v->views.count; h++) {
             wk_footprint f;
             wk_tri_footprint(&v->views.views[h], &p->added[i], &f);

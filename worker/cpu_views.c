@@ -50,7 +50,10 @@ static lm_status cv_set_mesh_records(wk_cpu_views *v, const lm_tri_data *tris, s
         return lm_fail(LM_E_RANGE, "mesh of %zu triangles exceeds the limit", n);
     v->mesh_set = 0;
     v->buckets_ready = 0; /* built on the first evaluate/commit: energy alone needs none */
+    wk_cpu_subcache_clear(&v->subcache);
     lm_status st = build_replica(v, tris, n);
+    if (st == LM_OK)
+        st = wk_cpu_subcache_reserve(&v->subcache, v->rep.cap);
     if (st == LM_OK) {
         wk_cpu_source src = {.rep = &v->rep};
         st = render_all(v, &src, v->table, 0);
@@ -112,6 +115,7 @@ static void cv_destroy(lm_views *base)
     wk_cpu_materials_free(&v->mats[0]);
     wk_cpu_materials_free(&v->mats[1]);
     wk_cpu_eval_free(&v->eval);
+    wk_cpu_subcache_free(&v->subcache);
     free(v->keys);
     free(v->tmax);
     free(v->second);
@@ -191,8 +195,9 @@ lm_status wk_cpu_views_create(const lm_mesh *original, const lm_view_set *views,
     v->tiles_h = (v->height + WK_CPU_TILE - 1) / WK_CPU_TILE;
     v->plane = (size_t)v->width * v->height;
     v->tiles = (size_t)v->tiles_w * v->tiles_h;
-    v->occlusion = getenv("CPU_OCC_OFF") ? 0 : 1;
+    v->occlusion = 1;
     wk_replica_init(&v->rep);
+    wk_cpu_subcache_init(&v->subcache, views->count);
     st = create_parts(v, original);
     if (st == LM_OK) {
         wk_cpu_source src = {.mesh = original};

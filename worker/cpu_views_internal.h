@@ -6,6 +6,7 @@
 #include "worker/buckets.h"
 #include "worker/cpu_raster.h"
 #include "worker/cpu_shade.h"
+#include "worker/cpu_subcache.h"
 #include "worker/cpu_texture.h"
 #include "worker/cpu_views.h"
 #include "worker/image_store.h"
@@ -60,6 +61,7 @@ typedef struct wk_cpu_views {
     uint32_t *count[LM_MAX_VIEWS]; /* visible pixels of each current triangle id [cap_count] */
     size_t cap_count;
     uint8_t *rgba; /* [n_views * plane * 4] colours of the last full render */
+    wk_cpu_subcache subcache; /* subs of the current triangles */
     wk_cpu_eval eval;
     wk_views_local_stats stats;
 } wk_cpu_views;
