@@ -244,17 +244,22 @@ static uint32_t tile_of(const wk_cpu_views *v, uint32_t xy)
            (uint32_t)(WK_CPU_X(xy) / WK_CPU_TILE);
 }
 
-/* Raise the maximum of pixel xy's tile to the background (it now holds a hole). */
-static void raise_tile(wk_cpu_views *v, wk_cpu_keys *k, uint32_t xy)
+/* Raise the maxima of the tiles of sub s's box to the background (they may hold holes now). */
+static void raise_tiles(wk_cpu_views *v, wk_cpu_keys *k, const wk_cpu_sub *s)
 {
     wk_cpu_eval *e = &v->eval;
-    uint32_t t = tile_of(v, xy);
-    if (!k->tmax || e->tile_stamp[t] == e->log.now)
+    if (!k->tmax)
         return;
-    e->tile_stamp[t] = e->log.now;
-    e->tile_idx[e->n_raised] = t;
-    e->tile_old[e->n_raised++] = k->tmax[t];
-    k->tmax[t] = WK_CPU_KEY_BG;
+    for (int ty = s->y0 / WK_CPU_TILE; ty * WK_CPU_TILE < s->y1; ty++)
+        for (int tx = s->x0 / WK_CPU_TILE; tx * WK_CPU_TILE < s->x1; tx++) {
+            uint32_t t = (uint32_t)ty * (uint32_t)v->tiles_w + (uint32_t)tx;
+            if (e->tile_stamp[t] == e->log.now)
+                continue;
+            e->tile_stamp[t] = e->log.now;
+            e->tile_idx[e->n_raised] = t;
+            e->tile_old[e->n_raised++] = k->tmax[t];
+            k->tmax[t] = WK_CPU_KEY_BG;
+        }
 }
 
 /* Step A for removed triangle id: its visible pixels (found along its subs' rows, the key
@@ -279,17 +284,22 @@ static lm_status punch(wk_cpu_views *v, const lm_patch *p, uint32_t h, uint32_t 
                                             local);
     }
     const wk_rect all = {0, 0, v->width, v->height};
+    wk_cpu_log *log = &e->log;
     for (uint32_t i = 0; i < n && found < limit; i++) {
         size_t m = wk_cpu_owned(&subs[i], k, &all, e->owned, limit - found);
-        for (size_t j = 0; j < m; j++) {
+        for (size_t j = 0; j < m; j++) { /* new to the log: each pixel has one visible triangle */
             uint32_t xy = e->owned[j];
             uint32_t q = (uint32_t)WK_CPU_Y(xy) * (uint32_t)v->width + (uint32_t)WK_CPU_X(xy);
-            wk_cpu_log_pixel(&e->log, q, xy, k->key[q], twin ? F_RESHADE : F_HOLE);
-            if (!twin) {
+            log->stamp[q] = log->now;
+            log->idx[log->n] = q;
+            log->xy[log->n] = xy;
+            log->old[log->n] = k->key[q];
+            log->flag[log->n++] = twin ? F_RESHADE : F_HOLE;
+            if (!twin)
                 k->key[q] = WK_CPU_KEY_BG;
-                raise_tile(v, k, xy);
-            }
         }
+        if (m && !twin)
+            raise_tiles(v, k, &subs[i]);
         found += m;
     }
     return LM_OK;
