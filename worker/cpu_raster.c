@@ -432,15 +432,19 @@ size_t wk_cpu_draw(const wk_cpu_sub *s, wk_cpu_keys *k, const wk_cpu_clip *clip,
 size_t wk_cpu_owned(const wk_cpu_sub *s, const wk_cpu_keys *k, const wk_rect *clip, uint32_t *out,
                     size_t limit)
 {
-    wk_rect r; /* the tag is unique to the sub: no edge test is needed */
+    wk_rect r; /* a pixel whose key carries the tag is one the sub covers and wins */
     if (!box_in(s, clip, &r))
         return 0;
+    span_walk w; /* along the covered columns only: fewer cache lines than the whole box */
+    span_begin(s, &r, &w);
     size_t n = 0;
     for (int y = r.y0; y < r.y1; y++) {
-        const uint64_t *row = k->key + (size_t)y * k->width;
-        for (int x = r.x0; x < r.x1; x++)
+        int x0, x1;
+        span_row(&w, &x0, &x1);
+        const uint64_t *row = k->key + (size_t)y * k->width + s->x0;
+        for (int x = x0; x < x1; x++)
             if ((uint32_t)row[x] == s->tag) {
-                out[n++] = WK_CPU_XY(x, y);
+                out[n++] = WK_CPU_XY(s->x0 + x, y);
                 if (n == limit)
                     return n;
             }

@@ -119,8 +119,8 @@ typedef struct wk_cpu_clip {
 size_t wk_cpu_draw(const wk_cpu_sub *s, wk_cpu_keys *k, const wk_cpu_clip *clip, wk_cpu_log *log,
                    uint8_t flag);
 
-/* The pixels of clip (within the sub's box) where s is the visible surface (key's low half ==
- * tag: the tag is unique to the sub, so these are covered by it), appended to out as WK_CPU_XY (capacity enough for them:
+/* The pixels of clip where s is the visible surface (key's low half == tag: the tag is unique to
+ * the sub, so these are covered by it), appended to out as WK_CPU_XY (capacity enough for them:
  * at most the clip's area); stops after `limit`. Returns how many were appended. */
 size_t wk_cpu_owned(const wk_cpu_sub *s, const wk_cpu_keys *k, const wk_rect *clip, uint32_t *out,
                     size_t limit);
