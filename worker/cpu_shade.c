@@ -125,34 +125,49 @@ static inline uint8_t luma_of(const uint8_t c[3])
     return (uint8_t)((77u * c[0] + 150u * c[1] + 29u * c[2] + 128u) >> 8);
 }
 
-static inline uint8_t unorm8f(float c)
+/* Four lanes of float or int (GCC vector extensions: SSE2 on x86-64, NEON on AArch64, scalar code
+ * elsewhere; every operation is the IEEE one lane by lane, so the bits never depend on it). */
+typedef float v4f __attribute__((vector_size(16)));
+typedef int32_t v4i __attribute__((vector_size(16)));
+
+/* round(clamp(c, 0, 1) * 255) per lane, NaN as 0. */
+static inline v4i unorm8v(v4f c)
 {
-    c = c > 0.0f ? c : 0.0f; /* NaN -> 0 */
-    c = c < 1.0f ? c : 1.0f;
-    return (uint8_t)(int)(c * 255.0f + 0.5f);
+    const v4f zero = {0, 0, 0, 0}, one = {1, 1, 1, 1};
+    v4i pos = c > zero; /* false for NaN */
+    c = (v4f)((v4i)c & pos);
+    v4i low = c < one;
+    c = (v4f)(((v4i)c & low) | ((v4i)one & ~low));
+    return __builtin_convertvector(c * 255.0f + 0.5f, v4i);
 }
 
-/* Untextured pixels in one loop without calls (the vectoriser widens it: the same IEEE float
- * operations lane by lane, so the bits do not depend on the width). Channels go to c (3 n bytes,
- * planar by channel). */
+/* Untextured pixels four at a time (the last group padded with copies of the last pixel):
+ * interpolation in float, the planes' values and the division, clamp, 8 bits, luminance. Channels
+ * go to c (3 n bytes, planar by channel). */
 static void shade_plain(const wk_cpu_sub *s, const wk_cpu_shade *sh, const uint32_t *xy, size_t n,
                         uint8_t *restrict c, uint8_t *restrict luma)
 {
     const float d0 = sh->fden[0], d1 = sh->fden[1], d2 = sh->fden[2];
-    const float r0 = sh->fcol[0][0], r1 = sh->fcol[0][1], r2 = sh->fcol[0][2];
-    const float g0 = sh->fcol[1][0], g1 = sh->fcol[1][1], g2 = sh->fcol[1][2];
-    const float b0 = sh->fcol[2][0], b1 = sh->fcol[2][1], b2 = sh->fcol[2][2];
-    const int x0 = s->x0, y0 = s->y0;
-    for (size_t i = 0; i < n; i++) {
-        float dx = (float)((int)(xy[i] & 0xFFFF) - x0), dy = (float)((int)(xy[i] >> 16) - y0);
-        float inv = 1.0f / ((d0 + d1 * dx) + d2 * dy);
-        uint8_t r = unorm8f(((r0 + r1 * dx) + r2 * dy) * inv);
-        uint8_t g = unorm8f(((g0 + g1 * dx) + g2 * dy) * inv);
-        uint8_t b = unorm8f(((b0 + b1 * dx) + b2 * dy) * inv);
-        c[i] = r;
-        c[n + i] = g;
-        c[2 * n + i] = b;
-        luma[i] = (uint8_t)((77u * r + 150u * g + 29u * b + 128u) >> 8);
+    const float *r = sh->fcol[0], *g = sh->fcol[1], *b = sh->fcol[2];
+    for (size_t i = 0; i < n; i += 4) {
+        v4i px, py;
+        for (int k = 0; k < 4; k++) {
+            uint32_t q = xy[i + (size_t)k < n ? i + (size_t)k : n - 1];
+            px[k] = (int32_t)(q & 0xFFFF) - s->x0;
+            py[k] = (int32_t)(q >> 16) - s->y0;
+        }
+        v4f dx = __builtin_convertvector(px, v4f), dy = __builtin_convertvector(py, v4f);
+        v4f inv = 1.0f / ((d0 + d1 * dx) + d2 * dy);
+        v4i vr = unorm8v(((r[0] + r[1] * dx) + r[2] * dy) * inv);
+        v4i vg = unorm8v(((g[0] + g[1] * dx) + g[2] * dy) * inv);
+        v4i vb = unorm8v(((b[0] + b[1] * dx) + b[2] * dy) * inv);
+        v4i vl = (77 * vr + 150 * vg + 29 * vb + 128) >> 8;
+        for (size_t k = 0; k < 4 && i + k < n; k++) {
+            c[i + k] = (uint8_t)vr[k];
+            c[n + i + k] = (uint8_t)vg[k];
+            c[2 * n + i + k] = (uint8_t)vb[k];
+            luma[i + k] = (uint8_t)vl[k];
+        }
     }
 }
 
