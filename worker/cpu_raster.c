@@ -357,6 +357,46 @@ static int box_hidden(const wk_cpu_sub *s, const wk_cpu_keys *k, const wk_cpu_cl
     return 1;
 }
 
+/* Min-update of columns [x0, x1) of one tile's row (key row `row`, absolute columns); changed
+ * pixels logged (first touch) when log is not NULL. Fields are copied to locals: the key stores
+ * could alias them otherwise. */
+static size_t draw_run(const wk_cpu_sub *s, uint64_t *row, int x0, int x1, int64_t z,
+                       wk_cpu_log *log, uint32_t p0, uint32_t y16, uint8_t flag)
+{
+    const int64_t za = s->za;
+    const uint64_t tag = s->tag;
+    size_t changed = 0;
+    if (!log) {
+        for (int x = x0; x < x1; x++, z += za) {
+            uint64_t key = depth_key(z) | tag;
+            if (key < row[x]) {
+                row[x] = key;
+                changed++;
+            }
+        }
+        return changed;
+    }
+    uint32_t *stamp = log->stamp, now = log->now;
+    size_t n = log->n;
+    for (int x = x0; x < x1; x++, z += za) {
+        uint64_t key = depth_key(z) | tag;
+        if (key >= row[x])
+            continue;
+        uint32_t p = p0 + (uint32_t)x;
+        if (stamp[p] != now) {
+            stamp[p] = now;
+            log->idx[n] = p;
+            log->xy[n] = y16 | (uint32_t)x;
+            log->old[n] = row[x];
+            log->flag[n++] = flag;
+        }
+        row[x] = key;
+        changed++;
+    }
+    log->n = n;
+    return changed;
+}
+
 /* Min-update of columns [x0, x1) of row y (absolute), tile by tile. */
 static size_t draw_span(const wk_cpu_sub *s, wk_cpu_keys *k, const wk_cpu_clip *clip,
                         wk_cpu_log *log, uint8_t flag, int y, int x0, int x1, int64_t zrow)
@@ -366,23 +406,15 @@ static size_t draw_span(const wk_cpu_sub *s, wk_cpu_keys *k, const wk_cpu_clip *
     const uint8_t *mask = clip->tile_mask ? clip->tile_mask + (y / T) * k->tiles_w : NULL;
     const uint64_t *tmax = k->tmax ? k->tmax + (y / T) * k->tiles_w : NULL;
     uint64_t *row = k->key + (size_t)y * k->width;
+    const uint32_t p0 = (uint32_t)y * (uint32_t)k->width, y16 = WK_CPU_XY(0, y);
     for (int x = x0; x < x1;) {
         int end = (x / T + 1) * T < x1 ? (x / T + 1) * T : x1, t = x / T;
         if ((mask && !mask[t]) || (tmax && s->zmin_key > tmax[t])) {
             x = end;
             continue;
         }
-        int64_t z = zrow + s->za * (x - s->x0);
-        for (; x < end; x++, z += s->za) {
-            uint64_t key = depth_key(z) | s->tag;
-            if (key < row[x]) {
-                if (log)
-                    wk_cpu_log_pixel(log, (uint32_t)(y * k->width + x), WK_CPU_XY(x, y), row[x],
-                                     flag);
-                row[x] = key;
-                changed++;
-            }
-        }
+        changed += draw_run(s, row, x, end, zrow + s->za * (x - s->x0), log, p0, y16, flag);
+        x = end;
     }
     return changed;
 }
