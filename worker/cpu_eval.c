@@ -56,13 +56,13 @@ void wk_cpu_eval_free(wk_cpu_eval *e)
                  e->log.old,       e->log.flag,    e->owned,
                  e->luma,          e->rgb,         e->tile_old,
                  e->tile_idx,      e->tile_stamp,  e->tile_mask,
-                 e->mask_idx,      e->cmax,        e->set.sub,
-                 e->set.tri,       e->set.shade,   e->set.shade_ready,
+                 e->mask_idx,      e->cmax,
                  e->removed_stamp, e->added_stamp, e->twin_stamp,
                  e->twin_of,       e->loc_stamp,   e->loc_first,
                  e->loc_n,         e->cand.ids};
     for (size_t i = 0; i < sizeof p / sizeof *p; i++)
         free(p[i]);
+    wk_cpu_setups_free(&e->set);
     memset(e, 0, sizeof *e);
 }
 
@@ -91,31 +91,6 @@ static lm_status ids_reserve(wk_cpu_eval *e, size_t need)
     if (grow_ids((void **)&e->loc_n, 1, old, cap) != LM_OK)
         return LM_E_NOMEM;
     e->cap_ids = cap;
-    return LM_OK;
-}
-
-static lm_status setups_reserve(wk_cpu_setups *s, size_t need)
-{
-    if (need <= s->cap)
-        return LM_OK;
-    size_t cap = s->cap ? s->cap : 256;
-    while (cap < need)
-        cap *= 2;
-    wk_cpu_sub *a = realloc(s->sub, cap * sizeof *a);
-    if (a)
-        s->sub = a;
-    const lm_tri_data **t = realloc(s->tri, cap * sizeof *t);
-    if (t)
-        s->tri = t;
-    wk_cpu_shade *sh = realloc(s->shade, cap * sizeof *sh);
-    if (sh)
-        s->shade = sh;
-    uint8_t *r = realloc(s->shade_ready, cap);
-    if (r)
-        s->shade_ready = r;
-    if (!a || !t || !sh || !r)
-        return lm_fail(LM_E_NOMEM, "out of memory for %zu triangle setups", cap);
-    s->cap = cap;
     return LM_OK;
 }
 
@@ -206,7 +181,7 @@ static void pass_begin(wk_cpu_views *v)
         e->log.now = 1;
     }
     e->log.n = 0;
-    e->set.n = 0;
+    wk_cpu_setups_reset(&e->set);
     e->n_raised = 0;
 }
 
@@ -218,20 +193,27 @@ static lm_status register_tri(wk_cpu_views *v, uint32_t h, const lm_tri_data *t,
 {
     wk_cpu_eval *e = &v->eval;
     if (e->loc_stamp[t->id] != e->log.now) {
-        lm_status st = setups_reserve(&e->set, e->set.n + WK_CPU_MAX_SUBS);
+        wk_cpu_sub local[WK_CPU_MAX_SUBS], *pool;
+        int k = 0;
+        const wk_cpu_sub *subs = current ? wk_cpu_subcache_get(&v->subcache, &v->cviews[h], h, t,
+                                                               local, &k)
+                                         : NULL;
+        lm_status st = LM_OK;
+        if (!subs || subs == local) { /* new corners, or not kept in the table */
+            st = wk_cpu_setups_pool(&e->set, WK_CPU_MAX_SUBS, &pool);
+            if (st == LM_OK && subs)
+                memcpy(pool, local, (size_t)k * sizeof *pool);
+            else if (st == LM_OK)
+                k = wk_cpu_tri_setup(&v->cviews[h], t, pool);
+            subs = pool;
+        }
+        e->loc_first[t->id] = (uint32_t)e->set.n;
+        if (st == LM_OK)
+            st = wk_cpu_setups_push(&e->set, subs, k, t);
         if (st != LM_OK)
             return st;
-        wk_cpu_sub *out = e->set.sub + e->set.n;
-        int k = current ? wk_cpu_subcache_setup(&v->subcache, &v->cviews[h], h, t, out)
-                        : wk_cpu_tri_setup(&v->cviews[h], t, out);
-        for (int i = 0; i < k; i++) {
-            e->set.tri[e->set.n + i] = t;
-            e->set.shade_ready[e->set.n + i] = 0;
-        }
         e->loc_stamp[t->id] = e->log.now;
-        e->loc_first[t->id] = (uint32_t)e->set.n;
         e->loc_n[t->id] = (uint8_t)k;
-        e->set.n += (size_t)k;
     }
     *first = e->loc_first[t->id];
     *n = e->loc_n[t->id];
@@ -272,21 +254,23 @@ static lm_status punch(wk_cpu_views *v, const lm_patch *p, uint32_t h, uint32_t 
         return LM_OK; /* it shows nowhere */
     int twin = is_twin(e, id);
     wk_cpu_sub local[WK_CPU_MAX_SUBS];
-    const wk_cpu_sub *subs = local;
+    const wk_cpu_sub *const *reg = NULL, *subs = NULL;
     uint32_t first = 0, n = 0;
     if (twin) { /* registered: its new record shades it, step C may draw it */
         lm_status st = register_tri(v, h, &p->added[e->twin_of[id]], 1, &first, &n);
         if (st != LM_OK)
             return st;
-        subs = e->set.sub + first;
+        reg = e->set.sub + first;
     } else {
-        n = (uint32_t)wk_cpu_subcache_setup(&v->subcache, &v->cviews[h], h, &v->rep.tris[id],
-                                            local);
+        int kn = 0;
+        subs = wk_cpu_subcache_get(&v->subcache, &v->cviews[h], h, &v->rep.tris[id], local, &kn);
+        n = (uint32_t)kn;
     }
     const wk_rect all = {0, 0, v->width, v->height};
     wk_cpu_log *log = &e->log;
     for (uint32_t i = 0; i < n && found < limit; i++) {
-        size_t m = wk_cpu_owned(&subs[i], k, &all, e->owned, limit - found);
+        const wk_cpu_sub *si = reg ? reg[i] : &subs[i];
+        size_t m = wk_cpu_owned(si, k, &all, e->owned, limit - found);
         for (size_t j = 0; j < m; j++) { /* new to the log: each pixel has one visible triangle */
             uint32_t xy = e->owned[j];
             uint32_t q = (uint32_t)WK_CPU_Y(xy) * (uint32_t)v->width + (uint32_t)WK_CPU_X(xy);
@@ -299,7 +283,7 @@ static lm_status punch(wk_cpu_views *v, const lm_patch *p, uint32_t h, uint32_t 
                 k->key[q] = WK_CPU_KEY_BG;
         }
         if (m && !twin)
-            raise_tiles(v, k, &subs[i]);
+            raise_tiles(v, k, si);
         found += m;
     }
     return LM_OK;
@@ -318,7 +302,7 @@ static lm_status draw_added(wk_cpu_views *v, const lm_patch *p, uint32_t h, wk_c
         if (st != LM_OK)
             return st;
         for (uint32_t j = 0; j < n; j++)
-            wk_cpu_draw(&e->set.sub[first + j], k, &all, &e->log, F_NEW);
+            wk_cpu_draw(e->set.sub[first + j], k, &all, &e->log, F_NEW);
         v->stats.tris_drawn += n;
     }
     return LM_OK;
@@ -423,7 +407,7 @@ static lm_status fill_unresolved(wk_cpu_views *v, const lm_patch *p, uint32_t h,
             continue;
         st = register_tri(v, h, t, 1, &first, &n);
         for (uint32_t j = 0; st == LM_OK && j < n; j++)
-            wk_cpu_draw(&e->set.sub[first + j], &kc, &clip, &e->log, F_NEW);
+            wk_cpu_draw(e->set.sub[first + j], &kc, &clip, &e->log, F_NEW);
         v->stats.tris_drawn += n;
     }
     for (size_t i = 0; i < e->n_mask; i++)
@@ -438,7 +422,7 @@ static lm_status sub_of_key(wk_cpu_views *v, uint64_t key, uint32_t *out)
     uint32_t id = WK_CPU_KEY_ID(key), j = e->loc_first[id], end = j + e->loc_n[id];
     if (e->loc_stamp[id] != e->log.now)
         return lm_fail(LM_E_INTERNAL, "a pixel shows triangle %u, which this pass never drew", id);
-    while (j < end && e->set.sub[j].tag != (uint32_t)key)
+    while (j < end && e->set.sub[j]->tag != (uint32_t)key)
         j++;
     LM_ASSERT(j < end);
     *out = j;
@@ -450,7 +434,7 @@ static const wk_cpu_shade *shade_of(wk_cpu_views *v, uint32_t h, uint32_t j)
 {
     wk_cpu_setups *set = &v->eval.set;
     if (!set->shade_ready[j]) {
-        wk_cpu_shade_setup(&set->sub[j], set->tri[j], v->views.views[h].dir, &v->mats[v->table],
+        wk_cpu_shade_setup(set->sub[j], set->tri[j], v->views.views[h].dir, &v->mats[v->table],
                            &set->shade[j]);
         set->shade_ready[j] = 1;
     }
@@ -474,7 +458,7 @@ static lm_status shade_log(wk_cpu_views *v, uint32_t h, const wk_cpu_keys *k, in
             lm_status st = sub_of_key(v, key, &j);
             if (st != LM_OK)
                 return st;
-            wk_cpu_shade_pixels(&e->set.sub[j], shade_of(v, h, j), e->log.xy + i, end - i, e->rgb,
+            wk_cpu_shade_pixels(e->set.sub[j], shade_of(v, h, j), e->log.xy + i, end - i, e->rgb,
                                 e->luma + i);
         }
         i = end;
@@ -547,7 +531,7 @@ static void keep_second(wk_cpu_views *v, uint32_t h, const lm_patch *p)
         if (is_twin(e, id) || e->loc_stamp[id] != e->log.now)
             continue;
         for (uint32_t j = 0; j < e->loc_n[id]; j++)
-            wk_cpu_draw(&e->set.sub[e->loc_first[id] + j], &k, &all, NULL, 0);
+            wk_cpu_draw(e->set.sub[e->loc_first[id] + j], &k, &all, NULL, 0);
     }
 }
 

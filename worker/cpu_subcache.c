@@ -63,11 +63,13 @@ void wk_cpu_subcache_clear(wk_cpu_subcache *c)
             memset(c->state[h], 0, c->cap);
 }
 
-int wk_cpu_subcache_setup(wk_cpu_subcache *c, const wk_cpu_view *v, uint32_t h,
-                          const lm_tri_data *t, wk_cpu_sub *out)
+const wk_cpu_sub *wk_cpu_subcache_get(wk_cpu_subcache *c, const wk_cpu_view *v, uint32_t h,
+                                      const lm_tri_data *t, wk_cpu_sub *scratch, int *n)
 {
-    if (!c->enabled || t->id >= c->cap)
-        return wk_cpu_tri_setup(v, t, out);
+    if (!c->enabled || t->id >= c->cap) {
+        *n = wk_cpu_tri_setup(v, t, scratch);
+        return scratch;
+    }
     if (!c->state[h]) {
         c->sub[h] = malloc(c->cap * sizeof *c->sub[h]);
         c->state[h] = calloc(c->cap, 1);
@@ -76,23 +78,23 @@ int wk_cpu_subcache_setup(wk_cpu_subcache *c, const wk_cpu_view *v, uint32_t h,
             free(c->state[h]);
             c->sub[h] = NULL;
             c->state[h] = NULL;
-            return wk_cpu_tri_setup(v, t, out); /* no room: set up each time */
+            *n = wk_cpu_tri_setup(v, t, scratch); /* no room: set up each time */
+            return scratch;
         }
     }
     uint8_t *state = &c->state[h][t->id];
-    if (*state == 1) {
-        *out = c->sub[h][t->id];
-        return 1;
+    wk_cpu_sub *slot = &c->sub[h][t->id];
+    if (*state == 1 || *state == 2) {
+        *n = *state == 1;
+        return slot;
     }
-    if (*state == 2)
-        return 0;
-    int n = wk_cpu_tri_setup(v, t, out);
-    if (*state == 0 && n <= 1) {
-        *state = n == 1 ? 1 : 2;
-        if (n == 1)
-            c->sub[h][t->id] = *out;
-    } else if (*state == 0) {
-        *state = 3;
+    *n = wk_cpu_tri_setup(v, t, scratch);
+    if (*state == 3 || *n > 1) {
+        *state = 3; /* several subs (clipped): set up each time */
+        return scratch;
     }
-    return n;
+    *state = *n == 1 ? 1 : 2;
+    if (*n == 1)
+        *slot = scratch[0];
+    return slot;
 }

@@ -32,9 +32,10 @@ lm_status wk_cpu_subcache_reserve(wk_cpu_subcache *c, size_t need);
 /* Forget triangle id in every view / every triangle. */
 void wk_cpu_subcache_forget(wk_cpu_subcache *c, uint32_t id);
 void wk_cpu_subcache_clear(wk_cpu_subcache *c);
-/* The subs of current triangle t (t->id below the reserved capacity) in view h (v): as
- * wk_cpu_tri_setup(v, t, out). */
-int wk_cpu_subcache_setup(wk_cpu_subcache *c, const wk_cpu_view *v, uint32_t h,
-                          const lm_tri_data *t, wk_cpu_sub *out);
+/* The subs of current triangle t in view h (v), as wk_cpu_tri_setup(v, t, ...) makes them: *n
+ * of them at the returned address, the table's own copy (valid until the triangle is forgotten
+ * or the table grows) or else `scratch` (WK_CPU_MAX_SUBS). */
+const wk_cpu_sub *wk_cpu_subcache_get(wk_cpu_subcache *c, const wk_cpu_view *v, uint32_t h,
+                                      const lm_tri_data *t, wk_cpu_sub *scratch, int *n);
 
 #endif

@@ -5,21 +5,13 @@
 
 #include "worker/buckets.h"
 #include "worker/cpu_raster.h"
+#include "worker/cpu_setups.h"
 #include "worker/cpu_shade.h"
 #include "worker/cpu_subcache.h"
 #include "worker/cpu_texture.h"
 #include "worker/cpu_views.h"
 #include "worker/image_store.h"
 #include "worker/replica.h"
-
-/* Subs set up during one (patch, view) pass, with what shading them needs. */
-typedef struct wk_cpu_setups {
-    wk_cpu_sub *sub;
-    const lm_tri_data **tri; /* the record each sub shades with */
-    wk_cpu_shade *shade;
-    uint8_t *shade_ready;
-    size_t n, cap;
-} wk_cpu_setups;
 
 /* Scratch of evaluate and commit (cpu_eval.c). Per-id arrays have cap_ids entries. */
 typedef struct wk_cpu_eval {
