@@ -278,46 +278,29 @@ static int box_in(const wk_cpu_sub *s, const wk_rect *r, wk_rect *out)
 /* Rows of a sub within a box, walked with each edge's bound on the columns kept exactly as
  * floor(f / |a|) plus a remainder, f being the edge function at the sub's column x0 (no division
  * after the first row): row y's covered pixels are exactly those with every edge function >= 0.
- * Edges with a > 0 bound the columns from below (dx >= ceil(-f / a) = -floor(f / a)), edges with
- * a < 0 from above (dx <= floor(f / -a)), edges along the rows (a = 0) keep a row or drop it. */
-typedef struct span_bound {
-    int64_t q, rem, m, bq, br;
-} span_bound;
-
+ * An edge with a > 0 bounds the columns from below (dx >= ceil(-f / a) = -floor(f / a)), one with
+ * a < 0 from above (dx <= floor(f / -a)); an edge along the rows (a = 0) keeps or drops a row:
+ * it walks as |a| = 1 (q = f) and drops the row when f < 0. Straight-line code per row. */
 typedef struct span_walk {
-    span_bound lower[3], upper[3];
-    int64_t flat_f[3], flat_b[3];
-    int n_lower, n_upper, n_flat;
-    int lo, hi; /* the box's columns relative to the sub's x0 */
+    int64_t q[3], rem[3], m[3], bq[3], br[3];
+    int kind[3]; /* 1 lower, -1 upper, 0 along the rows */
+    int64_t lo, hi; /* the box's columns relative to the sub's x0 */
 } span_walk;
 
 static void span_begin(const wk_cpu_sub *s, const wk_rect *r, span_walk *w)
 {
     w->lo = r->x0 - s->x0;
     w->hi = r->x1 - 1 - s->x0;
-    w->n_lower = w->n_upper = w->n_flat = 0;
     for (int k = 0; k < 3; k++) {
         int64_t f = s->e[k] + s->b[k] * (r->y0 - s->y0), a = s->a[k];
-        if (a == 0) {
-            w->flat_f[w->n_flat] = f;
-            w->flat_b[w->n_flat++] = s->b[k];
-            continue;
-        }
-        span_bound *e = a > 0 ? &w->lower[w->n_lower++] : &w->upper[w->n_upper++];
-        e->m = a > 0 ? a : -a;
-        e->q = floor_div(f, e->m);
-        e->rem = f - e->q * e->m;
-        e->bq = floor_div(s->b[k], e->m);
-        e->br = s->b[k] - e->bq * e->m;
+        int64_t m = a > 0 ? a : a < 0 ? -a : 1;
+        w->kind[k] = a > 0 ? 1 : a < 0 ? -1 : 0;
+        w->m[k] = m;
+        w->q[k] = floor_div(f, m);
+        w->rem[k] = f - w->q[k] * m;
+        w->bq[k] = floor_div(s->b[k], m);
+        w->br[k] = s->b[k] - w->bq[k] * m;
     }
-}
-
-static inline void bound_step(span_bound *e)
-{
-    int64_t rem = e->rem + e->br;
-    int carry = rem >= e->m;
-    e->q += e->bq + carry;
-    e->rem = carry ? rem - e->m : rem;
 }
 
 /* The covered columns [*x0, *x1) of the current row (relative to the sub's x0), then a step to
@@ -325,17 +308,16 @@ static inline void bound_step(span_bound *e)
 static inline void span_row(span_walk *w, int *x0, int *x1)
 {
     int64_t lo = w->lo, hi = w->hi;
-    for (int i = 0; i < w->n_lower; i++) {
-        lo = -w->lower[i].q > lo ? -w->lower[i].q : lo;
-        bound_step(&w->lower[i]);
-    }
-    for (int i = 0; i < w->n_upper; i++) {
-        hi = w->upper[i].q < hi ? w->upper[i].q : hi;
-        bound_step(&w->upper[i]);
-    }
-    for (int i = 0; i < w->n_flat; i++) {
-        hi = w->flat_f[i] < 0 ? lo - 1 : hi;
-        w->flat_f[i] += w->flat_b[i];
+    for (int k = 0; k < 3; k++) {
+        int64_t q = w->q[k];
+        int64_t l = w->kind[k] > 0 ? -q : lo;
+        int64_t u = w->kind[k] < 0 ? q : w->kind[k] == 0 && q < 0 ? lo - 1 : hi;
+        lo = l > lo ? l : lo;
+        hi = u < hi ? u : hi;
+        int64_t rem = w->rem[k] + w->br[k];
+        int carry = rem >= w->m[k];
+        w->q[k] = q + w->bq[k] + carry;
+        w->rem[k] = carry ? rem - w->m[k] : rem;
     }
     *x0 = (int)lo;
     *x1 = hi >= lo ? (int)hi + 1 : (int)lo;
