@@ -52,14 +52,11 @@ lm_status wk_cpu_eval_init(wk_cpu_views *v)
 
 void wk_cpu_eval_free(wk_cpu_eval *e)
 {
-    void *p[] = {e->log.stamp,     e->log.idx,     e->log.xy,
-                 e->log.old,       e->log.flag,    e->owned,
-                 e->luma,          e->rgb,         e->tile_old,
-                 e->tile_idx,      e->tile_stamp,  e->tile_mask,
-                 e->mask_idx,      e->cmax,
-                 e->removed_stamp, e->added_stamp, e->twin_stamp,
-                 e->twin_of,       e->loc_stamp,   e->loc_first,
-                 e->loc_n,         e->cand.ids};
+    void *p[] = {e->log.stamp,   e->log.idx,    e->log.xy,   e->log.old,   e->log.flag,
+                 e->owned,       e->luma,       e->rgb,      e->tile_old,  e->tile_idx,
+                 e->tile_stamp,  e->tile_mask,  e->mask_idx, e->cmax,      e->removed_stamp,
+                 e->added_stamp, e->twin_stamp, e->twin_of,  e->loc_stamp, e->loc_first,
+                 e->loc_n,       e->cand.ids};
     for (size_t i = 0; i < sizeof p / sizeof *p; i++)
         free(p[i]);
     wk_cpu_setups_free(&e->set);
@@ -195,9 +192,8 @@ static lm_status register_tri(wk_cpu_views *v, uint32_t h, const lm_tri_data *t,
     if (e->loc_stamp[t->id] != e->log.now) {
         wk_cpu_sub local[WK_CPU_MAX_SUBS], *pool;
         int k = 0;
-        const wk_cpu_sub *subs = current ? wk_cpu_subcache_get(&v->subcache, &v->cviews[h], h, t,
-                                                               local, &k)
-                                         : NULL;
+        const wk_cpu_sub *subs =
+            current ? wk_cpu_subcache_get(&v->subcache, &v->cviews[h], h, t, local, &k) : NULL;
         lm_status st = LM_OK;
         if (!subs || subs == local) { /* new corners, or not kept in the table */
             st = wk_cpu_setups_pool(&e->set, WK_CPU_MAX_SUBS, &pool);

@@ -263,6 +263,17 @@ int wk_cpu_tri_setup(const wk_cpu_view *v, const lm_tri_data *t, wk_cpu_sub *out
     return k;
 }
 
+int wk_cpu_sub_key_at(const wk_cpu_sub *s, int x, int y, uint64_t *key)
+{
+    if (x < s->x0 || x >= s->x1 || y < s->y0 || y >= s->y1)
+        return 0;
+    for (int k = 0; k < 3; k++)
+        if (s->e[k] + s->a[k] * (x - s->x0) + s->b[k] * (y - s->y0) < 0)
+            return 0;
+    *key = depth_key(s->z + s->za * (x - s->x0) + s->zb * (y - s->y0)) | s->tag;
+    return 1;
+}
+
 /* ---- kernels ------------------------------------------------------------------------------ */
 
 /* The part of sub s's box within r; 0 if empty. */
@@ -283,7 +294,7 @@ static int box_in(const wk_cpu_sub *s, const wk_rect *r, wk_rect *out)
  * it walks as |a| = 1 (q = f) and drops the row when f < 0. Straight-line code per row. */
 typedef struct span_walk {
     int64_t q[3], rem[3], m[3], bq[3], br[3];
-    int kind[3]; /* 1 lower, -1 upper, 0 along the rows */
+    int kind[3];    /* 1 lower, -1 upper, 0 along the rows */
     int64_t lo, hi; /* the box's columns relative to the sub's x0 */
 } span_walk;
 

@@ -70,6 +70,10 @@ static inline void wk_cpu_sub_edges(const wk_cpu_sub *s, int x, int y, int64_t e
         e[k] = s->e[k] + s->bias[k] + s->a[k] * (x - s->x0) + s->b[k] * (y - s->y0);
 }
 
+/* Whether the sub covers pixel (x, y) of its box, and its key there, by direct evaluation: what
+ * the kernels below compute along their walks (for checks). */
+int wk_cpu_sub_key_at(const wk_cpu_sub *s, int x, int y, uint64_t *key);
+
 /* A view's keys with the depth maxima of its 8x8 tiles (an upper bound of every key of the tile:
  * a sub whose zmin_key exceeds it has no fragment in front there) and a lower bound of the second
  * least key of each pixel (of every triangle but the visible one; WK_CPU_KEY_BG if none). */

@@ -69,8 +69,7 @@ static lm_status reserve(wk_cpu_setups *s, size_t need)
     return LM_OK;
 }
 
-lm_status wk_cpu_setups_push(wk_cpu_setups *s, const wk_cpu_sub *subs, int k,
-                             const lm_tri_data *t)
+lm_status wk_cpu_setups_push(wk_cpu_setups *s, const wk_cpu_sub *subs, int k, const lm_tri_data *t)
 {
     lm_status st = reserve(s, s->n + (size_t)k);
     for (int i = 0; st == LM_OK && i < k; i++) {

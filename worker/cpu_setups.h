@@ -31,7 +31,6 @@ void wk_cpu_setups_free(wk_cpu_setups *s);
 /* Room in the pool for k <= WK_CPU_MAX_SUBS consecutive subs, valid until the next reset. */
 lm_status wk_cpu_setups_pool(wk_cpu_setups *s, int k, wk_cpu_sub **out);
 /* Append subs[0..k) (used in place: valid until the next reset) shaded with record t. */
-lm_status wk_cpu_setups_push(wk_cpu_setups *s, const wk_cpu_sub *subs, int k,
-                             const lm_tri_data *t);
+lm_status wk_cpu_setups_push(wk_cpu_setups *s, const wk_cpu_sub *subs, int k, const lm_tri_data *t);
 
 #endif

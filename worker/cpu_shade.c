@@ -65,7 +65,7 @@ int wk_cpu_lod_q8(double r2)
     memcpy(&b, &r2, sizeof b);               /* r2 = (1 + f) 2^(e - 1023) */
     int e = (int)((b >> 52) & 0x7ff) - 1022; /* r2 = m 2^e with m in [0.5, 1) */
     uint64_t x = ((b & 0xFFFFFFFFFFFFFull) | (1ull << 52)) >> 21, bits = 0; /* 2m as Q31 */
-    for (int i = 0; i < 9; i++) { /* log2(2m) to 9 bits by squaring */
+    for (int i = 0; i < 10; i++) { /* log2(2m) to 10 bits by squaring */
         x = (x * x) >> 31;
         bits <<= 1;
         if (x >= ((uint64_t)1 << 32)) {
@@ -73,8 +73,8 @@ int wk_cpu_lod_q8(double r2)
             bits |= 1;
         }
     }
-    int l9 = (e - 1) * 512 + (int)bits; /* log2(r2) in 1/512 */
-    return l9 >= 0 ? l9 >> 1 : -((1 - l9) >> 1);
+    int l10 = (e - 1) * 1024 + (int)bits; /* 1024 log2(r2), rounded down; the lod is 128 log2 */
+    return l10 >= 0 ? l10 >> 3 : -((7 - l10) >> 3);
 }
 
 static uint8_t to_unorm8(double c)

@@ -38,8 +38,9 @@ void wk_cpu_shade_setup(const wk_cpu_sub *s, const lm_tri_data *t, const float l
 void wk_cpu_shade_pixels(const wk_cpu_sub *s, const wk_cpu_shade *sh, const uint32_t *xy, size_t n,
                          uint8_t *rgb, uint8_t *luma);
 
-/* 2^8 log2(sqrt(r2)) rounded down (the level of detail of a footprint whose squared size is r2
- * texels²), by integer squaring; very negative for r2 <= 0, large for huge or infinite r2. */
+/* 2^8 log2(sqrt(r2)) = 128 log2(r2) rounded down (the level of detail of a footprint whose squared
+ * size is r2 texels²), by integer squaring; very negative for r2 <= 0, large for huge or infinite
+ * r2. */
 int wk_cpu_lod_q8(double r2);
 
 #endif

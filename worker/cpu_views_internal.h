@@ -52,7 +52,7 @@ typedef struct wk_cpu_views {
     uint64_t *second;              /* [n_views * plane] lower bounds of the second least keys */
     uint32_t *count[LM_MAX_VIEWS]; /* visible pixels of each current triangle id [cap_count] */
     size_t cap_count;
-    uint8_t *rgba; /* [n_views * plane * 4] colours of the last full render */
+    uint8_t *rgba;            /* [n_views * plane * 4] colours of the last full render */
     wk_cpu_subcache subcache; /* subs of the current triangles */
     wk_cpu_eval eval;
     wk_views_local_stats stats;

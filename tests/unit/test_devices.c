@@ -1,11 +1,14 @@
-/* tests/unit/test_devices.c — EGL device listing and choice, GL contexts (twice, two at once,
- * on another thread), the rendering self-test, and the USB accelerator table. */
+/* tests/unit/test_devices.c — EGL device listing and choice, the --device policy (cpu, auto's
+ * fallback), GL contexts (twice, two at once, on another thread), the rendering self-tests (GL
+ * and CPU), and the USB accelerator table. */
 #include "test_support.h"
 
 #include <EGL/egl.h>
 #include <pthread.h>
 #include <string.h>
 
+#include "worker/cpu_self_test.h"
+#include "worker/device_choice.h"
 #include "worker/gl_context.h"
 #include "worker/self_test.h"
 #include "worker/usb_devices.h"
@@ -74,6 +77,46 @@ static void test_choose_logic(void **state)
     assert_int_equal(wk_egl_choose_device("auto", d, 2, &i), LM_E_DEVICE);
 }
 
+/* The --device policy above EGL: "cpu" is always there, "auto" is the first working GPU, else
+ * "cpu" (never llvmpipe), the rest are EGL's. */
+static void test_device_policy(void **state)
+{
+    (void)state;
+    static const char *const good[] = {"cpu", "auto", "host", "egl:0", "egl:12"};
+    for (size_t i = 0; i < sizeof good / sizeof good[0]; i++)
+        assert_int_equal(wk_device_check_spec(good[i]), LM_OK);
+    assert_int_equal(wk_device_check_spec(NULL), LM_OK);
+    static const char *const bad[] = {"", "gpu", "CPU", "cpu:0", "egl:", "egl:x"};
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+        assert_int_equal(wk_device_check_spec(bad[i]), LM_E_INVALID);
+        assert_non_null(strstr(lm_last_error(), "expected auto, cpu, host or egl:N"));
+    }
+    wk_device_info d[3];
+    memset(d, 0, sizeof d);
+    d[0] = (wk_device_info){.index = 2, .is_software = 0, .usable = 0};
+    d[1] = (wk_device_info){.index = 0, .is_software = 0, .usable = 1};
+    d[2] = (wk_device_info){.index = 1, .is_software = 1, .usable = 1};
+    int i = 7;
+    assert_int_equal(wk_device_choose("auto", d, 3, &i), LM_OK);
+    assert_int_equal(i, 1); /* first usable GPU */
+    assert_int_equal(wk_device_choose("cpu", d, 3, &i), LM_OK);
+    assert_int_equal(i, -1);
+    assert_int_equal(wk_device_choose("host", d, 3, &i), LM_OK);
+    assert_int_equal(i, 2);
+    d[1].usable = 0;
+    assert_int_equal(wk_device_choose("auto", d, 3, &i), LM_OK);
+    assert_int_equal(i, -1); /* no working GPU: the CPU rasteriser, not llvmpipe */
+    assert_int_equal(wk_device_choose("auto", NULL, 0, &i), LM_OK);
+    assert_int_equal(i, -1);
+    assert_int_equal(wk_device_choose("gpu", d, 3, &i), LM_E_INVALID);
+    wk_gl_context *ctx = (wk_gl_context *)&ctx;
+    assert_int_equal(wk_device_open("cpu", &ctx), LM_OK);
+    assert_null(ctx); /* the CPU rasteriser needs no context */
+    assert_int_equal(wk_device_open("host", &ctx), LM_OK);
+    assert_non_null(ctx);
+    wk_gl_context_destroy(ctx);
+}
+
 static void test_host_context_twice(void **state)
 {
     (void)state;
@@ -136,6 +179,14 @@ static void test_context_per_thread(void **state)
     wk_gl_context_destroy(main_ctx);
 }
 
+static void test_cpu_self_test(void **state)
+{
+    (void)state;
+    int red = 0;
+    assert_int_equal(wk_cpu_self_test_run(&red), LM_OK);
+    assert_int_equal(red, 496); /* centres on the hypotenuse (a right edge) are left out */
+}
+
 static void test_usb(void **state)
 {
     (void)state;
@@ -158,9 +209,14 @@ static void test_usb(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_list_devices), cmocka_unit_test(test_bad_specs),
-        cmocka_unit_test(test_choose_logic), cmocka_unit_test(test_host_context_twice),
-        cmocka_unit_test(test_two_contexts), cmocka_unit_test(test_context_per_thread),
+        cmocka_unit_test(test_list_devices),
+        cmocka_unit_test(test_bad_specs),
+        cmocka_unit_test(test_choose_logic),
+        cmocka_unit_test(test_device_policy),
+        cmocka_unit_test(test_host_context_twice),
+        cmocka_unit_test(test_two_contexts),
+        cmocka_unit_test(test_context_per_thread),
+        cmocka_unit_test(test_cpu_self_test),
         cmocka_unit_test(test_usb),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
