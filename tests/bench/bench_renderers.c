@@ -1,0 +1,143 @@
+/* tests/bench/bench_renderers.c — how alike two renderers' images of one model are: MODEL's
+ * views rendered by device A (default cpu, lumesh's rasteriser) and device B (default host,
+ * llvmpipe), then per view the mean squared difference of the 8-bit luminance (what the energy
+ * sees) and of the RGB channels, the largest luminance difference and the share of pixels more
+ * than 2 levels apart; and each device's time for the full render of all views.
+ *
+ * usage: bench_renderers MODEL [--views N (20)] [--size S (256)] [--a DEVICE] [--b DEVICE]
+ *        prints one JSON line per view and a summary line. */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "common/mesh_io.h"
+#include "common/view.h"
+#include "worker/image_store.h"
+#include "worker/views_local.h"
+
+typedef struct opts {
+    const char *path, *a, *b;
+    uint32_t views;
+    int size;
+} opts;
+
+static double now(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+static int parse(int argc, char **argv, opts *o)
+{
+    *o = (opts){.a = "cpu", .b = "host", .views = 20, .size = 256};
+    for (int i = 1; i < argc; i++) {
+        const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
+        if (a[0] != '-') {
+            o->path = a;
+            continue;
+        }
+        if (!v)
+            return 0;
+        i++;
+        if (!strcmp(a, "--views"))
+            o->views = (uint32_t)atol(v);
+        else if (!strcmp(a, "--size"))
+            o->size = atoi(v);
+        else if (!strcmp(a, "--a"))
+            o->a = v;
+        else if (!strcmp(a, "--b"))
+            o->b = v;
+        else
+            return 0;
+    }
+    return o->path != NULL;
+}
+
+/* One view's differences between the colour images x and y (RGBA8, n pixels). */
+static void compare_view(uint32_t h, const uint8_t *x, const uint8_t *y, size_t n, double *mse)
+{
+    double se = 0, se_rgb = 0;
+    int worst = 0;
+    size_t off = 0;
+    for (size_t i = 0; i < n; i++) {
+        int d = (int)wk_luma(x + 4 * i) - (int)wk_luma(y + 4 * i);
+        se += d * d;
+        worst = abs(d) > worst ? abs(d) : worst;
+        off += d > 2 || d < -2;
+        for (int ch = 0; ch < 3; ch++) {
+            int c = (int)x[4 * i + ch] - (int)y[4 * i + ch];
+            se_rgb += c * c;
+        }
+    }
+    *mse = se / (double)n;
+    printf("{\"view\": %u, \"luma_mse\": %.4f, \"rgb_mse\": %.4f, \"max_luma_diff\": %d, "
+           "\"share_over_2\": %.5f}\n",
+           h, *mse, se_rgb / (3.0 * (double)n), worst, (double)off / (double)n);
+}
+
+static lm_status run(const opts *o)
+{
+    lm_mesh *m;
+    lm_status st = lm_mesh_load(o->path, NULL, &m);
+    if (st)
+        return st;
+    float c[3], r;
+    lm_mesh_bounding_sphere(m, c, &r);
+    lm_view_set *vs = malloc(sizeof *vs);
+    lm_views *va = NULL, *vb = NULL;
+    double t0 = now(), ta = 0, tb = 0;
+    if (!(st = lm_view_set_make(vs, o->views, o->size, c, r)) &&
+        !(st = wk_views_local_create(m, vs, o->a, &va))) {
+        ta = now() - t0;
+        t0 = now();
+        st = wk_views_local_create(m, vs, o->b, &vb);
+        tb = now() - t0;
+    }
+    size_t n = (size_t)o->size * o->size;
+    uint8_t *x = malloc(n * 4), *y = malloc(n * 4);
+    double sum = 0, worst = 0;
+    for (uint32_t h = 0; !st && h < o->views; h++) {
+        double mse;
+        if (!(st = wk_views_local_read_rgba(va, h, x)) &&
+            !(st = wk_views_local_read_rgba(vb, h, y))) {
+            compare_view(h, x, y, n, &mse);
+            sum += mse;
+            worst = mse > worst ? mse : worst;
+        }
+    }
+    if (!st) {
+        lm_views_info ia, ib;
+        va->ops->info(va, &ia);
+        vb->ops->info(vb, &ib);
+        printf("{\"model\": \"%s\", \"tris\": %u, \"views\": %u, \"size\": %d, \"mean_luma_mse\": "
+               "%.4f, \"max_view_luma_mse\": %.4f, \"a\": \"%s\", \"b\": \"%s\", \"a_create_s\": "
+               "%.3f, \"b_create_s\": %.3f}\n",
+               o->path, m->live_tris, o->views, o->size, sum / o->views, worst, ia.renderer,
+               ib.renderer, ta, tb);
+    }
+    free(x);
+    free(y);
+    lm_views_destroy(va);
+    lm_views_destroy(vb);
+    free(vs);
+    lm_mesh_destroy(m);
+    return st;
+}
+
+int main(int argc, char **argv)
+{
+    opts o;
+    if (!parse(argc, argv, &o)) {
+        fprintf(stderr, "usage: bench_renderers MODEL [--views N] [--size S] [--a DEVICE] "
+                        "[--b DEVICE]\n");
+        return 1;
+    }
+    lm_status st = run(&o);
+    if (st) {
+        fprintf(stderr, "bench_renderers: %s\n", lm_last_error());
+        return lm_exit_code(st);
+    }
+    return 0;
+}
