@@ -17,13 +17,12 @@
 
 typedef struct wk_cpu_shade {
     /* Perspective-correct interpolation as planes over the sub's pixels, each evaluated at (x, y)
-     * as (p[0] + p[1] dx) + p[2] dy with dx = x - x0, dy = y - y0: the denominator D = Σ e_k / w_k
-     * and the numerators Σ e_k a_k / w_k of the lit colour's channels and the texture
-     * coordinates; an attribute is its numerator / D. */
-    double den[3], col[3][3], uv[2][3];
-    float fden[3], fcol[3][3]; /* the same rounded to float, for untextured pixels */
+     * as (p[0] + p[1] dx) + p[2] dy with dx = x - x0, dy = y - y0 in float: the denominator
+     * D = Σ e_k / w_k and the numerators Σ e_k a_k / w_k of the lit colour's channels and of the
+     * texture coordinates; an attribute is its numerator / D. Made in double, rounded once. */
+    float den[3], col[3][3], uv[2][3];
     const wk_cpu_texture *tex; /* NULL: untextured */
-    double tex_w, tex_h;       /* level 0 size */
+    float tex_w, tex_h;        /* level 0 size */
 } wk_cpu_shade;
 
 /* Shading constants of sub s of triangle t (material table mats; t->material < mats->n). */
@@ -32,15 +31,14 @@ void wk_cpu_shade_setup(const wk_cpu_sub *s, const lm_tri_data *t, const float l
 
 /* RGB8 and luminance of the sub at n pixels xy[i] (WK_CPU_XY, each covered by it): colour into
  * rgb (3 n bytes, by channel: red i at rgb[i], green at rgb[n + i], blue at rgb[2 n + i]),
- * luminance (wk_luma of it) into luma[i]. Each pixel's value depends on the sub and the pixel
- * only, never on the other pixels of the call. Untextured pixels are interpolated in float (a
- * loop the vectoriser widens), textured ones in double. */
+ * luminance (wk_luma of it) into luma[i]. Pixels go four at a time through IEEE float lanes;
+ * each pixel's value depends on the sub and the pixel only, never on the others of the call. */
 void wk_cpu_shade_pixels(const wk_cpu_sub *s, const wk_cpu_shade *sh, const uint32_t *xy, size_t n,
                          uint8_t *rgb, uint8_t *luma);
 
 /* 2^8 log2(sqrt(r2)) = 128 log2(r2) rounded down (the level of detail of a footprint whose squared
- * size is r2 texels²), by integer squaring; very negative for r2 <= 0, large for huge or infinite
- * r2. */
-int wk_cpu_lod_q8(double r2);
+ * size is r2 texels²), by integer squaring of the mantissa; very negative for r2 <= 0, NaN and
+ * subnormals, large for infinite r2. */
+int wk_cpu_lod_q8(float r2);
 
 #endif

@@ -74,15 +74,15 @@ void wk_cpu_texture_destroy(wk_cpu_texture *t)
 }
 
 /* Texel column (or row) pair and 8-bit weight of the second for coordinate u on a side of size
- * texels, repeating. */
-static int wrap(double u, int size, int *i1)
+ * texels, repeating: packed as first << 8 | weight, the second in *i1. */
+static int wrap(float u, int size, int *i1)
 {
-    double f = 0.0; /* u - floor(u) in [0, 1]; 0 for huge (integral) or non-finite u */
-    if (fabs(u) < 4503599627370496.0) {
-        double i = (double)(int64_t)u;
-        f = u - (i > u ? i - 1.0 : i);
+    float f = 0.0f; /* u - floor(u) in [0, 1]; 0 for huge (integral) or non-finite u */
+    if (fabsf(u) < 8388608.0f) {
+        float i = (float)(int32_t)u;
+        f = u - (i > u ? i - 1.0f : i);
     }
-    int64_t s = (int64_t)((f * size + 0.5) * 256.0); /* >= 128: floor, one texel ahead */
+    int32_t s = (int32_t)((f * (float)size + 0.5f) * 256.0f); /* >= 128: floor, a texel ahead */
     int i0 = (int)(s >> 8) - 1, frac = (int)(s & 255);
     if (i0 < 0)
         i0 += size;
@@ -92,21 +92,24 @@ static int wrap(double u, int size, int *i1)
     return frac | i0 << 8;
 }
 
-/* Bilinear sample of one level, per channel in units of 255 << 16. */
-static void bilinear(const wk_cpu_level *lv, double u, double v, uint32_t out[3])
+/* Bilinear sample of one level, per channel in units of 255 << 16: the four texels weighted by
+ * the products of the 8-bit weights (sum 2^16). */
+static void bilinear(const wk_cpu_level *lv, float u, float v, uint32_t out[3])
 {
     int x1, y1, xs = wrap(u, lv->width, &x1), ys = wrap(v, lv->height, &y1);
-    int x0 = xs >> 8, fx = xs & 255, y0 = ys >> 8, fy = ys & 255;
-    const uint8_t *r0 = lv->rgba + (size_t)y0 * lv->width * 4;
-    const uint8_t *r1 = lv->rgba + (size_t)y1 * lv->width * 4;
-    for (int k = 0; k < 3; k++) {
-        uint32_t top = r0[x0 * 4 + k] * (uint32_t)(256 - fx) + r0[x1 * 4 + k] * (uint32_t)fx;
-        uint32_t bot = r1[x0 * 4 + k] * (uint32_t)(256 - fx) + r1[x1 * 4 + k] * (uint32_t)fx;
-        out[k] = top * (uint32_t)(256 - fy) + bot * (uint32_t)fy;
-    }
+    int x0 = xs >> 8, y0 = ys >> 8;
+    uint32_t fx = (uint32_t)(xs & 255), fy = (uint32_t)(ys & 255);
+    uint32_t w00 = (256 - fx) * (256 - fy), w10 = fx * (256 - fy), w01 = (256 - fx) * fy;
+    uint32_t w11 = fx * fy;
+    const uint8_t *a = lv->rgba + ((size_t)y0 * lv->width + x0) * 4;
+    const uint8_t *b = lv->rgba + ((size_t)y0 * lv->width + x1) * 4;
+    const uint8_t *c = lv->rgba + ((size_t)y1 * lv->width + x0) * 4;
+    const uint8_t *d = lv->rgba + ((size_t)y1 * lv->width + x1) * 4;
+    for (int k = 0; k < 3; k++)
+        out[k] = a[k] * w00 + b[k] * w10 + c[k] * w01 + d[k] * w11;
 }
 
-void wk_cpu_texture_sample(const wk_cpu_texture *t, double u, double v, int lod, uint32_t out[3])
+void wk_cpu_texture_sample(const wk_cpu_texture *t, float u, float v, int lod, uint32_t out[3])
 {
     int last = t->n_levels - 1, d = lod > 0 ? lod >> 8 : 0;
     if (lod <= 0 || d >= last) {

@@ -33,7 +33,7 @@ void wk_cpu_texture_destroy(wk_cpu_texture *t);
 /* Texture colour at (u, v) with level of detail lod (log2 of the texel footprint, 8 fractional
  * bits; <= 0 magnifies: bilinear on level 0), per channel in units of WK_CPU_TEX_ONE. u and v
  * may be any finite numbers (repeat); others read as 0. */
-void wk_cpu_texture_sample(const wk_cpu_texture *t, double u, double v, int lod, uint32_t out[3]);
+void wk_cpu_texture_sample(const wk_cpu_texture *t, float u, float v, int lod, uint32_t out[3]);
 
 /* A material table: diffuse colours and textures (NULL where untextured). */
 typedef struct wk_cpu_materials {
