@@ -65,13 +65,11 @@ int wk_cpu_lod_q8(float r2)
     memcpy(&b, &r2, sizeof b);              /* r2 = (1 + f) 2^(e - 127) */
     int e = (int)((b >> 23) & 0xFF) - 127;
     uint64_t x = (uint64_t)((b & 0x7FFFFF) | 0x800000) << 8, bits = 0; /* 1 + f as Q31 */
-    for (int i = 0; i < 10; i++) { /* log2(1 + f) to 10 bits by squaring */
+    for (int i = 0; i < 10; i++) { /* log2(1 + f) to 10 bits by squaring, without branches */
         x = (x * x) >> 31;
-        bits <<= 1;
-        if (x >= ((uint64_t)1 << 32)) {
-            x >>= 1;
-            bits |= 1;
-        }
+        uint64_t carry = x >> 32; /* 1 when the square reached 2 */
+        x >>= carry;
+        bits = bits << 1 | carry;
     }
     int l10 = e * 1024 + (int)bits; /* 1024 log2(r2), rounded down; the lod is 128 log2 */
     return l10 >= 0 ? l10 >> 3 : -((7 - l10) >> 3);
