@@ -37,8 +37,8 @@ void wk_cpu_shade_pixels(const wk_cpu_sub *s, const wk_cpu_shade *sh, const uint
                          uint8_t *rgb, uint8_t *luma);
 
 /* 2^8 log2(sqrt(r2)) = 128 log2(r2) rounded down (the level of detail of a footprint whose squared
- * size is r2 texels²), by integer squaring of the mantissa; very negative for r2 <= 0, NaN and
- * subnormals, large for infinite r2. */
+ * size is r2 texels²), from a table of log2 over the mantissa's top bits, interpolated in integers;
+ * very negative for r2 <= 0, NaN and subnormals, large for infinite r2. */
 int wk_cpu_lod_q8(float r2);
 
 #endif

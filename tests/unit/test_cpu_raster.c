@@ -261,7 +261,7 @@ static void test_lod(void **state)
         int l = wk_cpu_lod_q8(r2);
         assert_true(l >= last); /* monotone */
         double want = 128.0 * log2(r2);
-        assert_true(l <= want + 1e-9 && l >= want - 1.01);
+        assert_true(l <= want + 0.01 && l >= want - 1.01);
         last = l;
     }
     assert_true(wk_cpu_lod_q8(0.0) < -100000 && wk_cpu_lod_q8(NAN) < -100000);
@@ -358,7 +358,7 @@ static uint64_t fnv1a(uint64_t h, const uint8_t *p, size_t n)
 /* The images of a fixed scene, hashed: the same bits on every host, compiler and build. A change
  * of the rasteriser's arithmetic changes this hash: then bump the version in WK_CPU_RASTERISER
  * (worker/device_choice.h), since images of two versions must not be compared, and update it. */
-#define GOLDEN_HASH 0xd4cad77d1803ed48ull
+#define GOLDEN_HASH 0x7254fe81e9b892e9ull
 static void test_golden_images(void **state)
 {
     (void)state;
