@@ -73,38 +73,38 @@ void wk_cpu_texture_destroy(wk_cpu_texture *t)
     free(t);
 }
 
-/* Texel column (or row) pair and 8-bit weight of the second for coordinate u on a side of size
- * texels, repeating: packed as first << 8 | weight, the second in *i1. */
-static int wrap(float u, int size, int *i1)
+/* u - floor(u) in [0, 1]; 0 for huge (integral) or non-finite u. */
+static float fraction(float u)
 {
-    float f = 0.0f; /* u - floor(u) in [0, 1]; 0 for huge (integral) or non-finite u */
-    if (fabsf(u) < 8388608.0f) {
-        float i = (float)(int32_t)u;
-        f = u - (i > u ? i - 1.0f : i);
-    }
+    if (!(fabsf(u) < 8388608.0f))
+        return 0.0f;
+    float i = (float)(int32_t)u;
+    return u - (i > u ? i - 1.0f : i);
+}
+
+/* Texel column (or row) pair and 8-bit weight of the second for fraction f on a side of size
+ * texels, repeating: packed as first << 8 | weight, the second in *i1. */
+static int wrap(float f, int size, int *i1)
+{
     int32_t s = (int32_t)((f * (float)size + 0.5f) * 256.0f); /* >= 128: floor, a texel ahead */
     int i0 = (int)(s >> 8) - 1, frac = (int)(s & 255);
-    if (i0 < 0)
-        i0 += size;
-    if (i0 >= size)
-        i0 -= size;
+    i0 += i0 < 0 ? size : i0 >= size ? -size : 0;
     *i1 = i0 + 1 == size ? 0 : i0 + 1;
     return frac | i0 << 8;
 }
 
-/* Bilinear sample of one level, per channel in units of 255 << 16: the four texels weighted by
- * the products of the 8-bit weights (sum 2^16). */
-static void bilinear(const wk_cpu_level *lv, float u, float v, uint32_t out[3])
+/* Bilinear sample of one level at fractions (fu, fv), per channel in units of 255 << 16: the
+ * four texels weighted by the products of the 8-bit weights (sum 2^16). */
+static void bilinear(const wk_cpu_level *lv, float fu, float fv, uint32_t out[3])
 {
-    int x1, y1, xs = wrap(u, lv->width, &x1), ys = wrap(v, lv->height, &y1);
+    int x1, y1, xs = wrap(fu, lv->width, &x1), ys = wrap(fv, lv->height, &y1);
     int x0 = xs >> 8, y0 = ys >> 8;
     uint32_t fx = (uint32_t)(xs & 255), fy = (uint32_t)(ys & 255);
     uint32_t w00 = (256 - fx) * (256 - fy), w10 = fx * (256 - fy), w01 = (256 - fx) * fy;
     uint32_t w11 = fx * fy;
-    const uint8_t *a = lv->rgba + ((size_t)y0 * lv->width + x0) * 4;
-    const uint8_t *b = lv->rgba + ((size_t)y0 * lv->width + x1) * 4;
-    const uint8_t *c = lv->rgba + ((size_t)y1 * lv->width + x0) * 4;
-    const uint8_t *d = lv->rgba + ((size_t)y1 * lv->width + x1) * 4;
+    const uint8_t *r0 = lv->rgba + (size_t)y0 * lv->width * 4;
+    const uint8_t *r1 = lv->rgba + (size_t)y1 * lv->width * 4;
+    const uint8_t *a = r0 + x0 * 4, *b = r0 + x1 * 4, *c = r1 + x0 * 4, *d = r1 + x1 * 4;
     for (int k = 0; k < 3; k++)
         out[k] = a[k] * w00 + b[k] * w10 + c[k] * w01 + d[k] * w11;
 }
@@ -112,15 +112,16 @@ static void bilinear(const wk_cpu_level *lv, float u, float v, uint32_t out[3])
 void wk_cpu_texture_sample(const wk_cpu_texture *t, float u, float v, int lod, uint32_t out[3])
 {
     int last = t->n_levels - 1, d = lod > 0 ? lod >> 8 : 0;
+    float fu = fraction(u), fv = fraction(v);
     if (lod <= 0 || d >= last) {
-        bilinear(&t->level[lod <= 0 ? 0 : last], u, v, out);
+        bilinear(&t->level[lod <= 0 ? 0 : last], fu, fv, out);
         for (int k = 0; k < 3; k++)
             out[k] <<= 8;
         return;
     }
     uint32_t a[3], b[3], f = (uint32_t)(lod & 255);
-    bilinear(&t->level[d], u, v, a);
-    bilinear(&t->level[d + 1], u, v, b);
+    bilinear(&t->level[d], fu, fv, a);
+    bilinear(&t->level[d + 1], fu, fv, b);
     for (int k = 0; k < 3; k++)
         out[k] = a[k] * (256 - f) + b[k] * f;
 }
