@@ -8,8 +8,7 @@
 #include <math.h>
 #include <string.h>
 
-typedef float v4f __attribute__((vector_size(16)));
-typedef int32_t v4i __attribute__((vector_size(16)));
+#include "worker/cpu_simd.h"
 
 /* The plane of Σ_k q_k f_k over the sub's pixels, q_k = e_k / w_k, rounded to float. */
 static void plane_of(const wk_cpu_sub *s, const double f[3], float out[3])
@@ -120,17 +119,13 @@ static void texture_factor(const wk_cpu_shade *sh, v4f dx, v4f dy, v4f inv, v4f 
     v4f uy = (sh->uv[0][2] - u * sh->den[2]) * inv * sh->tex_w;
     v4f vy = (sh->uv[1][2] - v * sh->den[2]) * inv * sh->tex_h;
     v4f rx = ux * ux + vx * vx, ry = uy * uy + vy * vy;
-    v4i xbig = rx > ry;
+    v4i xbig = rx > ry, lod;
     v4f r2 = (v4f)(((v4i)rx & xbig) | ((v4i)ry & ~xbig));
-    v4i t[3];
-    for (int k = 0; k < 4; k++) {
-        uint32_t tc[3];
-        wk_cpu_texture_sample(sh->tex, u[k], v[k], wk_cpu_lod_q8(r2[k]), tc);
-        for (int ch = 0; ch < 3; ch++)
-            t[ch][k] = (int32_t)(tc[ch] >> 8); /* below 2^24: exact in float */
-    }
+    for (int k = 0; k < 4; k++)
+        lod[k] = wk_cpu_lod_q8(r2[k]);
+    wk_cpu_texture_sample4(sh->tex, u, v, lod, out);
     for (int ch = 0; ch < 3; ch++)
-        out[ch] = __builtin_convertvector(t[ch], v4f) * (1.0f / 16711680.0f); /* / (255 << 16) */
+        out[ch] *= 1.0f / 255.0f;
 }
 
 /* Pixels i..i+3 of xy (the group padded with copies of the last pixel, n in all). */

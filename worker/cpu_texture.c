@@ -1,28 +1,62 @@
-/* worker/cpu_texture.c — integer mip pyramids, trilinear sampling with repeat wrapping, and the
- * CPU backend's material tables (see cpu_texture.h). */
+/* worker/cpu_texture.c — mip pyramids (box-filtered in integers, texels packed), trilinear
+ * sampling of four points at a time with repeat wrapping, and the CPU backend's material tables
+ * (see cpu_texture.h). */
 #include "worker/cpu_texture.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
-/* Level l + 1 from level l: each texel the rounded mean of the 2x2 block above it (the last row or
- * column repeated where a side is odd or already 1). */
-static void downsample(const wk_cpu_level *src, uint8_t *dst, int w, int h)
+/* Level l + 1 (w x h, into dst) from level l (src bytes, above's size): each texel the rounded
+ * mean of the 2x2 block above it (the last row or column repeated where a side is odd or 1). */
+static void downsample(const wk_cpu_level *above, const uint8_t *src, uint8_t *dst, int w, int h)
 {
     for (int y = 0; y < h; y++) {
-        int y0 = 2 * y < src->height ? 2 * y : src->height - 1;
-        int y1 = y0 + 1 < src->height ? y0 + 1 : y0;
+        int y0 = 2 * y < above->height ? 2 * y : above->height - 1;
+        int y1 = y0 + 1 < above->height ? y0 + 1 : y0;
         for (int x = 0; x < w; x++) {
-            int x0 = 2 * x < src->width ? 2 * x : src->width - 1;
-            int x1 = x0 + 1 < src->width ? x0 + 1 : x0;
-            const uint8_t *a = src->rgba + ((size_t)y0 * src->width + x0) * 4;
-            const uint8_t *b = src->rgba + ((size_t)y0 * src->width + x1) * 4;
-            const uint8_t *c = src->rgba + ((size_t)y1 * src->width + x0) * 4;
-            const uint8_t *d = src->rgba + ((size_t)y1 * src->width + x1) * 4;
+            int x0 = 2 * x < above->width ? 2 * x : above->width - 1;
+            int x1 = x0 + 1 < above->width ? x0 + 1 : x0;
+            const uint8_t *a = src + ((size_t)y0 * above->width + x0) * 4;
+            const uint8_t *b = src + ((size_t)y0 * above->width + x1) * 4;
+            const uint8_t *c = src + ((size_t)y1 * above->width + x0) * 4;
+            const uint8_t *d = src + ((size_t)y1 * above->width + x1) * 4;
             for (int k = 0; k < 4; k++)
                 dst[((size_t)y * w + x) * 4 + k] = (uint8_t)((a[k] + b[k] + c[k] + d[k] + 2) >> 2);
         }
+    }
+}
+
+/* The sizes of the pyramid's levels (down to 1x1); returns how many texels in all. */
+static size_t plan_levels(wk_cpu_texture *t, int w, int h)
+{
+    size_t total = 0;
+    int n = 0;
+    for (;; n++) {
+        t->width[n] = w;
+        t->height[n] = h;
+        t->offset[n] = (int32_t)total;
+        total += (size_t)w * h;
+        if ((w == 1 && h == 1) || n + 1 == WK_CPU_TEX_LEVELS)
+            break;
+        w = w > 1 ? w / 2 : 1;
+        h = h > 1 ? h / 2 : 1;
+    }
+    t->n_levels = n + 1;
+    return total;
+}
+
+/* The byte pyramid (levels one after the other), packed into t->data. */
+static void pack_levels(wk_cpu_texture *t, const uint8_t *bytes)
+{
+    for (int l = 0; l < t->n_levels; l++) {
+        size_t n = (size_t)t->width[l] * t->height[l];
+        const uint8_t *src = bytes + (size_t)t->offset[l] * 4;
+        uint32_t *dst = t->data + t->offset[l];
+        for (size_t i = 0; i < n; i++)
+            dst[i] = (uint32_t)src[4 * i] | (uint32_t)src[4 * i + 1] << 8 |
+                     (uint32_t)src[4 * i + 2] << 16 | (uint32_t)src[4 * i + 3] << 24;
+        t->level[l] = (wk_cpu_level){t->width[l], t->height[l], dst};
     }
 }
 
@@ -33,34 +67,26 @@ lm_status wk_cpu_texture_create(const lm_image *img, wk_cpu_texture **out)
     wk_cpu_texture *t = calloc(1, sizeof *t);
     if (!t)
         return lm_fail(LM_E_NOMEM, "out of memory for a texture");
-    size_t total = 0;
-    int w = img->width, h = img->height, n = 0;
-    for (;; n++) {
-        t->level[n].width = w;
-        t->level[n].height = h;
-        total += (size_t)w * h * 4;
-        if ((w == 1 && h == 1) || n + 1 == WK_CPU_TEX_LEVELS)
-            break;
-        w = w > 1 ? w / 2 : 1;
-        h = h > 1 ? h / 2 : 1;
-    }
-    t->n_levels = n + 1;
-    t->data = malloc(total);
-    if (!t->data) {
+    size_t total = plan_levels(t, img->width, img->height);
+    uint8_t *bytes = malloc(total * 4);
+    t->data = malloc(total * sizeof *t->data);
+    if (!bytes || !t->data) {
+        free(bytes);
+        free(t->data);
         free(t);
         return lm_fail(LM_E_NOMEM, "out of memory for a %dx%d texture pyramid", img->width,
                        img->height);
     }
-    size_t row = (size_t)img->width * 4, off = 0;
+    size_t row = (size_t)img->width * 4;
     for (int y = 0; y < img->height; y++) /* bottom row first */
-        memcpy(t->data + row * y, img->pixels + row * (img->height - 1 - y), row);
-    for (int l = 0; l < t->n_levels; l++) {
-        wk_cpu_level *lv = &t->level[l];
-        lv->rgba = t->data + off;
-        if (l > 0)
-            downsample(&t->level[l - 1], t->data + off, lv->width, lv->height);
-        off += (size_t)lv->width * lv->height * 4;
+        memcpy(bytes + row * y, img->pixels + row * (img->height - 1 - y), row);
+    for (int l = 1; l < t->n_levels; l++) {
+        wk_cpu_level above = {t->width[l - 1], t->height[l - 1], NULL};
+        downsample(&above, bytes + (size_t)t->offset[l - 1] * 4, bytes + (size_t)t->offset[l] * 4,
+                   t->width[l], t->height[l]);
     }
+    pack_levels(t, bytes);
+    free(bytes);
     *out = t;
     return LM_OK;
 }
@@ -73,57 +99,69 @@ void wk_cpu_texture_destroy(wk_cpu_texture *t)
     free(t);
 }
 
-/* u - floor(u) in [0, 1]; 0 for huge (integral) or non-finite u. */
-static float fraction(float u)
+/* u - floor(u) in [0, 1] per lane; 0 for huge (integral) or non-finite u. */
+static v4f fraction4(v4f u)
 {
-    if (!(fabsf(u) < 8388608.0f))
-        return 0.0f;
-    float i = (float)(int32_t)u;
-    return u - (i > u ? i - 1.0f : i);
+    v4i ok = (u < wk_v4_splat(8388608.0f)) & (u > wk_v4_splat(-8388608.0f)); /* false: NaN */
+    u = wk_v4_select(ok, u, wk_v4_splat(0.0f));
+    v4f i = __builtin_convertvector(__builtin_convertvector(u, v4i), v4f);
+    return u - wk_v4_select(i > u, i - 1.0f, i);
 }
 
-/* Texel column (or row) pair and 8-bit weight of the second for fraction f on a side of size
- * texels, repeating: packed as first << 8 | weight, the second in *i1. */
-static int wrap(float f, int size, int *i1)
+/* Texel pairs and weights along one axis: s = f size - 1/2, texel floor(s) and the next one,
+ * repeating, and the weight of the next one. */
+static void axis4(v4f f, v4i size, v4i *i0, v4i *i1, v4f *w)
 {
-    int32_t s = (int32_t)((f * (float)size + 0.5f) * 256.0f); /* >= 128: floor, a texel ahead */
-    int i0 = (int)(s >> 8) - 1, frac = (int)(s & 255);
-    i0 += i0 < 0 ? size : i0 >= size ? -size : 0;
-    *i1 = i0 + 1 == size ? 0 : i0 + 1;
-    return frac | i0 << 8;
+    v4f s = f * __builtin_convertvector(size, v4f) - 0.5f; /* in [-0.5, size - 0.5] */
+    v4i fl = __builtin_convertvector(s + 1.0f, v4i) - 1;   /* floor: s + 1 > 0 */
+    *w = s - __builtin_convertvector(fl, v4f);             /* in [0, 1) */
+    fl += (fl < 0) & size;                                 /* -1 -> size - 1 */
+    fl -= (fl >= size) & size;
+    *i0 = fl;
+    *i1 = (fl + 1) & ~(fl + 1 == size); /* size -> 0 */
 }
 
-/* Bilinear sample of one level at fractions (fu, fv), per channel in units of 255 << 16: the
- * four texels weighted by the products of the 8-bit weights (sum 2^16). */
-static void bilinear(const wk_cpu_level *lv, float fu, float fv, uint32_t out[3])
+/* Bilinear samples of level lv[k] at lane k (fractions fu, fv), channels 0..255. */
+static void bilinear4(const wk_cpu_texture *t, v4i lv, v4f fu, v4f fv, v4f out[3])
 {
-    int x1, y1, xs = wrap(fu, lv->width, &x1), ys = wrap(fv, lv->height, &y1);
-    int x0 = xs >> 8, y0 = ys >> 8;
-    uint32_t fx = (uint32_t)(xs & 255), fy = (uint32_t)(ys & 255);
-    uint32_t w00 = (256 - fx) * (256 - fy), w10 = fx * (256 - fy), w01 = (256 - fx) * fy;
-    uint32_t w11 = fx * fy;
-    const uint8_t *r0 = lv->rgba + (size_t)y0 * lv->width * 4;
-    const uint8_t *r1 = lv->rgba + (size_t)y1 * lv->width * 4;
-    const uint8_t *a = r0 + x0 * 4, *b = r0 + x1 * 4, *c = r1 + x0 * 4, *d = r1 + x1 * 4;
-    for (int k = 0; k < 3; k++)
-        out[k] = a[k] * w00 + b[k] * w10 + c[k] * w01 + d[k] * w11;
-}
-
-void wk_cpu_texture_sample(const wk_cpu_texture *t, float u, float v, int lod, uint32_t out[3])
-{
-    int last = t->n_levels - 1, d = lod > 0 ? lod >> 8 : 0;
-    float fu = fraction(u), fv = fraction(v);
-    if (lod <= 0 || d >= last) {
-        bilinear(&t->level[lod <= 0 ? 0 : last], fu, fv, out);
-        for (int k = 0; k < 3; k++)
-            out[k] <<= 8;
-        return;
+    v4i w, h, base;
+    for (int k = 0; k < 4; k++) {
+        w[k] = t->width[lv[k]];
+        h[k] = t->height[lv[k]];
+        base[k] = t->offset[lv[k]];
     }
-    uint32_t a[3], b[3], f = (uint32_t)(lod & 255);
-    bilinear(&t->level[d], fu, fv, a);
-    bilinear(&t->level[d + 1], fu, fv, b);
-    for (int k = 0; k < 3; k++)
-        out[k] = a[k] * (256 - f) + b[k] * f;
+    v4i x0, x1, y0, y1;
+    v4f wx, wy;
+    axis4(fu, w, &x0, &x1, &wx);
+    axis4(fv, h, &y0, &y1, &wy);
+    v4i r0 = base + y0 * w, r1 = base + y1 * w, at[4] = {r0 + x0, r0 + x1, r1 + x0, r1 + x1};
+    v4i texel[4];
+    for (int c = 0; c < 4; c++)
+        for (int k = 0; k < 4; k++)
+            texel[c][k] = (int32_t)t->data[at[c][k]];
+    for (int ch = 0; ch < 3; ch++) {
+        v4f v[4];
+        for (int c = 0; c < 4; c++)
+            v[c] = __builtin_convertvector((texel[c] >> (8 * ch)) & 255, v4f);
+        v4f lo = v[0] + (v[1] - v[0]) * wx, hi = v[2] + (v[3] - v[2]) * wx;
+        out[ch] = lo + (hi - lo) * wy; /* lerps: exact where the texels agree */
+    }
+}
+
+void wk_cpu_texture_sample4(const wk_cpu_texture *t, v4f u, v4f v, v4i lod, v4f out[3])
+{
+    const v4i last = {t->n_levels - 1, t->n_levels - 1, t->n_levels - 1, t->n_levels - 1};
+    v4i mag = lod <= 0, d = (lod >> 8) & ~mag;
+    v4i top = d >= last;
+    d = (d & ~top) | (last & top);
+    v4i d1 = d + 1;
+    d1 = (d1 & ~(d1 > last)) | (last & (d1 > last));
+    v4f f = __builtin_convertvector(lod & 255 & ~mag & ~top, v4f) * (1.0f / 256.0f);
+    v4f fu = fraction4(u), fv = fraction4(v), a[3], b[3];
+    bilinear4(t, d, fu, fv, a);
+    bilinear4(t, d1, fu, fv, b);
+    for (int ch = 0; ch < 3; ch++)
+        out[ch] = a[ch] + (b[ch] - a[ch]) * f;
 }
 
 void wk_cpu_materials_free(wk_cpu_materials *t)
