@@ -36,6 +36,7 @@ lm_status wk_cpu_eval_init(wk_cpu_views *v)
     e->owned = malloc(v->plane * sizeof *e->owned);
     e->luma = malloc(v->plane);
     e->rgb = malloc(v->plane * 3);
+    e->texl = malloc(v->plane * 3 * sizeof *e->texl);
     e->tile_old = malloc(v->tiles * sizeof *e->tile_old);
     e->tile_idx = malloc(v->tiles * sizeof *e->tile_idx);
     e->tile_stamp = calloc(v->tiles, sizeof *e->tile_stamp);
@@ -52,11 +53,11 @@ lm_status wk_cpu_eval_init(wk_cpu_views *v)
 
 void wk_cpu_eval_free(wk_cpu_eval *e)
 {
-    void *p[] = {e->log.stamp,   e->log.idx,    e->log.xy,   e->log.old,   e->log.flag,
-                 e->owned,       e->luma,       e->rgb,      e->tile_old,  e->tile_idx,
-                 e->tile_stamp,  e->tile_mask,  e->mask_idx, e->cmax,      e->removed_stamp,
-                 e->added_stamp, e->twin_stamp, e->twin_of,  e->loc_stamp, e->loc_first,
-                 e->loc_n,       e->cand.ids};
+    void *p[] = {e->log.stamp,   e->log.idx,    e->log.xy,   e->log.old,       e->log.flag,
+                 e->owned,       e->luma,       e->rgb,      e->tile_old,      e->tile_idx,
+                 e->tile_stamp,  e->tile_mask,  e->mask_idx, e->cmax,          e->removed_stamp,
+                 e->added_stamp, e->twin_stamp, e->twin_of,  e->textwin_stamp, e->texl,
+                 e->loc_stamp,   e->loc_first,  e->loc_n,    e->cand.ids};
     for (size_t i = 0; i < sizeof p / sizeof *p; i++)
         free(p[i]);
     wk_cpu_setups_free(&e->set);
@@ -81,7 +82,8 @@ static lm_status ids_reserve(wk_cpu_eval *e, size_t need)
     while (cap < need)
         cap *= 2;
     void **u32[] = {(void **)&e->removed_stamp, (void **)&e->added_stamp, (void **)&e->twin_stamp,
-                    (void **)&e->twin_of,       (void **)&e->loc_stamp,   (void **)&e->loc_first};
+                    (void **)&e->textwin_stamp, (void **)&e->twin_of,     (void **)&e->loc_stamp,
+                    (void **)&e->loc_first};
     for (size_t i = 0; i < sizeof u32 / sizeof *u32; i++)
         if (grow_ids(u32[i], sizeof(uint32_t), old, cap) != LM_OK)
             return LM_E_NOMEM;
@@ -97,6 +99,17 @@ static int same_corners(const lm_tri_data *a, const lm_tri_data *b)
 {
     for (int k = 0; k < 3; k++)
         if (memcmp(a->c[k].pos, b->c[k].pos, sizeof a->c[k].pos))
+            return 0;
+    return 1;
+}
+
+/* Whether a twin's texture factors stay: the same material and texture coordinates. */
+static int same_texturing(const lm_tri_data *a, const lm_tri_data *b)
+{
+    if (a->material != b->material)
+        return 0;
+    for (int k = 0; k < 3; k++)
+        if (memcmp(a->c[k].uv, b->c[k].uv, sizeof a->c[k].uv))
             return 0;
     return 1;
 }
@@ -123,6 +136,7 @@ static uint32_t next_patch_stamp(wk_cpu_eval *e)
         memset(e->removed_stamp, 0, bytes);
         memset(e->added_stamp, 0, bytes);
         memset(e->twin_stamp, 0, bytes);
+        memset(e->textwin_stamp, 0, bytes);
         e->patch_now = 1;
     }
     return e->patch_now;
@@ -156,6 +170,8 @@ static lm_status prepare_patch(wk_cpu_views *v, const lm_patch *p)
         if (v->occlusion && removed && same_corners(&p->added[i], &v->rep.tris[id])) {
             e->twin_stamp[id] = now;
             e->twin_of[id] = i;
+            if (same_texturing(&p->added[i], &v->rep.tris[id]))
+                e->textwin_stamp[id] = now;
         }
     }
     return LM_OK;
@@ -439,14 +455,40 @@ static const wk_cpu_shade *shade_of(wk_cpu_views *v, uint32_t h, uint32_t j)
 
 /* Step D: new luminance of every logged pixel (runs of pixels of one sub shaded together) and
  * the view's ΔE. */
+/* Entries [i, end) of the log with one visible sub (tag) and all changed or all unchanged. */
+static size_t run_end(const wk_cpu_eval *e, const wk_cpu_keys *k, size_t i, int *unchanged)
+{
+    uint64_t key = k->key[e->log.idx[i]];
+    size_t end = i + 1;
+    *unchanged = key == e->log.old[i];
+    while (end < e->log.n && (uint32_t)k->key[e->log.idx[end]] == (uint32_t)key &&
+           (k->key[e->log.idx[end]] == e->log.old[end]) == *unchanged)
+        end++;
+    return end;
+}
+
+/* Shade log entries [i, end), all showing setup j; a twin that keeps its texture reuses the
+ * view's stored factors where it showed before (unchanged keys). */
+static void shade_run(wk_cpu_views *v, uint32_t h, uint32_t j, size_t i, size_t end, int unchanged)
+{
+    wk_cpu_eval *e = &v->eval;
+    float *texl = e->texl + 3 * i;
+    int reuse = v->texf && unchanged && e->textwin_stamp[e->set.tri[j]->id] == e->patch_now;
+    for (size_t r = i; reuse && r < end; r++)
+        memcpy(texl + 3 * (r - i), v->texf + 3 * (h * v->plane + e->log.idx[r]), 3 * sizeof *texl);
+    wk_cpu_shade_pixels(e->set.sub[j], shade_of(v, h, j), e->log.xy + i, end - i, e->rgb,
+                        e->luma + i, texl, reuse);
+}
+
+/* Step D: new luminance of every logged pixel (runs of pixels of one sub shaded together) and
+ * the view's ΔE. */
 static lm_status shade_log(wk_cpu_views *v, uint32_t h, const wk_cpu_keys *k, int64_t *delta)
 {
     wk_cpu_eval *e = &v->eval;
     for (size_t i = 0; i < e->log.n;) {
+        int unchanged;
+        size_t end = run_end(e, k, i, &unchanged);
         uint64_t key = k->key[e->log.idx[i]];
-        size_t end = i + 1;
-        while (end < e->log.n && (uint32_t)k->key[e->log.idx[end]] == (uint32_t)key)
-            end++;
         if (key == WK_CPU_KEY_BG) {
             memset(e->luma + i, WK_CPU_BACKGROUND, end - i);
         } else {
@@ -454,8 +496,7 @@ static lm_status shade_log(wk_cpu_views *v, uint32_t h, const wk_cpu_keys *k, in
             lm_status st = sub_of_key(v, key, &j);
             if (st != LM_OK)
                 return st;
-            wk_cpu_shade_pixels(e->set.sub[j], shade_of(v, h, j), e->log.xy + i, end - i, e->rgb,
-                                e->luma + i);
+            shade_run(v, h, j, i, end, unchanged);
         }
         i = end;
     }
@@ -537,6 +578,8 @@ static void keep(wk_cpu_views *v, uint32_t h, const lm_patch *p)
     wk_cpu_eval *e = &v->eval;
     wk_cpu_keys k = wk_cpu_view_keys(v, h);
     wk_image_store_commit_pixels(v->img, h, e->log.idx, e->luma, e->log.n);
+    for (size_t j = 0; v->texf && j < e->log.n; j++) /* (unused where the surface is untextured) */
+        memcpy(v->texf + 3 * (h * v->plane + e->log.idx[j]), e->texl + 3 * j, 3 * sizeof(float));
     uint32_t *count = v->count[h];
     for (size_t j = 0; j < e->log.n; j++) {
         uint64_t now = k.key[e->log.idx[j]];

@@ -87,10 +87,13 @@ static void shade_all(wk_cpu_views *v, uint32_t h, const wk_cpu_source *src, int
             size_t m = wk_cpu_owned(&subs[i], &k, &all, v->eval.owned, cnt[id]);
             if (m)
                 wk_cpu_shade_setup(&subs[i], t, view->dir, &v->mats[table], &sh);
-            wk_cpu_shade_pixels(&subs[i], &sh, v->eval.owned, m, rgb, lum);
+            float *texl = v->eval.texl;
+            wk_cpu_shade_pixels(&subs[i], &sh, v->eval.owned, m, rgb, lum, texl, 0);
             for (size_t j = 0; j < m; j++) {
                 uint32_t xy = v->eval.owned[j];
                 size_t p = (size_t)WK_CPU_Y(xy) * v->width + WK_CPU_X(xy);
+                if (v->texf && sh.tex)
+                    memcpy(v->texf + 3 * (h * v->plane + p), texl + 3 * j, 3 * sizeof *texl);
                 rgba[4 * p] = rgb[j];
                 rgba[4 * p + 1] = rgb[m + j];
                 rgba[4 * p + 2] = rgb[2 * m + j];

@@ -46,7 +46,7 @@ static void render(uint64_t *key, uint8_t (*rgb)[3])
         wk_cpu_shade_setup(&subs[i], &st_tri, view.dir, &mats, &sh);
         size_t m = wk_cpu_owned(&subs[i], &k, &all.rect, owned, ST_SIZE * ST_SIZE);
         uint8_t c[3 * ST_SIZE * ST_SIZE], luma[ST_SIZE * ST_SIZE];
-        wk_cpu_shade_pixels(&subs[i], &sh, owned, m, c, luma);
+        wk_cpu_shade_pixels(&subs[i], &sh, owned, m, c, luma, NULL, 0);
         for (size_t j = 0; j < m; j++) {
             int x = WK_CPU_X(owned[j]), y = WK_CPU_Y(owned[j]);
             for (int ch = 0; ch < 3; ch++)

@@ -128,9 +128,29 @@ static void texture_factor(const wk_cpu_shade *sh, v4f dx, v4f dy, v4f inv, v4f 
         out[ch] *= 1.0f / 255.0f;
 }
 
+/* The texture's factors of pixels i..i+3 (padded with the last of n), sampled or read from and
+ * written to texf. */
+static void group_texture(const wk_cpu_shade *sh, v4f dx, v4f dy, v4f inv, float *texf, int reuse,
+                          size_t i, size_t n, v4f tf[3])
+{
+    if (texf && reuse) {
+        for (int k = 0; k < 4; k++) {
+            size_t at = i + (size_t)k < n ? i + (size_t)k : n - 1;
+            for (int ch = 0; ch < 3; ch++)
+                tf[ch][k] = texf[3 * at + (size_t)ch];
+        }
+        return;
+    }
+    texture_factor(sh, dx, dy, inv, tf);
+    for (size_t k = 0; texf && k < 4 && i + k < n; k++)
+        for (int ch = 0; ch < 3; ch++)
+            texf[3 * (i + k) + (size_t)ch] = tf[ch][k];
+}
+
 /* Pixels i..i+3 of xy (the group padded with copies of the last pixel, n in all). */
 static void shade_group(const wk_cpu_sub *s, const wk_cpu_shade *sh, const uint32_t *xy, size_t i,
-                        size_t n, uint8_t *restrict c, uint8_t *restrict luma)
+                        size_t n, uint8_t *restrict c, uint8_t *restrict luma, float *texf,
+                        int reuse)
 {
     v4i px, py;
     for (int k = 0; k < 4; k++) {
@@ -145,7 +165,7 @@ static void shade_group(const wk_cpu_sub *s, const wk_cpu_shade *sh, const uint3
         col[ch] = plane_at(sh->col[ch], dx, dy) * inv;
     if (sh->tex) {
         v4f tf[3];
-        texture_factor(sh, dx, dy, inv, tf);
+        group_texture(sh, dx, dy, inv, texf, reuse, i, n, tf);
         for (int ch = 0; ch < 3; ch++)
             col[ch] *= tf[ch];
     }
@@ -160,8 +180,8 @@ static void shade_group(const wk_cpu_sub *s, const wk_cpu_shade *sh, const uint3
 }
 
 void wk_cpu_shade_pixels(const wk_cpu_sub *s, const wk_cpu_shade *sh, const uint32_t *xy, size_t n,
-                         uint8_t *rgb, uint8_t *luma)
+                         uint8_t *rgb, uint8_t *luma, float *texf, int reuse)
 {
     for (size_t i = 0; i < n; i += 4)
-        shade_group(s, sh, xy, i, n, rgb, luma);
+        shade_group(s, sh, xy, i, n, rgb, luma, texf, reuse);
 }

@@ -24,9 +24,9 @@ typedef struct wk_cpu_level {
 typedef struct wk_cpu_texture {
     int n_levels;
     wk_cpu_level level[WK_CPU_TEX_LEVELS];
-    uint32_t *data; /* all levels */
+    uint32_t *data;                                              /* all levels */
     int32_t width[WK_CPU_TEX_LEVELS], height[WK_CPU_TEX_LEVELS]; /* the levels' sizes, and */
-    int32_t offset[WK_CPU_TEX_LEVELS];                             /* where they start in data */
+    int32_t offset[WK_CPU_TEX_LEVELS];                           /* where they start in data */
 } wk_cpu_texture;
 
 /* The pyramid of an RGBA8 image (rows top first, as lm_image holds them). */

@@ -119,6 +119,7 @@ static void cv_destroy(lm_views *base)
     free(v->keys);
     free(v->tmax);
     free(v->second);
+    free(v->texf);
     free(v->rgba);
     free(v);
 }
@@ -136,6 +137,19 @@ static const lm_views_ops cv_ops = {
 int wk_cpu_views_is(const lm_views *v)
 {
     return v && v->ops == &cv_ops;
+}
+
+/* The per-pixel texture factors (for twins that keep their texture), made once a textured
+ * material is in use. */
+static lm_status need_texture_factors(wk_cpu_views *v, const wk_cpu_materials *m)
+{
+    int textured = 0;
+    for (uint32_t i = 0; i < m->n; i++)
+        textured |= m->tex[i] != NULL;
+    if (!textured || v->texf)
+        return LM_OK;
+    v->texf = malloc(v->views.count * v->plane * 3 * sizeof *v->texf);
+    return v->texf ? LM_OK : lm_fail(LM_E_NOMEM, "out of memory for texture factors");
 }
 
 /* ---- creation ---------------------------------------------------------------------------- */
@@ -172,6 +186,8 @@ static lm_status create_parts(wk_cpu_views *v, const lm_mesh *original)
         st = wk_buckets_create(v->width, v->height, 0, &v->buckets[h]);
     if (st == LM_OK)
         st = wk_cpu_materials_set(&v->mats[0], original->materials, original->n_materials);
+    if (st == LM_OK)
+        st = need_texture_factors(v, &v->mats[0]);
     if (st == LM_OK)
         st = wk_cpu_eval_init(v);
     return st;
@@ -217,6 +233,8 @@ lm_status wk_cpu_views_set_materials(lm_views *base, const lm_material *mats, ui
 {
     wk_cpu_views *v = (wk_cpu_views *)base;
     lm_status st = wk_cpu_materials_set(&v->mats[1], mats, n);
+    if (st == LM_OK)
+        st = need_texture_factors(v, &v->mats[1]);
     if (st != LM_OK)
         return st;
     v->table = 1;

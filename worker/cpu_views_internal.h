@@ -15,10 +15,11 @@
 
 /* Scratch of evaluate and commit (cpu_eval.c). Per-id arrays have cap_ids entries. */
 typedef struct wk_cpu_eval {
-    wk_cpu_log log;     /* arrays of one view's size */
-    uint32_t *owned;    /* [plane] pixels found by wk_cpu_owned */
-    uint8_t *luma;      /* [plane] new luminance of the logged pixels, in log order */
-    uint8_t *rgb;       /* [3 plane] colours of a full render's pixels of one sub */
+    wk_cpu_log log;  /* arrays of one view's size */
+    uint32_t *owned; /* [plane] pixels found by wk_cpu_owned */
+    uint8_t *luma;   /* [plane] new luminance of the logged pixels, in log order */
+    uint8_t *rgb;    /* [3 plane] colours of a full render's pixels of one sub */
+    float *texl;     /* [3 plane] texture factors of the logged pixels (of one sub in a render) */
     uint64_t *tile_old; /* raised tiles' maxima before the pass */
     uint32_t *tile_idx, *tile_stamp;
     size_t n_raised;
@@ -29,6 +30,7 @@ typedef struct wk_cpu_eval {
     wk_cpu_setups set;
     size_t cap_ids;
     uint32_t *removed_stamp, *added_stamp, *twin_stamp, *twin_of; /* per id */
+    uint32_t *textwin_stamp; /* twins whose material and texture coordinates stay too */
     uint32_t patch_now;
     uint32_t *loc_stamp, *loc_first; /* per id: its subs in `set` during this pass */
     uint8_t *loc_n;
@@ -52,7 +54,8 @@ typedef struct wk_cpu_views {
     uint64_t *second;              /* [n_views * plane] lower bounds of the second least keys */
     uint32_t *count[LM_MAX_VIEWS]; /* visible pixels of each current triangle id [cap_count] */
     size_t cap_count;
-    uint8_t *rgba;            /* [n_views * plane * 4] colours of the last full render */
+    uint8_t *rgba; /* [n_views * plane * 4] colours of the last full render */
+    float *texf;   /* [n_views * plane * 3] texture factors of the visible surface (NULL: none) */
     wk_cpu_subcache subcache; /* subs of the current triangles */
     wk_cpu_eval eval;
     wk_views_local_stats stats;

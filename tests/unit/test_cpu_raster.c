@@ -350,10 +350,15 @@ static void test_shade_runs(void **state)
             wk_cpu_shade sh;
             wk_cpu_shade_setup(&subs[s], &t, light, &table, &sh);
             static uint8_t rgb[3 * W * H], luma[W * H];
-            wk_cpu_shade_pixels(&subs[s], &sh, xy, m, rgb, luma);
+            static float texf[3 * W * H];
+            wk_cpu_shade_pixels(&subs[s], &sh, xy, m, rgb, luma, texf, 0);
             for (size_t i = 0; i < m; i++) {
                 uint8_t one[3], l;
-                wk_cpu_shade_pixels(&subs[s], &sh, &xy[i], 1, one, &l);
+                uint8_t again[3], l2;
+                wk_cpu_shade_pixels(&subs[s], &sh, &xy[i], 1, one, &l, NULL, 0);
+                wk_cpu_shade_pixels(&subs[s], &sh, &xy[i], 1, again, &l2, texf + 3 * i, 1);
+                assert_int_equal(l2, l); /* reused texture factors give the same pixel */
+                assert_memory_equal(again, one, 3);
                 assert_int_equal(l, luma[i]);
                 assert_int_equal(one[0], rgb[i]);
                 assert_int_equal(one[1], rgb[m + i]);
