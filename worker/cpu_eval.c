@@ -160,6 +160,7 @@ static lm_status prepare_patch(wk_cpu_views *v, const lm_patch *p)
                            wk_replica_alive(&v->rep, id) ? "listed twice" : "not in the mesh");
         e->removed_stamp[id] = now;
     }
+    wk_cpu_box_clear(&e->box);
     for (uint32_t i = 0; i < p->n_added; i++) {
         uint32_t id = p->added[i].id;
         int twice = e->added_stamp[id] == now, removed = e->removed_stamp[id] == now;
@@ -172,6 +173,8 @@ static lm_status prepare_patch(wk_cpu_views *v, const lm_patch *p)
             e->twin_of[id] = i;
             if (same_texturing(&p->added[i], &v->rep.tris[id]))
                 e->textwin_stamp[id] = now;
+        } else {
+            wk_cpu_box_add(&e->box, &p->added[i]);
         }
     }
     return LM_OK;
@@ -511,10 +514,27 @@ static lm_status shade_log(wk_cpu_views *v, uint32_t h, const wk_cpu_keys *k, in
     return LM_OK;
 }
 
+/* Whether the patch certainly changes nothing in view h: none of its removed triangles shows
+ * there and its added ones (twins aside) lie behind the visible surface. */
+static int view_unchanged(const wk_cpu_views *v, const lm_patch *p, uint32_t h,
+                          const wk_cpu_keys *k)
+{
+    if (!v->occlusion)
+        return 0;
+    for (uint32_t i = 0; i < p->n_removed; i++)
+        if (v->count[h][p->removed[i]])
+            return 0;
+    return wk_cpu_box_hidden(&v->eval.box, &v->cviews[h], k);
+}
+
 static lm_status view_pass(wk_cpu_views *v, const lm_patch *p, uint32_t h, wk_cpu_keys *k,
                            int64_t *delta)
 {
     pass_begin(v);
+    if (view_unchanged(v, p, h, k)) {
+        v->stats.views_skipped++;
+        return LM_OK;
+    }
     if (!v->occlusion)
         k->tmax = NULL;
     lm_status st = LM_OK;

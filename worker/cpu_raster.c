@@ -210,7 +210,7 @@ static void setup_depth(const wcorner *w, int64_t area2, wk_cpu_sub *s)
     zmin = w[2].z < zmin ? w[2].z : zmin;
     int steep = !(fabs(ga) < DEPTH_LIM_STEP) || !(fabs(gb) < DEPTH_LIM_STEP) ||
                 !(fabs(zref * DEPTH_ONE) < DEPTH_LIM_Z);
-    s->zmin_key = steep ? 0 : depth_key(ifloor(zmin * DEPTH_ONE) - ZMIN_MARGIN);
+    s->zmin_key = steep ? 0 : wk_cpu_depth_bound(zmin);
 }
 
 /* One sub from three clipped corners; 0 if it covers no pixel centre of the view. */
@@ -261,6 +261,11 @@ int wk_cpu_tri_setup(const wk_cpu_view *v, const lm_tri_data *t, wk_cpu_sub *out
         k += setup_sub(v, &poly[cur][0], &poly[cur][i], &poly[cur][i + 1], base | (uint32_t)(i - 1),
                        &out[k]);
     return k;
+}
+
+uint64_t wk_cpu_depth_bound(double z)
+{
+    return depth_key(ifloor(clampd(z, 0.0, 1.0) * DEPTH_ONE) - ZMIN_MARGIN);
 }
 
 int wk_cpu_sub_key_at(const wk_cpu_sub *s, int x, int y, uint64_t *key)

@@ -70,6 +70,10 @@ static inline void wk_cpu_sub_edges(const wk_cpu_sub *s, int x, int y, int64_t e
         e[k] = s->e[k] + s->bias[k] + s->a[k] * (x - s->x0) + s->b[k] * (y - s->y0);
 }
 
+/* A key no fragment at window depth z or beyond (z in [0, 1]) can undercut, with the margin the
+ * subs' own zmin_key has. */
+uint64_t wk_cpu_depth_bound(double z);
+
 /* Whether the sub covers pixel (x, y) of its box, and its key there, by direct evaluation: what
  * the kernels below compute along their walks (for checks). */
 int wk_cpu_sub_key_at(const wk_cpu_sub *s, int x, int y, uint64_t *key);

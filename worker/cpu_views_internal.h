@@ -4,6 +4,7 @@
 #define LM_WORKER_CPU_VIEWS_INTERNAL_H
 
 #include "worker/buckets.h"
+#include "worker/cpu_cull.h"
 #include "worker/cpu_raster.h"
 #include "worker/cpu_setups.h"
 #include "worker/cpu_shade.h"
@@ -32,6 +33,7 @@ typedef struct wk_cpu_eval {
     uint32_t *removed_stamp, *added_stamp, *twin_stamp, *twin_of; /* per id */
     uint32_t *textwin_stamp; /* twins whose material and texture coordinates stay too */
     uint32_t patch_now;
+    wk_cpu_box box;                  /* of the patch's added triangles that are not twins */
     uint32_t *loc_stamp, *loc_first; /* per id: its subs in `set` during this pass */
     uint8_t *loc_n;
     wk_idlist cand;
