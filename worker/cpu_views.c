@@ -5,6 +5,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/mman.h>
 
 #include "worker/cpu_views_internal.h"
 
@@ -139,6 +140,21 @@ int wk_cpu_views_is(const lm_views *v)
     return v && v->ops == &cv_ops;
 }
 
+/* A large per-view table: asked for on huge pages where the system has them (evaluations touch
+ * all views' tables in turn; with 4 KiB pages their address translations thrash). Free with
+ * free(). */
+static void *big_alloc(size_t bytes)
+{
+    void *p = NULL;
+    const size_t huge = (size_t)2 << 20;
+    if (bytes < huge || posix_memalign(&p, huge, (bytes + huge - 1) / huge * huge) != 0)
+        return malloc(bytes);
+#ifdef MADV_HUGEPAGE
+    madvise(p, (bytes + huge - 1) / huge * huge, MADV_HUGEPAGE); /* a hint: failure is harmless */
+#endif
+    return p;
+}
+
 /* The per-pixel texture factors (for twins that keep their texture), made once a textured
  * material is in use. */
 static lm_status need_texture_factors(wk_cpu_views *v, const wk_cpu_materials *m)
@@ -148,7 +164,7 @@ static lm_status need_texture_factors(wk_cpu_views *v, const wk_cpu_materials *m
         textured |= m->tex[i] != NULL;
     if (!textured || v->texf)
         return LM_OK;
-    v->texf = malloc(v->views.count * v->plane * 3 * sizeof *v->texf);
+    v->texf = big_alloc(v->views.count * v->plane * 3 * sizeof *v->texf);
     return v->texf ? LM_OK : lm_fail(LM_E_NOMEM, "out of memory for texture factors");
 }
 
@@ -175,9 +191,9 @@ static lm_status check_input(const lm_mesh *original, const lm_view_set *views)
 static lm_status create_parts(wk_cpu_views *v, const lm_mesh *original)
 {
     size_t n = v->views.count;
-    v->keys = malloc(n * v->plane * sizeof *v->keys);
+    v->keys = big_alloc(n * v->plane * sizeof *v->keys);
     v->tmax = malloc(n * v->tiles * sizeof *v->tmax);
-    v->second = malloc(n * v->plane * sizeof *v->second);
+    v->second = big_alloc(n * v->plane * sizeof *v->second);
     v->rgba = malloc(n * v->plane * 4);
     if (!v->keys || !v->tmax || !v->second || !v->rgba)
         return lm_fail(LM_E_NOMEM, "out of memory for %zu views of %dx%d", n, v->width, v->height);
