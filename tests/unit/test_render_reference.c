@@ -2,7 +2,9 @@
  * textured spider (assimp test models) from 4 views of 128x128, laid out 2x2, is compared with
  * tests/data/reference/spider_4x128.png (looked at by eye when it was made) and with the
  * luminance sums recorded below. Exact pixels depend on the rasteriser, so the comparison runs
- * only on the renderer that made the reference and is skipped, saying so, on any other.
+ * only on the renderer that made the reference and is skipped, saying so, on any other. The CPU
+ * rasteriser (another renderer, always there) must look like it: a small mean squared luminance
+ * difference (edges and texture filtering differ a little).
  * LUMESH_UPDATE_REFERENCE=1 rewrites the PNG and prints the sums to paste here. */
 #include <stdio.h>
 #include <stdlib.h>
@@ -122,8 +124,50 @@ static void test_spider_reference(void **state)
         skip();
 }
 
+/* The CPU rasteriser's montage against the reference: mean squared luminance difference and the
+ * views' luminance sums. */
+#define CPU_MSE_MAX 2.0
+#define CPU_SUM_FRACTION 0.005
+static void test_cpu_looks_like_reference(void **state)
+{
+    (void)state;
+    const char *path = lmt_spider_path();
+    if (!path)
+        skip();
+    lm_mesh *m;
+    assert_int_equal(lm_mesh_load(path, NULL, &m), LM_OK);
+    float c[3], r;
+    lm_mesh_bounding_sphere(m, c, &r);
+    lm_view_set *vs = malloc(sizeof *vs);
+    assert_int_equal(lm_view_set_make(vs, N_VIEWS, SIZE, c, r), LM_OK);
+    lm_views *v;
+    assert_int_equal(wk_views_local_create(m, vs, "cpu", &v), LM_OK);
+    lm_image *img = render_montage(v), *ref;
+    assert_int_equal(lm_image_read(lmt_data_path(REFERENCE), &ref), LM_OK);
+    size_t n = (size_t)img->width * img->height;
+    double se = 0;
+    for (size_t i = 0; i < n; i++) {
+        int d = (int)wk_luma(img->pixels + 4 * i) - (int)wk_luma(ref->pixels + 4 * i);
+        se += d * d;
+    }
+    printf("# CPU rasteriser against the reference: mean squared luminance difference %.3f\n",
+           se / (double)n);
+    assert_true(se / (double)n < CPU_MSE_MAX);
+    for (uint32_t h = 0; h < N_VIEWS; h++) {
+        long long s = view_sum(img, h), want = reference_sums[h];
+        if (llabs(s - want) > (long long)(CPU_SUM_FRACTION * (double)want))
+            fail_msg("view %u: luminance sum %lld, reference %lld", h, s, want);
+    }
+    lm_image_destroy(ref);
+    lm_image_destroy(img);
+    lm_views_destroy(v);
+    free(vs);
+    lm_mesh_destroy(m);
+}
+
 int main(void)
 {
-    const struct CMUnitTest tests[] = {cmocka_unit_test(test_spider_reference)};
+    const struct CMUnitTest tests[] = {cmocka_unit_test(test_spider_reference),
+                                       cmocka_unit_test(test_cpu_looks_like_reference)};
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
