@@ -339,20 +339,24 @@ static inline void span_row(span_walk *w, int *x0, int *x1)
     *x1 = hi >= lo ? (int)hi + 1 : (int)lo;
 }
 
-/* Whether every tile of box r lies in front of the sub (or is masked out). */
-static int box_hidden(const wk_cpu_sub *s, const wk_cpu_keys *k, const wk_cpu_clip *clip,
-                      const wk_rect *r)
+/* How the tiles of box r stand to the sub: -1 all masked out or in front of it (nothing to
+ * draw), 1 none is (no tile test needed), 0 some are. */
+static int box_tiles(const wk_cpu_sub *s, const wk_cpu_keys *k, const wk_cpu_clip *clip,
+                     const wk_rect *r)
 {
     if (!k->tmax && !clip->tile_mask)
-        return 0;
+        return 1;
     const int T = WK_CPU_TILE;
+    int open = 0, shut = 0;
     for (int ty = r->y0 / T; ty * T < r->y1; ty++)
         for (int tx = r->x0 / T; tx * T < r->x1; tx++) {
             int t = ty * k->tiles_w + tx;
-            if ((!clip->tile_mask || clip->tile_mask[t]) && (!k->tmax || s->zmin_key <= k->tmax[t]))
-                return 0;
+            int is_open =
+                (!clip->tile_mask || clip->tile_mask[t]) && (!k->tmax || s->zmin_key <= k->tmax[t]);
+            open += is_open;
+            shut += !is_open;
         }
-    return 1;
+    return !open ? -1 : !shut ? 1 : 0;
 }
 
 /* Min-update of columns [x0, x1) of one tile's row (key row `row`, absolute columns); changed
@@ -442,7 +446,8 @@ size_t wk_cpu_draw(const wk_cpu_sub *s, wk_cpu_keys *k, const wk_cpu_clip *clip,
 {
     LM_ASSERT(!k->second || (!log && !k->tmax));
     wk_rect r;
-    if (!box_in(s, &clip->rect, &r) || box_hidden(s, k, clip, &r))
+    int tiles;
+    if (!box_in(s, &clip->rect, &r) || (tiles = box_tiles(s, k, clip, &r)) < 0)
         return 0;
     span_walk w;
     span_begin(s, &r, &w);
@@ -451,9 +456,15 @@ size_t wk_cpu_draw(const wk_cpu_sub *s, wk_cpu_keys *k, const wk_cpu_clip *clip,
     for (int y = r.y0; y < r.y1; y++, zrow += s->zb) {
         int x0, x1;
         span_row(&w, &x0, &x1);
-        if (x0 < x1 && k->second)
+        if (x0 >= x1)
+            continue;
+        if (k->second)
             changed += draw_span_second(s, k, y, s->x0 + x0, s->x0 + x1, zrow);
-        else if (x0 < x1)
+        else if (tiles) /* every tile open: the whole span at once */
+            changed += draw_run(s, k->key + (size_t)y * k->width, s->x0 + x0, s->x0 + x1,
+                                zrow + s->za * x0, log, (uint32_t)y * (uint32_t)k->width,
+                                WK_CPU_XY(0, y), flag);
+        else
             changed += draw_span(s, k, clip, log, flag, y, s->x0 + x0, s->x0 + x1, zrow);
     }
     return changed;

@@ -44,12 +44,12 @@ void wk_cpu_shade_setup(const wk_cpu_sub *s, const lm_tri_data *t, const float l
             at[3 + a][j] = b[0] * t->c[0].uv[a] + b[1] * t->c[1].uv[a] + b[2] * t->c[2].uv[a];
         at[5][j] = 1.0;
     }
+    out->tex = mats->tex[t->material];
     for (int ch = 0; ch < 3; ch++)
         plane_of(s, at[ch], out->col[ch]);
-    for (int a = 0; a < 2; a++)
+    for (int a = 0; out->tex && a < 2; a++) /* texture coordinates matter only with a texture */
         plane_of(s, at[3 + a], out->uv[a]);
     plane_of(s, at[5], out->den);
-    out->tex = mats->tex[t->material];
     out->tex_w = out->tex ? (float)out->tex->level[0].width : 0.0f;
     out->tex_h = out->tex ? (float)out->tex->level[0].height : 0.0f;
 }
