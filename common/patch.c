@@ -1,8 +1,11 @@
-/* common/patch.c — building patches (removed ids + added triangle records) from a mesh. */
+/* common/patch.c — building patches (removed ids + added triangle records) from a mesh, and the
+ * one way a whole mesh is sent to the views (lm_views_set_mesh_from). */
 #include "common/patch.h"
 
 #include <stdlib.h>
 #include <string.h>
+
+#include "common/views_api.h"
 
 void lm_tri_data_from_mesh(const lm_mesh *m, uint32_t t, lm_tri_data *out)
 {
@@ -126,4 +129,16 @@ lm_status lm_patch_build(lm_patch *p, const lm_mesh *m, const uint32_t *before, 
             p->added[k++] = p->added[i];
     p->n_added = k;
     return LM_OK;
+}
+
+lm_status lm_views_set_mesh_from(lm_views *v, const lm_mesh *m)
+{
+    lm_tri_data *tris;
+    size_t n;
+    lm_status st = lm_mesh_export_tris(m, &tris, &n);
+    if (st != LM_OK)
+        return st;
+    st = v->ops->set_mesh(v, tris, n);
+    free(tris);
+    return st;
 }

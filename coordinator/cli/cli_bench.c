@@ -22,7 +22,6 @@
 #include "coordinator/cli/cli_args.h"
 #include "coordinator/job/progress.h"
 #include "coordinator/quality/view_setup.h"
-#include "worker/views_local.h"
 
 #define CMD "bench"
 #define BENCH_PATCHES 512
@@ -140,15 +139,12 @@ static const char *default_model(char *buf, size_t cap)
 /* Mean time of a full re-render (set_mesh) of every view, in ms. */
 static lm_status time_full(lm_views *v, const lm_mesh *coarse, double *ms)
 {
-    lm_tri_data *tris;
-    size_t n;
-    lm_status st = lm_mesh_export_tris(coarse, &tris, &n);
     const int reps = 10;
+    lm_status st = LM_OK;
     double t0 = co_now_s();
     for (int i = 0; st == LM_OK && i < reps; i++)
-        st = v->ops->set_mesh(v, tris, n);
+        st = lm_views_set_mesh_from(v, coarse);
     *ms = (co_now_s() - t0) * 1000.0 / reps;
-    free(tris);
     return st;
 }
 
@@ -209,11 +205,11 @@ static lm_status measure(const bench_args *a, lm_views *v, const lm_mesh *coarse
         st = time_full(v, coarse, &r->full_ms);
     if (st == LM_OK)
         st = time_evals(v, p, BENCH_PATCHES, 200, 1, &warm, NULL);
-    wk_views_local_stats s0, s1;
-    wk_views_local_get_stats(v, &s0);
+    lm_views_info s0, s1;
+    v->ops->info(v, &s0);
     if (st == LM_OK)
         st = time_evals(v, p, BENCH_PATCHES, a->evals, 1, &r->evals_per_s, &r->evals_per_cpu_s);
-    wk_views_local_get_stats(v, &s1);
+    v->ops->info(v, &s1);
     r->tris_per_eval = (double)(s1.tris_drawn - s0.tris_drawn) / (s1.evaluations - s0.evaluations);
     r->regions_per_eval = (double)(s1.regions - s0.regions) / (s1.evaluations - s0.evaluations);
     r->pixels_per_region =

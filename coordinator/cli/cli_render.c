@@ -14,7 +14,7 @@
 #include "common/mesh_io.h"
 #include "coordinator/cli/cli_args.h"
 #include "coordinator/quality/view_setup.h"
-#include "worker/views_local.h"
+#include "coordinator/views/views.h"
 
 #define CMD "render"
 #define DIFF_GAIN 4
@@ -100,7 +100,7 @@ static lm_status ensure_dir(const char *dir)
 static lm_status write_colour(lm_views *v, uint32_t view, int size, const char *dir,
                               const char *prefix, uint8_t *rgba)
 {
-    lm_status st = wk_views_local_read_rgba(v, view, rgba);
+    lm_status st = v->ops->read_image(v, LM_IMAGE_RGBA, view, rgba);
     lm_image *img = NULL;
     if (st == LM_OK)
         st = lm_image_create(size, size, &img);
@@ -120,9 +120,9 @@ static lm_status write_diff(lm_views *v, uint32_t view, int size, const char *di
 {
     size_t plane = (size_t)size * size;
     uint8_t *t = buf, *y = buf + plane, *d = buf + 2 * plane;
-    lm_status st = wk_views_local_luma(v, 1, view, t);
+    lm_status st = v->ops->read_image(v, LM_IMAGE_TARGET_LUMA, view, t);
     if (st == LM_OK)
-        st = wk_views_local_luma(v, 0, view, y);
+        st = v->ops->read_image(v, LM_IMAGE_CURRENT_LUMA, view, y);
     if (st != LM_OK)
         return st;
     for (int r = 0; r < size; r++)
@@ -138,15 +138,8 @@ static lm_status write_diff(lm_views *v, uint32_t view, int size, const char *di
 
 static lm_status set_model(lm_views *v, const lm_mesh *model)
 {
-    lm_tri_data *tris = NULL;
-    size_t n = 0;
-    lm_status st = wk_views_local_set_materials(v, model->materials, model->n_materials);
-    if (st == LM_OK)
-        st = lm_mesh_export_tris(model, &tris, &n);
-    if (st == LM_OK)
-        st = v->ops->set_mesh(v, tris, n);
-    free(tris);
-    return st;
+    lm_status st = v->ops->set_materials(v, model->materials, model->n_materials);
+    return st == LM_OK ? lm_views_set_mesh_from(v, model) : st;
 }
 
 /* The colour images of the last full render are read: right after creation the framing model's
@@ -155,7 +148,8 @@ static lm_status render_all(const render_args *a, const lm_mesh *framing, const 
                             const lm_view_set *vs, uint8_t *buf)
 {
     lm_views *v = NULL;
-    lm_status st = wk_views_local_create(framing, vs, a->device, &v);
+    co_views_desc d = {.original = framing, .views = vs, .device = a->device};
+    lm_status st = co_views_create(&d, &v);
     for (uint32_t h = 0; st == LM_OK && a->against && h < vs->count; h++)
         st = write_colour(v, h, (int)a->size, a->dir, "target", buf);
     if (st == LM_OK && a->against)

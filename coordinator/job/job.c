@@ -20,7 +20,7 @@
 #include "common/view.h"
 #include "coordinator/job/checkpoint.h"
 #include "coordinator/optimizer/optimizer.h"
-#include "worker/views_local.h"
+#include "coordinator/views/views.h"
 
 /* Steps in a row that make no evaluation before the job calls the optimisation converged. */
 #define CO_JOB_MAX_IDLE_STEPS 16
@@ -32,6 +32,7 @@ typedef struct co_job {
     uint32_t attrs;
     const char *checkpoint_path;
     lm_mesh *original;
+    lm_mesh *coarse; /* until the optimizer takes it */
     lm_views *views;
     co_optimizer *opt;
     co_checkpoint_key key;
@@ -256,6 +257,7 @@ static lm_status prepare_coarse(co_job *j, lm_mesh *m)
     return st;
 }
 
+/* The views of the original, with the coarse mesh's materials (an --initial file has its own). */
 static lm_status make_views(co_job *j)
 {
     lm_view_set *vs = malloc(sizeof *vs);
@@ -264,8 +266,13 @@ static lm_status make_views(co_job *j)
     float centre[3], radius;
     lm_mesh_bounding_sphere(j->original, centre, &radius);
     lm_status st = lm_view_set_make(vs, j->o.views, j->o.size, centre, radius);
+    co_views_desc d = {.original = j->original,
+                       .views = vs,
+                       .materials = j->coarse->materials,
+                       .n_materials = j->coarse->n_materials,
+                       .device = j->o.device_spec};
     if (st == LM_OK)
-        st = wk_views_local_create(j->original, vs, j->o.device_spec, &j->views);
+        st = co_views_create(&d, &j->views);
     free(vs);
     if (st != LM_OK)
         return st;
@@ -302,24 +309,20 @@ static lm_status load_payload(void *ctx, FILE *fp)
     return co_optimizer_load((co_optimizer *)ctx, fp);
 }
 
+static lm_status make_coarse_mesh(co_job *j)
+{
+    lm_status st = make_coarse(j, &j->coarse);
+    return st == LM_OK ? prepare_coarse(j, j->coarse) : st;
+}
+
 static lm_status make_optimizer(co_job *j)
 {
-    lm_mesh *coarse = NULL;
-    lm_status st = make_coarse(j, &coarse);
-    if (st == LM_OK)
-        st = prepare_coarse(j, coarse);
-    /* The coarse mesh's material ids index its own materials (an --initial file has its own). */
-    if (st == LM_OK)
-        st = wk_views_local_set_materials(j->views, coarse->materials, coarse->n_materials);
     co_params params = {.seed = j->o.seed, .attrs = j->attrs};
-    if (st == LM_OK)
-        st = co_optimizer_create(coarse, j->views, &params, &j->opt);
-    if (st != LM_OK) {
-        lm_mesh_destroy(coarse); /* the optimizer takes it only on success */
+    lm_mesh *coarse = j->coarse;
+    j->coarse = NULL; /* the optimizer owns it from here on, even when its creation fails */
+    lm_status st = co_optimizer_create(coarse, j->views, &params, &j->opt);
+    if (st != LM_OK || !j->o.resume_path)
         return st;
-    }
-    if (!j->o.resume_path)
-        return LM_OK;
     st = co_checkpoint_read(j->o.resume_path, &j->key, load_payload, j->opt);
     if (st != LM_OK)
         return st;
@@ -420,6 +423,8 @@ static lm_status job_stages(co_job *j, co_job_summary *summary)
     if (st == LM_OK && j->o.resume_path)
         st = co_checkpoint_verify(j->o.resume_path, &j->key);
     if (st == LM_OK)
+        st = make_coarse_mesh(j);
+    if (st == LM_OK)
         st = make_views(j);
     if (st == LM_OK)
         st = make_optimizer(j);
@@ -471,6 +476,8 @@ lm_status co_job_run(const co_job_options *opts, co_job_summary *summary)
     if (j->opt)
         co_optimizer_destroy(j->opt);
     lm_views_destroy(j->views);
+    if (j->coarse)
+        lm_mesh_destroy(j->coarse);
     if (j->original)
         lm_mesh_destroy(j->original);
     free(j);

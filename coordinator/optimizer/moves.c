@@ -121,14 +121,7 @@ void co_moves_forget(co_moves *mv)
 lm_status co_moves_revert(co_moves *mv, size_t mark)
 {
     lm_journal_rollback(mv->m, mv->j, mark);
-    lm_tri_data *tris;
-    size_t n;
-    lm_status s = lm_mesh_export_tris(mv->m, &tris, &n);
-    if (s)
-        return s;
-    s = mv->views->ops->set_mesh(mv->views, tris, n);
-    free(tris);
-    return s;
+    return lm_views_set_mesh_from(mv->views, mv->m);
 }
 
 void co_moves_last_change(const co_moves *mv, const uint32_t **before, uint32_t *n_before,

@@ -24,13 +24,7 @@ static lm_status prepare_mesh(co_optimizer *o)
         lm_mesh_merge_wedges(m, LM_ATTR_UV | LM_ATTR_COLOR);
         lm_mesh_compute_normals(m);
     }
-    lm_tri_data *tris;
-    size_t n;
-    if ((st = lm_mesh_export_tris(m, &tris, &n)))
-        return st;
-    st = o->views->ops->set_mesh(o->views, tris, n);
-    free(tris);
-    return st;
+    return lm_views_set_mesh_from(o->views, m);
 }
 
 void co_tuning_defaults(co_tuning *t)

@@ -496,13 +496,7 @@ static lm_status parse(co_bin *b, const co_optimizer *o, loaded *l)
 
 static lm_status resend_mesh(co_optimizer *o)
 {
-    lm_tri_data *tris;
-    size_t n;
-    lm_status st = lm_mesh_export_tris(o->mesh, &tris, &n);
-    if (st)
-        return st;
-    st = o->views->ops->set_mesh(o->views, tris, n);
-    free(tris);
+    lm_status st = lm_views_set_mesh_from(o->views, o->mesh);
     int64_t e = 0;
     if (!st)
         st = o->views->ops->energy(o->views, &e, NULL);
