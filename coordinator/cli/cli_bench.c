@@ -18,6 +18,7 @@
 #include "common/mesh_topology.h"
 #include "common/patch.h"
 #include "common/simplify.h"
+#include "common/view.h"
 #include "coordinator/cli/bench_moves.h"
 #include "coordinator/cli/cli_args.h"
 #include "coordinator/job/progress.h"
@@ -43,14 +44,15 @@ typedef struct bench_result {
 
 static void usage(FILE *f)
 {
-    fputs("usage: lumesh bench eval [--json] [--model FILE] [--views N] [--size S] [--evals N]\n"
-          "                         [--device D] [--seed S]\n"
-          "Measures incremental ΔE evaluations per second for single-vertex moves (1-ring\n"
-          "patches) on MODEL simplified by QEM to 1% of its vertices, and a full re-render.\n"
-          "  --model FILE   default: the CGAL bunny of the test data (" BUNNY_REL ")\n"
-          "  --views N      default 20, --size S default 256, --evals N default 5000\n"
-          "  --device D     auto (default), egl:N or host;  --json  one JSON object\n",
-          f);
+    fprintf(f,
+            "usage: lumesh bench eval [--json] [--model FILE] [--views N] [--size S] [--evals N]\n"
+            "                         [--device D] [--seed S]\n"
+            "Measures incremental ΔE evaluations per second for single-vertex moves (1-ring\n"
+            "patches) on MODEL simplified by QEM to 1%% of its vertices, and a full re-render.\n"
+            "  --model FILE   default: the CGAL bunny of the test data (" BUNNY_REL ")\n"
+            "  --views N      default %u, --size S default %d, --evals N default 5000\n"
+            "  --device D     auto (default), egl:N or host;  --json  one JSON object\n",
+            LM_DEFAULT_VIEWS, LM_DEFAULT_VIEW_SIZE);
 }
 
 static int parse_option(int c, char **argv, bench_args *a)
@@ -295,7 +297,11 @@ static lm_status run(const bench_args *a, const char *model_path, bench_result *
 
 int co_cli_bench(int argc, char **argv)
 {
-    bench_args a = {.views = 20, .size = 256, .evals = 5000, .seed = 1, .device = "auto"};
+    bench_args a = {.views = LM_DEFAULT_VIEWS,
+                    .size = LM_DEFAULT_VIEW_SIZE,
+                    .evals = 5000,
+                    .seed = 1,
+                    .device = "auto"};
     int rc = parse(argc, argv, &a);
     if (rc >= 0)
         return rc;

@@ -12,6 +12,7 @@
 
 #include "common/image.h"
 #include "common/mesh_io.h"
+#include "common/view.h"
 #include "coordinator/cli/cli_args.h"
 #include "coordinator/quality/view_setup.h"
 #include "coordinator/views/views.h"
@@ -26,16 +27,17 @@ typedef struct render_args {
 
 static void usage(FILE *f)
 {
-    fputs("usage: lumesh render MODEL -o DIR [--views N] [--size S] [--against ORIGINAL]\n"
-          "                     [--device D]\n"
-          "Writes the view images of MODEL as DIR/view_00.png, view_01.png, ...\n"
-          "  -o, --output DIR      folder for the PNGs (created if missing)\n"
-          "  --views N             views (default 20), --size S  image side (default 256)\n"
-          "  --against ORIGINAL    frame the views by ORIGINAL and also write its images\n"
-          "                        (target_XX.png) and luminance differences (diff_XX.png)\n"
-          "  --device D            auto (default), egl:N or host\n"
-          "  -h, --help            this text\n",
-          f);
+    fprintf(f,
+            "usage: lumesh render MODEL -o DIR [--views N] [--size S] [--against ORIGINAL]\n"
+            "                     [--device D]\n"
+            "Writes the view images of MODEL as DIR/view_00.png, view_01.png, ...\n"
+            "  -o, --output DIR      folder for the PNGs (created if missing)\n"
+            "  --views N             views (default %u), --size S  image side (default %d)\n"
+            "  --against ORIGINAL    frame the views by ORIGINAL and also write its images\n"
+            "                        (target_XX.png) and luminance differences (diff_XX.png)\n"
+            "  --device D            auto (default), egl:N or host\n"
+            "  -h, --help            this text\n",
+            LM_DEFAULT_VIEWS, LM_DEFAULT_VIEW_SIZE);
 }
 
 static int parse_option(int c, char **argv, render_args *a)
@@ -164,7 +166,7 @@ static lm_status render_all(const render_args *a, const lm_mesh *framing, const 
 
 int co_cli_render(int argc, char **argv)
 {
-    render_args a = {.views = 20, .size = 256, .device = "auto"};
+    render_args a = {.views = LM_DEFAULT_VIEWS, .size = LM_DEFAULT_VIEW_SIZE, .device = "auto"};
     int rc = parse(argc, argv, &a);
     if (rc >= 0)
         return rc;

@@ -13,10 +13,11 @@
 #include <stdint.h>
 
 #include "common/error.h"
+#include "common/view.h"
 #include "coordinator/job/progress.h"
 
-#define CO_JOB_DEFAULT_VIEWS 20u
-#define CO_JOB_DEFAULT_SIZE 256
+#define CO_JOB_DEFAULT_VIEWS LM_DEFAULT_VIEWS
+#define CO_JOB_DEFAULT_SIZE LM_DEFAULT_VIEW_SIZE
 #define CO_JOB_DEFAULT_EVALS 100000ull
 #define CO_JOB_DEFAULT_CHECKPOINT_S 60.0
 #define CO_JOB_MIN_TARGET_VERTS 100u

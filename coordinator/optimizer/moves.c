@@ -11,12 +11,12 @@
 
 #define CO_PENALTY 1e300 /* value of points that are refused without evaluation */
 
-static void set_defaults(co_moves_config *c)
+void co_moves_config_defaults(co_moves_config *c)
 {
     if (!c->evals_per_dim)
         c->evals_per_dim = 32;
     if (!c->max_set_verts)
-        c->max_set_verts = 16;
+        c->max_set_verts = 8;
     if (!c->max_dim)
         c->max_dim = 160;
     if (!(c->pos_step > 0))
@@ -27,6 +27,8 @@ static void set_defaults(co_moves_config *c)
         c->uv_step = 0.2;
     if (!(c->color_step > 0))
         c->color_step = 0.05;
+    if (!(c->size_tol > 0))
+        c->size_tol = 0.25;
 }
 
 static lm_status alloc_buffers(co_moves *mv)
@@ -55,7 +57,7 @@ lm_status co_moves_create(lm_mesh *mesh, lm_views *views, const co_moves_config 
     mv->m = mesh;
     mv->views = views;
     mv->cfg = *cfg;
-    set_defaults(&mv->cfg);
+    co_moves_config_defaults(&mv->cfg);
     uint32_t a = mv->cfg.attrs;
     mv->derived_normals = !(a & LM_ATTR_NORMAL);
     mv->wattrs =

@@ -26,13 +26,13 @@
 typedef struct co_moves_config {
     uint32_t attrs;         /* LM_ATTR_* optimised besides positions; normals otherwise derived */
     uint32_t evals_per_dim; /* simplex limit: evals_per_dim * n; 0 = 32 */
-    uint32_t max_set_verts; /* vertex sets are cut to this many (core vertices kept); 0 = 16 */
+    uint32_t max_set_verts; /* vertex sets are cut to this many (core vertices kept); 0 = 8 */
     uint32_t max_dim;       /* and to this many parameters; 0 = 160 */
     double pos_step;        /* initial displacement: fraction of mean incident edge length; 0=0.2 */
     double normal_step;     /* absolute; 0 = 0.15 */
     double uv_step;         /* fraction of the mean uv edge length at the wedge; 0 = 0.2 */
     double color_step;      /* absolute; 0 = 0.05 */
-    double size_tol;        /* simplex size tolerance (relative to the steps); 0 = simplex's */
+    double size_tol;        /* simplex size tolerance (relative to the steps); 0 = 0.25 */
     double f_rtol;          /* simplex relative value tolerance; 0 = none */
     float centre[3];        /* positions farther than bound_radius from centre are refused */
     float bound_radius;     /* 0 = no bound */
@@ -57,6 +57,9 @@ typedef struct co_move_result {
 } co_move_result;
 
 typedef struct co_moves co_moves;
+
+/* Every zero field of c takes its default (the values listed above): the one place they live. */
+void co_moves_config_defaults(co_moves_config *c);
 
 lm_status co_moves_create(lm_mesh *mesh, lm_views *views, const co_moves_config *cfg,
                           co_moves **out);

@@ -35,15 +35,8 @@ void co_tuning_defaults(co_tuning *t)
                    .oracle_min_share = 0.125,
                    .oracle_max_share = 0.875,
                    .oracle_max_age = 16};
-    d.moves = (co_moves_config){.max_set_verts = 8,
-                                .max_dim = 160,
-                                .pos_step = 0.2,
-                                .normal_step = 0.15,
-                                .uv_step = 0.2,
-                                .color_step = 0.05,
-                                .size_tol = 0.25};
-    d.teleport = (co_teleport_config){
-        .threshold_half_life = 20000, .stats_half_life = 50000, .max_search_evals = 3000};
+    co_moves_config_defaults(&d.moves);
+    co_teleport_config_defaults(&d.teleport);
     *t = d;
 }
 

@@ -24,17 +24,22 @@ typedef struct search {
     uint32_t attempts;
 } search;
 
+void co_teleport_config_defaults(co_teleport_config *c)
+{
+    if (!(c->threshold_half_life > 0))
+        c->threshold_half_life = 20000;
+    if (!(c->stats_half_life > 0))
+        c->stats_half_life = 50000;
+    if (!c->max_search_evals)
+        c->max_search_evals = 3000;
+}
+
 lm_status co_teleport_init(co_teleport *tp, const co_teleport_config *cfg, const lm_mesh *m)
 {
     memset(tp, 0, sizeof *tp);
     if (cfg)
         tp->cfg = *cfg;
-    if (!(tp->cfg.threshold_half_life > 0))
-        tp->cfg.threshold_half_life = 20000;
-    if (!(tp->cfg.stats_half_life > 0))
-        tp->cfg.stats_half_life = 50000;
-    if (!tp->cfg.max_search_evals)
-        tp->cfg.max_search_evals = 3000;
+    co_teleport_config_defaults(&tp->cfg);
     lm_status st = co_cq_create(&tp->queue);
     if (st || !m)
         return st;

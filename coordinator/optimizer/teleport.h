@@ -40,6 +40,9 @@ typedef struct co_teleport_result {
     uint32_t collapse_attempts;
 } co_teleport_result;
 
+/* Every zero field of c takes its default (the values listed above): the one place they live. */
+void co_teleport_config_defaults(co_teleport_config *c);
+
 /* Every edge of m starts in the default state (m may be NULL: empty queue). */
 lm_status co_teleport_init(co_teleport *tp, const co_teleport_config *cfg, const lm_mesh *m);
 void co_teleport_free(co_teleport *tp);
