@@ -12,6 +12,7 @@ static const char co_optimize_help[] =
     "                       [--size 256] [--evals N] [--time SECONDS] [--seed S]\n"
     "                       [--checkpoint FILE [--checkpoint-every N|Ns]] [--resume FILE]\n"
     "                       [--attrs pos,normal,uv,color] [--device D] [--json]\n"
+    "                       [--workers N] [--listen tcp://ADDR:PORT] [--renderer ID]\n"
     "\n"
     "Improve a coarse mesh so that its rendered images match the original's from many viewpoints\n"
     "(Lindstrom & Turk 2001): vertex positions and attributes by downhill simplex, connectivity "
@@ -44,11 +45,23 @@ static const char co_optimize_help[] =
     "                          (default: uv if the original has a texture, color if it has vertex\n"
     "                          colours); normals not listed are derived from the geometry\n"
     "  --device D              rendering device: auto (GPU if any, else software), host, egl:N\n"
-    "                          (default auto; see lumesh devices)\n"
+    "                          (default auto; see lumesh devices); local workers use it too\n"
+    "  --workers N             render in N lumesh-worker processes on this machine, each owning\n"
+    "                          some of the views (default: one per core; 0 = in this process);\n"
+    "                          the output is the same for any N\n"
+    "  --listen ADDR           also take workers that connect to ADDR (tcp://HOST:PORT), started\n"
+    "                          anywhere with `lumesh-worker --connect tcp://HOST:PORT`; with\n"
+    "                          --listen alone no local worker is started and the job waits,\n"
+    "                          saying so, until one connects\n"
+    "  --renderer ID           accept only workers of this renderer id (lumesh-worker --self-test\n"
+    "                          prints it); default: the first worker's. A job never mixes\n"
+    "                          renderers: workers of another one are refused with the reason\n"
     "  --json                  newline-delimited JSON progress records and a final summary on\n"
     "                          stdout instead of the human progress line on stderr\n"
     "  -h, --help              this help\n"
     "\n"
+    "SIGINT or SIGTERM end the run at the next step: the last checkpoint and the output are\n"
+    "written, the workers stopped, and the exit status is 130.\n"
     "Exit status: 0 success, 1 bad input or flag (one line on stderr), 2 internal failure.\n";
 
 enum {
@@ -65,6 +78,9 @@ enum {
     OPT_ATTRS,
     OPT_DEVICE,
     OPT_JSON,
+    OPT_WORKERS,
+    OPT_LISTEN,
+    OPT_RENDERER,
 };
 
 static const struct option co_optimize_opts[] = {
@@ -82,6 +98,9 @@ static const struct option co_optimize_opts[] = {
     {"attrs", required_argument, NULL, OPT_ATTRS},
     {"device", required_argument, NULL, OPT_DEVICE},
     {"json", no_argument, NULL, OPT_JSON},
+    {"workers", required_argument, NULL, OPT_WORKERS},
+    {"listen", required_argument, NULL, OPT_LISTEN},
+    {"renderer", required_argument, NULL, OPT_RENDERER},
     {"help", no_argument, NULL, 'h'},
     {NULL, 0, NULL, 0},
 };
@@ -150,6 +169,17 @@ static lm_status parse_value(int c, const char *val, co_job_options *o)
     case OPT_DEVICE:
         o->device_spec = val;
         break;
+    case OPT_WORKERS:
+        st = co_arg_u32(co_cmd, "--workers", val, 0, 4096, &o->workers);
+        if (st == LM_OK && o->workers == 0)
+            o->workers = CO_JOB_IN_PROCESS;
+        break;
+    case OPT_LISTEN:
+        o->listen = val;
+        break;
+    case OPT_RENDERER:
+        o->renderer = val;
+        break;
     }
     return st;
 }
@@ -191,8 +221,9 @@ int co_cli_optimize(int argc, char **argv)
     int rc = parse_args(argc, argv, &o);
     if (rc)
         return rc < 0 ? 0 : rc;
-    lm_status st = co_job_run(&o, NULL);
+    co_job_summary summary;
+    lm_status st = co_job_run(&o, &summary);
     if (st != LM_OK)
         return co_cli_fail(co_cmd, st);
-    return 0;
+    return strcmp(summary.stop_reason, "interrupted") ? 0 : 130;
 }

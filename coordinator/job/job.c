@@ -20,6 +20,7 @@
 #include "common/view.h"
 #include "coordinator/job/checkpoint.h"
 #include "coordinator/optimizer/optimizer.h"
+#include "coordinator/pool/pool.h"
 #include "coordinator/views/views.h"
 
 /* Steps in a row that make no evaluation before the job calls the optimisation converged. */
@@ -33,6 +34,7 @@ typedef struct co_job {
     const char *checkpoint_path;
     lm_mesh *original;
     lm_mesh *coarse; /* until the optimizer takes it */
+    co_pool *pool;   /* the workers (NULL: in process) */
     lm_views *views;
     co_optimizer *opt;
     co_checkpoint_key key;
@@ -49,6 +51,18 @@ static double seconds_since(const struct timespec *t0)
     struct timespec t;
     clock_gettime(CLOCK_MONOTONIC, &t);
     return (double)(t.tv_sec - t0->tv_sec) + 1e-9 * (double)(t.tv_nsec - t0->tv_nsec);
+}
+
+uint32_t co_job_local_workers(const co_job_options *o)
+{
+    if (o->workers == CO_JOB_IN_PROCESS)
+        return 0;
+    if (o->workers)
+        return o->workers;
+    if (o->listen)
+        return 0;
+    long n = sysconf(_SC_NPROCESSORS_ONLN);
+    return n > 0 ? (uint32_t)n : 1;
 }
 
 lm_status co_job_parse_attrs(const char *spec, uint32_t *out)
@@ -257,6 +271,27 @@ static lm_status prepare_coarse(co_job *j, lm_mesh *m)
     return st;
 }
 
+/* Worker processes (local ones started here, and those that connect to --listen), unless the
+ * job renders in process. Local workers are waited for, so that the views are split between all
+ * of them from the start. */
+static lm_status make_pool(co_job *j)
+{
+    if (j->o.workers == CO_JOB_IN_PROCESS)
+        return LM_OK;
+    uint32_t local = co_job_local_workers(&j->o);
+    co_pool_options po = {.listen = j->o.listen,
+                          .local_workers = local,
+                          .device = j->o.device_spec,
+                          .renderer_id = j->o.renderer,
+                          .quiet = j->rep.style == CO_REPORT_QUIET};
+    lm_status st = co_pool_create(&po, &j->pool);
+    if (st == LM_OK && local)
+        st = co_pool_wait(j->pool, local, CO_JOB_WORKER_START_S);
+    if (st == LM_OK && j->o.listen)
+        note(j, "listening", "workers may join at %s", co_pool_endpoint(j->pool));
+    return st;
+}
+
 /* The views of the original, with the coarse mesh's materials (an --initial file has its own). */
 static lm_status make_views(co_job *j)
 {
@@ -266,11 +301,13 @@ static lm_status make_views(co_job *j)
     float centre[3], radius;
     lm_mesh_bounding_sphere(j->original, centre, &radius);
     lm_status st = lm_view_set_make(vs, j->o.views, j->o.size, centre, radius);
-    co_views_desc d = {.original = j->original,
+    co_views_desc d = {.kind = j->pool ? CO_VIEWS_REMOTE : CO_VIEWS_LOCAL,
+                       .original = j->original,
                        .views = vs,
                        .materials = j->coarse->materials,
                        .n_materials = j->coarse->n_materials,
-                       .device = j->o.device_spec};
+                       .device = j->o.device_spec,
+                       .pool = j->pool};
     if (st == LM_OK)
         st = co_views_create(&d, &j->views);
     free(vs);
@@ -279,8 +316,12 @@ static lm_status make_views(co_job *j)
     lm_views_info info;
     j->views->ops->info(j->views, &info);
     snprintf(j->renderer, sizeof j->renderer, "%s", info.renderer);
-    note(j, "views", "%" PRIu32 " views of %dx%d on %s", info.n_views, info.width, info.height,
-         info.renderer);
+    if (j->pool)
+        note(j, "views", "%" PRIu32 " views of %dx%d on %" PRIu32 " workers: %s", info.n_views,
+             info.width, info.height, co_pool_alive(j->pool), info.renderer);
+    else
+        note(j, "views", "%" PRIu32 " views of %dx%d on %s", info.n_views, info.width, info.height,
+             info.renderer);
     return LM_OK;
 }
 
@@ -351,6 +392,8 @@ static const char *stop_reason(const co_job *j, const co_progress *p, double t, 
         return "time";
     if (idle >= CO_JOB_MAX_IDLE_STEPS)
         return "converged";
+    if (co_pool_interrupted())
+        return "interrupted";
     return NULL;
 }
 
@@ -425,6 +468,8 @@ static lm_status job_stages(co_job *j, co_job_summary *summary)
     if (st == LM_OK)
         st = make_coarse_mesh(j);
     if (st == LM_OK)
+        st = make_pool(j);
+    if (st == LM_OK)
         st = make_views(j);
     if (st == LM_OK)
         st = make_optimizer(j);
@@ -459,6 +504,8 @@ lm_status co_job_run(const co_job_options *opts, co_job_summary *summary)
     co_job *j = calloc(1, sizeof *j);
     if (!j)
         return lm_fail(LM_E_NOMEM, "out of memory");
+    co_pool_catch_signals(); /* SIGINT/SIGTERM end the loop; checkpoint, output and workers follow
+                              */
     clock_gettime(CLOCK_MONOTONIC, &j->t0);
     co_job_summary local;
     lm_status st = resolve_options(j, opts);
@@ -476,6 +523,7 @@ lm_status co_job_run(const co_job_options *opts, co_job_summary *summary)
     if (j->opt)
         co_optimizer_destroy(j->opt);
     lm_views_destroy(j->views);
+    co_pool_destroy(j->pool);
     if (j->coarse)
         lm_mesh_destroy(j->coarse);
     if (j->original)

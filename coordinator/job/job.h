@@ -21,6 +21,8 @@
 #define CO_JOB_DEFAULT_EVALS 100000ull
 #define CO_JOB_DEFAULT_CHECKPOINT_S 60.0
 #define CO_JOB_MIN_TARGET_VERTS 100u
+#define CO_JOB_IN_PROCESS UINT32_MAX /* workers: render in this process (no worker processes) */
+#define CO_JOB_WORKER_START_S 60.0   /* local workers must say hello within this */
 
 /* Zero means default for every field. */
 typedef struct co_job_options {
@@ -42,7 +44,14 @@ typedef struct co_job_options {
     int json;                        /* NDJSON progress + summary on stdout */
     int quiet;                       /* no progress and no summary (callers that report) */
     const char *device_spec;         /* renderer device: "auto" (NULL), "host", "egl:N" */
+    uint32_t workers;     /* local lumesh-worker processes to spawn; 0 = one per core (none with
+                             listen), CO_JOB_IN_PROCESS = render in this process */
+    const char *listen;   /* also take workers that connect here ("tcp://ADDR:PORT") */
+    const char *renderer; /* accept only workers of this renderer id; NULL = the first one's */
 } co_job_options;
+
+/* The number of local workers `workers` means (0 = one per core; none with listen). */
+uint32_t co_job_local_workers(const co_job_options *o);
 
 /* Parse an --attrs list ("pos,normal,uv,color"; "pos" alone = positions only) into LM_ATTR_* bits.
  * LM_E_INVALID naming the bad word. */

@@ -6,6 +6,9 @@
  *   local   in this process, on an EGL device (worker/views_local.c);
  *   split   `split` in-process children, each owning a contiguous range of the views, their int64
  *           results summed (coordinator/views/views_split.c): bit-identical to one local backend;
+ *   remote  lumesh-worker processes of a pool (coordinator/pool/pool.h), each serving a range of
+ *           the views (coordinator/views/views_remote.c): bit-identical again, for any number of
+ *           workers.
  * Defaults are resolved here and nowhere else (co_views_desc_defaults). The coordinator makes
  * views only through this constructor; nothing outside coordinator/views/ names a backend. */
 #ifndef LM_COORDINATOR_VIEWS_VIEWS_H
@@ -17,9 +20,12 @@
 #include "common/view.h"
 #include "common/views_api.h"
 
+typedef struct co_pool co_pool; /* coordinator/pool/pool.h */
+
 typedef enum co_views_kind {
     CO_VIEWS_LOCAL = 0,
     CO_VIEWS_SPLIT,
+    CO_VIEWS_REMOTE,
 } co_views_kind;
 
 /* Zero means default for every field but original and views. */
@@ -34,6 +40,7 @@ typedef struct co_views_desc {
     const lm_mesh *mesh; /* set as the current mesh right away; NULL = later, by set_mesh */
     const char *device;  /* local and split children: "auto" (NULL), "host", "egl:N" */
     uint32_t split;      /* split: children (at most the range's views); 0 = 2 */
+    co_pool *pool;       /* remote: the workers (borrowed; must outlive the views) */
 } co_views_desc;
 
 /* The description with every zero field resolved (no checks). */

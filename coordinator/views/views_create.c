@@ -4,6 +4,7 @@
 #include <string.h>
 
 #include "coordinator/views/views.h"
+#include "coordinator/views/views_remote.h"
 #include "worker/views_local.h"
 
 co_views_desc co_views_desc_defaults(const co_views_desc *d)
@@ -27,7 +28,9 @@ static lm_status check_desc(const co_views_desc *d)
     if (d->first >= d->views->count || d->count > d->views->count - d->first)
         return lm_fail(LM_E_RANGE, "views: range %u+%u is outside the %u views", d->first, d->count,
                        d->views->count);
-    if ((unsigned)d->kind > CO_VIEWS_SPLIT)
+    if (d->kind == CO_VIEWS_REMOTE && !d->pool)
+        return lm_fail(LM_E_INVALID, "views: remote views need a worker pool");
+    if ((unsigned)d->kind > CO_VIEWS_REMOTE)
         return lm_fail(LM_E_INVALID, "views: unknown kind %d", (int)d->kind);
     return LM_OK;
 }
@@ -68,6 +71,8 @@ static lm_status make_kind(const co_views_desc *d, lm_views **out)
         return make_local(d, d->first, d->count, out);
     case CO_VIEWS_SPLIT:
         return make_split(d, out);
+    case CO_VIEWS_REMOTE:
+        return co_views_remote_create(d, out);
     }
     return lm_fail(LM_E_INVALID, "views: unknown kind %d", (int)d->kind);
 }
