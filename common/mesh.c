@@ -293,6 +293,96 @@ static lm_status clone_materials(const lm_mesh *src, lm_mesh *dst)
     return LM_OK;
 }
 
+/* dst[0..n) := src[0..n), dst grown (realloc) to hold them. */
+static lm_status copy_into(void **dst, uint32_t *cap, const void *src, uint32_t n, size_t elem)
+{
+    if (n > *cap) {
+        void *p = realloc(*dst, (size_t)n * elem);
+        if (!p)
+            return lm_fail(LM_E_NOMEM, "out of memory copying a mesh");
+        *dst = p;
+        *cap = n;
+    }
+    if (n)
+        memcpy(*dst, src, (size_t)n * elem);
+    return LM_OK;
+}
+
+/* The flags arrays share the element arrays' capacities; grown alongside. */
+static lm_status copy_flags(uint8_t **dst, uint32_t cap, const uint8_t *src, uint32_t n)
+{
+    uint8_t *p = realloc(*dst, cap ? cap : 1);
+    if (!p)
+        return lm_fail(LM_E_NOMEM, "out of memory copying a mesh");
+    *dst = p;
+    if (n)
+        memcpy(p, src, n);
+    return LM_OK;
+}
+
+static lm_status copy_adjacency(lm_mesh *dst, const lm_mesh *src)
+{
+    const struct lm_mesh_internal *si = src->internal;
+    if (!si || !si->adjacency_built)
+        return LM_OK;
+    lm_status s = lm_mesh_adj_reserve(dst, src->n_verts);
+    for (uint32_t v = 0; v < dst->internal->cap_vtris && !s; v++) {
+        lm_u32vec *d = &dst->internal->vtris[v];
+        d->n = 0;
+        const lm_u32vec *from = v < si->cap_vtris && v < src->n_verts ? &si->vtris[v] : NULL;
+        for (uint32_t i = 0; from && i < from->n && !s; i++)
+            s = lm_u32vec_push(d, from->data[i]);
+    }
+    if (!s)
+        dst->internal->adjacency_built = 1;
+    return s;
+}
+
+/* Names and colours only: a copy for topology work has no use for textures. */
+static lm_status copy_material_names(lm_mesh *dst, const lm_mesh *src)
+{
+    if (dst->n_materials == src->n_materials)
+        return LM_OK;
+    for (uint32_t i = 0; i < dst->n_materials; i++) {
+        free(dst->materials[i].texture_path);
+        lm_image_destroy(dst->materials[i].texture);
+    }
+    dst->n_materials = 0;
+    lm_status s = LM_OK;
+    for (uint32_t i = 0; i < src->n_materials && !s; i++)
+        s = lm_mesh_add_material(dst, src->materials[i].name, src->materials[i].diffuse, NULL, NULL,
+                                 NULL);
+    return s;
+}
+
+lm_status lm_mesh_copy_geometry(lm_mesh *dst, const lm_mesh *src)
+{
+    lm_status s =
+        copy_into((void **)&dst->pos, &dst->cap_verts, src->pos, src->n_verts, sizeof *src->pos);
+    if (!s)
+        s = copy_flags(&dst->vert_alive, dst->cap_verts, src->vert_alive, src->n_verts);
+    if (!s)
+        s = copy_into((void **)&dst->wedges, &dst->cap_wedges, src->wedges, src->n_wedges,
+                      sizeof *src->wedges);
+    if (!s)
+        s = copy_flags(&dst->wedge_alive, dst->cap_wedges, src->wedge_alive, src->n_wedges);
+    if (!s)
+        s = copy_into((void **)&dst->tris, &dst->cap_tris, src->tris, src->n_tris,
+                      sizeof *src->tris);
+    if (!s)
+        s = copy_flags(&dst->tri_alive, dst->cap_tris, src->tri_alive, src->n_tris);
+    if (s)
+        return s;
+    dst->n_verts = src->n_verts;
+    dst->n_wedges = src->n_wedges;
+    dst->n_tris = src->n_tris;
+    dst->live_verts = src->live_verts;
+    dst->live_tris = src->live_tris;
+    dst->attrs = src->attrs;
+    s = copy_material_names(dst, src);
+    return s ? s : copy_adjacency(dst, src);
+}
+
 static void *dup_array(const void *src, size_t bytes, lm_status *s)
 {
     if (!bytes)

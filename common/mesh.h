@@ -74,6 +74,11 @@ void lm_mesh_destroy(lm_mesh *m);
 /* Deep copy (textures shared by reference count is not done: textures are cloned). */
 lm_status lm_mesh_clone(const lm_mesh *src, lm_mesh **out);
 
+/* dst becomes a copy of src's geometry, attributes and adjacency, with its materials' names and
+ * colours but no textures (a working copy for topology and attribute changes; dst's memory is
+ * reused). Afterwards the same operations give the same ids and results on both. */
+lm_status lm_mesh_copy_geometry(lm_mesh *dst, const lm_mesh *src);
+
 /* Building. Ids returned through out (may be NULL). */
 lm_status lm_mesh_add_vertex(lm_mesh *m, const float p[3], uint32_t *out_id);
 lm_status lm_mesh_add_wedge(lm_mesh *m, const lm_wedge *w, uint32_t *out_id);

@@ -304,6 +304,37 @@ static void undo_step(lm_mesh *m, const jstep *s)
     }
 }
 
+void lm_journal_scan(const lm_journal *j, size_t mark, lm_journal_visit_fn fn, void *ctx)
+{
+    LM_ASSERT(mark <= j->n);
+    for (size_t i = mark; i < j->n; i++) {
+        const jstep *s = &j->steps[i];
+        switch (s->kind) {
+        case J_POS:
+        case J_KILL_VERT:
+        case J_ADD_VERT:
+            fn(ctx, LM_TOUCH_VERTEX, s->id);
+            break;
+        case J_WEDGE:
+        case J_KILL_WEDGE:
+        case J_ADD_WEDGE:
+            fn(ctx, LM_TOUCH_WEDGE, s->id);
+            break;
+        case J_TRI:
+            fn(ctx, LM_TOUCH_TRI, s->id);
+            break;
+        case J_KILL_TRI:
+            fn(ctx, LM_TOUCH_TRI_KILLED, s->id);
+            break;
+        case J_ADD_TRI:
+            fn(ctx, LM_TOUCH_TRI_ADDED, s->id);
+            break;
+        default: /* adjacency steps follow from the triangle steps */
+            break;
+        }
+    }
+}
+
 void lm_journal_rollback(lm_mesh *m, lm_journal *j, size_t mark)
 {
     LM_ASSERT(mark <= j->n);

@@ -56,6 +56,7 @@ lm_status co_moves_create(lm_mesh *mesh, lm_views *views, const co_moves_config 
         return lm_fail(LM_E_NOMEM, "out of memory creating the move workspace");
     mv->m = mesh;
     mv->views = views;
+    mv->clock = &mv->evals;
     mv->cfg = *cfg;
     co_moves_config_defaults(&mv->cfg);
     uint32_t a = mv->cfg.attrs;
@@ -110,6 +111,29 @@ void co_moves_set_evals(co_moves *mv, uint64_t evals)
     mv->evals = evals;
 }
 
+uint64_t co_moves_clock(const co_moves *mv)
+{
+    return *mv->clock;
+}
+
+void co_moves_share_clock(co_moves *mv, uint64_t *clock)
+{
+    mv->clock = clock ? clock : &mv->evals;
+}
+
+void co_moves_observe(co_moves *mv, const co_moves_observer *obs)
+{
+    if (obs)
+        mv->obs = *obs;
+    else
+        memset(&mv->obs, 0, sizeof mv->obs);
+}
+
+const lm_journal *co_moves_journal(const co_moves *mv)
+{
+    return mv->j;
+}
+
 size_t co_moves_mark(const co_moves *mv)
 {
     return lm_journal_mark(mv->j);
@@ -122,6 +146,8 @@ void co_moves_forget(co_moves *mv)
 
 lm_status co_moves_revert(co_moves *mv, size_t mark)
 {
+    if (mv->obs.reverted)
+        mv->obs.reverted(mv->obs.ctx, mark);
     lm_journal_rollback(mv->m, mv->j, mark);
     return lm_views_set_mesh_from(mv->views, mv->m);
 }
@@ -383,6 +409,8 @@ static lm_status eval_batch(void *ctx, const double *pts, uint32_t n, double *va
         if (st)
             return st;
         mv->evals += k;
+        if (mv->clock != &mv->evals)
+            *mv->clock += k;
     }
     for (uint32_t i = 0; i < n; i++)
         vals[i] = mv->slot[i] == LM_NONE ? CO_PENALTY : (double)mv->deltas[mv->slot[i]];
@@ -403,10 +431,15 @@ static lm_status optimise(co_moves *mv, int64_t *delta)
     return st;
 }
 
-static lm_status accept(co_moves *mv)
+static lm_status accept(co_moves *mv, int level, size_t mark0, int64_t delta)
 {
     co_params_apply(mv, mv->x);
     lm_status st = lm_patch_build(&mv->patches[0], mv->m, mv->B.ids, mv->B.n, mv->T.ids, mv->T.n);
+    if (st == LM_OK && mv->obs.accepted) {
+        co_move_record r = {mv->site.kind, level,   mv->site.a, mv->site.b, mv->site.v,
+                            mark0,         mv->dim, mv->x,      delta};
+        mv->obs.accepted(mv->obs.ctx, &r);
+    }
     return st ? st : mv->views->ops->commit(mv->views, &mv->patches[0]);
 }
 
@@ -446,10 +479,37 @@ lm_status co_moves_try(co_moves *mv, co_move_kind kind, int level, uint32_t a, u
     st = optimise(mv, &res->delta);
     res->evals = (uint32_t)(mv->evals - e0);
     if (!st && res->delta != INT64_MAX && res->delta < accept_below) {
-        st = accept(mv);
+        st = accept(mv, level, mark0, res->delta);
         res->accepted = st == LM_OK;
         return st;
     }
     lm_journal_rollback(mv->m, mv->j, mark0);
     return st;
+}
+
+lm_status co_moves_replay(co_moves *mv, const co_move_record *r, uint32_t *v)
+{
+    *v = LM_NONE;
+    if (!usable_edge(mv->m, r->a, r->b))
+        return lm_fail(LM_E_ILLEGAL, "edge (%u, %u) is gone", r->a, r->b);
+    find_site(mv->m, r->kind, r->a, r->b, &mv->site);
+    size_t mark0 = lm_journal_mark(mv->j);
+    int legal;
+    lm_status st = do_op(mv, &legal);
+    if (st || !legal)
+        return st ? st
+                  : lm_fail(LM_E_ILLEGAL, "move %d on edge (%u, %u) is no longer legal",
+                            (int)r->kind, r->a, r->b);
+    st = prepare(mv, r->level, mark0);
+    if (!st && mv->dim != r->dim)
+        st = lm_fail(LM_E_ILLEGAL, "move %d on edge (%u, %u) has %u parameters now, %u then",
+                     (int)r->kind, r->a, r->b, mv->dim, r->dim);
+    if (st) {
+        lm_journal_rollback(mv->m, mv->j, mark0);
+        return st == LM_E_RANGE ? lm_fail(LM_E_ILLEGAL, "%s", lm_last_error()) : st;
+    }
+    memcpy(mv->x, r->x, (size_t)r->dim * sizeof *mv->x);
+    co_params_apply(mv, mv->x);
+    *v = mv->site.v;
+    return LM_OK;
 }

@@ -58,6 +58,26 @@ typedef struct co_move_result {
 
 typedef struct co_moves co_moves;
 
+/* An accepted operation, as co_moves_replay can do it again on another copy of the mesh. */
+typedef struct co_move_record {
+    co_move_kind kind;
+    int level;
+    uint32_t a, b;
+    uint32_t v;      /* the vertex the move created (split) or kept (collapse); else LM_NONE */
+    size_t mark;     /* journal position before the operation */
+    uint32_t dim;    /* parameters */
+    const double *x; /* their values (valid during the call only) */
+    int64_t delta;   /* ΔE it was accepted with */
+} co_move_record;
+
+/* Who wants to know about accepted operations (before their patch reaches the views) and about
+ * reverts (before the views get the whole mesh again). */
+typedef struct co_moves_observer {
+    void (*accepted)(void *ctx, const co_move_record *r);
+    void (*reverted)(void *ctx, size_t mark);
+    void *ctx;
+} co_moves_observer;
+
 /* Every zero field of c takes its default (the values listed above): the one place they live. */
 void co_moves_config_defaults(co_moves_config *c);
 
@@ -78,9 +98,22 @@ void co_moves_last_change(const co_moves *mv, const uint32_t **before, uint32_t 
 /* The mesh the moves act on. */
 const lm_mesh *co_moves_mesh(const co_moves *mv);
 
-/* Evaluations sent to the views since creation (the optimizer's clock). */
+/* Evaluations this object sent to the views since creation (or co_moves_set_evals). */
 uint64_t co_moves_evals(const co_moves *mv);
 void co_moves_set_evals(co_moves *mv, uint64_t evals);
+/* The optimizer's clock (what statistics attenuate by): this object's evaluations, or a counter
+ * shared with others (co_moves_share_clock: every evaluation of either advances it). */
+uint64_t co_moves_clock(const co_moves *mv);
+void co_moves_share_clock(co_moves *mv, uint64_t *clock);
+void co_moves_observe(co_moves *mv, const co_moves_observer *obs);
+
+/* Do an accepted operation again (on a copy of the mesh that matches the one it was found on, up
+ * to vertex ids `r` names in this mesh): the connectivity change, the vertex set, the parameters.
+ * It stays in the mesh, journaled (co_moves_mark/revert/forget), and is NOT sent to the views;
+ * *v the vertex it created or kept. LM_E_ILLEGAL (mesh unchanged) when it no longer fits. */
+lm_status co_moves_replay(co_moves *mv, const co_move_record *r, uint32_t *v);
+/* The journal of this object's mesh changes (for lm_patch_from_journal). */
+const lm_journal *co_moves_journal(const co_moves *mv);
 
 /* Undo support across accepted moves: a journal position, rolling the mesh back to it and
  * re-sending the whole mesh to the views, and forgetting the journal (changes kept). */

@@ -1,8 +1,6 @@
 /* coordinator/optimizer/optimizer.c — the Lindstrom–Turk optimizer (paper §5) as one object:
- * iterations of 64 edges chosen by the oracle and at random; on each edge the operations no-op
- * (levels 1-3), swap (0-3) and teleport (0-3) in that order, each attempted when Inequality 3 says
- * so; the statistics, the teleport's collapse queue and the progress counters kept up to date.
- * Checkpointing lives in optimizer_state.c. */
+ * iterations of 64 edges chosen by the oracle and at random, each edge optimised by edge.c (one at
+ * a time, or several in flight by lanes.c). Checkpointing lives in optimizer_state.c. */
 #include "coordinator/optimizer/optimizer.h"
 
 #include <math.h>
@@ -11,6 +9,7 @@
 
 #include "common/log.h"
 #include "common/mesh_topology.h"
+#include "coordinator/optimizer/edge.h"
 #include "coordinator/optimizer/optimizer_internal.h"
 
 static lm_status prepare_mesh(co_optimizer *o)
@@ -182,123 +181,6 @@ void co_optimizer_progress(const co_optimizer *opt, co_progress *out)
     out->live_tris = opt->mesh->live_tris;
 }
 
-/* ---- one operation --------------------------------------------------------------------------- */
-
-typedef struct op_outcome {
-    int legal, accepted;
-    int64_t delta; /* committed ΔE (0 when rejected) */
-    uint32_t evals;
-} op_outcome;
-
-static lm_status run_teleport(co_optimizer *o, int level, uint32_t a, uint32_t b, op_outcome *r)
-{
-    co_teleport_result t;
-    lm_status st = co_teleport_try(&o->tp, o->mv, level, a, b, &t);
-    *r = (op_outcome){t.legal, t.accepted, t.accepted ? t.delta : 0, t.evals};
-    o->prog.attempted[CO_MOVE_COLLAPSE] += t.collapse_attempts;
-    o->prog.accepted[CO_MOVE_COLLAPSE] += t.accepted ? 1 : 0;
-    return st;
-}
-
-/* The edge and the vertices of the triangles around the last accepted change. */
-static lm_status mark_touched(co_optimizer *o, uint32_t a, uint32_t b)
-{
-    const uint32_t *before, *now;
-    uint32_t nb, nn;
-    co_moves_last_change(o->mv, &before, &nb, &now, &nn);
-    lm_status st = co_idset_add(&o->it.touched, a);
-    if (!st)
-        st = co_idset_add(&o->it.touched, b);
-    for (uint32_t i = 0; i < nn && !st; i++)
-        if (o->mesh->tri_alive[now[i]])
-            for (int k = 0; k < 3 && !st; k++)
-                st = co_idset_add(&o->it.touched, lm_tri_vertex(o->mesh, now[i], k));
-    return st;
-}
-
-static lm_status run_op(co_optimizer *o, co_move_kind kind, int level, uint32_t a, uint32_t b,
-                        op_outcome *r)
-{
-    lm_status st;
-    if (kind == CO_MOVE_SPLIT) {
-        st = run_teleport(o, level, a, b, r);
-    } else {
-        co_move_result mr;
-        st = co_moves_try(o->mv, kind, level, a, b, 0, &mr);
-        *r = (op_outcome){mr.legal, mr.accepted, mr.accepted ? mr.delta : 0, mr.evals};
-        if (!st && mr.accepted) {
-            const uint32_t *before, *now;
-            uint32_t nb, nn;
-            co_moves_last_change(o->mv, &before, &nb, &now, &nn);
-            st = co_teleport_note_change(&o->tp, o->mesh, now, nn);
-        }
-    }
-    if (!st && r->accepted)
-        st = mark_touched(o, a, b);
-    if (st || !r->legal)
-        return st;
-    o->prog.attempted[kind]++;
-    o->prog.accepted[kind] += r->accepted ? 1 : 0;
-    o->prog.energy += r->delta;
-    co_move_stats_add(&o->stats, kind, level, (double)r->delta, r->evals, co_moves_evals(o->mv));
-    return LM_OK;
-}
-
-/* ---- one edge (paper §5.3) ----------------------------------------------------------------- */
-
-static const co_move_kind edge_moves[3] = {CO_MOVE_NOOP, CO_MOVE_SWAP, CO_MOVE_SPLIT};
-
-/* Operations in their fixed order, each when Inequality 3 holds; a connectivity change that is
- * accepted ends the edge (it no longer exists). */
-static lm_status edge_ops(co_optimizer *o, uint32_t a, uint32_t b, int64_t *total, int *tried)
-{
-    for (int k = 0; k < 3; k++) {
-        co_move_kind kind = edge_moves[k];
-        for (int level = kind == CO_MOVE_NOOP ? 1 : 0; level < CO_LEVELS; level++) {
-            if (!lm_mesh_edge_exists(o->mesh, a, b))
-                return LM_OK;
-            uint64_t now = co_moves_evals(o->mv);
-            if (!co_move_stats_should_try(&o->stats, kind, level, (double)*total, now))
-                continue;
-            op_outcome r;
-            lm_status st = run_op(o, kind, level, a, b, &r);
-            if (st)
-                return st;
-            if (!r.legal)
-                break;
-            *tried = 1;
-            *total += r.delta;
-            if (r.accepted && kind != CO_MOVE_NOOP)
-                return LM_OK;
-        }
-    }
-    return LM_OK;
-}
-
-static lm_status optimise_edge(co_optimizer *o, uint32_t a, uint32_t b, int64_t *total)
-{
-    *total = 0;
-    if (!lm_mesh_edge_exists(o->mesh, a, b))
-        return LM_OK;
-    int tried = 0;
-    lm_status st = edge_ops(o, a, b, total, &tried);
-    if (!st && !tried) {
-        /* Nothing looked worth it: try the most efficient operation anyway, so that the clock
-         * (and with it the attenuation of the statistics) always moves on. */
-        co_move_kind kind = CO_MOVE_NOOP;
-        int level = 1;
-        co_move_stats_best(&o->stats, co_moves_evals(o->mv), &kind, &level);
-        op_outcome r;
-        st = run_op(o, kind, level, a, b, &r);
-        if (!st && !r.legal)
-            st = run_op(o, CO_MOVE_NOOP, 1, a, b, &r);
-        if (!st && r.legal)
-            *total += r.delta;
-    }
-    co_moves_forget(o->mv);
-    return st;
-}
-
 /* ---- iterations (paper §5.4) ----------------------------------------------------------------- */
 
 static lm_status begin_iteration(co_optimizer *o)
@@ -380,7 +262,8 @@ lm_status co_optimizer_step(co_optimizer *opt, uint64_t max_evals)
             return LM_OK;
         const co_planned_edge *e = &it->plan[it->pos];
         int64_t total;
-        if ((st = optimise_edge(opt, e->a, e->b, &total)))
+        co_edge_ctx c = {.o = opt, .mesh = opt->mesh, .mv = opt->mv};
+        if ((st = co_edge_optimise(&c, e->a, e->b, &total)))
             return st;
         int src = e->from_oracle ? 1 : 0;
         it->gain[src] += (double)-total;

@@ -138,7 +138,7 @@ static lm_status attempt(search *s, const co_cq_entry *e, int L, int64_t accept_
         return st;
     if (!r.legal)
         return co_cq_set(tp->queue, e->a, e->b, INT64_MAX, 3, 0);
-    uint64_t now = co_moves_evals(s->mv);
+    uint64_t now = co_moves_clock(s->mv);
     if (e->level >= 0 && L == e->level + 1 && e->est != INT64_MAX)
         co_stat_add(&tp->improve[e->level], (double)r.delta - (double)e->est, r.evals, now,
                     tp->cfg.stats_half_life);
@@ -170,7 +170,7 @@ static lm_status search_step(search *s, int *done)
         L = e.level;
     } else if (e.level >= 3) {
         return park(s, &e);
-    } else if (hopeless(s, &e, co_moves_evals(s->mv))) {
+    } else if (hopeless(s, &e, co_moves_clock(s->mv))) {
         *done = 1;
         return co_cq_set(q, e.a, e.b, e.est, e.level, 1);
     } else {
@@ -224,7 +224,7 @@ lm_status co_teleport_try(co_teleport *tp, co_moves *mv, int level, uint32_t a, 
 {
     memset(res, 0, sizeof *res);
     uint64_t e0 = co_moves_evals(mv);
-    int64_t thr = co_teleport_threshold(tp, e0);
+    int64_t thr = co_teleport_threshold(tp, co_moves_clock(mv));
     size_t mark = co_moves_mark(mv);
     co_move_result r;
     lm_status st = co_moves_try(mv, CO_MOVE_SPLIT, level, a, b, -thr, &r);
@@ -250,7 +250,7 @@ lm_status co_teleport_try(co_teleport *tp, co_moves *mv, int level, uint32_t a, 
         res->accepted = 1;
         res->delta = r.delta + s.found_delta;
         tp->last_collapse = s.found_delta > 0 ? s.found_delta : 0;
-        tp->last_time = co_moves_evals(mv);
+        tp->last_time = co_moves_clock(mv);
     }
     res->evals = (uint32_t)(co_moves_evals(mv) - e0);
     return st;
