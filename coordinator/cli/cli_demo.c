@@ -2,14 +2,13 @@
  * coarse mesh, and write the three models, a before/after picture grid, a close-up of the coarse
  * mesh's worst cracks and a summary with held-out energies and crack pixels (views not used by
  * the optimisation). */
-#include <errno.h>
 #include <getopt.h>
 #include <inttypes.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
 
+#include "common/folders.h"
 #include "common/frog.h"
 #include "common/mesh_io.h"
 #include "common/simplify.h"
@@ -52,7 +51,8 @@ static const char co_demo_help[] =
     "optimisation never saw, and their cracks and holes: pixels inside the frog's silhouette\n"
     "where the model shows the background.\n"
     "\n"
-    "  -o, --output DIR     output folder, created if needed (default ./lumesh-demo)\n"
+    "  -o, --output DIR     output folder, created with its parents if needed\n"
+    "                       (default ./lumesh-demo)\n"
     "  --evals N            optimisation budget in energy evaluations (default %llu)\n"
     "  --tris N             triangles of the generated frog (default %u)\n"
     "  --target-verts N     vertices of the QEM coarse mesh (default %u)\n"
@@ -133,11 +133,9 @@ static int parse_args(int argc, char **argv, demo_options *o)
 
 static lm_status make_paths(const char *dir, demo_paths *p)
 {
-    if (mkdir(dir, 0755) != 0 && errno != EEXIST)
-        return lm_fail(LM_E_IO, "cannot create folder '%s': %s", dir, strerror(errno));
-    struct stat sb;
-    if (stat(dir, &sb) != 0 || !S_ISDIR(sb.st_mode))
-        return lm_fail(LM_E_IO, "'%s' is not a folder", dir);
+    lm_status st = lm_make_folders(dir);
+    if (st != LM_OK)
+        return st;
     int n = snprintf(p->frog, sizeof p->frog, "%s/frog.obj", dir);
     snprintf(p->coarse, sizeof p->coarse, "%s/coarse.obj", dir);
     snprintf(p->optimized, sizeof p->optimized, "%s/optimized.obj", dir);

@@ -7,6 +7,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "common/folders.h"
 #include "common/mesh_io.h"
 #include "common/simplify.h"
 #include "coordinator/cli/cli_args.h"
@@ -110,6 +111,8 @@ int co_cli_simplify(int argc, char **argv)
     if (!s)
         s = lm_simplify(in, a.method, a.target, &out);
     double t2 = now_s();
+    if (!s)
+        s = lm_make_parent_folders(a.output);
     if (!s)
         s = lm_mesh_save(a.output, out);
     if (!s)

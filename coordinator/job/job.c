@@ -13,6 +13,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "common/folders.h"
 #include "common/mesh.h"
 #include "common/mesh_io.h"
 #include "common/mesh_topology.h"
@@ -79,9 +80,14 @@ lm_status co_job_parse_attrs(const char *spec, uint32_t *out)
     return LM_OK;
 }
 
-/* Fail before any work when an output can never be written. */
+/* Fail before any work when an output can never be written; missing folders are made. */
 static lm_status check_writable(const char *what, const char *path)
 {
+    if (lm_make_parent_folders(path) != LM_OK) {
+        char why[512];
+        snprintf(why, sizeof why, "%s", lm_last_error());
+        return lm_fail(LM_E_IO, "cannot write %s '%s': %s", what, path, why);
+    }
     const char *slash = strrchr(path, '/');
     char dir[4096];
     if (!slash)
