@@ -33,6 +33,8 @@ lm_status lm_io_guard_stl(const uint8_t *data, size_t size, const char *name, ui
 lm_status lm_io_guard_dae(const uint8_t *data, size_t size, const char *name);
 /* The JSON of a .gltf file or of a .glb's first chunk. */
 lm_status lm_io_guard_gltf_json(const uint8_t *json, size_t size, const char *name);
+/* LM_E_UNSUPPORTED: "NAME: WHAT glTF 1.0 file (...); lumesh reads glTF 2.0: convert it ...". */
+lm_status lm_io_gltf1_refusal(const char *name, const char *what);
 
 /* ---- mesh_io_isolate.c: readers run in a child process ------------------------------------ */
 
