@@ -457,6 +457,10 @@ static lm_status build(scene_build *b)
     s = walk_scene(b);
     if (s)
         return s;
+    if (b->m->live_tris == 0) /* one error line, not a warning before it */
+        return lm_fail(LM_E_FORMAT,
+                       "%s: the model has no triangles: all %llu of its faces are degenerate",
+                       b->src->name, (unsigned long long)b->dropped);
     b->m->attrs = (b->all_normals ? LM_ATTR_NORMAL : 0) | (b->any_uv ? LM_ATTR_UV : 0) |
                   (b->any_color ? LM_ATTR_COLOR : 0);
     if (!b->all_normals)

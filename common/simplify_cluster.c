@@ -546,10 +546,10 @@ lm_status lm_simplify_cluster(const lm_mesh *in, uint32_t target_verts, lm_simpl
         fill_stats(&C, S.evals, stats);
     }
     ctx_free(&C);
-    if (s || lm_simplify_within((*out)->live_verts, target_verts))
+    if (s || lm_simplify_reached((*out)->live_verts, target_verts))
         return s;
     return lm_fail(LM_E_RANGE,
-                   "vertex clustering reached %u vertices at best (cell side %g), not within 5%% "
-                   "of the target %u",
+                   "vertex clustering reached %u vertices at best (cell side %g), above the "
+                   "target %u",
                    (*out)->live_verts, S.best_h, target_verts);
 }

@@ -284,13 +284,13 @@ lm_status lm_simplify_qem(const lm_mesh *in, uint32_t target_verts, lm_simplify_
     free(S.scratch);
     free(S.best);
     qem_input_free(&q);
-    if (s || lm_simplify_within((*out)->live_verts, target_verts))
+    if (s || lm_simplify_reached((*out)->live_verts, target_verts))
         return s;
     if (stuck)
         return lm_fail(LM_E_RANGE,
                        "QEM stopped at %u vertices (target %u): the topology (closed small parts, "
-                       "seams) allows no further edge collapses",
+                       "seams) allows no further edge collapses; --method cluster goes further",
                        (*out)->live_verts, target_verts);
-    return lm_fail(LM_E_RANGE, "QEM reached %u vertices, not within 5%% of the target %u",
+    return lm_fail(LM_E_RANGE, "QEM reached %u vertices at best, above the target %u",
                    (*out)->live_verts, target_verts);
 }
