@@ -104,14 +104,18 @@ lm_status lm_simplify_build_from_tris(const lm_mesh *in, const lm_tri *tris, siz
         s = lm_simplify_copy_materials(in, m);
     }
     if (!s)
+        s = lm_mesh_copy_parts(in, m);
+    if (!s)
         s = add_used(in, vmap, wmap, m);
     for (size_t t = 0; t < n && !s; t++) {
         if (repeats_vertex(in, &tris[t])) {
             drop++;
             continue;
         }
-        uint32_t w[3] = {wmap[tris[t].w[0]], wmap[tris[t].w[1]], wmap[tris[t].w[2]]};
-        s = lm_mesh_add_tri(m, w, tris[t].material, NULL);
+        uint32_t w[3] = {wmap[tris[t].w[0]], wmap[tris[t].w[1]], wmap[tris[t].w[2]]}, id = 0;
+        s = lm_mesh_add_tri(m, w, tris[t].material, &id);
+        if (!s)
+            m->tris[id].part = tris[t].part;
     }
     free(vmap);
     free(wmap);

@@ -418,9 +418,12 @@ static lm_status emit_mesh(const cluster_ctx *C, const double *acc, const wedge_
         lm_wedge w = mean_wedge(W, id, cell_out[W->cell[id]]);
         s = lm_mesh_add_wedge(m, &w, NULL);
     }
-    for (uint32_t t = 0; t < in->n_tris && !s; t++)
-        if (C->keep[t])
-            s = lm_mesh_add_tri(m, &W->tri_w[3 * (size_t)t], in->tris[t].material, NULL);
+    for (uint32_t t = 0; t < in->n_tris && !s; t++) {
+        uint32_t id = 0;
+        if (C->keep[t] &&
+            !(s = lm_mesh_add_tri(m, &W->tri_w[3 * (size_t)t], in->tris[t].material, &id)))
+            m->tris[id].part = in->tris[t].part;
+    }
     free(cell_out);
     return s;
 }
@@ -441,6 +444,8 @@ static lm_status build_output(const cluster_ctx *C, lm_mesh **out)
         accumulate_cells(C, acc);
         s = lm_simplify_copy_materials(C->in, m);
     }
+    if (!s)
+        s = lm_mesh_copy_parts(C->in, m);
     if (!s)
         s = emit_mesh(C, acc, &W, m);
     if (acc)

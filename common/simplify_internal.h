@@ -39,8 +39,9 @@ int lm_simplify_within(uint32_t live, uint32_t target);
 int lm_simplify_reached(uint32_t live, uint32_t target);
 /* Copy every material of src into dst (textures cloned). */
 lm_status lm_simplify_copy_materials(const lm_mesh *src, lm_mesh *dst);
-/* Build a compact mesh from `n` triangles given as input wedge ids (w[3], material) of `in`: only
- * the vertices and wedges they use are kept (ascending input order), every material is kept.
+/* Build a compact mesh from `n` triangles given as input wedge ids (w[3], material, part) of `in`:
+ * only the vertices and wedges they use are kept (ascending input order), every material and part
+ * is kept.
  * Triangles that repeat a vertex are dropped (counted in *dropped, may be NULL). Adjacency built.
  */
 lm_status lm_simplify_build_from_tris(const lm_mesh *in, const lm_tri *tris, size_t n,
