@@ -244,6 +244,23 @@ lm_status lm_mesh_copy_parts(const lm_mesh *src, lm_mesh *dst)
     return LM_OK;
 }
 
+uint32_t lm_mesh_count_parts(const lm_mesh *m)
+{
+    if (m->n_parts == 0)
+        return m->live_tris ? 1 : 0;
+    uint8_t *used = calloc(m->n_parts, 1);
+    if (!used)
+        return 0;
+    uint32_t n = 0;
+    for (uint32_t t = 0; t < m->n_tris; t++)
+        if (m->tri_alive[t] && m->tris[t].part < m->n_parts && !used[m->tris[t].part]) {
+            used[m->tris[t].part] = 1;
+            n++;
+        }
+    free(used);
+    return n;
+}
+
 const char *lm_mesh_part_name(const lm_mesh *m, uint32_t t)
 {
     uint32_t p = m->tris[t].part;

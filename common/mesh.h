@@ -102,6 +102,8 @@ lm_status lm_mesh_add_part(lm_mesh *m, const char *name, uint32_t *out_id);
 uint32_t lm_mesh_find_part(const lm_mesh *m, const char *name);
 /* Copies every part of src into dst (dst has none yet), ids unchanged. */
 lm_status lm_mesh_copy_parts(const lm_mesh *src, lm_mesh *dst);
+/* Parts that hold at least one live triangle (1 for a mesh with triangles and no part table). */
+uint32_t lm_mesh_count_parts(const lm_mesh *m);
 /* Name of triangle t's part ("" when unnamed or the mesh has no parts). */
 const char *lm_mesh_part_name(const lm_mesh *m, uint32_t t);
 

@@ -140,6 +140,8 @@ static lm_status resolve_options(co_job *j, const co_job_options *in)
     lm_status st = check_output_path(o->output_path);
     if (st == LM_OK && j->checkpoint_path)
         st = check_writable("checkpoint", j->checkpoint_path);
+    if (st == LM_OK && o->initial_output_path)
+        st = check_writable("initial mesh", o->initial_output_path);
     return st;
 }
 
@@ -314,6 +316,8 @@ static lm_status make_optimizer(co_job *j)
     lm_status st = make_coarse(j, &coarse);
     if (st == LM_OK)
         st = prepare_coarse(j, coarse);
+    if (st == LM_OK && j->o.initial_output_path)
+        st = lm_mesh_save(j->o.initial_output_path, coarse);
     /* The coarse mesh's material ids index its own materials (an --initial file has its own). */
     if (st == LM_OK)
         st = wk_views_local_set_materials(j->views, coarse->materials, coarse->n_materials);
@@ -343,6 +347,14 @@ static void write_checkpoint(co_job *j, const co_progress *p)
         note(j, "warning", "checkpoint not written: %s", lm_last_error());
     else if (j->rep.style == CO_REPORT_JSON)
         note(j, "checkpoint", "%s at %" PRIu64 " evaluations", j->checkpoint_path, p->evals);
+}
+
+/* The reporter, and the caller's progress hook. */
+static void progress(co_job *j, const co_progress *p, double t, int force)
+{
+    co_reporter_update(&j->rep, p, t, force);
+    if (j->o.on_progress)
+        j->o.on_progress(j->o.progress_ctx, p, t);
 }
 
 /* Why the loop stops now, or NULL to go on. */
@@ -378,7 +390,7 @@ static lm_status run_loop(co_job *j, const char **reason)
     uint64_t ck_evals = p.evals;
     double ck_s = 0.0, t = 0.0;
     int idle = 0;
-    co_reporter_update(&j->rep, &p, 0.0, 1);
+    progress(j, &p, 0.0, 1);
     while (!(*reason = stop_reason(j, &p, t, idle))) {
         uint64_t before = p.evals, before_it = p.iterations;
         uint64_t target = p.evals + step_chunk(p.evals - evals0, t);
@@ -388,7 +400,7 @@ static lm_status run_loop(co_job *j, const char **reason)
         co_optimizer_progress(j->opt, &p);
         idle = p.evals == before ? idle + 1 : 0;
         t = seconds_since(&j->t0) - j->loop_start_s;
-        co_reporter_update(&j->rep, &p, t, 0);
+        progress(j, &p, t, 0);
         int due =
             (j->o.checkpoint_every_evals && p.evals - ck_evals >= j->o.checkpoint_every_evals) ||
             (j->o.checkpoint_every_s > 0 && t - ck_s >= j->o.checkpoint_every_s);
@@ -400,7 +412,7 @@ static lm_status run_loop(co_job *j, const char **reason)
     }
     if (j->checkpoint_path && p.evals != ck_evals)
         write_checkpoint(j, &p);
-    co_reporter_update(&j->rep, &p, t, 1);
+    progress(j, &p, t, 1);
     return LM_OK;
 }
 

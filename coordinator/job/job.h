@@ -41,6 +41,12 @@ typedef struct co_job_options {
     int json;                        /* NDJSON progress + summary on stdout */
     int quiet;                       /* no progress and no summary (callers that report) */
     const char *device_spec;         /* renderer device: "auto" (NULL), "host", "egl:N" */
+    const char *initial_output_path; /* write the coarse mesh the optimisation starts from (after
+                                        its preparation) here; NULL = not */
+    /* Called with the counters at the start, after every optimizer step and at the end (the
+       quality report's history); NULL = none. */
+    void (*on_progress)(void *ctx, const co_progress *p, double elapsed_s);
+    void *progress_ctx;
 } co_job_options;
 
 /* Parse an --attrs list ("pos,normal,uv,color"; "pos" alone = positions only) into LM_ATTR_* bits.
