@@ -46,8 +46,8 @@ if [ -z "$chrome" ]; then
   finish
   exit 1
 fi
-browse() { # browse ARGS... — headless Chromium on the page
-  timeout 120 "$chrome" --headless --no-sandbox --disable-gpu --hide-scrollbars --no-first-run \
+browse() { # browse ARGS... — headless Chromium on the page (without the sanitizer runs' preload)
+  timeout 120 env -u LD_PRELOAD -u ASAN_OPTIONS -u LSAN_OPTIONS -u UBSAN_OPTIONS "$chrome" --headless --no-sandbox --disable-gpu --hide-scrollbars --no-first-run \
     --user-data-dir="$tmp/chrome" --window-size=1280,2600 "$@" "file://$page" 2>>"$tmp/chrome.err"
 }
 checks=$((checks + 1))
