@@ -499,13 +499,14 @@ static lm_status instance_material(scene_build *b, unsigned index, uint32_t *out
 static lm_status face_parts(scene_build *b, instance *in)
 {
     const lm_scene_source *src = b->src;
-    uint64_t end = 0;
+    uint64_t end = 0, faces = in->am->mNumFaces;
     for (uint32_t i = 0; i < src->n_face_parts; i++) {
-        if (src->face_parts[i].first != end)
+        const lm_face_part *r = &src->face_parts[i];
+        if (r->first != end || r->count > faces - end) /* runs in order, inside the mesh */
             return LM_OK;
-        end += src->face_parts[i].count;
+        end += r->count;
     }
-    if (b->instances != 1 || !src->n_face_parts || end != in->am->mNumFaces)
+    if (b->instances != 1 || !src->n_face_parts || end != faces)
         return LM_OK;
     in->face_part = malloc((size_t)in->am->mNumFaces * sizeof *in->face_part);
     if (!in->face_part)

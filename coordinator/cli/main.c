@@ -22,7 +22,8 @@ static const command commands[] = {
     {"render", co_cli_render, "write view images (and difference images) as PNG"},
     {"devices", co_cli_devices, "list rendering devices (EGL, USB accelerators)"},
     {"gen-frog", co_cli_gen_frog, "generate the procedural frog-style demo model"},
-    {"demo", co_cli_demo, "generate, simplify and optimize the frog; write before/after images"},
+    {"demo", co_cli_demo,
+     "the frog generated, simplified, optimised; images and the quality report"},
     {"bench", co_cli_bench, "benchmarks (bench eval: ΔE evaluations per second)"},
 };
 

@@ -164,6 +164,35 @@ static void test_unnamed(void **state)
     lmt_rmdir(dir);
 }
 
+/* A PLY's part runs are used only when they cover its faces in order; others (a foreign file, a
+ * hostile count) leave the model one unnamed part. */
+static void test_ply_runs(void **state)
+{
+    (void)state;
+    char *dir = lmt_mkdtemp();
+    static const char *const second[] = {"1 1 second", "1 18446744073709551615 second",
+                                         "2 1 second"};
+    for (int i = 0; i < 3; i++) {
+        char path[1200];
+        snprintf(path, sizeof path, "%s/r%d.ply", dir, i);
+        FILE *fp = fopen(path, "w");
+        assert_non_null(fp);
+        fprintf(fp,
+                "ply\nformat ascii 1.0\ncomment lumesh part 0 1 first\ncomment lumesh part %s\n"
+                "element vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
+                "element face 2\nproperty list uchar int vertex_indices\nend_header\n"
+                "0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 1 2\n3 0 1 3\n",
+                second[i]);
+        fclose(fp);
+        lm_mesh *m = NULL;
+        assert_int_equal(lm_mesh_load(path, NULL, &m), LM_OK);
+        assert_string_equal(lm_mesh_part_name(m, 0), i == 0 ? "first" : "");
+        assert_string_equal(lm_mesh_part_name(m, 1), i == 0 ? "second" : "");
+        lm_mesh_destroy(m);
+    }
+    lmt_rmdir(dir);
+}
+
 /* FBX is read in a child process that hands the model back as GLB: node names survive, and two
  * nodes of one name (the cube "Куб1" under both parents) are one part. */
 static void test_fbx_names(void **state)
@@ -263,9 +292,13 @@ static void test_topology_keeps_parts(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_frog_parts),       cmocka_unit_test(test_spider_parts),
-        cmocka_unit_test(test_unnamed),          cmocka_unit_test(test_fbx_names),
-        cmocka_unit_test(test_simplified_parts), cmocka_unit_test(test_topology_keeps_parts),
+        cmocka_unit_test(test_frog_parts),
+        cmocka_unit_test(test_spider_parts),
+        cmocka_unit_test(test_unnamed),
+        cmocka_unit_test(test_ply_runs),
+        cmocka_unit_test(test_fbx_names),
+        cmocka_unit_test(test_simplified_parts),
+        cmocka_unit_test(test_topology_keeps_parts),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
