@@ -1043,9 +1043,11 @@ static lm_status split_append(lm_mesh *m, split_ctx *c)
         for (int k = 0; k < 3; k++)
             if (m->wedges[half.w[k]].vertex == c->a)
                 half.w[k] = c->wm[i];
-        uint32_t before = m->n_tris;
-        s = lm_mesh_add_tri(m, half.w, half.material, NULL);
+        uint32_t before = m->n_tris, id = LM_NONE;
+        s = lm_mesh_add_tri(m, half.w, half.material, &id);
         c->added_tris += m->n_tris - before;
+        if (id != LM_NONE && id < m->n_tris)
+            m->tris[id].part = half.part; /* the new half stays in its triangle's part */
         if (s)
             return s;
     }
@@ -1127,6 +1129,8 @@ static lm_status swap_check(const lm_mesh *m, uint32_t a, uint32_t b, uint32_t t
         return lm_fail(LM_E_ILLEGAL, "swap: (%u, %u) is an attribute seam", a, b);
     if (m->tris[t[0]].material != m->tris[t[1]].material)
         return lm_fail(LM_E_ILLEGAL, "swap: triangles on (%u, %u) have different materials", a, b);
+    if (m->tris[t[0]].part != m->tris[t[1]].part)
+        return lm_fail(LM_E_ILLEGAL, "swap: triangles on (%u, %u) are in different parts", a, b);
     uint32_t c = opposite(m, t[0], a, b), d = opposite(m, t[1], a, b);
     if (c == LM_NONE || d == LM_NONE || c == d || lm_mesh_edge_exists(m, c, d))
         return lm_fail(LM_E_ILLEGAL, "swap: (%u, %u) would create an existing edge", a, b);

@@ -39,6 +39,7 @@ int co_cli_optimize(int argc, char **argv);
 int co_cli_simplify(int argc, char **argv);
 int co_cli_energy(int argc, char **argv);
 int co_cli_compare(int argc, char **argv);
+int co_cli_report(int argc, char **argv);
 int co_cli_render(int argc, char **argv);
 int co_cli_devices(int argc, char **argv);
 int co_cli_gen_frog(int argc, char **argv);

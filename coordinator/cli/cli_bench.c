@@ -53,7 +53,9 @@ static void usage(FILE *f)
             "                         [--device D] [--seed S] [--workers N]\n"
             "Measures incremental ΔE evaluations per second for single-vertex moves (1-ring\n"
             "patches) on MODEL simplified by QEM to 1%% of its vertices, and a full re-render.\n"
-            "  --model FILE   default: the CGAL bunny of the test data (" BUNNY_REL ")\n"
+            "  --model FILE   default: the CGAL bunny of the test data (" BUNNY_REL "),\n"
+            "                 from LUMESH_TEST_DATA if set, else the current folder, the folders\n"
+            "                 above the program or the source tree it was built from\n"
             "  --views N      default %u, --size S default %d, --evals N default 5000\n"
             "  --device D     auto (default), egl:N or host;  --json  one JSON object\n"
             "  --workers N    through lumesh-worker processes: measured with 1, 2, 4, ... and N\n"
@@ -116,14 +118,15 @@ static int parse(int argc, char **argv, bench_args *a)
     return -1;
 }
 
-/* The bunny of the test data: $LUMESH_TEST_DATA, the current folder, or beside the build. */
+/* The bunny of the test data. LUMESH_TEST_DATA, when set, is the only place looked at; otherwise
+ * the current folder, the folders above the program (a build folder inside the source tree) and
+ * the source tree the program was built from. */
 static const char *default_model(char *buf, size_t cap)
 {
     const char *env = getenv("LUMESH_TEST_DATA");
     if (env && *env) {
         snprintf(buf, cap, "%s/cache/meshes/bunny00.off", env);
-        if (access(buf, R_OK) == 0)
-            return buf;
+        return access(buf, R_OK) == 0 ? buf : NULL;
     }
     if (access(BUNNY_REL, R_OK) == 0)
         return BUNNY_REL;
@@ -140,7 +143,23 @@ static const char *default_model(char *buf, size_t cap)
         if (access(buf, R_OK) == 0)
             return buf;
     }
-    return NULL;
+    snprintf(buf, cap, "%s/%s", LUMESH_SOURCE_DIR, BUNNY_REL);
+    return access(buf, R_OK) == 0 ? buf : NULL;
+}
+
+static int model_not_found(void)
+{
+    const char *env = getenv("LUMESH_TEST_DATA");
+    if (env && *env)
+        return co_cli_usage_error(CMD,
+                                  "LUMESH_TEST_DATA=%s has no cache/meshes/bunny00.off (the "
+                                  "bunny); run scripts/install-deps.sh or pass --model FILE",
+                                  env);
+    return co_cli_usage_error(CMD,
+                              "the bunny (" BUNNY_REL ") is not in the current folder, above the "
+                              "program or in %s; run scripts/install-deps.sh there, set "
+                              "LUMESH_TEST_DATA=DIR/tests/data or pass --model FILE",
+                              LUMESH_SOURCE_DIR);
 }
 
 /* Mean time of a full re-render (set_mesh) of every view, in ms. */
@@ -382,8 +401,7 @@ int co_cli_bench(int argc, char **argv)
     char buf[PATH_MAX + 64];
     const char *model = a.model ? a.model : default_model(buf, sizeof buf);
     if (!model)
-        return co_cli_usage_error(CMD, "the bunny (" BUNNY_REL ") was not found; run "
-                                       "scripts/install-deps.sh or pass --model FILE");
+        return model_not_found();
     bench_result r[BENCH_MAX_RUNS] = {0};
     lm_status st = run(&a, model, r);
     if (st != LM_OK)

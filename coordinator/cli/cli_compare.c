@@ -8,6 +8,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 
+#include "common/folders.h"
 #include "common/image.h"
 #include "common/mesh_io.h"
 #include "common/view.h"
@@ -36,7 +37,7 @@ static void usage(FILE *f)
         "format OpenImageIO writes): columns original | MODEL 1 | MODEL 2 ..., one row per\n"
         "view. Prints JSON: per model the image energy and the silhouette coverage (see\n"
         "lumesh energy --help), and where the close-up was taken.\n"
-        "  -o, --output IMAGE  the picture grid (written atomically)\n"
+        "  -o, --output IMAGE  the picture grid (written atomically; missing folders are made)\n"
         "  --views N           views around the original (default 4)\n"
         "  --heldout           the 24 held-out views instead\n"
         "  --size S            image side in pixels (default %d)\n"
@@ -144,6 +145,8 @@ static lm_status run(const compare_args *a, const lm_mesh *orig, const lm_mesh *
     if (st == LM_OK)
         st = co_compare_grid(orig, vs, a->device, models, a->n_models, a->closeup ? &crop : NULL,
                              &grid);
+    if (st == LM_OK)
+        st = lm_make_parent_folders(a->output);
     if (st == LM_OK)
         st = lm_image_write(a->output, grid);
     lm_image_destroy(grid);

@@ -1,17 +1,22 @@
-/* coordinator/cli/cli_optimize.c — `lumesh optimize`: flags → co_job_options → co_job_run. */
+/* coordinator/cli/cli_optimize.c — `lumesh optimize`: flags → co_job_options → co_job_run, and
+ * with --report DIR the quality report of the result (the coarse start saved beside it). */
 #include <getopt.h>
 #include <stdio.h>
 #include <string.h>
 
+#include "common/folders.h"
 #include "common/view.h"
 #include "coordinator/cli/cli_args.h"
 #include "coordinator/job/job.h"
+#include "coordinator/job/job_log.h"
+#include "coordinator/job/progress.h"
+#include "coordinator/quality/report.h"
 
 static const char co_optimize_help[] =
     "usage: lumesh optimize ORIGINAL -o OUT [--initial COARSE | --target-verts N] [--views 20]\n"
     "                       [--size 256] [--evals N] [--time SECONDS] [--seed S]\n"
     "                       [--checkpoint FILE [--checkpoint-every N|Ns]] [--resume FILE]\n"
-    "                       [--attrs pos,normal,uv,color] [--device D] [--json]\n"
+    "                       [--attrs pos,normal,uv,color] [--device D] [--json] [--report DIR]\n"
     "                       [--workers N] [--listen tcp://ADDR:PORT] [--renderer ID]\n"
     "\n"
     "Improve a coarse mesh so that its rendered images match the original's from many viewpoints\n"
@@ -58,6 +63,10 @@ static const char co_optimize_help[] =
     "                          renderers: workers of another one are refused with the reason\n"
     "  --json                  newline-delimited JSON progress records and a final summary on\n"
     "                          stdout instead of the human progress line on stderr\n"
+    "  --report DIR            then write the quality report into DIR (created): index.html,\n"
+    "                          a self-contained page comparing the result and its coarse start\n"
+    "                          (saved as DIR/initial.obj) with ORIGINAL on 24 held-out views\n"
+    "                          (see lumesh report --help)\n"
     "  -h, --help              this help\n"
     "\n"
     "SIGINT or SIGTERM end the run at the next step: the last checkpoint and the output are\n"
@@ -81,6 +90,7 @@ enum {
     OPT_WORKERS,
     OPT_LISTEN,
     OPT_RENDERER,
+    OPT_REPORT,
 };
 
 static const struct option co_optimize_opts[] = {
@@ -101,11 +111,18 @@ static const struct option co_optimize_opts[] = {
     {"workers", required_argument, NULL, OPT_WORKERS},
     {"listen", required_argument, NULL, OPT_LISTEN},
     {"renderer", required_argument, NULL, OPT_RENDERER},
+    {"report", required_argument, NULL, OPT_REPORT},
     {"help", no_argument, NULL, 'h'},
     {NULL, 0, NULL, 0},
 };
 
 static const char *co_cmd = "optimize";
+
+typedef struct optimize_args {
+    co_job_options o;
+    const char *report_dir;
+    char initial[4096]; /* DIR/initial.obj */
+} optimize_args;
 
 /* "5000" = every 5000 evaluations, "30s" = every 30 seconds. */
 static lm_status parse_every(const char *val, co_job_options *o)
@@ -185,8 +202,9 @@ static lm_status parse_value(int c, const char *val, co_job_options *o)
 }
 
 /* Returns 0 to go on, -1 after --help, or the exit code of a flag error. */
-static int parse_args(int argc, char **argv, co_job_options *o)
+static int parse_args(int argc, char **argv, optimize_args *a)
 {
+    co_job_options *o = &a->o;
     opterr = 0;
     int c;
     while ((c = getopt_long(argc, argv, ":o:h", co_optimize_opts, NULL)) != -1) {
@@ -200,6 +218,8 @@ static int parse_args(int argc, char **argv, co_job_options *o)
             return co_cli_bad_option(co_cmd, c, argv);
         if (c == OPT_JSON)
             o->json = 1;
+        else if (c == OPT_REPORT)
+            a->report_dir = optarg;
         else if (parse_value(c, optarg, o) != LM_OK)
             return 1;
     }
@@ -215,15 +235,57 @@ static int parse_args(int argc, char **argv, co_job_options *o)
     return 0;
 }
 
+/* The report of the finished job: its coarse start, its output, the log gathered while it ran. */
+static lm_status write_report(const optimize_args *a, const co_job_summary *s, co_run_log *log)
+{
+    co_job_log_finish(log, s);
+    co_report_options ro = {.original = a->o.original_path,
+                            .initial = a->initial,
+                            .optimized = a->o.output_path,
+                            .log = log,
+                            .device = a->o.device_spec,
+                            .size = a->o.size,
+                            .dir = a->report_dir};
+    char page[4096];
+    lm_status st = co_report_write(&ro, page, sizeof page);
+    if (st == LM_OK && a->o.json) {
+        fputs("{\"type\":\"report\",\"page\":", stdout);
+        co_json_string(stdout, page);
+        fputs("}\n", stdout);
+    } else if (st == LM_OK) {
+        printf("report: %s (open it in a browser)\n", page);
+    }
+    return st;
+}
+
+/* With --report: the folder made before any work, the coarse start saved there, the log kept. */
+static lm_status prepare_report(optimize_args *a, co_run_log *log)
+{
+    int n = snprintf(a->initial, sizeof a->initial, "%s/initial.obj", a->report_dir);
+    if (n < 0 || (size_t)n >= sizeof a->initial)
+        return lm_fail(LM_E_INVALID, "--report: folder name '%s' is too long", a->report_dir);
+    a->o.initial_output_path = a->initial;
+    a->o.on_progress = co_job_log_progress;
+    a->o.progress_ctx = log;
+    return lm_make_folders(a->report_dir);
+}
+
 int co_cli_optimize(int argc, char **argv)
 {
-    co_job_options o = {0};
-    int rc = parse_args(argc, argv, &o);
+    optimize_args a = {.o = {0}};
+    int rc = parse_args(argc, argv, &a);
     if (rc)
         return rc < 0 ? 0 : rc;
-    co_job_summary summary;
-    lm_status st = co_job_run(&o, &summary);
+    co_run_log log;
+    co_run_log_init(&log);
+    co_job_summary s;
+    lm_status st = a.report_dir ? prepare_report(&a, &log) : LM_OK;
+    if (st == LM_OK)
+        st = co_job_run(&a.o, &s);
+    if (st == LM_OK && a.report_dir)
+        st = write_report(&a, &s, &log);
+    co_run_log_free(&log);
     if (st != LM_OK)
         return co_cli_fail(co_cmd, st);
-    return strcmp(summary.stop_reason, "interrupted") ? 0 : 130;
+    return strcmp(s.stop_reason, "interrupted") ? 0 : 130;
 }

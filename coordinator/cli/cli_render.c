@@ -3,13 +3,12 @@
  * DIR/view_00.png ...; with --against, the views are framed by ORIGINAL and DIR also receives the
  * original's images (target_XX.png) and the amplified absolute luminance differences
  * (diff_XX.png, 4 x |Ŷ - Y| clamped to 255). */
-#include <errno.h>
 #include <getopt.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
 
+#include "common/folders.h"
 #include "common/image.h"
 #include "common/mesh_io.h"
 #include "common/view.h"
@@ -31,7 +30,7 @@ static void usage(FILE *f)
             "usage: lumesh render MODEL -o DIR [--views N] [--size S] [--against ORIGINAL]\n"
             "                     [--device D]\n"
             "Writes the view images of MODEL as DIR/view_00.png, view_01.png, ...\n"
-            "  -o, --output DIR      folder for the PNGs (created if missing)\n"
+            "  -o, --output DIR      folder for the PNGs (created with its parents)\n"
             "  --views N             views (default %u), --size S  image side (default %d)\n"
             "  --against ORIGINAL    frame the views by ORIGINAL and also write its images\n"
             "                        (target_XX.png) and luminance differences (diff_XX.png)\n"
@@ -86,16 +85,6 @@ static int parse(int argc, char **argv, render_args *a)
     if (!a->dir)
         return co_cli_usage_error(CMD, "missing -o DIR (see --help)");
     return -1;
-}
-
-static lm_status ensure_dir(const char *dir)
-{
-    if (mkdir(dir, 0777) != 0 && errno != EEXIST)
-        return lm_fail(LM_E_IO, "cannot create folder %s: %s", dir, strerror(errno));
-    struct stat sb;
-    if (stat(dir, &sb) != 0 || !S_ISDIR(sb.st_mode))
-        return lm_fail(LM_E_IO, "%s is not a folder", dir);
-    return LM_OK;
 }
 
 /* Write the colour image of a view (GL rows are bottom first; files top first). */
@@ -181,7 +170,7 @@ int co_cli_render(int argc, char **argv)
     if (st == LM_OK)
         st = co_view_set_around(orig ? orig : model, a.views, (int)a.size, 0, &vs);
     if (st == LM_OK)
-        st = ensure_dir(a.dir);
+        st = lm_make_folders(a.dir);
     if (st == LM_OK)
         st = render_all(&a, orig ? orig : model, model, vs, buf);
     if (st == LM_OK)

@@ -13,6 +13,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "common/folders.h"
 #include "common/mesh.h"
 #include "common/mesh_io.h"
 #include "common/mesh_topology.h"
@@ -94,9 +95,14 @@ lm_status co_job_parse_attrs(const char *spec, uint32_t *out)
     return LM_OK;
 }
 
-/* Fail before any work when an output can never be written. */
+/* Fail before any work when an output can never be written; missing folders are made. */
 static lm_status check_writable(const char *what, const char *path)
 {
+    if (lm_make_parent_folders(path) != LM_OK) {
+        char why[512];
+        snprintf(why, sizeof why, "%s", lm_last_error());
+        return lm_fail(LM_E_IO, "cannot write %s '%s': %s", what, path, why);
+    }
     const char *slash = strrchr(path, '/');
     char dir[4096];
     if (!slash)
@@ -149,6 +155,8 @@ static lm_status resolve_options(co_job *j, const co_job_options *in)
     lm_status st = check_output_path(o->output_path);
     if (st == LM_OK && j->checkpoint_path)
         st = check_writable("checkpoint", j->checkpoint_path);
+    if (st == LM_OK && o->initial_output_path)
+        st = check_writable("initial mesh", o->initial_output_path);
     return st;
 }
 
@@ -353,7 +361,11 @@ static lm_status load_payload(void *ctx, FILE *fp)
 static lm_status make_coarse_mesh(co_job *j)
 {
     lm_status st = make_coarse(j, &j->coarse);
-    return st == LM_OK ? prepare_coarse(j, j->coarse) : st;
+    if (st == LM_OK)
+        st = prepare_coarse(j, j->coarse);
+    if (st == LM_OK && j->o.initial_output_path)
+        st = lm_mesh_save(j->o.initial_output_path, j->coarse);
+    return st;
 }
 
 static lm_status make_optimizer(co_job *j)
@@ -381,6 +393,14 @@ static void write_checkpoint(co_job *j, const co_progress *p)
         note(j, "warning", "checkpoint not written: %s", lm_last_error());
     else if (j->rep.style == CO_REPORT_JSON)
         note(j, "checkpoint", "%s at %" PRIu64 " evaluations", j->checkpoint_path, p->evals);
+}
+
+/* The reporter, and the caller's progress hook. */
+static void progress(co_job *j, const co_progress *p, double t, int force)
+{
+    co_reporter_update(&j->rep, p, t, force);
+    if (j->o.on_progress)
+        j->o.on_progress(j->o.progress_ctx, p, t);
 }
 
 /* Why the loop stops now, or NULL to go on. */
@@ -418,7 +438,7 @@ static lm_status run_loop(co_job *j, const char **reason)
     uint64_t ck_evals = p.evals;
     double ck_s = 0.0, t = 0.0;
     int idle = 0;
-    co_reporter_update(&j->rep, &p, 0.0, 1);
+    progress(j, &p, 0.0, 1);
     while (!(*reason = stop_reason(j, &p, t, idle))) {
         uint64_t before = p.evals, before_it = p.iterations;
         uint64_t target = p.evals + step_chunk(p.evals - evals0, t);
@@ -428,7 +448,7 @@ static lm_status run_loop(co_job *j, const char **reason)
         co_optimizer_progress(j->opt, &p);
         idle = p.evals == before ? idle + 1 : 0;
         t = seconds_since(&j->t0) - j->loop_start_s;
-        co_reporter_update(&j->rep, &p, t, 0);
+        progress(j, &p, t, 0);
         int due =
             (j->o.checkpoint_every_evals && p.evals - ck_evals >= j->o.checkpoint_every_evals) ||
             (j->o.checkpoint_every_s > 0 && t - ck_s >= j->o.checkpoint_every_s);
@@ -440,7 +460,7 @@ static lm_status run_loop(co_job *j, const char **reason)
     }
     if (j->checkpoint_path && p.evals != ck_evals)
         write_checkpoint(j, &p);
-    co_reporter_update(&j->rep, &p, t, 1);
+    progress(j, &p, t, 1);
     return LM_OK;
 }
 

@@ -48,6 +48,12 @@ typedef struct co_job_options {
                              listen), CO_JOB_IN_PROCESS = render in this process */
     const char *listen;   /* also take workers that connect here ("tcp://ADDR:PORT") */
     const char *renderer; /* accept only workers of this renderer id; NULL = the first one's */
+    const char *initial_output_path; /* write the coarse mesh the optimisation starts from (after
+                                        its preparation) here; NULL = not */
+    /* Called with the counters at the start, after every optimizer step and at the end (the
+       quality report's history); NULL = none. */
+    void (*on_progress)(void *ctx, const co_progress *p, double elapsed_s);
+    void *progress_ctx;
 } co_job_options;
 
 /* The number of local workers `workers` means (0 = one per core; none with listen). */
