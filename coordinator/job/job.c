@@ -145,6 +145,11 @@ static lm_status resolve_options(co_job *j, const co_job_options *in)
         o->max_evals = CO_JOB_DEFAULT_EVALS;
     if (!o->seed)
         o->seed = 1;
+    if (!o->edges_in_flight)
+        o->edges_in_flight = CO_JOB_DEFAULT_IN_FLIGHT;
+    if (o->edges_in_flight > CO_MAX_EDGES_IN_FLIGHT)
+        return lm_fail(LM_E_RANGE, "--edges-in-flight %" PRIu32 " is above %u", o->edges_in_flight,
+                       CO_MAX_EDGES_IN_FLIGHT);
     if (!(o->time_limit_s >= 0) || !(o->checkpoint_every_s >= 0))
         return lm_fail(LM_E_RANGE, "time limits must be positive numbers");
     if (!o->checkpoint_every_s && !o->checkpoint_every_evals)
@@ -370,7 +375,8 @@ static lm_status make_coarse_mesh(co_job *j)
 
 static lm_status make_optimizer(co_job *j)
 {
-    co_params params = {.seed = j->o.seed, .attrs = j->attrs};
+    co_params params = {
+        .seed = j->o.seed, .attrs = j->attrs, .edges_in_flight = j->o.edges_in_flight};
     lm_mesh *coarse = j->coarse;
     j->coarse = NULL; /* the optimizer owns it from here on, even when its creation fails */
     lm_status st = co_optimizer_create(coarse, j->views, &params, &j->opt);

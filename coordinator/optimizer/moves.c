@@ -139,6 +139,16 @@ size_t co_moves_mark(const co_moves *mv)
     return lm_journal_mark(mv->j);
 }
 
+void co_moves_rollback(co_moves *mv, size_t mark)
+{
+    lm_journal_rollback(mv->m, mv->j, mark);
+}
+
+uint64_t *co_moves_clock_ptr(co_moves *mv)
+{
+    return mv->clock;
+}
+
 void co_moves_forget(co_moves *mv)
 {
     lm_journal_clear(mv->j);
