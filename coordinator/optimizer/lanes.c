@@ -11,7 +11,7 @@
 #include "coordinator/optimizer/edge.h"
 #include "coordinator/optimizer/lane_views.h"
 
-#define GROUP_RINGS 3 /* edges whose vertices lie within this many rings of each other wait */
+#define GROUP_RINGS 2 /* edges whose vertices lie within this many rings of each other wait */
 
 enum { CMD_NONE, CMD_RUN, CMD_QUIT };
 enum { LANE_IDLE, LANE_RUNNING, LANE_WAITING, LANE_DONE };

@@ -278,6 +278,7 @@ static lm_status next_edges(co_optimizer *opt)
     lm_status st;
     if (opt->lanes) {
         n = co_lanes_group(opt->lanes, e, it->n_plan - it->pos);
+        lm_debug("edges in flight: a group of %u", n);
         st = co_lanes_run(opt->lanes, e, n, totals);
     } else {
         co_edge_ctx c = {.o = opt, .mesh = opt->mesh, .mv = opt->mv};
