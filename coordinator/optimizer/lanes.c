@@ -11,7 +11,8 @@
 #include "coordinator/optimizer/edge.h"
 #include "coordinator/optimizer/lane_views.h"
 
-#define GROUP_RINGS 2 /* edges whose vertices lie within this many rings of each other wait */
+#define GROUP_RINGS 2  /* edges whose vertices lie within this many rings of each other wait */
+#define GROUP_WINDOW 4 /* a group is chosen among the next GROUP_WINDOW x K planned edges */
 
 enum { CMD_NONE, CMD_RUN, CMD_QUIT };
 enum { LANE_IDLE, LANE_RUNNING, LANE_WAITING, LANE_DONE };
@@ -293,7 +294,13 @@ static int meets(co_lanes *l, uint32_t a, uint32_t b, uint32_t tag, uint32_t bas
     return 0;
 }
 
-uint32_t co_lanes_group(co_lanes *l, const co_planned_edge *plan, uint32_t n)
+/* 1 when planned edge e can no longer be optimised (a vertex gone): it goes in any group. */
+static int gone(const lm_mesh *m, const co_planned_edge *e)
+{
+    return e->a >= m->n_verts || e->b >= m->n_verts || !m->vert_alive[e->a] || !m->vert_alive[e->b];
+}
+
+uint32_t co_lanes_group(co_lanes *l, co_planned_edge *plan, uint32_t n)
 {
     const lm_mesh *m = l->o->mesh;
     if (!reserve_stamps(l, m->n_verts + 1))
@@ -302,14 +309,15 @@ uint32_t co_lanes_group(co_lanes *l, const co_planned_edge *plan, uint32_t n)
         memset(l->stamp, 0, (size_t)l->cap_stamp * sizeof *l->stamp);
         l->epoch = 0;
     }
-    uint32_t base = l->epoch + 1, g = 0;
-    for (; g < n && g < l->k; g++) {
-        const co_planned_edge *e = &plan[g];
-        if (e->a >= m->n_verts || e->b >= m->n_verts || !m->vert_alive[e->a] ||
-            !m->vert_alive[e->b])
-            continue; /* gone: its lane finds no edge */
-        if (meets(l, e->a, e->b, base + g, base))
-            break;
+    uint32_t base = l->epoch + 1, g = 0, window = n < GROUP_WINDOW * l->k ? n : GROUP_WINDOW * l->k;
+    /* in plan order, every edge of the window that meets no member joins; members move to the
+     * front, the others keep their order behind them */
+    for (uint32_t i = 0; i < window && g < l->k; i++) {
+        if (!gone(m, &plan[i]) && meets(l, plan[i].a, plan[i].b, base + g, base))
+            continue;
+        co_planned_edge e = plan[i];
+        memmove(plan + g + 1, plan + g, (size_t)(i - g) * sizeof *plan);
+        plan[g++] = e;
     }
     l->epoch = base + l->k;
     return g ? g : 1;

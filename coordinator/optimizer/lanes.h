@@ -1,7 +1,8 @@
 /* coordinator/optimizer/lanes.h — several edges in flight at once (the optimizer's `edges in
  * flight` parameter K > 1). Not for other folders.
  *
- * A group is a run of consecutive planned edges whose neighbourhoods (three rings) do not meet.
+ * A group is a set of planned edges, taken in plan order from the next few, whose neighbourhoods
+ * (two rings) do not meet.
  * Each edge of a group is optimised in a lane: a thread with its own copy of the mesh and its own
  * move workspace, whose views are co_lane_views (lane_views.h). Lanes run one at a time, handing a
  * baton in a fixed order: all run until they wait for an evaluation, their requests go to the real
@@ -29,9 +30,10 @@ typedef struct co_lanes co_lanes;
 lm_status co_lanes_create(co_optimizer *o, uint32_t k, co_lanes **out);
 void co_lanes_destroy(co_lanes *l);
 
-/* How many of plan[0..n) go in flight together: the longest prefix (at most k) whose
- * neighbourhoods do not meet (at least 1). */
-uint32_t co_lanes_group(co_lanes *l, const co_planned_edge *plan, uint32_t n);
+/* The next group of plan[0..n): up to k planned edges, taken in plan order from the next few
+ * (GROUP_WINDOW x k) whose neighbourhoods do not meet, moved to the front of plan (the others keep
+ * their order after them). Returns their count (at least 1). */
+uint32_t co_lanes_group(co_lanes *l, co_planned_edge *plan, uint32_t n);
 
 /* Optimise plan[0..n) (a group) and merge; totals[i] the ΔE edge i's lane committed (0 when its
  * changes were rolled back at the merge). */

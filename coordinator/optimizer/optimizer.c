@@ -272,7 +272,7 @@ static void edge_done(co_iteration *it, const co_planned_edge *e, int64_t total)
 static lm_status next_edges(co_optimizer *opt)
 {
     co_iteration *it = &opt->it;
-    const co_planned_edge *e = &it->plan[it->pos];
+    co_planned_edge *e = &it->plan[it->pos];
     int64_t totals[CO_MAX_EDGES_IN_FLIGHT];
     uint32_t n = 1;
     lm_status st;
