@@ -193,6 +193,9 @@ typedef struct eval_ctx {
     uint32_t n;
     int64_t *delta;
     uint32_t *lo, *hi; /* slice of worker i */
+    size_t packed;     /* bytes of the message in r->pack (0 = none) */
+    uint32_t packed_lo, packed_hi;
+    uint64_t packed_req;
 } eval_ctx;
 
 /* Every worker of the layout, with its slice of the batch (replicas of a range share it). */
@@ -221,25 +224,33 @@ static lm_status plan_evaluate(round *rd)
     return LM_OK;
 }
 
+/* Worker i's slice, packed once for every worker that has the same one (every worker when no
+ * range has replicas). */
 static lm_status send_evaluate(round *rd, uint32_t i, uint64_t req)
 {
     co_remote *r = rd->r;
     eval_ctx *e = rd->ctx;
     uint32_t lo = e->lo[i], n = e->hi[i] - lo;
-    Lumesh__Patch *p = lm_wire_arena_alloc(&r->arena, n * sizeof *p);
-    Lumesh__Patch **pp = lm_wire_arena_alloc(&r->arena, n * sizeof *pp);
-    lm_status st = p && pp ? LM_OK : lm_fail(LM_E_NOMEM, "out of memory encoding patches");
-    for (uint32_t k = 0; k < n && st == LM_OK; k++) {
-        st = lm_wire_patch_encode(&e->patches[lo + k], &r->arena, &p[k]);
-        pp[k] = &p[k];
+    lm_status st = LM_OK;
+    if (!e->packed || e->packed_lo != lo || e->packed_hi != e->hi[i] || e->packed_req != req) {
+        Lumesh__Patch *p = lm_wire_arena_alloc(&r->arena, n * sizeof *p);
+        Lumesh__Patch **pp = lm_wire_arena_alloc(&r->arena, n * sizeof *pp);
+        st = p && pp ? LM_OK : lm_fail(LM_E_NOMEM, "out of memory encoding patches");
+        for (uint32_t k = 0; k < n && st == LM_OK; k++) {
+            st = lm_wire_patch_encode(&e->patches[lo + k], &r->arena, &p[k]);
+            pp[k] = &p[k];
+        }
+        Lumesh__Evaluate m = LUMESH__EVALUATE__INIT;
+        m.n_patches = n;
+        m.patches = pp;
+        if (st == LM_OK)
+            st = co_remote_pack(r, req, r->seq, LUMESH__MSG__BODY_EVALUATE, &m, &e->packed);
+        lm_wire_arena_reset(&r->arena);
+        e->packed_lo = lo, e->packed_hi = e->hi[i], e->packed_req = req;
+        if (st != LM_OK)
+            e->packed = 0;
     }
-    Lumesh__Evaluate m = LUMESH__EVALUATE__INIT;
-    m.n_patches = n;
-    m.patches = pp;
-    if (st == LM_OK)
-        st = co_pool_send(r->pool, rd->ws[i], req, r->seq, LUMESH__MSG__BODY_EVALUATE, &m);
-    lm_wire_arena_reset(&r->arena);
-    return st;
+    return st == LM_OK ? co_pool_send_packed(r->pool, rd->ws[i], r->pack, e->packed) : st;
 }
 
 static lm_status take_deltas(round *rd, uint32_t i)
