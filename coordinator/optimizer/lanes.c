@@ -7,6 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "common/log.h"
 #include "common/mesh_topology.h"
 #include "coordinator/optimizer/edge.h"
 #include "coordinator/optimizer/lane_views.h"
@@ -26,6 +27,7 @@ typedef struct lane_record {
 
 struct co_lane {
     co_lanes *owner;
+    uint32_t index;
     pthread_t thread;
     int started;
     pthread_cond_t cv;
@@ -58,6 +60,7 @@ struct co_lanes {
     uint32_t cap_batch;
     uint32_t *stamp; /* per vertex: the group member whose neighbourhood holds it */
     uint32_t cap_stamp, epoch;
+    uint32_t base;   /* the current group's first tag: member i's is base + i */
     uint32_t *queue; /* breadth-first search */
     uint32_t cap_queue;
     lm_patch merged;
@@ -66,8 +69,11 @@ struct co_lanes {
 /* ---- the baton ------------------------------------------------------------------------------- */
 
 /* Scheduler side: let lane go on, and wait until it waits again or is done. */
+static void hand_veto(co_lanes *l, co_lane *lane);
+
 static void resume(co_lanes *l, co_lane *lane)
 {
+    hand_veto(l, lane);
     pthread_mutex_lock(&l->mu);
     lane->state = LANE_RUNNING;
     lane->posted = 0;
@@ -123,6 +129,7 @@ static void *lane_main(void *arg)
 /* Start lane on its edge (from the scheduler) and wait until it waits or is done. */
 static void start(co_lanes *l, co_lane *lane)
 {
+    hand_veto(l, lane);
     pthread_mutex_lock(&l->mu);
     lane->cmd = CMD_RUN;
     lane->state = LANE_RUNNING;
@@ -132,12 +139,61 @@ static void start(co_lanes *l, co_lane *lane)
     pthread_mutex_unlock(&l->mu);
 }
 
+/* ---- keeping lanes apart ----------------------------------------------------------------------
+ */
+
+static uint32_t tag_of(const co_lane *lane)
+{
+    return lane->owner->base + lane->index;
+}
+
+/* Vertex v is another member's: within its neighbourhood or its collapses. */
+static int others(const co_lane *lane, uint32_t v)
+{
+    const co_lanes *l = lane->owner;
+    return v < l->cap_stamp && l->stamp[v] >= l->base && l->stamp[v] != tag_of(lane);
+}
+
+/* The collapse search of a lane leaves the other members' vertices alone. */
+static int lane_veto(void *ctx, uint32_t a, uint32_t b)
+{
+    const co_lane *lane = ctx;
+    return others(lane, a) || others(lane, b);
+}
+
+/* A collapse the lane accepted: its vertices and the ring around them become the lane's (where no
+ * other member holds them), so that no other lane collapses there too. */
+static void claim_collapse(co_lane *lane, uint32_t a, uint32_t b)
+{
+    co_lanes *l = lane->owner;
+    uint32_t nb[1024], v[2] = {a, b};
+    for (int i = 0; i < 2; i++) {
+        if (v[i] >= lane->mesh->n_verts || !lane->mesh->vert_alive[v[i]])
+            continue;
+        uint32_t n = lm_mesh_vertex_neighbors(lane->mesh, v[i], nb, 1024);
+        for (uint32_t k = 0; k <= n && k <= 1024; k++) {
+            uint32_t x = k < n && k < 1024 ? nb[k] : v[i];
+            if (x < l->cap_stamp && l->stamp[x] < l->base)
+                l->stamp[x] = tag_of(lane);
+        }
+    }
+}
+
+/* The lane about to run gets the collapse search's veto. */
+static void hand_veto(co_lanes *l, co_lane *lane)
+{
+    l->o->tp.veto = lane_veto;
+    l->o->tp.veto_ctx = lane;
+}
+
 /* ---- records (the lane's observer) ----------------------------------------------------------- */
 
 static void on_accepted(void *ctx, const co_move_record *r)
 {
     co_lane *lane = ctx;
     lane->views.pending = r->delta;
+    if (r->kind == CO_MOVE_COLLAPSE)
+        claim_collapse(lane, r->a, r->b);
     if (lane->n_recs == lane->cap_recs) {
         uint32_t cap = lane->cap_recs ? lane->cap_recs * 2 : 16;
         lane_record *p = realloc(lane->recs, cap * sizeof *p);
@@ -175,6 +231,7 @@ static void on_reverted(void *ctx, size_t mark)
 static lm_status lane_init(co_lanes *l, co_lane *lane)
 {
     lane->owner = l;
+    lane->index = (uint32_t)(lane - l->lanes);
     pthread_cond_init(&lane->cv, NULL);
     co_lane_views_init(&lane->views, lane, l->o->views);
     lm_status st = lm_mesh_create(&lane->mesh);
@@ -309,7 +366,8 @@ uint32_t co_lanes_group(co_lanes *l, co_planned_edge *plan, uint32_t n)
         memset(l->stamp, 0, (size_t)l->cap_stamp * sizeof *l->stamp);
         l->epoch = 0;
     }
-    uint32_t base = l->epoch + 1, g = 0, window = n < GROUP_WINDOW * l->k ? n : GROUP_WINDOW * l->k;
+    uint32_t base = l->base = l->epoch + 1, g = 0,
+             window = n < GROUP_WINDOW * l->k ? n : GROUP_WINDOW * l->k;
     /* in plan order, every edge of the window that meets no member joins; members move to the
      * front, the others keep their order behind them */
     for (uint32_t i = 0; i < window && g < l->k; i++) {
@@ -530,6 +588,11 @@ static lm_status merge(co_lanes *l, uint32_t n, int64_t *totals)
         int kept = 0;
         int64_t delta = 0;
         st = merge_lane(l, lane, first, &kept, &delta);
+        char kinds[64] = "";
+        for (uint32_t q = 0; q < lane->n_recs && q < 60; q++)
+            kinds[q] = "nstc"[lane->recs[q].r.kind], kinds[q + 1] = 0;
+        lm_debug("merge lane %u: %u operations (%s), lane dE %lld, %s dE %lld", i, lane->n_recs,
+                 kinds, (long long)lane->views.d_acc, kept ? "kept" : "dropped", (long long)delta);
         if (st == LM_OK && kept) {
             totals[i] = delta;
             o->prog.energy += delta;
@@ -550,6 +613,7 @@ lm_status co_lanes_run(co_lanes *l, const co_planned_edge *plan, uint32_t n, int
         start(l, &l->lanes[i]);
     if (st == LM_OK)
         st = run_rounds(l, n);
+    l->o->tp.veto = NULL;
     for (uint32_t i = 0; i < n && st == LM_OK; i++)
         if (l->lanes[i].st != LM_OK)
             st = lm_fail(l->lanes[i].st, "%s", l->lanes[i].msg);
