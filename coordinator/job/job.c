@@ -558,6 +558,7 @@ static lm_status job_stages(co_job *j, co_job_summary *summary)
     summary->resumed_from_evals = j->resumed_from_evals;
     snprintf(summary->renderer, sizeof summary->renderer, "%s", j->renderer);
     report_workers(j);
+    summary->workers = j->rep.n_workers;
     co_reporter_summary(&j->rep, summary);
     return LM_OK;
 }

@@ -52,6 +52,7 @@ typedef struct co_job_summary {
     const char *output_path;
     char renderer[128];
     uint64_t resumed_from_evals; /* evaluations done before this process started (0 = fresh) */
+    uint32_t workers;            /* worker processes that served the job (0 = in process) */
 } co_job_summary;
 
 /* The style for a stream: JSON if asked, TTY if `out` is a terminal, plain lines otherwise. */
