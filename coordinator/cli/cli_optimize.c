@@ -18,7 +18,7 @@ static const char co_optimize_help[] =
     "                       [--checkpoint FILE [--checkpoint-every N|Ns]] [--resume FILE]\n"
     "                       [--attrs pos,normal,uv,color] [--device D] [--json] [--report DIR]\n"
     "                       [--workers N] [--listen tcp://ADDR:PORT] [--renderer ID]\n"
-    "                       [--edges-in-flight K]\n"
+    "                       [--edges-in-flight K] [--keys DIR]\n"
     "\n"
     "Improve a coarse mesh so that its rendered images match the original's from many viewpoints\n"
     "(Lindstrom & Turk 2001): vertex positions and attributes by downhill simplex, connectivity "
@@ -63,6 +63,9 @@ static const char co_optimize_help[] =
     "                          work per round trip to the workers; default %u, the paper's\n"
     "                          order). Part of the job: it changes the output (a --resume must\n"
     "                          give the same K), the number of workers never does\n"
+    "  --keys DIR              CURVE keys (lumesh keygen): workers' connections encrypted and\n"
+    "                          authenticated, only keys in DIR/workers.allow admitted; needed to\n"
+    "                          --listen beyond this machine\n"
     "  --renderer ID           accept only workers of this renderer id (lumesh-worker --self-test\n"
     "                          prints it); default: the first worker's. A job never mixes\n"
     "                          renderers: workers of another one are refused with the reason\n"
@@ -97,6 +100,7 @@ enum {
     OPT_RENDERER,
     OPT_REPORT,
     OPT_IN_FLIGHT,
+    OPT_KEYS,
 };
 
 static const struct option co_optimize_opts[] = {
@@ -119,6 +123,7 @@ static const struct option co_optimize_opts[] = {
     {"renderer", required_argument, NULL, OPT_RENDERER},
     {"report", required_argument, NULL, OPT_REPORT},
     {"edges-in-flight", required_argument, NULL, OPT_IN_FLIGHT},
+    {"keys", required_argument, NULL, OPT_KEYS},
     {"help", no_argument, NULL, 'h'},
     {NULL, 0, NULL, 0},
 };
@@ -203,6 +208,9 @@ static lm_status parse_value(int c, const char *val, co_job_options *o)
         break;
     case OPT_RENDERER:
         o->renderer = val;
+        break;
+    case OPT_KEYS:
+        o->keys = val;
         break;
     case OPT_IN_FLIGHT:
         return co_arg_u32(co_cmd, "--edges-in-flight", val, 1, CO_MAX_EDGES_IN_FLIGHT,

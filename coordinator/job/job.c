@@ -298,6 +298,7 @@ static lm_status make_pool(co_job *j)
                           .local_workers = local,
                           .device = j->o.device_spec,
                           .renderer_id = j->o.renderer,
+                          .keys = j->o.keys,
                           .quiet = j->rep.style == CO_REPORT_QUIET};
     lm_status st = co_pool_create(&po, &j->pool);
     if (st == LM_OK && local)

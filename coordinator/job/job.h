@@ -49,6 +49,7 @@ typedef struct co_job_options {
                              listen), CO_JOB_IN_PROCESS = render in this process */
     const char *listen;   /* also take workers that connect here ("tcp://ADDR:PORT") */
     const char *renderer; /* accept only workers of this renderer id; NULL = the first one's */
+    const char *keys;     /* CURVE key folder for the workers' connections (proto/keys.h) */
     uint32_t
         edges_in_flight; /* edges optimised at once (co_params); 0 = CO_JOB_DEFAULT_IN_FLIGHT */
     const char *initial_output_path; /* write the coarse mesh the optimisation starts from (after

@@ -459,14 +459,15 @@ static lm_status run_rounds(co_lanes *l, uint32_t n)
     for (;;) {
         uint32_t waiting = 0;
         lm_status st = failed ? LM_OK : evaluate_round(l, n, &waiting);
-        if (st != LM_OK) {
+        lm_status answer = st == LM_E_POISON ? st : LM_OK; /* poison: the lanes' moves refused */
+        if (st != LM_OK && st != LM_E_POISON) {
             failed = st;
             snprintf(msg, sizeof msg, "%s", lm_last_error());
         }
         int any = 0;
         for (uint32_t i = 0; i < n; i++)
             if (l->lanes[i].state == LANE_WAITING) {
-                l->lanes[i].post_status = failed;
+                l->lanes[i].post_status = failed ? failed : answer;
                 resume(l, &l->lanes[i]);
                 any = 1;
             }
@@ -555,6 +556,12 @@ static lm_status merge_lane(co_lanes *l, co_lane *lane, int first, int *kept, in
         *delta = d_lane;
     } else {
         st = o->views->ops->evaluate(o->views, &l->merged, 1, delta);
+        if (st == LM_E_POISON) { /* the re-validation failed everywhere: not merged */
+            lm_clear_error();
+            co_moves_rollback(o->mv, mark);
+            *kept = 0;
+            return LM_OK;
+        }
         if (st != LM_OK)
             return st;
         co_moves_set_evals(o->mv, co_moves_evals(o->mv) + 1); /* the re-validation counts */

@@ -106,11 +106,33 @@ checks=$((checks + 1))
 checks=$((checks + 1))
 grep -q "worker 2 joined" "$tmp/cluster.err" || fail "the 128-bit llvmpipe worker was not taken: $(cat "$tmp/cluster.err")"
 
-# -- a long-lived worker serves two jobs in a row at the same address --
+# -- a long-lived worker serves two jobs in a row at the same address; its health query and the
+#    coordinator's status query tell how they stand --
 port=$(free_port)
-"$LUMESH_WORKER" --connect "tcp://127.0.0.1:$port" --device host 2>"$tmp/pool.err" &
+"$LUMESH_WORKER" --connect "tcp://127.0.0.1:$port" --device host \
+  --health-socket "ipc://$tmp/worker.health" 2>"$tmp/pool.err" &
 pool=$!
 pids+=("$pool")
+sleep 1
+checks=$((checks + 1))
+"$LUMESH_WORKER" --health "ipc://$tmp/worker.health" >"$tmp/health.json" &&
+  python3 -c 'import json,sys; d=json.load(open(sys.argv[1])); assert d["state"]=="waiting" and not d["welcomed"], d' "$tmp/health.json" ||
+  fail "health of a waiting worker: $(cat "$tmp/health.json")"
+checks=$((checks + 1))
+"$LUMESH_WORKER" --health "ipc://$tmp/worker.health" --ready >/dev/null && fail "a waiting worker said it is ready"
+"$LUMESH" optimize "$bunny" -o "$tmp/status.glb" "${job[@]}" --evals 6000 \
+  --listen "tcp://127.0.0.1:$port" 2>/dev/null &
+status_job=$!
+sleep 3
+checks=$((checks + 1))
+"$LUMESH" workers --connect "tcp://127.0.0.1:$port" --json >"$tmp/status.json" &&
+  python3 -c 'import json,sys; d=json.load(open(sys.argv[1])); ws=[w for w in d["workers"] if not w["lost"]]; assert len(ws)==1 and ws[0]["in_job"] and ws[0]["evals"]>0 and d["job_evals"]>0, d' "$tmp/status.json" ||
+  fail "status of a running pool: $(cat "$tmp/status.json")"
+checks=$((checks + 1))
+"$LUMESH_WORKER" --health "ipc://$tmp/worker.health" --ready >"$tmp/health.json" &&
+  grep -q '"state": "serving"' "$tmp/health.json" || fail "health of a serving worker: $(cat "$tmp/health.json")"
+wait "$status_job" || fail "the job the status was asked of"
+expect_fail_line "$LUMESH" workers --connect "tcp://127.0.0.1:$(free_port)"
 for n in 1 2; do
   "$LUMESH" optimize "$bunny" -o "$tmp/pool$n.glb" "${job[@]}" --listen "tcp://127.0.0.1:$port" \
     2>"$tmp/pool$n.coord" || fail "pool job $n: $(tail -1 "$tmp/pool$n.coord")"

@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
 # tests/integration/netns.sh — cluster mode between "hosts": the coordinator and two workers each
 # in a network namespace of its own, joined by veth pairs through a bridge in a third one, talking
-# TCP over those links only. The output equals the in-process run's, byte for byte. Needs root
-# (ip netns); skips with a message where the namespaces cannot be made.
+# CURVE-encrypted TCP over those links only. The output equals the in-process run's, byte for byte — also when one
+# worker's link goes down for a while mid-run (it is presumed dead, its views move to the other,
+# and it comes back when the link does). Needs root (ip netns); skips with a message where the
+# namespaces cannot be made.
 set -uo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 source "$here/lib.bash"
@@ -45,14 +47,15 @@ for n in "${ns[@]}"; do
 done
 
 job=(--evals 1500 --target-verts 300 --views 12 --size 96 --device host)
+"$LUMESH" keygen -o "$tmp/keys" >/dev/null || fail "keygen" # beyond loopback, keys are required
 "$LUMESH" optimize "$bunny" -o "$tmp/local.glb" "${job[@]}" --workers 0 2>/dev/null ||
   fail "in-process run"
 ip netns exec "${ns[0]}" "$LUMESH" optimize "$bunny" -o "$tmp/hosts.glb" "${job[@]}" \
-  --listen tcp://10.213.0.1:5870 2>"$tmp/coord.err" &
+  --listen tcp://10.213.0.1:5870 --keys "$tmp/keys" 2>"$tmp/coord.err" &
 coord=$!
 for w in 1 2; do
   ip netns exec "${ns[$w]}" "$LUMESH_WORKER" --connect tcp://10.213.0.1:5870 --device host --once \
-    2>"$tmp/w$w.err" &
+    --keys "$tmp/keys" 2>"$tmp/w$w.err" &
 done
 wait "$coord"
 rc=$?
@@ -63,4 +66,28 @@ cmp -s "$tmp/local.glb" "$tmp/hosts.glb" || fail "the output over the network di
 checks=$((checks + 1))
 [ "$(grep -c 'joined' "$tmp/coord.err")" = 2 ] || fail "not both workers joined: $(cat "$tmp/coord.err")"
 wait
+
+# The same with worker 1's link cut for 6 s in the middle of a longer run.
+long=(--evals 9000 --target-verts 300 --views 12 --size 96 --device host)
+"$LUMESH" optimize "$bunny" -o "$tmp/local9.glb" "${long[@]}" --workers 0 2>/dev/null ||
+  fail "in-process run, 9000"
+ip netns exec "${ns[0]}" "$LUMESH" optimize "$bunny" -o "$tmp/cut.glb" "${long[@]}" \
+  --listen tcp://10.213.0.1:5871 --keys "$tmp/keys" 2>"$tmp/cut.err" &
+coord=$!
+for w in 1 2; do
+  ip netns exec "${ns[$w]}" "$LUMESH_WORKER" --connect tcp://10.213.0.1:5871 --device host \
+    --keys "$tmp/keys" 2>"$tmp/cw$w.err" &
+done
+sleep 3
+ip -n "${ns[1]}" link set "v${tag}2" down
+sleep 6
+ip -n "${ns[1]}" link set "v${tag}2" up
+wait "$coord"
+rc=$?
+checks=$((checks + 1))
+[ "$rc" = 0 ] || fail "the coordinator with a cut link exited $rc: $(tail -3 "$tmp/cut.err")"
+checks=$((checks + 1))
+cmp -s "$tmp/local9.glb" "$tmp/cut.glb" || fail "the output with a cut link differs from in-process"
+checks=$((checks + 1))
+grep -q "presumed dead" "$tmp/cut.err" || fail "the cut worker was not presumed dead: $(cat "$tmp/cut.err")"
 finish
