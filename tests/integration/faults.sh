@@ -36,6 +36,12 @@ same() { # same NAME FILE
 }
 # seconds from $2 (epoch) to the first line of $1 matching $3
 detected() { awk -v t0="$2" -v pat="$3" '$0 ~ pat { printf "%.2f", $1 - t0; exit }' "$1"; }
+no_workers_after() { # local workers die with their coordinator, within seconds
+  checks=$((checks + 1))
+  sleep 2
+  ! pgrep -f "lumesh-worker --connect ipc://" >/dev/null ||
+    fail "local workers outlived $1: $(pgrep -af 'lumesh-worker --connect ipc://')"
+}
 worker() { # worker PORT LOG [ARGS...]: a long-lived cluster worker in the background
   local port=$1 log=$2
   shift 2
@@ -117,6 +123,17 @@ t_restart=$EPOCHREALTIME
   --resume "$tmp/ck" 2> >(stamp >"$tmp/resume.err") || fail "the resumed run failed: $(tail -2 "$tmp/resume.err")"
 same "coordinator SIGKILLed and resumed" 9 "$tmp/resume.glb"
 echo "faults.sh: workers back with a restarted coordinator after $(detected "$tmp/resume.err" "$t_restart" "worker 2 joined") s"
+
+# -- the coordinator killed between writing a checkpoint and renaming it: the one before stays --
+rm -f "$tmp/ck" "$tmp"/ck.tmp.*
+LUMESH_FAULT_RENAME="ck:2" "$LUMESH" optimize "$bunny" -o "$tmp/rename.glb" "${long[@]}" --workers 2 \
+  --checkpoint "$tmp/ck" --checkpoint-every 200 2>/dev/null
+checks=$((checks + 1))
+[ -s "$tmp/ck" ] && ls "$tmp"/ck.tmp.* >/dev/null 2>&1 || fail "no crash between a checkpoint's write and rename"
+no_workers_after "the coordinator's death"
+"$LUMESH" optimize "$bunny" -o "$tmp/rename.glb" "${long[@]}" --workers 2 --resume "$tmp/ck" \
+  2>"$tmp/rename.err" || fail "the resume after a crash before a rename: $(tail -2 "$tmp/rename.err")"
+same "killed between a checkpoint's write and rename, resumed" 9 "$tmp/rename.glb"
 
 # -- hostile frames at a coordinator's port, and workers without the right keys --
 "$LUMESH" keygen -o "$tmp/keys" >/dev/null
