@@ -19,7 +19,8 @@ ctest --test-dir "$dir" --output-on-failure -j2
 
 echo "== ASan+UBSan build and tests"
 dir=$(bash scripts/build.sh asan | tail -n 1)
-LD_PRELOAD="$dir/tests/libno_dlclose.so" ASAN_OPTIONS=detect_leaks=1:verify_asan_link_order=0 \
+LUMESH_TEST_LIGHT=1 LD_PRELOAD="$dir/tests/libno_dlclose.so" \
+  ASAN_OPTIONS=detect_leaks=1:verify_asan_link_order=0 \
   LSAN_OPTIONS="suppressions=$here/tests/lsan.supp:print_suppressions=0" \
   UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
   ctest --test-dir "$dir" --output-on-failure -j2
