@@ -347,6 +347,19 @@ static lm_status emit_part(lm_mesh *m, const part *p)
     return s;
 }
 
+/* Part i: its name, and its triangles (emitted from triangle t0 on) put in it. */
+static lm_status name_part(lm_mesh *m, int i, uint32_t t0)
+{
+    static const char *const names[LM_FROG_PARTS] = {
+        "body",     "hind_leg_left", "hind_leg_right", "front_leg_left", "front_leg_right",
+        "eye_left", "eye_right"};
+    uint32_t id;
+    lm_status s = lm_mesh_add_part(m, names[i], &id);
+    for (uint32_t t = t0; !s && t < m->n_tris; t++)
+        m->tris[t].part = id;
+    return s;
+}
+
 static lm_status add_skin(lm_mesh *m, uint64_t seed)
 {
     lm_image *tex;
@@ -378,8 +391,12 @@ lm_status lm_frog_generate(uint32_t target_tris, uint64_t seed, lm_mesh **out)
         m->attrs = LM_ATTR_NORMAL | LM_ATTR_UV;
         s = add_skin(m, seed);
     }
-    for (int i = 0; i < LM_FROG_PARTS && !s; i++)
+    for (int i = 0; i < LM_FROG_PARTS && !s; i++) {
+        uint32_t t0 = m->n_tris;
         s = emit_part(m, &parts[i]);
+        if (!s)
+            s = name_part(m, i, t0);
+    }
     free(prof);
     if (!s) {
         lm_mesh_compute_normals(m);

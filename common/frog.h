@@ -10,7 +10,9 @@
  * UVs follow the OpenGL/OBJ convention: (0,0) is the bottom-left of the image (image rows are
  * stored top to bottom, so v = 1 - (row + 0.5) / height).
  * Normals are smooth per vertex (lm_mesh_compute_normals); attrs = LM_ATTR_NORMAL | LM_ATTR_UV.
- * One material, "frog_skin", texture path "frog_skin.png". Adjacency is built. */
+ * One material, "frog_skin", texture path "frog_skin.png". Seven named parts: body,
+ * hind_leg_left, hind_leg_right, front_leg_left, front_leg_right, eye_left, eye_right. Adjacency is
+ * built. */
 #ifndef LM_COMMON_FROG_H
 #define LM_COMMON_FROG_H
 

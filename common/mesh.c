@@ -79,6 +79,7 @@ void lm_mesh_destroy(lm_mesh *m)
         lm_image_destroy(m->materials[i].texture);
     }
     free(m->materials);
+    free(m->parts);
     free(m->pos);
     free(m->vert_alive);
     free(m->wedges);
@@ -170,6 +171,7 @@ lm_status lm_mesh_add_tri(lm_mesh *m, const uint32_t w[3], uint32_t material, ui
     uint32_t id = m->n_tris++;
     memcpy(m->tris[id].w, w, sizeof m->tris[id].w);
     m->tris[id].material = material;
+    m->tris[id].part = 0;
     m->tri_alive[id] = 1;
     m->live_tris++;
     s = lm_mesh_adj_link_tri(m, id);
@@ -201,6 +203,68 @@ lm_status lm_mesh_add_material(lm_mesh *m, const char *name, const float diffuse
         *out_id = m->n_materials;
     m->n_materials++;
     return LM_OK;
+}
+
+lm_status lm_mesh_add_part(lm_mesh *m, const char *name, uint32_t *out_id)
+{
+    char cut[LM_PART_NAME_MAX];
+    snprintf(cut, sizeof cut, "%s", name ? name : "");
+    if (m->n_parts >= LM_MESH_MAX_TRIS)
+        return lm_fail(LM_E_RANGE, "more than %u parts", LM_MESH_MAX_TRIS);
+    lm_part *a = realloc(m->parts, (size_t)(m->n_parts + 1) * sizeof *a);
+    if (!a)
+        return lm_fail(LM_E_NOMEM, "out of memory adding a part");
+    m->parts = a;
+    memcpy(a[m->n_parts].name, cut, sizeof cut);
+    *out_id = m->n_parts++;
+    return LM_OK;
+}
+
+uint32_t lm_mesh_find_part(const lm_mesh *m, const char *name)
+{
+    char cut[LM_PART_NAME_MAX];
+    snprintf(cut, sizeof cut, "%s", name ? name : "");
+    for (uint32_t i = 0; i < m->n_parts; i++)
+        if (strcmp(m->parts[i].name, cut) == 0)
+            return i;
+    return LM_NONE;
+}
+
+lm_status lm_mesh_copy_parts(const lm_mesh *src, lm_mesh *dst)
+{
+    if (!src->n_parts)
+        return LM_OK;
+    lm_part *a = malloc((size_t)src->n_parts * sizeof *a);
+    if (!a)
+        return lm_fail(LM_E_NOMEM, "out of memory copying parts");
+    memcpy(a, src->parts, (size_t)src->n_parts * sizeof *a);
+    free(dst->parts);
+    dst->parts = a;
+    dst->n_parts = src->n_parts;
+    return LM_OK;
+}
+
+uint32_t lm_mesh_count_parts(const lm_mesh *m)
+{
+    if (m->n_parts == 0)
+        return m->live_tris ? 1 : 0;
+    uint8_t *used = calloc(m->n_parts, 1);
+    if (!used)
+        return 0;
+    uint32_t n = 0;
+    for (uint32_t t = 0; t < m->n_tris; t++)
+        if (m->tri_alive[t] && m->tris[t].part < m->n_parts && !used[m->tris[t].part]) {
+            used[m->tris[t].part] = 1;
+            n++;
+        }
+    free(used);
+    return n;
+}
+
+const char *lm_mesh_part_name(const lm_mesh *m, uint32_t t)
+{
+    uint32_t p = m->tris[t].part;
+    return p < m->n_parts ? m->parts[p].name : "";
 }
 
 /* ---- adjacency maintenance (used when adjacency has been built) --------------------------- */
@@ -293,6 +357,102 @@ static lm_status clone_materials(const lm_mesh *src, lm_mesh *dst)
     return LM_OK;
 }
 
+/* dst[0..n) := src[0..n), dst grown (realloc) to hold them. */
+static lm_status copy_into(void **dst, uint32_t *cap, const void *src, uint32_t n, size_t elem)
+{
+    if (n > *cap) {
+        void *p = realloc(*dst, (size_t)n * elem);
+        if (!p)
+            return lm_fail(LM_E_NOMEM, "out of memory copying a mesh");
+        *dst = p;
+        *cap = n;
+    }
+    if (n)
+        memcpy(*dst, src, (size_t)n * elem);
+    return LM_OK;
+}
+
+/* The flags arrays share the element arrays' capacities; grown alongside. */
+static lm_status copy_flags(uint8_t **dst, uint32_t cap, const uint8_t *src, uint32_t n)
+{
+    uint8_t *p = realloc(*dst, cap ? cap : 1);
+    if (!p)
+        return lm_fail(LM_E_NOMEM, "out of memory copying a mesh");
+    *dst = p;
+    if (n)
+        memcpy(p, src, n);
+    return LM_OK;
+}
+
+static lm_status copy_adjacency(lm_mesh *dst, const lm_mesh *src)
+{
+    const struct lm_mesh_internal *si = src->internal;
+    if (!si || !si->adjacency_built)
+        return LM_OK;
+    lm_status s = lm_mesh_adj_reserve(dst, src->n_verts);
+    for (uint32_t v = 0; v < dst->internal->cap_vtris && !s; v++) {
+        lm_u32vec *d = &dst->internal->vtris[v];
+        d->n = 0;
+        const lm_u32vec *from = v < si->cap_vtris && v < src->n_verts ? &si->vtris[v] : NULL;
+        for (uint32_t i = 0; from && i < from->n && !s; i++)
+            s = lm_u32vec_push(d, from->data[i]);
+    }
+    if (!s)
+        dst->internal->adjacency_built = 1;
+    return s;
+}
+
+/* Names and colours only: a copy for topology work has no use for textures. */
+static lm_status copy_material_names(lm_mesh *dst, const lm_mesh *src)
+{
+    if (dst->n_materials == src->n_materials)
+        return LM_OK;
+    for (uint32_t i = 0; i < dst->n_materials; i++) {
+        free(dst->materials[i].texture_path);
+        lm_image_destroy(dst->materials[i].texture);
+    }
+    dst->n_materials = 0;
+    lm_status s = LM_OK;
+    for (uint32_t i = 0; i < src->n_materials && !s; i++)
+        s = lm_mesh_add_material(dst, src->materials[i].name, src->materials[i].diffuse, NULL, NULL,
+                                 NULL);
+    return s;
+}
+
+lm_status lm_mesh_copy_geometry(lm_mesh *dst, const lm_mesh *src)
+{
+    lm_status s =
+        copy_into((void **)&dst->pos, &dst->cap_verts, src->pos, src->n_verts, sizeof *src->pos);
+    if (!s)
+        s = copy_flags(&dst->vert_alive, dst->cap_verts, src->vert_alive, src->n_verts);
+    if (!s)
+        s = copy_into((void **)&dst->wedges, &dst->cap_wedges, src->wedges, src->n_wedges,
+                      sizeof *src->wedges);
+    if (!s)
+        s = copy_flags(&dst->wedge_alive, dst->cap_wedges, src->wedge_alive, src->n_wedges);
+    if (!s)
+        s = copy_into((void **)&dst->tris, &dst->cap_tris, src->tris, src->n_tris,
+                      sizeof *src->tris);
+    if (!s)
+        s = copy_flags(&dst->tri_alive, dst->cap_tris, src->tri_alive, src->n_tris);
+    if (s)
+        return s;
+    dst->n_verts = src->n_verts;
+    dst->n_wedges = src->n_wedges;
+    dst->n_tris = src->n_tris;
+    dst->live_verts = src->live_verts;
+    dst->live_tris = src->live_tris;
+    dst->attrs = src->attrs;
+    s = copy_material_names(dst, src);
+    if (!s && dst->n_parts != src->n_parts) {
+        free(dst->parts);
+        dst->parts = NULL;
+        dst->n_parts = 0;
+        s = lm_mesh_copy_parts(src, dst);
+    }
+    return s ? s : copy_adjacency(dst, src);
+}
+
 static void *dup_array(const void *src, size_t bytes, lm_status *s)
 {
     if (!bytes)
@@ -325,6 +485,8 @@ lm_status lm_mesh_clone(const lm_mesh *src, lm_mesh **out)
     m->tri_alive = dup_array(src->tri_alive, src->n_tris, &s);
     if (!s)
         s = clone_materials(src, m);
+    if (!s)
+        s = lm_mesh_copy_parts(src, m);
     if (!s && src->internal && src->internal->adjacency_built)
         s = lm_mesh_build_adjacency(m);
     if (s) {
@@ -373,6 +535,8 @@ static lm_status validate_tris(const lm_mesh *m)
         if (m->n_materials ? m->tris[t].material >= m->n_materials : m->tris[t].material != 0)
             return lm_fail(LM_E_RANGE, "triangle %u refers to missing material %u", t,
                            m->tris[t].material);
+        if (m->n_parts ? m->tris[t].part >= m->n_parts : m->tris[t].part != 0)
+            return lm_fail(LM_E_RANGE, "triangle %u refers to missing part %u", t, m->tris[t].part);
     }
     return LM_OK;
 }

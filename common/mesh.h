@@ -8,7 +8,9 @@
  * (counter-clockwise), a material id. Ids are stable while the element is alive: deleting marks it
  * dead (alive = 0) and never moves other elements, so the renderer's buckets can index triangles by
  * id. Dead slots may be reused by later insertions (deterministically, LIFO free list).
- * lm_mesh_compact() renumbers for output.
+ * lm_mesh_compact() renumbers for output. Parts — the named pieces of a model (a node or group of
+ * the file, a leg of the frog) that asset pipelines address by name — are a table of names; each
+ * triangle names its part as it names its material, and every output format keeps them.
  *
  * Topology (adjacency, legal edge operations with undo) is in common/mesh_topology.h.
  * Ownership: lm_mesh_create/destroy; the mesh owns all arrays and materials' textures. */
@@ -42,7 +44,15 @@ typedef struct lm_wedge {
 typedef struct lm_tri {
     uint32_t w[3];     /* wedge ids, counter-clockwise seen from the front */
     uint32_t material; /* index into mesh->materials */
+    uint32_t part;     /* index into mesh->parts (0 when the mesh has none) */
 } lm_tri;
+
+#define LM_PART_NAME_MAX 128
+
+/* A named part of the model. Names are unique within a mesh; "" is the unnamed part. */
+typedef struct lm_part {
+    char name[LM_PART_NAME_MAX];
+} lm_part;
 
 typedef struct lm_material {
     char name[64];
@@ -64,7 +74,9 @@ typedef struct lm_mesh {
     uint8_t *tri_alive;             /* [n_tris] */
     uint32_t live_verts, live_tris; /* counts of alive elements */
     uint32_t n_materials;
-    lm_material *materials;            /* [n_materials]; at least one after loading */
+    lm_material *materials; /* [n_materials]; at least one after loading */
+    uint32_t n_parts;
+    lm_part *parts;                    /* [n_parts]; 0 parts = one unnamed part */
     uint32_t attrs;                    /* LM_ATTR_* the model really has (others hold defaults) */
     struct lm_mesh_internal *internal; /* adjacency and free lists; owned, may be NULL */
 } lm_mesh;
@@ -74,6 +86,11 @@ void lm_mesh_destroy(lm_mesh *m);
 /* Deep copy (textures shared by reference count is not done: textures are cloned). */
 lm_status lm_mesh_clone(const lm_mesh *src, lm_mesh **out);
 
+/* dst becomes a copy of src's geometry, attributes and adjacency, with its materials' names and
+ * colours but no textures (a working copy for topology and attribute changes; dst's memory is
+ * reused). Afterwards the same operations give the same ids and results on both. */
+lm_status lm_mesh_copy_geometry(lm_mesh *dst, const lm_mesh *src);
+
 /* Building. Ids returned through out (may be NULL). */
 lm_status lm_mesh_add_vertex(lm_mesh *m, const float p[3], uint32_t *out_id);
 lm_status lm_mesh_add_wedge(lm_mesh *m, const lm_wedge *w, uint32_t *out_id);
@@ -81,6 +98,19 @@ lm_status lm_mesh_add_tri(lm_mesh *m, const uint32_t w[3], uint32_t material, ui
 /* Adds a material; takes ownership of tex (may be NULL) and copies name/path. */
 lm_status lm_mesh_add_material(lm_mesh *m, const char *name, const float diffuse[4],
                                const char *texture_path, lm_image *tex, uint32_t *out_id);
+
+/* Adds a part named `name` (cut to LM_PART_NAME_MAX - 1 bytes; NULL = ""), its id in *out_id.
+ * Names must be unique: callers look first (lm_mesh_find_part). Triangles are put in a part by
+ * setting tris[t].part. */
+lm_status lm_mesh_add_part(lm_mesh *m, const char *name, uint32_t *out_id);
+/* Id of the part named `name` (cut as above), or LM_NONE. Linear in the number of parts. */
+uint32_t lm_mesh_find_part(const lm_mesh *m, const char *name);
+/* Copies every part of src into dst (dst has none yet), ids unchanged. */
+lm_status lm_mesh_copy_parts(const lm_mesh *src, lm_mesh *dst);
+/* Parts that hold at least one live triangle (1 for a mesh with triangles and no part table). */
+uint32_t lm_mesh_count_parts(const lm_mesh *m);
+/* Name of triangle t's part ("" when unnamed or the mesh has no parts). */
+const char *lm_mesh_part_name(const lm_mesh *m, uint32_t t);
 
 /* Vertex of corner k of triangle t. */
 static inline uint32_t lm_tri_vertex(const lm_mesh *m, uint32_t t, int k)

@@ -1,8 +1,9 @@
-/* common/mesh_io_glb.c — glTF 2.0 binary (GLB) writer: one mesh, one primitive per material that
- * has triangles (POSITION with min/max, NORMAL, TEXCOORD_0, COLOR_0 as the mesh has them; uint32
- * indices), pbrMetallicRoughness materials (baseColorFactor = diffuse, not metallic) whose
- * textures are embedded as PNG. glTF puts the UV origin at the image's top left, lumesh (like
- * OBJ and assimp) at the bottom left, so v is written as 1 - v. Written atomically. */
+/* common/mesh_io_glb.c — glTF 2.0 binary (GLB) writer: one node and one mesh per part, both with
+ * the part's name (none for the unnamed part), one primitive per material of the part (POSITION
+ * with min/max, NORMAL, TEXCOORD_0, COLOR_0 as the mesh has them; uint32 indices),
+ * pbrMetallicRoughness materials (baseColorFactor = diffuse, not metallic) whose textures are
+ * embedded as PNG. glTF puts the UV origin at the image's top left, lumesh (like OBJ and assimp) at
+ * the bottom left, so v is written as 1 - v. Written atomically. */
 #include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
@@ -68,8 +69,9 @@ static void b_align(bytes *b, uint8_t fill)
 
 typedef struct glb {
     const lm_mesh *m;
-    bytes bin, views, accessors, prims;
-    uint32_t n_views, n_accessors, n_prims;
+    const lm_out_groups *groups;
+    bytes bin, views, accessors, meshes, nodes;
+    uint32_t n_views, n_accessors, n_prims, n_meshes;
     uint32_t *local; /* [n_wedges] index in the current primitive, LM_NONE if absent */
     uint32_t *order; /* wedges of the current primitive */
     uint32_t *index; /* indices of the current primitive */
@@ -142,14 +144,13 @@ static void get_color(const lm_mesh *m, uint32_t w, float *out)
     memcpy(out, m->wedges[w].color, 4 * sizeof *out);
 }
 
-/* Primitive of material `mat`; nothing when it has no triangles. */
-static void add_primitive(glb *g, uint32_t mat)
+/* The primitive of one group (a part's triangles of one material). */
+static void add_primitive(glb *g, const lm_out_group *grp)
 {
     const lm_mesh *m = g->m;
-    uint32_t nv = 0, ni = 0;
-    for (uint32_t t = 0; t < m->n_tris; t++) {
-        if (!m->tri_alive[t] || m->tris[t].material != mat)
-            continue;
+    uint32_t nv = 0, ni = 0, mat = grp->material;
+    for (uint32_t i = grp->first; i < grp->first + grp->count; i++) {
+        uint32_t t = g->groups->tris[i];
         for (int k = 0; k < 3; k++) {
             uint32_t w = m->tris[t].w[k];
             if (g->local[w] == LM_NONE) {
@@ -159,38 +160,97 @@ static void add_primitive(glb *g, uint32_t mat)
             g->index[ni++] = g->local[w];
         }
     }
-    if (ni == 0)
-        return;
-    b_printf(&g->prims, "%s{\"attributes\":{\"POSITION\":%u", g->n_prims++ ? "," : "",
+    b_printf(&g->meshes, "%s{\"attributes\":{\"POSITION\":%u", g->n_prims++ ? "," : "",
              float_attr(g, nv, 3, "VEC3", get_pos, 1));
     if (m->attrs & LM_ATTR_NORMAL)
-        b_printf(&g->prims, ",\"NORMAL\":%u", float_attr(g, nv, 3, "VEC3", get_normal, 0));
+        b_printf(&g->meshes, ",\"NORMAL\":%u", float_attr(g, nv, 3, "VEC3", get_normal, 0));
     if (m->attrs & LM_ATTR_UV)
-        b_printf(&g->prims, ",\"TEXCOORD_0\":%u", float_attr(g, nv, 2, "VEC2", get_uv, 0));
+        b_printf(&g->meshes, ",\"TEXCOORD_0\":%u", float_attr(g, nv, 2, "VEC2", get_uv, 0));
     if (m->attrs & LM_ATTR_COLOR)
-        b_printf(&g->prims, ",\"COLOR_0\":%u", float_attr(g, nv, 4, "VEC4", get_color, 0));
+        b_printf(&g->meshes, ",\"COLOR_0\":%u", float_attr(g, nv, 4, "VEC4", get_color, 0));
     uint32_t view = add_view(g, g->index, (size_t)ni * sizeof *g->index, 34963);
-    b_printf(&g->prims, "},\"indices\":%u", add_accessor(g, view, 5125, ni, "SCALAR", NULL));
+    b_printf(&g->meshes, "},\"indices\":%u", add_accessor(g, view, 5125, ni, "SCALAR", NULL));
     if (m->n_materials)
-        b_printf(&g->prims, ",\"material\":%u", mat);
-    b_printf(&g->prims, ",\"mode\":4}");
+        b_printf(&g->meshes, ",\"material\":%u", mat);
+    b_printf(&g->meshes, ",\"mode\":4}");
     for (uint32_t i = 0; i < nv; i++)
         g->local[g->order[i]] = LM_NONE;
 }
 
+/* Length of the valid UTF-8 sequence at s (1..4), or 0 (RFC 3629: no over-long forms, no
+ * surrogates, nothing above U+10FFFF; names from FBX files may be Latin-1). */
+static int utf8_length(const unsigned char *s)
+{
+    unsigned c = s[0], lo = 0x80, hi = 0xbf;
+    int n = c < 0x80                 ? 1
+            : c >= 0xc2 && c <= 0xdf ? 2
+            : c >= 0xe0 && c <= 0xef ? 3
+            : c >= 0xf0 && c <= 0xf4 ? 4
+                                     : 0;
+    if (c == 0xe0)
+        lo = 0xa0;
+    else if (c == 0xed)
+        hi = 0x9f;
+    else if (c == 0xf0)
+        lo = 0x90;
+    else if (c == 0xf4)
+        hi = 0x8f;
+    for (int i = 1; i < n; i++)
+        if (s[i] < (i == 1 ? lo : 0x80) || s[i] > (i == 1 ? hi : 0xbf))
+            return 0;
+    return n;
+}
+
+/* A JSON string; bytes that are not UTF-8 become U+FFFD (a strict reader refuses them). */
 static void json_string(bytes *b, const char *s)
 {
     b_put(b, "\"", 1);
-    for (; *s; s++) {
-        unsigned char c = (unsigned char)*s;
-        if (c == '"' || c == '\\')
-            b_printf(b, "\\%c", c);
-        else if (c < 0x20)
-            b_printf(b, "\\u%04x", c);
+    for (const unsigned char *c = (const unsigned char *)s; *c;) {
+        int n = utf8_length(c);
+        if (*c == '"' || *c == '\\')
+            b_printf(b, "\\%c", *c);
+        else if (*c < 0x20)
+            b_printf(b, "\\u%04x", *c);
+        else if (n == 0)
+            b_printf(b, "\\ufffd");
         else
-            b_put(b, s, 1);
+            b_put(b, c, (size_t)n);
+        c += n ? n : 1;
     }
     b_put(b, "\"", 1);
+}
+
+/* One mesh and its node for the part of the groups [first, end), which share one part. */
+static void add_part(glb *g, uint32_t first, uint32_t end)
+{
+    uint32_t part = g->groups->groups[first].part;
+    const char *name = part < g->m->n_parts ? g->m->parts[part].name : "";
+    for (int k = 0; k < 2; k++) {
+        bytes *b = k ? &g->nodes : &g->meshes;
+        b_printf(b, "%s{", g->n_meshes ? "," : "");
+        if (name[0]) {
+            b_printf(b, "\"name\":");
+            json_string(b, name);
+            b_printf(b, ",");
+        }
+    }
+    b_printf(&g->nodes, "\"mesh\":%u}", g->n_meshes++);
+    b_printf(&g->meshes, "\"primitives\":[");
+    g->n_prims = 0;
+    for (uint32_t i = first; i < end; i++)
+        add_primitive(g, &g->groups->groups[i]);
+    b_printf(&g->meshes, "]}");
+}
+
+/* Every part: groups come part by part. */
+static void add_parts(glb *g)
+{
+    const lm_out_groups *gr = g->groups;
+    for (uint32_t i = 0, j; i < gr->n_groups; i = j) {
+        for (j = i; j < gr->n_groups && gr->groups[j].part == gr->groups[i].part; j++)
+            ;
+        add_part(g, i, j);
+    }
 }
 
 static void material_json(bytes *js, const lm_material *mat, uint32_t i, uint32_t tex)
@@ -251,10 +311,14 @@ static lm_status add_materials(glb *g, bytes *js)
 static void assemble_json(glb *g, bytes *js, const bytes *mats)
 {
     b_printf(js, "{\"asset\":{\"version\":\"2.0\",\"generator\":\"lumesh\"},\"scene\":0,"
-                 "\"scenes\":[{\"nodes\":[0]}],\"nodes\":[{\"mesh\":0}],"
-                 "\"meshes\":[{\"primitives\":[");
-    b_put(js, g->prims.d, g->prims.n);
-    b_printf(js, "]}]");
+                 "\"scenes\":[{\"nodes\":[");
+    for (uint32_t i = 0; i < g->n_meshes; i++)
+        b_printf(js, "%s%u", i ? "," : "", i);
+    b_printf(js, "]}],\"nodes\":[");
+    b_put(js, g->nodes.d, g->nodes.n);
+    b_printf(js, "],\"meshes\":[");
+    b_put(js, g->meshes.d, g->meshes.n);
+    b_printf(js, "]");
     b_put(js, mats->d, mats->n);
     b_printf(js, ",\"accessors\":[");
     b_put(js, g->accessors.d, g->accessors.n);
@@ -299,7 +363,8 @@ static void glb_free(glb *g)
     free(g->bin.d);
     free(g->views.d);
     free(g->accessors.d);
-    free(g->prims.d);
+    free(g->meshes.d);
+    free(g->nodes.d);
     free(g->local);
     free(g->order);
     free(g->index);
@@ -307,29 +372,32 @@ static void glb_free(glb *g)
 
 lm_status lm_io_save_glb(const char *path, const lm_mesh *m)
 {
-    glb g = {.m = m};
+    lm_out_groups groups;
+    lm_status s = lm_out_groups_build(m, &groups);
+    if (s)
+        return s;
+    glb g = {.m = m, .groups = &groups};
     bytes mats = {0}, js = {0};
     g.local = malloc(((size_t)m->n_wedges + 1) * sizeof *g.local);
     g.order = malloc(((size_t)m->n_wedges + 1) * sizeof *g.order);
     g.index = malloc(((size_t)m->n_tris * 3 + 1) * sizeof *g.index);
-    lm_status s = LM_OK;
     if (!g.local || !g.order || !g.index)
         s = lm_fail(LM_E_NOMEM, "out of memory writing %s", path);
     if (!s) {
         memset(g.local, 0xff, ((size_t)m->n_wedges + 1) * sizeof *g.local);
-        for (uint32_t mat = 0; mat < (m->n_materials ? m->n_materials : 1); mat++)
-            add_primitive(&g, mat);
+        add_parts(&g);
         s = add_materials(&g, &mats);
     }
     if (!s) {
         assemble_json(&g, &js, &mats);
-        if (g.bin.failed || g.views.failed || g.accessors.failed || g.prims.failed || mats.failed ||
-            js.failed)
+        if (g.bin.failed || g.views.failed || g.accessors.failed || g.meshes.failed ||
+            g.nodes.failed || mats.failed || js.failed)
             s = lm_fail(LM_E_NOMEM, "out of memory writing %s", path);
     }
     if (!s)
         s = write_container(path, &js, &g.bin);
     glb_free(&g);
+    lm_out_groups_free(&groups);
     free(mats.d);
     free(js.d);
     return s;

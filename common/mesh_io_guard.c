@@ -42,12 +42,14 @@ static lm_status guard_glb(const uint8_t *d, size_t size, const char *name)
     if (size < 12 || memcmp(d, "glTF", 4) != 0)
         return lm_fail(LM_E_FORMAT, "%s: not a GLB file (no glTF header)", name);
     uint32_t version = le32(d + 4), length = le32(d + 8);
-    if (length > size)
-        return lm_fail(LM_E_FORMAT, "%s: truncated GLB (header says %u bytes, file has %zu)", name,
-                       length, size);
+    if (version == 1)
+        return lm_io_gltf1_refusal(name, "a binary (KHR_binary_glTF)");
     if (version != 2)
         return lm_fail(LM_E_UNSUPPORTED, "%s: GLB version %u is not supported (2 is)", name,
                        version);
+    if (length > size)
+        return lm_fail(LM_E_FORMAT, "%s: truncated GLB (header says %u bytes, file has %zu)", name,
+                       length, size);
     uint64_t at = 12;
     for (int chunk = 0; at + 8 <= length; chunk++) {
         uint32_t clen = le32(d + at), ctype = le32(d + at + 4);

@@ -33,6 +33,8 @@ lm_status lm_io_guard_stl(const uint8_t *data, size_t size, const char *name, ui
 lm_status lm_io_guard_dae(const uint8_t *data, size_t size, const char *name);
 /* The JSON of a .gltf file or of a .glb's first chunk. */
 lm_status lm_io_guard_gltf_json(const uint8_t *json, size_t size, const char *name);
+/* LM_E_UNSUPPORTED: "NAME: WHAT glTF 1.0 file (...); lumesh reads glTF 2.0: convert it ...". */
+lm_status lm_io_gltf1_refusal(const char *name, const char *what);
 
 /* ---- mesh_io_isolate.c: readers run in a child process ------------------------------------ */
 
@@ -60,17 +62,27 @@ lm_status lm_io_read_file(const char *path, uint8_t **out, size_t *size);
 
 /* ---- mesh_io_scene.c / mesh_io_material.c: aiScene -> lm_mesh ------------------------------ */
 
+/* A run of faces of a single-mesh file (a PLY written by lumesh) that form one named part. */
+typedef struct lm_face_part {
+    uint64_t first, count;
+    char name[LM_PART_NAME_MAX];
+} lm_face_part;
+
 typedef struct lm_scene_source {
     const char *name; /* for messages */
     const char *dir;  /* folder for relative texture paths; NULL = do not open files */
     uint32_t max_tris;
     int keep_degenerate;
+    const lm_face_part *face_parts; /* parts by face index of the scene's only mesh, or NULL */
+    uint32_t n_face_parts;
 } lm_scene_source;
 
 /* Refuse scenes assimp's post-processing would crash on (run before it): faces without
  * indices, polygon flags without polygons, non-finite vertex data. */
 lm_status lm_io_check_scene(const struct aiScene *sc, const char *name);
-/* Convert the whole scene (node transforms applied) into a new mesh: not yet validated. */
+/* Convert the whole scene (node transforms applied) into a new mesh: not yet validated. Each node
+ * holding triangles is a part, named by the node (or, where the node's name is one assimp made
+ * up, by its mesh); nodes of one name make one part. */
 lm_status lm_mesh_from_scene(const struct aiScene *sc, const lm_scene_source *src, lm_mesh **out);
 /* Add scene material `index` to m (diffuse colour, decoded diffuse texture). */
 lm_status lm_io_add_material(lm_mesh *m, const struct aiScene *sc, unsigned index,
@@ -87,6 +99,30 @@ typedef struct lm_out_map {
 } lm_out_map;
 lm_status lm_out_map_build(const lm_mesh *m, lm_out_map *map);
 void lm_out_map_free(lm_out_map *map);
+
+/* Alive triangles grouped by part (in part-id order), then by material; ids ascending within a
+ * group. Every writer puts triangles in this order. */
+typedef struct lm_out_group {
+    uint32_t part, material;
+    uint32_t first, count; /* a range of lm_out_groups.tris */
+} lm_out_group;
+typedef struct lm_out_groups {
+    uint32_t *tris; /* [live triangles] */
+    lm_out_group *groups;
+    uint32_t n_groups;
+    int named; /* some part with triangles has a name: the writers name the parts */
+} lm_out_groups;
+lm_status lm_out_groups_build(const lm_mesh *m, lm_out_groups *g);
+void lm_out_groups_free(lm_out_groups *g);
+
+/* ---- mesh_io_ply_parts.c: the part names a PLY can carry -------------------------------------
+ * PLY has no groups: lumesh's writer puts the faces of each part together and names the runs in
+ * header comments, "comment lumesh part FIRST COUNT NAME", which other readers ignore. */
+
+/* The part runs named in a PLY header (malloc'ed into *out, *n of them; none: NULL, 0). */
+lm_status lm_io_ply_read_parts(const uint8_t *data, size_t size, lm_face_part **out, uint32_t *n);
+/* The header comment naming faces [first, first + count) part `name`. */
+void lm_io_ply_write_part(FILE *fp, uint64_t first, uint64_t count, const char *name);
 
 lm_status lm_io_save_obj(const char *path, const lm_mesh *m);
 lm_status lm_io_save_ply(const char *path, const lm_mesh *m);

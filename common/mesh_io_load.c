@@ -90,8 +90,16 @@ static lm_status load_bytes_here(const uint8_t *data, size_t size, const char *n
                            .dir = dir,
                            .max_tris = max_tris,
                            .keep_degenerate = opts ? opts->keep_degenerate : 0};
+    lm_face_part *parts = NULL;
+    char ext[16];
+    lm_io_path_ext(name, ext, sizeof ext);
+    if (!strcmp(ext, "ply"))
+        s = lm_io_ply_read_parts(data, size, &parts, &src.n_face_parts);
+    src.face_parts = parts;
     lm_mesh *m = NULL;
-    s = lm_mesh_from_scene(sc, &src, &m);
+    if (!s)
+        s = lm_mesh_from_scene(sc, &src, &m);
+    free(parts);
     aiReleaseImport(sc);
     lm_aifs_destroy(fs);
     if (!s && (s = lm_mesh_validate(m)) != LM_OK)

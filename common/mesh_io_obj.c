@@ -1,6 +1,7 @@
 /* common/mesh_io_obj.c — Wavefront OBJ + MTL writer. Positions are written once per vertex, or
  * once per wedge as extended "v x y z r g b" lines when the mesh has colours (OBJ binds colour
- * to the position); "vt" and "vn" once per wedge; faces as v/vt/vn triples grouped by material.
+ * to the position); "vt" and "vn" once per wedge; faces as v/vt/vn triples grouped by part (an
+ * "o NAME" line each, the unnamed part first and without one) and within a part by material.
  * Each material's decoded texture is written beside the OBJ as "<stem>_<material>.png". Every
  * file is written atomically; when any fails, the ones already written are removed. Numbers
  * use %.9g, which round-trips 32-bit floats exactly. */
@@ -140,26 +141,45 @@ static void write_corner(FILE *fp, const lm_mesh *m, const lm_out_map *map, uint
         fprintf(fp, " %u", v);
 }
 
-static void write_faces(FILE *fp, const lm_mesh *m, const lm_out_map *map)
+/* "o NAME" with the characters an OBJ line cannot hold replaced by '_'. */
+static void write_object(FILE *fp, const char *name)
 {
-    uint32_t n_mat = m->n_materials ? m->n_materials : 1;
-    for (uint32_t mat = 0; mat < n_mat; mat++) {
-        int started = 0;
-        for (uint32_t t = 0; t < m->n_tris; t++) {
-            if (!m->tri_alive[t] || m->tris[t].material != mat)
-                continue;
-            if (!started && m->n_materials) {
-                char name[64];
-                material_name(m, mat, name);
-                fprintf(fp, "usemtl %s\n", name);
-            }
-            started = 1;
-            fputc('f', fp);
-            for (int k = 0; k < 3; k++)
-                write_corner(fp, m, map, m->tris[t].w[k]);
-            fputc('\n', fp);
-        }
+    fputs("o ", fp);
+    for (const unsigned char *c = (const unsigned char *)name; *c; c++)
+        fputc(*c < ' ' || *c == 127 ? '_' : *c, fp);
+    fputc('\n', fp);
+}
+
+/* One group of triangles (one part, one material), with the "o" and "usemtl" lines it starts. */
+static void write_group(FILE *fp, const lm_mesh *m, const lm_out_map *map, const lm_out_groups *g,
+                        const lm_out_group *grp, int new_part)
+{
+    const char *part = grp->part < m->n_parts ? m->parts[grp->part].name : "";
+    if (new_part && part[0])
+        write_object(fp, part);
+    if (m->n_materials) {
+        char name[64];
+        material_name(m, grp->material, name);
+        fprintf(fp, "usemtl %s\n", name);
     }
+    for (uint32_t i = grp->first; i < grp->first + grp->count; i++) {
+        fputc('f', fp);
+        for (int k = 0; k < 3; k++)
+            write_corner(fp, m, map, m->tris[g->tris[i]].w[k]);
+        fputc('\n', fp);
+    }
+}
+
+/* Faces part by part: the unnamed part first (faces before any "o" line), then the named ones. */
+static void write_faces(FILE *fp, const lm_mesh *m, const lm_out_map *map, const lm_out_groups *g)
+{
+    for (int named = 0; named < 2; named++)
+        for (uint32_t i = 0; i < g->n_groups; i++) {
+            const lm_out_group *grp = &g->groups[i];
+            int has_name = grp->part < m->n_parts && m->parts[grp->part].name[0];
+            if (has_name == named)
+                write_group(fp, m, map, g, grp, i == 0 || g->groups[i - 1].part != grp->part);
+        }
 }
 
 static lm_status names_init(const char *path, const lm_mesh *m, obj_names *nm)
@@ -180,10 +200,13 @@ lm_status lm_io_save_obj(const char *path, const lm_mesh *m)
 {
     obj_names nm;
     lm_out_map map = {0};
+    lm_out_groups groups = {0};
     lm_atomic_file f = {0};
     lm_status s = names_init(path, m, &nm);
     if (!s)
         s = lm_out_map_build(m, &map);
+    if (!s)
+        s = lm_out_groups_build(m, &groups);
     if (!s)
         s = lm_atomic_open(&f, path); /* first: an unwritable target fails before anything */
     if (!s && m->n_materials && !(s = write_textures(m, &nm)))
@@ -193,12 +216,13 @@ lm_status lm_io_save_obj(const char *path, const lm_mesh *m)
         if (m->n_materials)
             fprintf(f.fp, "mtllib %s\n", base_name(nm.mtl_path));
         write_vertices(f.fp, m, &map);
-        write_faces(f.fp, m, &map);
+        write_faces(f.fp, m, &map, &groups);
         s = lm_atomic_commit(&f);
     } else if (f.tmp_path) {
         lm_atomic_abort(&f);
     }
     names_free(&nm, s != LM_OK);
     lm_out_map_free(&map);
+    lm_out_groups_free(&groups);
     return s;
 }

@@ -3,7 +3,9 @@
  * winding flipped under mirroring). Vertices are welded by exact position across the whole scene;
  * each distinct attribute set (normal, uv channel 0, colour channel 0) of a vertex within one mesh
  * instance becomes a wedge. Triangles whose corners share a position are dropped, and so are
- * zero-area ones unless asked to keep them. Materials are added in order of first use. */
+ * zero-area ones unless asked to keep them. Materials are added in order of first use, and so are
+ * parts: one per node holding triangles, named by the node (by its mesh where assimp made the
+ * node's name up), nodes of one name sharing the part; a lumesh PLY names runs of faces instead. */
 #include <assimp/mesh.h>
 #include <assimp/scene.h>
 #include <math.h>
@@ -22,10 +24,11 @@ typedef struct scene_build {
     const struct aiScene *sc;
     const lm_scene_source *src;
     lm_mesh *m;
-    hash_table verts, wedges;
-    uint32_t *mat_map;    /* [mNumMaterials] lm material id or LM_NONE */
-    uint32_t first_wedge; /* wedges of the current instance start here */
-    uint64_t tris, dropped;
+    hash_table verts, wedges, parts;
+    uint32_t *mat_map;         /* [mNumMaterials] lm material id or LM_NONE */
+    uint32_t first_wedge;      /* wedges of the current instance start here */
+    const struct aiNode *node; /* the node being walked */
+    uint64_t tris, dropped, instances;
     int all_normals, any_uv, any_color;
     lm_status (*visit)(struct scene_build *b, const struct aiMesh *am, const double xf[16]);
 } scene_build;
@@ -89,6 +92,7 @@ static lm_status walk(scene_build *b, const struct aiNode *node, const double pa
     double local[16], xf[16];
     node_matrix(node, local);
     mat_mul(parent, local, xf);
+    b->node = node;
     for (unsigned i = 0; i < node->mNumMeshes; i++) {
         unsigned mi = node->mMeshes[i];
         if (mi >= b->sc->mNumMeshes)
@@ -187,6 +191,7 @@ static lm_status count_instance(scene_build *b, const struct aiMesh *am, const d
         return s;
     for (unsigned f = 0; f < am->mNumFaces; f++)
         b->tris += am->mFaces[f].mNumIndices == 3;
+    b->instances++;
     if (b->tris > b->src->max_tris)
         return lm_fail(LM_E_RANGE, "%s: more than %u triangles (the limit)", b->src->name,
                        b->src->max_tris);
@@ -194,6 +199,79 @@ static lm_status count_instance(scene_build *b, const struct aiMesh *am, const d
     b->any_uv |= am->mTextureCoords[0] != NULL;
     b->any_color |= am->mColors[0] != NULL;
     return LM_OK;
+}
+
+/* ---- parts ------------------------------------------------------------------------------------
+ */
+
+/* Names assimp makes up where the file has none: "", its "<OFFRoot>"-style roots, glTF's
+ * "nodes[3]" and "meshes[3]", OBJ's "defaultobject", FBX pivot helpers. */
+static int made_up_name(const char *s)
+{
+    size_t n = strlen(s), k = 0;
+    if (n == 0 || (s[0] == '<' && s[n - 1] == '>') || !strcmp(s, "defaultobject") ||
+        strstr(s, "$AssimpFbx$"))
+        return 1;
+    if (!strncmp(s, "nodes[", 6))
+        k = 6;
+    else if (!strncmp(s, "meshes[", 7))
+        k = 7;
+    if (!k || s[n - 1] != ']' || n == k + 1)
+        return 0;
+    for (size_t i = k; i + 1 < n; i++)
+        if (s[i] < '0' || s[i] > '9')
+            return 0;
+    return 1;
+}
+
+/* Length of `s` without a "-<digits>" tail (assimp's glTF primitive number), or 0 if none. */
+static size_t primitive_stem(const char *s)
+{
+    size_t n = strlen(s), i = n;
+    while (i > 0 && s[i - 1] >= '0' && s[i - 1] <= '9')
+        i--;
+    return i < n && i > 1 && s[i - 1] == '-' ? i - 1 : 0;
+}
+
+/* The name of the node's part: its own, else its mesh's ("X" for the meshes "X-0", "X-1" that
+ * assimp makes of one glTF mesh's primitives), else "". */
+static void node_part_name(const struct aiScene *sc, const struct aiNode *node, char *out,
+                           size_t cap)
+{
+    snprintf(out, cap, "%s", node->mName.data);
+    if (!made_up_name(out))
+        return;
+    const char *m0 = node->mNumMeshes ? sc->mMeshes[node->mMeshes[0]]->mName.data : "";
+    size_t stem = node->mNumMeshes > 1 ? primitive_stem(m0) : 0;
+    for (unsigned i = 1; stem && i < node->mNumMeshes; i++) {
+        const char *mi = sc->mMeshes[node->mMeshes[i]]->mName.data;
+        if (primitive_stem(mi) != stem || strncmp(mi, m0, stem) != 0)
+            stem = 0;
+    }
+    snprintf(out, cap, "%.*s", (int)(stem ? stem : strlen(m0)), m0);
+    if (made_up_name(out))
+        out[0] = '\0';
+}
+
+/* The id of the part named `name`, added if new. */
+static lm_status part_id(scene_build *b, const char *name, uint32_t *out)
+{
+    char cut[LM_PART_NAME_MAX];
+    snprintf(cut, sizeof cut, "%s", name);
+    uint64_t h = hash_bytes(cut, strlen(cut));
+    for (size_t i = (size_t)h & b->parts.mask;; i = (i + 1) & b->parts.mask) {
+        uint32_t id = b->parts.slots[i];
+        if (id == LM_NONE) {
+            lm_status s = lm_mesh_add_part(b->m, cut, out);
+            if (!s)
+                b->parts.slots[i] = *out;
+            return s;
+        }
+        if (!strcmp(b->m->parts[id].name, cut)) {
+            *out = id;
+            return LM_OK;
+        }
+    }
 }
 
 /* ---- pass 2: build ----------------------------------------------------------------------------
@@ -259,6 +337,8 @@ typedef struct instance {
     float (*pos)[3];
     uint32_t *wedge;
     uint32_t material;
+    uint32_t part;       /* every face's part, unless face_part is set */
+    uint32_t *face_part; /* [mNumFaces] part of each face (a lumesh PLY), or NULL */
 } instance;
 
 static void instance_transform(instance *in, const double xf[16])
@@ -363,9 +443,10 @@ static lm_status classify_face(scene_build *b, instance *in, const struct aiFace
     return LM_OK;
 }
 
-static lm_status add_face(scene_build *b, instance *in, const struct aiFace *f)
+static lm_status add_face(scene_build *b, instance *in, unsigned fi)
 {
-    uint32_t w[3];
+    const struct aiFace *f = &in->am->mFaces[fi];
+    uint32_t w[3], id = LM_NONE;
     for (int k = 0; k < 3; k++)
         w[k] = in->wedge[f->mIndices[k]];
     if (in->flip) {
@@ -373,7 +454,10 @@ static lm_status add_face(scene_build *b, instance *in, const struct aiFace *f)
         w[1] = w[2];
         w[2] = t;
     }
-    return lm_mesh_add_tri(b->m, w, in->material, NULL);
+    lm_status s = lm_mesh_add_tri(b->m, w, in->material, &id);
+    if (id != LM_NONE && id < b->m->n_tris)
+        b->m->tris[id].part = in->face_part ? in->face_part[fi] : in->part;
+    return s;
 }
 
 /* Faces are classified first, then the used vertices are welded in the model's vertex order (so
@@ -392,7 +476,7 @@ static lm_status build_faces(scene_build *b, instance *in)
             s = corner_wedge(b, in, i);
     for (unsigned f = 0; !s && f < am->mNumFaces; f++)
         if (keep[f])
-            s = add_face(b, in, &am->mFaces[f]);
+            s = add_face(b, in, f);
     free(keep);
     return s;
 }
@@ -410,14 +494,50 @@ static lm_status instance_material(scene_build *b, unsigned index, uint32_t *out
     return LM_OK;
 }
 
+/* Parts of the faces of a lumesh PLY (one mesh, runs of faces named in its header); runs that do
+ * not fit the mesh are not used. */
+static lm_status face_parts(scene_build *b, instance *in)
+{
+    const lm_scene_source *src = b->src;
+    uint64_t end = 0, faces = in->am->mNumFaces;
+    for (uint32_t i = 0; i < src->n_face_parts; i++) {
+        const lm_face_part *r = &src->face_parts[i];
+        if (r->first != end || r->count > faces - end) /* runs in order, inside the mesh */
+            return LM_OK;
+        end += r->count;
+    }
+    if (b->instances != 1 || !src->n_face_parts || end != faces)
+        return LM_OK;
+    in->face_part = malloc((size_t)in->am->mNumFaces * sizeof *in->face_part);
+    if (!in->face_part)
+        return lm_fail(LM_E_NOMEM, "%s: out of memory for parts", src->name);
+    lm_status s = LM_OK;
+    for (uint32_t i = 0; !s && i < src->n_face_parts; i++) {
+        const lm_face_part *r = &src->face_parts[i];
+        uint32_t id;
+        s = part_id(b, r->name, &id);
+        for (uint64_t f = r->first; !s && f < r->first + r->count; f++)
+            in->face_part[f] = id;
+    }
+    return s;
+}
+
 static lm_status build_instance(scene_build *b, const struct aiMesh *am, const double xf[16])
 {
     if (!triangle_mesh(am))
         return LM_OK;
     instance in = {.am = am};
+    char name[sizeof am->mName.data];
+    node_part_name(b->sc, b->node, name, sizeof name);
     lm_status s = instance_material(b, am->mMaterialIndex, &in.material);
-    if (s)
+    if (!s && b->src->face_parts)
+        s = face_parts(b, &in);
+    if (!s && !in.face_part)
+        s = part_id(b, name, &in.part);
+    if (s) {
+        free(in.face_part);
         return s;
+    }
     in.pos = malloc((size_t)am->mNumVertices * sizeof *in.pos);
     in.wedge = malloc((size_t)am->mNumVertices * sizeof *in.wedge);
     if (!in.pos || !in.wedge)
@@ -431,6 +551,7 @@ static lm_status build_instance(scene_build *b, const struct aiMesh *am, const d
         s = build_faces(b, &in);
     free(in.pos);
     free(in.wedge);
+    free(in.face_part);
     return s;
 }
 
@@ -451,12 +572,18 @@ static lm_status build(scene_build *b)
         return lm_fail(LM_E_NOMEM, "%s: out of memory", b->src->name);
     memset(b->mat_map, 0xff, ((size_t)b->sc->mNumMaterials + 1) * sizeof *b->mat_map);
     if ((s = table_init(&b->verts, 3 * b->tris, b->src->name)) ||
-        (s = table_init(&b->wedges, 3 * b->tris, b->src->name)) || (s = lm_mesh_create(&b->m)))
+        (s = table_init(&b->wedges, 3 * b->tris, b->src->name)) ||
+        (s = table_init(&b->parts, b->instances + b->src->n_face_parts, b->src->name)) ||
+        (s = lm_mesh_create(&b->m)))
         return s;
     b->visit = build_instance;
     s = walk_scene(b);
     if (s)
         return s;
+    if (b->m->live_tris == 0) /* one error line, not a warning before it */
+        return lm_fail(LM_E_FORMAT,
+                       "%s: the model has no triangles: all %llu of its faces are degenerate",
+                       b->src->name, (unsigned long long)b->dropped);
     b->m->attrs = (b->all_normals ? LM_ATTR_NORMAL : 0) | (b->any_uv ? LM_ATTR_UV : 0) |
                   (b->any_color ? LM_ATTR_COLOR : 0);
     if (!b->all_normals)
@@ -473,6 +600,7 @@ lm_status lm_mesh_from_scene(const struct aiScene *sc, const lm_scene_source *sr
     lm_status s = build(&b);
     free(b.verts.slots);
     free(b.wedges.slots);
+    free(b.parts.slots);
     free(b.mat_map);
     if (s) {
         lm_mesh_destroy(b.m);

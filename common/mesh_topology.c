@@ -304,6 +304,37 @@ static void undo_step(lm_mesh *m, const jstep *s)
     }
 }
 
+void lm_journal_scan(const lm_journal *j, size_t mark, lm_journal_visit_fn fn, void *ctx)
+{
+    LM_ASSERT(mark <= j->n);
+    for (size_t i = mark; i < j->n; i++) {
+        const jstep *s = &j->steps[i];
+        switch (s->kind) {
+        case J_POS:
+        case J_KILL_VERT:
+        case J_ADD_VERT:
+            fn(ctx, LM_TOUCH_VERTEX, s->id);
+            break;
+        case J_WEDGE:
+        case J_KILL_WEDGE:
+        case J_ADD_WEDGE:
+            fn(ctx, LM_TOUCH_WEDGE, s->id);
+            break;
+        case J_TRI:
+            fn(ctx, LM_TOUCH_TRI, s->id);
+            break;
+        case J_KILL_TRI:
+            fn(ctx, LM_TOUCH_TRI_KILLED, s->id);
+            break;
+        case J_ADD_TRI:
+            fn(ctx, LM_TOUCH_TRI_ADDED, s->id);
+            break;
+        default: /* adjacency steps follow from the triangle steps */
+            break;
+        }
+    }
+}
+
 void lm_journal_rollback(lm_mesh *m, lm_journal *j, size_t mark)
 {
     LM_ASSERT(mark <= j->n);
@@ -1012,9 +1043,11 @@ static lm_status split_append(lm_mesh *m, split_ctx *c)
         for (int k = 0; k < 3; k++)
             if (m->wedges[half.w[k]].vertex == c->a)
                 half.w[k] = c->wm[i];
-        uint32_t before = m->n_tris;
-        s = lm_mesh_add_tri(m, half.w, half.material, NULL);
+        uint32_t before = m->n_tris, id = LM_NONE;
+        s = lm_mesh_add_tri(m, half.w, half.material, &id);
         c->added_tris += m->n_tris - before;
+        if (id != LM_NONE && id < m->n_tris)
+            m->tris[id].part = half.part; /* the new half stays in its triangle's part */
         if (s)
             return s;
     }
@@ -1096,6 +1129,8 @@ static lm_status swap_check(const lm_mesh *m, uint32_t a, uint32_t b, uint32_t t
         return lm_fail(LM_E_ILLEGAL, "swap: (%u, %u) is an attribute seam", a, b);
     if (m->tris[t[0]].material != m->tris[t[1]].material)
         return lm_fail(LM_E_ILLEGAL, "swap: triangles on (%u, %u) have different materials", a, b);
+    if (m->tris[t[0]].part != m->tris[t[1]].part)
+        return lm_fail(LM_E_ILLEGAL, "swap: triangles on (%u, %u) are in different parts", a, b);
     uint32_t c = opposite(m, t[0], a, b), d = opposite(m, t[1], a, b);
     if (c == LM_NONE || d == LM_NONE || c == d || lm_mesh_edge_exists(m, c, d))
         return lm_fail(LM_E_ILLEGAL, "swap: (%u, %u) would create an existing edge", a, b);

@@ -23,6 +23,19 @@ void lm_journal_rollback(lm_mesh *m, lm_journal *j, size_t mark);
 /* Forget all steps (the changes are kept). */
 void lm_journal_clear(lm_journal *j);
 
+/* What the steps recorded after `mark` touched, oldest first (an id may come several times):
+ * a vertex (position changed, added or killed), a wedge (attributes changed, added or killed), a
+ * triangle (wedges or material changed), a triangle killed, a triangle added. */
+enum {
+    LM_TOUCH_VERTEX,
+    LM_TOUCH_WEDGE,
+    LM_TOUCH_TRI,
+    LM_TOUCH_TRI_KILLED,
+    LM_TOUCH_TRI_ADDED,
+};
+typedef void (*lm_journal_visit_fn)(void *ctx, int what, uint32_t id);
+void lm_journal_scan(const lm_journal *j, size_t mark, lm_journal_visit_fn fn, void *ctx);
+
 /* Build (or rebuild) adjacency. Called by loaders; operations keep it current afterwards. */
 lm_status lm_mesh_build_adjacency(lm_mesh *m);
 

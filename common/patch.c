@@ -1,8 +1,12 @@
-/* common/patch.c — building patches (removed ids + added triangle records) from a mesh. */
+/* common/patch.c — building patches (removed ids + added triangle records) from a mesh, and the
+ * one way a whole mesh is sent to the views (lm_views_set_mesh_from). */
 #include "common/patch.h"
 
 #include <stdlib.h>
 #include <string.h>
+
+#include "common/mesh_topology.h"
+#include "common/views_api.h"
 
 void lm_tri_data_from_mesh(const lm_mesh *m, uint32_t t, lm_tri_data *out)
 {
@@ -126,4 +130,111 @@ lm_status lm_patch_build(lm_patch *p, const lm_mesh *m, const uint32_t *before, 
             p->added[k++] = p->added[i];
     p->n_added = k;
     return LM_OK;
+}
+
+/* ---- the patch of a journal span ----------------------------------------------------------- */
+
+typedef struct touched {
+    uint32_t *verts, *tris;
+    size_t n_verts, n_tris, cap_verts, cap_tris;
+    uint8_t *born, *died; /* per triangle id below m->n_tris */
+    const lm_mesh *m;
+    lm_status st;
+} touched;
+
+static void push_id(touched *t, uint32_t **a, size_t *n, size_t *cap, uint32_t id)
+{
+    if (t->st)
+        return;
+    if (*n == *cap) {
+        size_t c = *cap ? *cap * 2 : 64;
+        uint32_t *p = realloc(*a, c * sizeof *p);
+        if (!p) {
+            t->st = lm_fail(LM_E_NOMEM, "out of memory gathering a change");
+            return;
+        }
+        *a = p;
+        *cap = c;
+    }
+    (*a)[(*n)++] = id;
+}
+
+static void visit(void *ctx, int what, uint32_t id)
+{
+    touched *t = ctx;
+    switch (what) {
+    case LM_TOUCH_VERTEX:
+        push_id(t, &t->verts, &t->n_verts, &t->cap_verts, id);
+        break;
+    case LM_TOUCH_WEDGE:
+        if (id < t->m->n_wedges)
+            push_id(t, &t->verts, &t->n_verts, &t->cap_verts, t->m->wedges[id].vertex);
+        break;
+    default:
+        if (id < t->m->n_tris) {
+            t->born[id] |= what == LM_TOUCH_TRI_ADDED;
+            t->died[id] |= what == LM_TOUCH_TRI_KILLED;
+        }
+        push_id(t, &t->tris, &t->n_tris, &t->cap_tris, id);
+    }
+}
+
+/* The triangles around every touched vertex join the touched ones. */
+static void add_incident(touched *t)
+{
+    uint32_t buf[1024];
+    size_t nv = t->n_verts;
+    for (size_t i = 0; i < nv && !t->st; i++) {
+        uint32_t v = t->verts[i];
+        if (v >= t->m->n_verts || !t->m->vert_alive[v])
+            continue;
+        uint32_t n = lm_mesh_vertex_tris(t->m, v, buf, 1024);
+        if (n > 1024) {
+            t->st = lm_fail(LM_E_RANGE, "vertex %u has %u triangles (limit 1024)", v, n);
+            return;
+        }
+        for (uint32_t k = 0; k < n; k++)
+            push_id(t, &t->tris, &t->n_tris, &t->cap_tris, buf[k]);
+    }
+}
+
+lm_status lm_patch_from_journal(lm_patch *p, const lm_mesh *m, const lm_journal *j, size_t mark)
+{
+    touched t = {.m = m};
+    t.born = calloc((size_t)m->n_tris + 1, 1);
+    t.died = calloc((size_t)m->n_tris + 1, 1);
+    if (!t.born || !t.died)
+        t.st = lm_fail(LM_E_NOMEM, "out of memory gathering a change");
+    if (!t.st)
+        lm_journal_scan(j, mark, visit, &t);
+    add_incident(&t);
+    uint32_t *before = t.st ? NULL : malloc((t.n_tris + 1) * sizeof *before);
+    if (!t.st && !before)
+        t.st = lm_fail(LM_E_NOMEM, "out of memory gathering a change");
+    size_t nb = 0;
+    for (size_t i = 0; i < t.n_tris && !t.st; i++) {
+        uint32_t id = t.tris[i];
+        if (id < m->n_tris && !t.born[id] && (m->tri_alive[id] || t.died[id]))
+            before[nb++] = id;
+    }
+    if (!t.st)
+        t.st = lm_patch_build(p, m, before, nb, t.tris, t.n_tris);
+    free(before);
+    free(t.verts);
+    free(t.tris);
+    free(t.born);
+    free(t.died);
+    return t.st;
+}
+
+lm_status lm_views_set_mesh_from(lm_views *v, const lm_mesh *m)
+{
+    lm_tri_data *tris;
+    size_t n;
+    lm_status st = lm_mesh_export_tris(m, &tris, &n);
+    if (st != LM_OK)
+        return st;
+    st = v->ops->set_mesh(v, tris, n);
+    free(tris);
+    return st;
 }

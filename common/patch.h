@@ -47,4 +47,10 @@ lm_status lm_patch_add(lm_patch *p, const lm_tri_data *t);
 lm_status lm_patch_build(lm_patch *p, const lm_mesh *m, const uint32_t *before, size_t n_before,
                          const uint32_t *now, size_t n_now);
 
+/* The patch from the mesh as it was at journal position `mark` to the mesh now: every triangle
+ * the steps after mark touched, directly or through one of its vertices or wedges (removed: those
+ * that existed then; added: those alive now, with their data now). */
+typedef struct lm_journal lm_journal;
+lm_status lm_patch_from_journal(lm_patch *p, const lm_mesh *m, const lm_journal *j, size_t mark);
+
 #endif

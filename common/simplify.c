@@ -1,5 +1,6 @@
 /* common/simplify.c — lm_simplify(): argument checks, the cases no simplifier is needed for
- * (target at or above the model's size, targets below 4), dispatch to QEM or clustering, and the
+ * (target at or above the model's size: a compact copy; targets below 4), dispatch to QEM or
+ * clustering, and the
  * helpers both simplifiers share to build their compact output meshes. */
 #include "common/simplify.h"
 
@@ -13,6 +14,11 @@ int lm_simplify_within(uint32_t live, uint32_t target)
 {
     double d = (double)live - (double)target;
     return (d < 0 ? -d : d) <= LM_SIMPLIFY_TOLERANCE * (double)target;
+}
+
+int lm_simplify_reached(uint32_t live, uint32_t target)
+{
+    return (double)live <= (1.0 + LM_SIMPLIFY_TOLERANCE) * (double)target;
 }
 
 lm_status lm_simplify_copy_materials(const lm_mesh *src, lm_mesh *dst)
@@ -98,14 +104,18 @@ lm_status lm_simplify_build_from_tris(const lm_mesh *in, const lm_tri *tris, siz
         s = lm_simplify_copy_materials(in, m);
     }
     if (!s)
+        s = lm_mesh_copy_parts(in, m);
+    if (!s)
         s = add_used(in, vmap, wmap, m);
     for (size_t t = 0; t < n && !s; t++) {
         if (repeats_vertex(in, &tris[t])) {
             drop++;
             continue;
         }
-        uint32_t w[3] = {wmap[tris[t].w[0]], wmap[tris[t].w[1]], wmap[tris[t].w[2]]};
-        s = lm_mesh_add_tri(m, w, tris[t].material, NULL);
+        uint32_t w[3] = {wmap[tris[t].w[0]], wmap[tris[t].w[1]], wmap[tris[t].w[2]]}, id = 0;
+        s = lm_mesh_add_tri(m, w, tris[t].material, &id);
+        if (!s)
+            m->tris[id].part = tris[t].part;
     }
     free(vmap);
     free(wmap);
@@ -129,7 +139,7 @@ lm_status lm_simplify_build_from_tris(const lm_mesh *in, const lm_tri *tris, siz
 }
 
 /* The model is already at (or below) the target: a compact copy is the answer. */
-static lm_status copy_whole(const lm_mesh *in, uint32_t target, lm_mesh **out)
+static lm_status copy_whole(const lm_mesh *in, lm_mesh **out)
 {
     lm_tri *tris = malloc(((size_t)in->live_tris + 1) * sizeof *tris);
     if (!tris)
@@ -140,12 +150,7 @@ static lm_status copy_whole(const lm_mesh *in, uint32_t target, lm_mesh **out)
             tris[n++] = in->tris[t];
     lm_status s = lm_simplify_build_from_tris(in, tris, n, NULL, out);
     free(tris);
-    if (s)
-        return s;
-    if (lm_simplify_within((*out)->live_verts, target))
-        return LM_OK;
-    return lm_fail(LM_E_RANGE, "the model has only %u vertices, fewer than the target %u",
-                   (*out)->live_verts, target);
+    return s;
 }
 
 lm_status lm_simplify(const lm_mesh *in, lm_simplify_method method, uint32_t target_verts,
@@ -162,11 +167,11 @@ lm_status lm_simplify(const lm_mesh *in, lm_simplify_method method, uint32_t tar
     if (s)
         return s;
     if (target_verts >= in->live_verts)
-        return copy_whole(in, target_verts, out);
+        return copy_whole(in, out);
     uint32_t aim = target_verts < 4 ? 4 : target_verts;
     s = method == LM_SIMPLIFY_QEM ? lm_simplify_qem(in, aim, NULL, out)
                                   : lm_simplify_cluster(in, aim, NULL, out);
-    if (target_verts < 4 && *out)
+    if (target_verts < 4 && *out && !lm_simplify_reached((*out)->live_verts, target_verts))
         return lm_fail(LM_E_RANGE, "a target of %u vertices is below the minimum of 4 (best: %u)",
                        target_verts, (*out)->live_verts);
     return s;

@@ -8,9 +8,11 @@
 
 typedef enum lm_simplify_method { LM_SIMPLIFY_QEM, LM_SIMPLIFY_CLUSTER } lm_simplify_method;
 
-/* Aim for target_verts live vertices; succeeds when within 5%, otherwise returns LM_E_RANGE with a
- * message saying why (e.g. the model has fewer vertices, or topology stops the simplifier) while
- * still returning the best mesh through *out. */
+/* At most target_verts live vertices (an upper bound, as meshoptimizer and gltfpack treat it; the
+ * searches aim within 5% of it and a result up to 5% above meets it). A model already at or below
+ * the target comes back as a compact copy (LM_OK). When the target cannot be reached, LM_E_RANGE
+ * with a message saying why (topology stops the simplifier) and the best mesh reached in *out;
+ * any other error leaves *out NULL. */
 lm_status lm_simplify(const lm_mesh *in, lm_simplify_method method, uint32_t target_verts,
                       lm_mesh **out);
 

@@ -418,9 +418,12 @@ static lm_status emit_mesh(const cluster_ctx *C, const double *acc, const wedge_
         lm_wedge w = mean_wedge(W, id, cell_out[W->cell[id]]);
         s = lm_mesh_add_wedge(m, &w, NULL);
     }
-    for (uint32_t t = 0; t < in->n_tris && !s; t++)
-        if (C->keep[t])
-            s = lm_mesh_add_tri(m, &W->tri_w[3 * (size_t)t], in->tris[t].material, NULL);
+    for (uint32_t t = 0; t < in->n_tris && !s; t++) {
+        uint32_t id = 0;
+        if (C->keep[t] &&
+            !(s = lm_mesh_add_tri(m, &W->tri_w[3 * (size_t)t], in->tris[t].material, &id)))
+            m->tris[id].part = in->tris[t].part;
+    }
     free(cell_out);
     return s;
 }
@@ -441,6 +444,8 @@ static lm_status build_output(const cluster_ctx *C, lm_mesh **out)
         accumulate_cells(C, acc);
         s = lm_simplify_copy_materials(C->in, m);
     }
+    if (!s)
+        s = lm_mesh_copy_parts(C->in, m);
     if (!s)
         s = emit_mesh(C, acc, &W, m);
     if (acc)
@@ -546,10 +551,10 @@ lm_status lm_simplify_cluster(const lm_mesh *in, uint32_t target_verts, lm_simpl
         fill_stats(&C, S.evals, stats);
     }
     ctx_free(&C);
-    if (s || lm_simplify_within((*out)->live_verts, target_verts))
+    if (s || lm_simplify_reached((*out)->live_verts, target_verts))
         return s;
     return lm_fail(LM_E_RANGE,
-                   "vertex clustering reached %u vertices at best (cell side %g), not within 5%% "
-                   "of the target %u",
+                   "vertex clustering reached %u vertices at best (cell side %g), above the "
+                   "target %u",
                    (*out)->live_verts, S.best_h, target_verts);
 }

@@ -8,7 +8,8 @@
 
 #include "common/simplify.h"
 
-/* The accepted distance from the target vertex count: |live - target| <= 5% of target. */
+/* The searches aim at |live - target| <= 5% of target; a result at most 5% above the target meets
+ * it (the target is an upper bound, with that tolerance). */
 #define LM_SIMPLIFY_TOLERANCE 0.05
 
 /* What a simplifier did (for reports and tests). */
@@ -32,12 +33,15 @@ lm_status lm_simplify_cluster_grid(const lm_mesh *in, double cell_size, lm_simpl
                                    lm_mesh **out);
 
 /* Helpers (common/simplify.c). */
-/* 1 when live is within LM_SIMPLIFY_TOLERANCE of target. */
+/* 1 when live is within LM_SIMPLIFY_TOLERANCE of target (what the searches aim for). */
 int lm_simplify_within(uint32_t live, uint32_t target);
+/* 1 when live meets the target as an upper bound: at most LM_SIMPLIFY_TOLERANCE above it. */
+int lm_simplify_reached(uint32_t live, uint32_t target);
 /* Copy every material of src into dst (textures cloned). */
 lm_status lm_simplify_copy_materials(const lm_mesh *src, lm_mesh *dst);
-/* Build a compact mesh from `n` triangles given as input wedge ids (w[3], material) of `in`: only
- * the vertices and wedges they use are kept (ascending input order), every material is kept.
+/* Build a compact mesh from `n` triangles given as input wedge ids (w[3], material, part) of `in`:
+ * only the vertices and wedges they use are kept (ascending input order), every material and part
+ * is kept.
  * Triangles that repeat a vertex are dropped (counted in *dropped, may be NULL). Adjacency built.
  */
 lm_status lm_simplify_build_from_tris(const lm_mesh *in, const lm_tri *tris, size_t n,

@@ -2,12 +2,12 @@
  * Heckbert quadrics, edge collapses onto existing vertices, topology preserving, no attribute
  * metric in this version).
  *
- * meshoptimizer sees one vertex per (wedge, material) pair. Its seam detection treats vertices
+ * meshoptimizer sees one vertex per (wedge, material, part). Its seam detection treats vertices
  * that share a position as one point with several attribute sets and keeps the seam edges they
- * form, so UV/normal seams and material boundaries survive. It aims at an index count; we want a
- * number of live vertices, so the index budget is searched (secant steps inside a bracket) until
- * the vertex count is within LM_SIMPLIFY_TOLERANCE. No error limit is used. For large inputs a
- * first pass cuts the mesh to about three times the target, and the search runs on that. */
+ * form, so UV/normal seams, material and part boundaries survive. It aims at an index count; we
+ * want a number of live vertices, so the index budget is searched (secant steps inside a bracket)
+ * until the vertex count is within LM_SIMPLIFY_TOLERANCE. No error limit is used. For large inputs
+ * a first pass cuts the mesh to about three times the target, and the search runs on that. */
 #include <float.h>
 #include <meshoptimizer.h>
 #include <stdlib.h>
@@ -18,11 +18,12 @@
 #define QEM_NO_ERROR_LIMIT 1e10f /* relative error; anything above ~2 means "no limit" */
 #define QEM_MAX_PASSES 14
 
-/* The vertex buffer handed to meshoptimizer: one entry per (wedge, material). */
+/* The vertex buffer handed to meshoptimizer: one entry per (wedge, material, part). */
 typedef struct qem_input {
     float (*pos)[3]; /* [n_entries] position of the entry's vertex */
     uint32_t *wedge; /* [n_entries] input wedge id */
     uint32_t *mat;   /* [n_entries] material */
+    uint32_t *part;  /* [n_entries] part */
     uint32_t n_entries, cap;
     uint32_t *indices; /* [n_indices] entries, 3 per alive input triangle */
     size_t n_indices;
@@ -46,11 +47,12 @@ static void qem_input_free(qem_input *q)
     free(q->pos);
     free(q->wedge);
     free(q->mat);
+    free(q->part);
     free(q->indices);
     memset(q, 0, sizeof *q);
 }
 
-static lm_status entry_add(qem_input *q, const lm_mesh *in, uint32_t w, uint32_t mat)
+static lm_status entry_add(qem_input *q, const lm_mesh *in, uint32_t w, const lm_tri *t)
 {
     if (q->n_entries == q->cap) {
         uint32_t cap = q->cap ? q->cap * 2 : 1024;
@@ -63,29 +65,34 @@ static lm_status entry_add(qem_input *q, const lm_mesh *in, uint32_t w, uint32_t
         uint32_t *b = realloc(q->mat, (size_t)cap * sizeof *b);
         if (b)
             q->mat = b;
-        if (!p || !a || !b)
+        uint32_t *c = realloc(q->part, (size_t)cap * sizeof *c);
+        if (c)
+            q->part = c;
+        if (!p || !a || !b || !c)
             return lm_fail(LM_E_NOMEM, "out of memory preparing QEM input");
         q->cap = cap;
     }
     memcpy(q->pos[q->n_entries], in->pos[in->wedges[w].vertex], sizeof q->pos[0]);
     q->wedge[q->n_entries] = w;
-    q->mat[q->n_entries] = mat;
+    q->mat[q->n_entries] = t->material;
+    q->part[q->n_entries] = t->part;
     q->n_entries++;
     return LM_OK;
 }
 
-/* Entry of (w, mat): first[w] starts a chain through next[] of entries of the same wedge. */
+/* Entry of (w, t's material and part): first[w] starts a chain through next[] of entries of the
+ * same wedge. */
 static lm_status entry_of(qem_input *q, const lm_mesh *in, uint32_t *first, uint32_t **next,
-                          uint32_t w, uint32_t mat, uint32_t *out)
+                          uint32_t w, const lm_tri *t, uint32_t *out)
 {
     uint32_t e = first[w], prev = LM_NONE;
     for (; e != LM_NONE; prev = e, e = (*next)[e])
-        if (q->mat[e] == mat) {
+        if (q->mat[e] == t->material && q->part[e] == t->part) {
             *out = e;
             return LM_OK;
         }
     e = q->n_entries;
-    lm_status s = entry_add(q, in, w, mat);
+    lm_status s = entry_add(q, in, w, t);
     if (s)
         return s;
     uint32_t *nx = realloc(*next, (size_t)q->cap * sizeof *nx);
@@ -114,7 +121,7 @@ static lm_status qem_input_build(const lm_mesh *in, qem_input *q)
         if (!in->tri_alive[t])
             continue;
         for (int k = 0; k < 3 && !s; k++)
-            s = entry_of(q, in, first, &next, in->tris[t].w[k], in->tris[t].material,
+            s = entry_of(q, in, first, &next, in->tris[t].w[k], &in->tris[t],
                          &q->indices[q->n_indices++]);
     }
     free(first);
@@ -223,6 +230,7 @@ static lm_status emit(const lm_mesh *in, const qem_input *q, const uint32_t *idx
         for (int k = 0; k < 3; k++)
             tris[t].w[k] = q->wedge[idx[3 * t + k]];
         tris[t].material = q->mat[idx[3 * t]];
+        tris[t].part = q->part[idx[3 * t]];
     }
     lm_status s = lm_simplify_build_from_tris(in, tris, n / 3, dropped, out);
     free(tris);
@@ -284,13 +292,13 @@ lm_status lm_simplify_qem(const lm_mesh *in, uint32_t target_verts, lm_simplify_
     free(S.scratch);
     free(S.best);
     qem_input_free(&q);
-    if (s || lm_simplify_within((*out)->live_verts, target_verts))
+    if (s || lm_simplify_reached((*out)->live_verts, target_verts))
         return s;
     if (stuck)
         return lm_fail(LM_E_RANGE,
                        "QEM stopped at %u vertices (target %u): the topology (closed small parts, "
-                       "seams) allows no further edge collapses",
+                       "seams) allows no further edge collapses; --method cluster goes further",
                        (*out)->live_verts, target_verts);
-    return lm_fail(LM_E_RANGE, "QEM reached %u vertices, not within 5%% of the target %u",
+    return lm_fail(LM_E_RANGE, "QEM reached %u vertices at best, above the target %u",
                    (*out)->live_verts, target_verts);
 }

@@ -12,6 +12,10 @@
 
 #define LM_MAX_VIEWS 256
 #define LM_MAX_VIEW_SIZE 4096
+/* The paper's view set: 20 views (a dodecahedron) of 256 x 256 pixels. Every command that renders
+ * views defaults to these. */
+#define LM_DEFAULT_VIEWS 20u
+#define LM_DEFAULT_VIEW_SIZE 256
 
 typedef struct lm_view {
     float eye[3];

@@ -2,12 +2,32 @@
  *
  * The optimizer (coordinator/) never renders: it holds the mesh, turns candidate moves into
  * patches (common/patch.h) and asks the views for exact integer energy changes. Behind this table
- * stands today the in-process EGL renderer (worker/views_local.c); later a pool of lumesh-worker
- * processes over the wire, each owning a subset of the views, summing partial int64 results.
- * Because every number is an int64 sum over pixels, results do not depend on how views are split.
+ * stand the in-process renderer (worker/views_local.c), a split over several backends that each
+ * own a range of the views (coordinator/views/views_split.c), and lumesh-worker processes over
+ * the wire (coordinator/views/views_remote.c). Because every number is an int64 sum over pixels,
+ * results do not depend on how the views are split, nor on who computed which part.
  *
- * Ownership: the views object is created by its backend's *_create and released with
- * lm_views_destroy(). Patches passed in stay owned by the caller. */
+ * One constructor makes every kind from one description: co_views_create (coordinator/views/).
+ *
+ * The state behind the table: the target images (fixed at creation), a material table for the
+ * current mesh, and the current mesh with its images. Every op below is BLOCKING: it returns when
+ * the whole answer is known (a remote backend has then heard from every worker it needed).
+ *
+ * Sequence number: every change of state (set_mesh, set_materials, commit) advances `seq` (info)
+ * by one. Replicas of the state (worker processes) are tagged with it; a replica that missed a
+ * change is detected by its sequence number and re-sent the state, never priced against.
+ *
+ * Failure: an op that fails returns a status with a one-line message (common/error.h). Evaluate,
+ * energy, potentials, read_image and info never change the state, whatever they return. When
+ * set_mesh, set_materials or commit fail, the current state is unknown: the caller must set the
+ * mesh again (and its materials, if they failed) before the next evaluation.
+ * Recovery inside a backend: a backend that keeps replicas (remote) re-sends the mesh and
+ * materials to a replica that lost them on its own; the caller sees an error only when no replica
+ * can be made to serve.
+ *
+ * Ownership: the views object is created by co_views_create (or a backend's *_create) and released
+ * with lm_views_destroy(). Everything passed in stays owned by the caller and may be reused as
+ * soon as the op returns. */
 #ifndef LM_COMMON_VIEWS_API_H
 #define LM_COMMON_VIEWS_API_H
 
@@ -15,6 +35,7 @@
 #include <stdint.h>
 
 #include "common/error.h"
+#include "common/mesh.h"
 #include "common/patch.h"
 
 typedef struct lm_views lm_views;
@@ -22,13 +43,33 @@ typedef struct lm_views lm_views;
 typedef struct lm_views_info {
     uint32_t n_views;
     int width, height;
+    uint64_t seq; /* changes of state so far (set_mesh, set_materials, commit) */
+    /* Work done so far, where the backend counts it (0 otherwise): patches evaluated through this
+     * object, and summed over its parts the view regions redrawn, their pixels and the triangles
+     * drawn. */
+    uint64_t evaluations, regions, region_pixels, tris_drawn;
     char renderer[128]; /* device and driver that made every image, e.g. "EGL llvmpipe
                            (Mesa 22.3.6)" */
 } lm_views_info;
 
+/* What read_image copies out (width*height bytes per pixel as listed, bottom row first). */
+typedef enum lm_image_kind {
+    LM_IMAGE_TARGET_LUMA,  /* 1 byte: the original's luminance */
+    LM_IMAGE_CURRENT_LUMA, /* 1 byte: the current mesh's luminance */
+    LM_IMAGE_RGBA,         /* 4 bytes: the colour image of the last full render (right after
+                              creation the original's, right after set_mesh/set_materials the
+                              current mesh's) */
+    LM_IMAGE_COVERAGE,     /* 1 byte: 1 where the last full render drew a surface, 0 where the
+                              background shows */
+} lm_image_kind;
+
 typedef struct lm_views_ops {
-    /* Replace the current mesh (all triangles, full re-render of every current image). */
+    /* Replace the current mesh: all triangles (ids distinct, materials in the current table), a
+     * full re-render of every current image. */
     lm_status (*set_mesh)(lm_views *v, const lm_tri_data *tris, size_t n);
+    /* Use these materials (copied; textures too) for the current mesh's material ids instead of
+     * the original's (the default). A mesh already set is re-rendered with them. */
+    lm_status (*set_materials)(lm_views *v, const lm_material *mats, uint32_t n);
     /* For each patch i: delta[i] = E(mesh with patch i applied) - E(current mesh), exactly.
      * Patches are independent alternatives (each against the current mesh). Nothing changes. */
     lm_status (*evaluate)(lm_views *v, const lm_patch *patches, uint32_t n, int64_t *delta);
@@ -39,6 +80,9 @@ typedef struct lm_views_ops {
     /* Oracle: recompute blurred difference images, then for each world point the sum over views
      * of the blurred squared difference at its projection (0 where it projects outside). */
     lm_status (*potentials)(lm_views *v, const float (*points)[3], size_t n, int64_t *out);
+    /* Copy one image of view `view` (0..n_views-1) into out (sized as lm_image_kind says).
+     * LM_E_UNSUPPORTED where the backend or its device cannot give that kind. */
+    lm_status (*read_image)(lm_views *v, lm_image_kind kind, uint32_t view, uint8_t *out);
     void (*info)(lm_views *v, lm_views_info *out);
     void (*destroy)(lm_views *v);
 } lm_views_ops;
@@ -52,5 +96,15 @@ static inline void lm_views_destroy(lm_views *v)
     if (v)
         v->ops->destroy(v);
 }
+
+/* Bytes per pixel of an image kind (1 or 4). */
+static inline size_t lm_image_kind_bpp(lm_image_kind kind)
+{
+    return kind == LM_IMAGE_RGBA ? 4 : 1;
+}
+
+/* The current mesh's triangles (all alive ones, in id order) sent to the views: the one way the
+ * coordinator replaces the views' mesh. */
+lm_status lm_views_set_mesh_from(lm_views *v, const lm_mesh *m);
 
 #endif

@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Installs every Debian package lumesh needs to build, test and run (Debian 12), and fetches the
+# Installs every Debian package lumesh needs to build, test and run (Debian 12; python3 and
+# chromium are for the tests: headless Chromium opens the quality report), and fetches the
 # test models (assimp-testmodels, libcgal-demo) into tests/data/cache without their dependencies.
 # Idempotent: re-running it only checks. Needs root (or sudo) for apt-get.
 set -euo pipefail
@@ -13,7 +14,8 @@ PKGS=(
   clang libclang-rt-14-dev clang-format
   libegl-dev libgles-dev libgl-dev libegl-mesa0 libgl1-mesa-dri libgbm1
   libopenimageio-dev libusb-1.0-0-dev libassimp-dev libmeshoptimizer-dev libjansson-dev
-  libzmq3-dev libprotobuf-c-dev protobuf-c-compiler libcmocka-dev
+  libzmq3-dev libprotobuf-c-dev protobuf-c-compiler libsodium-dev libcmocka-dev
+  python3 chromium iproute2
 )
 
 missing=()

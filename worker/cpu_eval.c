@@ -706,6 +706,7 @@ lm_status wk_cpu_commit(lm_views *base, const lm_patch *patch)
     }
     if (st == LM_OK)
         st = apply_patch(v, patch);
+    v->seq += st == LM_OK;
     if (st != LM_OK) {
         v->mesh_set = 0; /* half-applied: refuse further work until set_mesh */
         v->buckets_ready = 0;

@@ -1,7 +1,7 @@
 /* worker/cpu_views.c — the CPU views backend's life cycle: creation (target images of the
- * original), set_mesh (full renders of the current mesh), energy, the oracle's potentials, info,
- * the extras that wk_views_local_* dispatch to, and the ops table. Full renders are in
- * cpu_render.c, evaluate and commit in cpu_eval.c. */
+ * original), set_mesh and set_materials (full renders of the current mesh), energy, the oracle's
+ * potentials, images, info, the extras that wk_views_local_* dispatch to, and the ops table. Full
+ * renders are in cpu_render.c, evaluate and commit in cpu_eval.c. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -65,7 +65,10 @@ static lm_status cv_set_mesh_records(wk_cpu_views *v, const lm_tri_data *tris, s
 
 static lm_status cv_set_mesh(lm_views *base, const lm_tri_data *tris, size_t n)
 {
-    return cv_set_mesh_records((wk_cpu_views *)base, tris, n);
+    wk_cpu_views *v = (wk_cpu_views *)base;
+    lm_status st = cv_set_mesh_records(v, tris, n);
+    v->seq += st == LM_OK;
+    return st;
 }
 
 /* Re-render the replica from scratch (after a material change). */
@@ -101,6 +104,11 @@ static void cv_info(lm_views *base, lm_views_info *out)
     out->n_views = v->views.count;
     out->width = v->width;
     out->height = v->height;
+    out->seq = v->seq;
+    out->evaluations = v->stats.evaluations;
+    out->regions = v->stats.regions;
+    out->region_pixels = v->stats.region_pixels;
+    out->tris_drawn = v->stats.tris_drawn;
     snprintf(out->renderer, sizeof out->renderer, "%s", WK_CPU_RENDERER);
 }
 
@@ -125,12 +133,17 @@ static void cv_destroy(lm_views *base)
     free(v);
 }
 
+static lm_status cv_set_materials(lm_views *base, const lm_material *mats, uint32_t n);
+static lm_status cv_read_image(lm_views *base, lm_image_kind kind, uint32_t view, uint8_t *out);
+
 static const lm_views_ops cv_ops = {
     .set_mesh = cv_set_mesh,
+    .set_materials = cv_set_materials,
     .evaluate = wk_cpu_evaluate,
     .commit = wk_cpu_commit,
     .energy = cv_energy,
     .potentials = cv_potentials,
+    .read_image = cv_read_image,
     .info = cv_info,
     .destroy = cv_destroy,
 };
@@ -170,10 +183,14 @@ static lm_status need_texture_factors(wk_cpu_views *v, const wk_cpu_materials *m
 
 /* ---- creation ---------------------------------------------------------------------------- */
 
-static lm_status check_input(const lm_mesh *original, const lm_view_set *views)
+static lm_status check_input(const lm_mesh *original, const lm_view_set *views, uint32_t first,
+                             uint32_t count)
 {
     if (views->count < 1 || views->count > LM_MAX_VIEWS)
         return lm_fail(LM_E_RANGE, "view count %u is outside 1..%d", views->count, LM_MAX_VIEWS);
+    if (first >= views->count || count < 1 || count > views->count - first)
+        return lm_fail(LM_E_RANGE, "views %u..%u are not among the %u views", first,
+                       first + count - 1, views->count);
     for (uint32_t h = 0; h < views->count; h++)
         if (views->views[h].width != views->views[0].width ||
             views->views[h].height != views->views[0].height)
@@ -209,18 +226,22 @@ static lm_status create_parts(wk_cpu_views *v, const lm_mesh *original)
     return st;
 }
 
-lm_status wk_cpu_views_create(const lm_mesh *original, const lm_view_set *views, lm_views **out)
+lm_status wk_cpu_views_create(const lm_mesh *original, const lm_view_set *views, uint32_t first,
+                              uint32_t count, lm_views **out)
 {
-    lm_status st = check_input(original, views);
+    if (!count && first < views->count)
+        count = views->count - first;
+    lm_status st = check_input(original, views, first, count);
     if (st != LM_OK)
         return st;
     wk_cpu_views *v = calloc(1, sizeof *v);
     if (!v)
         return lm_fail(LM_E_NOMEM, "out of memory creating the views");
     v->base.ops = &cv_ops;
-    v->views = *views;
-    for (uint32_t h = 0; h < views->count; h++)
-        wk_cpu_view_init(&views->views[h], &v->cviews[h]);
+    v->views.count = count;
+    memcpy(v->views.views, views->views + first, (size_t)count * sizeof *v->views.views);
+    for (uint32_t h = 0; h < count; h++)
+        wk_cpu_view_init(&v->views.views[h], &v->cviews[h]);
     v->width = views->views[0].width;
     v->height = views->views[0].height;
     v->tiles_w = (v->width + WK_CPU_TILE - 1) / WK_CPU_TILE;
@@ -229,7 +250,7 @@ lm_status wk_cpu_views_create(const lm_mesh *original, const lm_view_set *views,
     v->tiles = (size_t)v->tiles_w * v->tiles_h;
     v->occlusion = 1;
     wk_replica_init(&v->rep);
-    wk_cpu_subcache_init(&v->subcache, views->count);
+    wk_cpu_subcache_init(&v->subcache, count);
     st = create_parts(v, original);
     if (st == LM_OK) {
         wk_cpu_source src = {.mesh = original};
@@ -245,7 +266,7 @@ lm_status wk_cpu_views_create(const lm_mesh *original, const lm_view_set *views,
 
 /* ---- extras ------------------------------------------------------------------------------ */
 
-lm_status wk_cpu_views_set_materials(lm_views *base, const lm_material *mats, uint32_t n)
+static lm_status set_materials(lm_views *base, const lm_material *mats, uint32_t n)
 {
     wk_cpu_views *v = (wk_cpu_views *)base;
     lm_status st = wk_cpu_materials_set(&v->mats[1], mats, n);
@@ -265,6 +286,13 @@ lm_status wk_cpu_views_set_materials(lm_views *base, const lm_material *mats, ui
     return rerender_replica(v);
 }
 
+static lm_status cv_set_materials(lm_views *base, const lm_material *mats, uint32_t n)
+{
+    lm_status st = set_materials(base, mats, n);
+    ((wk_cpu_views *)base)->seq += st == LM_OK;
+    return st;
+}
+
 lm_status wk_cpu_views_set_occlusion(lm_views *base, int on)
 {
     ((wk_cpu_views *)base)->occlusion = on != 0;
@@ -276,7 +304,7 @@ void wk_cpu_views_get_stats(lm_views *base, wk_views_local_stats *out)
     *out = ((wk_cpu_views *)base)->stats;
 }
 
-lm_status wk_cpu_views_luma(lm_views *base, int which, uint32_t view, uint8_t *out)
+static lm_status read_luma(lm_views *base, int which, uint32_t view, uint8_t *out)
 {
     wk_cpu_views *v = (wk_cpu_views *)base;
     if (view >= v->views.count)
@@ -287,7 +315,7 @@ lm_status wk_cpu_views_luma(lm_views *base, int which, uint32_t view, uint8_t *o
     return LM_OK;
 }
 
-lm_status wk_cpu_views_read_rgba(lm_views *base, uint32_t view, uint8_t *out)
+static lm_status read_rgba(lm_views *base, uint32_t view, uint8_t *out)
 {
     wk_cpu_views *v = (wk_cpu_views *)base;
     if (view >= v->views.count)
@@ -296,7 +324,7 @@ lm_status wk_cpu_views_read_rgba(lm_views *base, uint32_t view, uint8_t *out)
     return LM_OK;
 }
 
-lm_status wk_cpu_views_read_coverage(lm_views *base, uint32_t view, uint8_t *out)
+static lm_status read_coverage(lm_views *base, uint32_t view, uint8_t *out)
 {
     wk_cpu_views *v = (wk_cpu_views *)base;
     if (view >= v->views.count)
@@ -305,4 +333,19 @@ lm_status wk_cpu_views_read_coverage(lm_views *base, uint32_t view, uint8_t *out
     for (size_t i = 0; i < v->plane; i++)
         out[i] = key[i] != WK_CPU_KEY_BG;
     return LM_OK;
+}
+
+static lm_status cv_read_image(lm_views *base, lm_image_kind kind, uint32_t view, uint8_t *out)
+{
+    switch (kind) {
+    case LM_IMAGE_TARGET_LUMA:
+        return read_luma(base, 1, view, out);
+    case LM_IMAGE_CURRENT_LUMA:
+        return read_luma(base, 0, view, out);
+    case LM_IMAGE_RGBA:
+        return read_rgba(base, view, out);
+    case LM_IMAGE_COVERAGE:
+        return read_coverage(base, view, out);
+    }
+    return lm_fail(LM_E_INVALID, "unknown image kind %d", (int)kind);
 }

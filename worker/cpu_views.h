@@ -5,7 +5,7 @@
  * Images are the same bits on every host, compiler and optimisation level.
  *
  * wk_views_local_create(..., "cpu", ...) and the wk_views_local_* extras dispatch here; the
- * functions below are the same extras for a views object made by wk_cpu_views_create. */
+ * functions below are those extras for a views object made by wk_cpu_views_create. */
 #ifndef LM_WORKER_CPU_VIEWS_H
 #define LM_WORKER_CPU_VIEWS_H
 
@@ -20,18 +20,16 @@
  */
 #define WK_CPU_RENDERER "cpu: " WK_CPU_RASTERISER
 
-/* Same contract as wk_views_local_create. */
-lm_status wk_cpu_views_create(const lm_mesh *original, const lm_view_set *views, lm_views **out);
+/* Same contract as wk_views_local_create: views first..first+count-1 (count 0 = to the end) of
+ * the job's set; a view's images do not depend on which others are held with it. */
+lm_status wk_cpu_views_create(const lm_mesh *original, const lm_view_set *views, uint32_t first,
+                              uint32_t count, lm_views **out);
 /* Whether v was made by wk_cpu_views_create. */
 int wk_cpu_views_is(const lm_views *v);
 
-lm_status wk_cpu_views_set_materials(lm_views *v, const lm_material *mats, uint32_t n);
 /* Off: every removed triangle is searched and every added one drawn in every view, without
  * depth-tile rejection and without the shortcut for unchanged corners (slower, same images). */
 lm_status wk_cpu_views_set_occlusion(lm_views *v, int on);
 void wk_cpu_views_get_stats(lm_views *v, wk_views_local_stats *out);
-lm_status wk_cpu_views_luma(lm_views *v, int which, uint32_t view, uint8_t *out);
-lm_status wk_cpu_views_read_rgba(lm_views *v, uint32_t view, uint8_t *out);
-lm_status wk_cpu_views_read_coverage(lm_views *v, uint32_t view, uint8_t *out);
 
 #endif

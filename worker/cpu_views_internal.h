@@ -61,6 +61,7 @@ typedef struct wk_cpu_views {
     wk_cpu_subcache subcache; /* subs of the current triangles */
     wk_cpu_eval eval;
     wk_views_local_stats stats;
+    uint64_t seq; /* changes of state (lm_views_info) */
 } wk_cpu_views;
 
 static inline wk_cpu_keys wk_cpu_view_keys(wk_cpu_views *v, uint32_t h)

@@ -4,11 +4,12 @@
  * on a 50% grey background (128/255), depth-tested (GL_LESS).
  *
  * All views of a set live in one atlas framebuffer (RGBA8 + depth 24), each view in its own fixed
- * tile; a view is ALWAYS drawn into its own tile with the same viewport (which clips), so drawing
- * a region of it does exactly the arithmetic of a full render there. Several atlases of identical
- * layout may exist (scratch space for several patches in one batch). Triangles come as a
- * non-indexed stream uploaded once per batch; a draw paints a range of it (ascending triangle
- * ids, consecutive triangles of one material forming one draw call) into one view's tile.
+ * tile, the tile it has in the layout of the job's whole view set; a view is ALWAYS drawn into its
+ * own tile with the same viewport (which clips), so drawing a region of it does exactly the
+ * arithmetic of a full render there. Several atlases of identical layout may exist (scratch space
+ * for several patches in one batch). Triangles come as a non-indexed stream uploaded once per
+ * batch; a draw paints a range of it (ascending triangle ids, consecutive triangles of one material
+ * forming one draw call) into one view's tile.
  *
  * Regions: a batch first clears all its regions (background grey at depth 1) with ONE draw of
  * quads (a scissored glClear per region costs on Mesa as much as a small draw plus a state save
@@ -33,7 +34,11 @@
 
 typedef struct wk_renderer wk_renderer;
 
-lm_status wk_renderer_create(const lm_view_set *views, wk_renderer **out);
+/* The renderer of `views`, which are views first..first+views->count-1 of a job of `total` views:
+ * each is drawn in the tile it has in the job's atlas layout (see layout_tiles in render.c), so
+ * its pixels do not depend on how the job's views are split. */
+lm_status wk_renderer_create(const lm_view_set *views, uint32_t first, uint32_t total,
+                             wk_renderer **out);
 void wk_renderer_destroy(wk_renderer *r);
 
 /* Material table `table`: copies the diffuse colours and uploads the textures (RGBA8, mipmapped,

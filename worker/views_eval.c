@@ -598,5 +598,6 @@ lm_status wk_vl_commit(lm_views *base, const lm_patch *patch)
         v->mesh_set = 0; /* half-applied: refuse further work until set_mesh */
         v->buckets_ready = 0;
     }
+    v->seq += st == LM_OK;
     return st;
 }

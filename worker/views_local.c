@@ -194,9 +194,9 @@ lm_status wk_vl_build_buckets(wk_views_local *v)
     return LM_OK;
 }
 
-static lm_status vl_set_mesh(lm_views *base, const lm_tri_data *tris, size_t n)
+/* set_mesh without advancing the sequence number (also the re-render after a material change). */
+static lm_status set_mesh_quiet(wk_views_local *v, const lm_tri_data *tris, size_t n)
 {
-    wk_views_local *v = (wk_views_local *)base;
     lm_status st = wk_vl_make_current(v);
     if (st != LM_OK)
         return st;
@@ -220,6 +220,14 @@ static lm_status vl_set_mesh(lm_views *base, const lm_tri_data *tris, size_t n)
     return st;
 }
 
+static lm_status vl_set_mesh(lm_views *base, const lm_tri_data *tris, size_t n)
+{
+    wk_views_local *v = (wk_views_local *)base;
+    lm_status st = set_mesh_quiet(v, tris, n);
+    v->seq += st == LM_OK;
+    return st;
+}
+
 /* Re-render the replica from scratch (after a material change). */
 static lm_status rerender_replica(wk_views_local *v)
 {
@@ -230,7 +238,7 @@ static lm_status rerender_replica(wk_views_local *v)
     for (size_t id = 0; id < v->rep.cap; id++)
         if (v->rep.alive[id])
             tris[n++] = v->rep.tris[id];
-    lm_status st = vl_set_mesh(&v->base, tris, n);
+    lm_status st = set_mesh_quiet(v, tris, n);
     free(tris);
     return st;
 }
@@ -261,6 +269,11 @@ static void vl_info(lm_views *base, lm_views_info *out)
     out->n_views = v->views.count;
     out->width = v->width;
     out->height = v->height;
+    out->seq = v->seq;
+    out->evaluations = v->stats.evaluations;
+    out->regions = v->stats.regions;
+    out->region_pixels = v->stats.region_pixels;
+    out->tris_drawn = v->stats.tris_drawn;
     snprintf(out->renderer, sizeof out->renderer, "%s", wk_gl_context_description(v->ctx));
 }
 
@@ -280,22 +293,30 @@ static void vl_destroy(lm_views *base)
     free(v);
 }
 
+static lm_status vl_set_materials(lm_views *base, const lm_material *mats, uint32_t n);
+static lm_status vl_read_image(lm_views *base, lm_image_kind kind, uint32_t view, uint8_t *out);
+
 static const lm_views_ops vl_ops = {
     .set_mesh = vl_set_mesh,
+    .set_materials = vl_set_materials,
     .evaluate = wk_vl_evaluate,
     .commit = wk_vl_commit,
     .energy = vl_energy,
     .potentials = vl_potentials,
+    .read_image = vl_read_image,
     .info = vl_info,
     .destroy = vl_destroy,
 };
 
 /* ---- creation ---------------------------------------------------------------------------- */
 
-static lm_status check_views(const lm_view_set *views)
+static lm_status check_views(const lm_view_set *views, uint32_t first, uint32_t count)
 {
     if (views->count < 1 || views->count > LM_MAX_VIEWS)
         return lm_fail(LM_E_RANGE, "view count %u is outside 1..%d", views->count, LM_MAX_VIEWS);
+    if (first >= views->count || count < 1 || count > views->count - first)
+        return lm_fail(LM_E_RANGE, "views %u..%u are not among the %u views", first,
+                       first + count - 1, views->count);
     for (uint32_t h = 0; h < views->count; h++)
         if (views->views[h].width != views->views[0].width ||
             views->views[h].height != views->views[0].height)
@@ -303,11 +324,12 @@ static lm_status check_views(const lm_view_set *views)
     return LM_OK;
 }
 
-static lm_status create_parts(wk_views_local *v, const lm_mesh *original)
+static lm_status create_parts(wk_views_local *v, const lm_mesh *original, uint32_t first,
+                              uint32_t total)
 {
     lm_status st = wk_vl_make_current(v);
     if (st == LM_OK)
-        st = wk_renderer_create(&v->views, &v->r);
+        st = wk_renderer_create(&v->views, first, total, &v->r);
     if (st == LM_OK)
         st = wk_renderer_set_materials(v->r, 0, original->materials, original->n_materials);
     if (st == LM_OK)
@@ -321,10 +343,12 @@ static lm_status create_parts(wk_views_local *v, const lm_mesh *original)
     return st;
 }
 
-lm_status wk_views_local_create(const lm_mesh *original, const lm_view_set *views,
-                                const char *device_spec, lm_views **out)
+lm_status wk_views_local_create(const lm_mesh *original, const lm_view_set *views, uint32_t first,
+                                uint32_t count, const char *device_spec, lm_views **out)
 {
-    lm_status st = check_views(views);
+    if (!count && first < views->count)
+        count = views->count - first;
+    lm_status st = check_views(views, first, count);
     if (st != LM_OK)
         return st;
     for (uint32_t t = 0; t < original->n_tris; t++)
@@ -335,7 +359,7 @@ lm_status wk_views_local_create(const lm_mesh *original, const lm_view_set *view
     if ((st = wk_device_open(device_spec, &ctx)) != LM_OK)
         return st;
     if (!ctx) /* "cpu", or "auto" without a GPU */
-        return wk_cpu_views_create(original, views, out);
+        return wk_cpu_views_create(original, views, first, count, out);
     wk_views_local *v = calloc(1, sizeof *v);
     if (!v) {
         wk_gl_context_destroy(ctx);
@@ -343,11 +367,12 @@ lm_status wk_views_local_create(const lm_mesh *original, const lm_view_set *view
     }
     v->base.ops = &vl_ops;
     v->ctx = ctx;
-    v->views = *views;
+    v->views.count = count;
+    memcpy(v->views.views, views->views + first, (size_t)count * sizeof *v->views.views);
     v->width = views->views[0].width;
     v->height = views->views[0].height;
     wk_replica_init(&v->rep);
-    st = create_parts(v, original);
+    st = create_parts(v, original, first, views->count);
     if (st == LM_OK) {
         tri_source src = {.mesh = original};
         st = render_full(v, 0, &src, 1);
@@ -362,24 +387,31 @@ lm_status wk_views_local_create(const lm_mesh *original, const lm_view_set *view
 
 /* ---- extras ------------------------------------------------------------------------------ */
 
-lm_status wk_views_local_set_materials(lm_views *base, const lm_material *mats, uint32_t n)
+static lm_status vl_set_materials(lm_views *base, const lm_material *mats, uint32_t n)
 {
-    if (wk_cpu_views_is(base))
-        return wk_cpu_views_set_materials(base, mats, n);
     wk_views_local *v = (wk_views_local *)base;
     lm_status st = wk_vl_make_current(v);
     if (st == LM_OK)
         st = wk_renderer_set_materials(v->r, 1, mats, n);
-    if (st != LM_OK)
-        return st;
-    v->table = 1;
-    return v->mesh_set ? rerender_replica(v) : LM_OK;
+    if (st == LM_OK) {
+        v->table = 1;
+        st = v->mesh_set ? rerender_replica(v) : LM_OK;
+    }
+    v->seq += st == LM_OK;
+    return st;
+}
+
+int wk_views_is_local(const lm_views *views)
+{
+    return (views && views->ops == &vl_ops) || wk_cpu_views_is(views);
 }
 
 lm_status wk_views_local_set_occlusion(lm_views *base, int on)
 {
     if (wk_cpu_views_is(base))
         return wk_cpu_views_set_occlusion(base, on);
+    if (!wk_views_is_local(base))
+        return lm_fail(LM_E_UNSUPPORTED, "occlusion is a setting of the in-process views only");
     wk_views_local *v = (wk_views_local *)base;
     if (on && !wk_image_store_has_depth(v->img))
         return lm_fail(LM_E_UNSUPPORTED, "this device cannot render depth images");
@@ -393,20 +425,21 @@ lm_status wk_views_local_set_occlusion(lm_views *base, int on)
     return LM_OK;
 }
 
-void wk_views_local_get_stats(lm_views *base, wk_views_local_stats *out)
+lm_status wk_views_local_get_stats(lm_views *base, wk_views_local_stats *out)
 {
+    memset(out, 0, sizeof *out);
     if (wk_cpu_views_is(base)) {
         wk_cpu_views_get_stats(base, out);
-        return;
+        return LM_OK;
     }
+    if (!wk_views_is_local(base))
+        return lm_fail(LM_E_UNSUPPORTED, "statistics are kept by the in-process views only");
     *out = ((wk_views_local *)base)->stats;
+    return LM_OK;
 }
 
-lm_status wk_views_local_luma(lm_views *base, int which, uint32_t view, uint8_t *out)
+static lm_status read_luma(wk_views_local *v, int which, uint32_t view, uint8_t *out)
 {
-    if (wk_cpu_views_is(base))
-        return wk_cpu_views_luma(base, which, view, out);
-    wk_views_local *v = (wk_views_local *)base;
     if (view >= v->views.count)
         return lm_fail(LM_E_RANGE, "view %u of %u", view, v->views.count);
     const uint8_t *src =
@@ -415,11 +448,8 @@ lm_status wk_views_local_luma(lm_views *base, int which, uint32_t view, uint8_t 
     return LM_OK;
 }
 
-lm_status wk_views_local_read_rgba(lm_views *base, uint32_t view, uint8_t *out)
+static lm_status read_rgba(wk_views_local *v, uint32_t view, uint8_t *out)
 {
-    if (wk_cpu_views_is(base))
-        return wk_cpu_views_read_rgba(base, view, out);
-    wk_views_local *v = (wk_views_local *)base;
     if (view >= v->views.count)
         return lm_fail(LM_E_RANGE, "view %u of %u", view, v->views.count);
     lm_status st = wk_vl_make_current(v);
@@ -429,11 +459,8 @@ lm_status wk_views_local_read_rgba(lm_views *base, uint32_t view, uint8_t *out)
     return st == LM_OK ? wk_renderer_check(v->r, "reading a colour image") : st;
 }
 
-lm_status wk_views_local_read_coverage(lm_views *base, uint32_t view, uint8_t *out)
+static lm_status read_coverage(wk_views_local *v, uint32_t view, uint8_t *out)
 {
-    if (wk_cpu_views_is(base))
-        return wk_cpu_views_read_coverage(base, view, out);
-    wk_views_local *v = (wk_views_local *)base;
     if (view >= v->views.count)
         return lm_fail(LM_E_RANGE, "view %u of %u", view, v->views.count);
     lm_status st = wk_vl_make_current(v);
@@ -450,4 +477,20 @@ lm_status wk_views_local_read_coverage(lm_views *base, uint32_t view, uint8_t *o
         out[i] = z[i] < 1.0f;
     free(z);
     return st == LM_OK ? wk_renderer_check(v->r, "reading a depth image") : st;
+}
+
+static lm_status vl_read_image(lm_views *base, lm_image_kind kind, uint32_t view, uint8_t *out)
+{
+    wk_views_local *v = (wk_views_local *)base;
+    switch (kind) {
+    case LM_IMAGE_TARGET_LUMA:
+        return read_luma(v, 1, view, out);
+    case LM_IMAGE_CURRENT_LUMA:
+        return read_luma(v, 0, view, out);
+    case LM_IMAGE_RGBA:
+        return read_rgba(v, view, out);
+    case LM_IMAGE_COVERAGE:
+        return read_coverage(v, view, out);
+    }
+    return lm_fail(LM_E_INVALID, "unknown image kind %d", (int)kind);
 }

@@ -41,6 +41,7 @@ typedef struct wk_views_local {
     wk_buckets *buckets[LM_MAX_VIEWS];
     wk_replica rep;
     int mesh_set;
+    uint64_t seq;      /* changes of state so far (views_api.h) */
     int buckets_ready; /* buckets match the replica */
     int table;         /* material table of the current mesh */
     int occlusion;     /* skip views where a patch is certainly hidden (needs depth images) */

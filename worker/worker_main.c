@@ -1,32 +1,58 @@
-/* worker/worker_main.c — the lumesh-worker program: device choice, --self-test, and (later)
- * serving views to a coordinator over --connect. */
+/* worker/worker_main.c — the lumesh-worker program: device choice, --self-test, and serving views
+ * to a coordinator over --connect (worker/serve.h). */
 #include <getopt.h>
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/prctl.h>
+#include <unistd.h>
 
 #include "common/error.h"
 #include "common/log.h"
 #include "worker/cpu_self_test.h"
 #include "worker/device_choice.h"
 #include "worker/gl_context.h"
+#include "worker/probe.h"
 #include "worker/self_test.h"
+#include "worker/serve.h"
 
 typedef struct worker_args {
     const char *connect;
     const char *device;
     int self_test;
+    int once;
+    long parent;      /* exit with this process (a coordinator that spawned us); 0 = none */
+    const char *keys; /* CURVE key folder */
+    const char *health_socket; /* answer health queries here */
+    const char *health;        /* ask the worker answering here, and exit */
+    int ready;                 /* with health: exit 0 only when it is welcomed by a coordinator */
     int help;
 } worker_args;
 
 static void usage(FILE *f)
 {
-    fputs("usage: lumesh-worker --connect ADDR [--device auto|cpu|egl:N|host] [--self-test]\n"
+    fputs("usage: lumesh-worker --connect ADDR [--device auto|cpu|egl:N|host] [--once]\n"
+          "                     [--keys DIR] [--health-socket ADDR]\n"
+          "       lumesh-worker --health ADDR [--ready]\n"
+          "       lumesh-worker --self-test [--device auto|cpu|egl:N|host]\n"
           "\n"
-          "Renders views for a lumesh coordinator.\n"
+          "Renders views for a lumesh coordinator: `lumesh optimize --listen ADDR` waits for\n"
+          "workers at ADDR; each worker that connects is given some of the job's views. A worker\n"
+          "outlives its job and serves the next one at the same address (assets it has already\n"
+          "received are kept); it keeps trying while no coordinator is there.\n"
           "\n"
-          "  --connect ADDR   coordinator address, e.g. tcp://host:5555\n"
-          "                   (not available in this version: distribution lands later)\n"
+          "  --connect ADDR   coordinator address, e.g. tcp://host:5555 (or ipc://PATH)\n"
+          "  --once           exit when the first job ends\n"
+          "  --keys DIR       authenticate and encrypt with the CURVE keys in DIR (worker.key and\n"
+          "                   coordinator.pub, from `lumesh keygen`): the coordinator's key is\n"
+          "                   checked, and the coordinator checks this worker's\n"
+          "  --health-socket ADDR  answer health queries at ADDR (e.g. ipc:///tmp/w.health)\n"
+          "  --health ADDR    ask the worker answering at ADDR how it stands: print its JSON\n"
+          "                   state and exit 0, or exit 1 when it does not answer within 2 s\n"
+          "  --ready          with --health: exit 0 only when a coordinator has welcomed it\n"
+          "  --parent PID     exit when process PID (the coordinator that started this worker)\n"
+          "                   does\n"
           "  --device SPEC    rendering device: auto (first working GPU, else cpu), cpu\n"
           "                   (lumesh's exact CPU rasteriser), host (Mesa llvmpipe), egl:N\n"
           "                   (device N as listed by `lumesh devices`); default auto\n"
@@ -43,11 +69,14 @@ static lm_status parse_args(int argc, char **argv, worker_args *a)
     static const struct option opts[] = {
         {"connect", required_argument, NULL, 'c'}, {"device", required_argument, NULL, 'd'},
         {"self-test", no_argument, NULL, 's'},     {"verbose", no_argument, NULL, 'v'},
+        {"once", no_argument, NULL, 'o'},          {"parent", required_argument, NULL, 'p'},
+        {"keys", required_argument, NULL, 'k'},    {"health-socket", required_argument, NULL, 'H'},
+        {"health", required_argument, NULL, 'q'},  {"ready", no_argument, NULL, 'r'},
         {"help", no_argument, NULL, 'h'},          {NULL, 0, NULL, 0}};
     int c;
     opterr = 0;
     optind = 1;
-    while ((c = getopt_long(argc, argv, ":c:d:svh", opts, NULL)) != -1) {
+    while ((c = getopt_long(argc, argv, ":c:d:svohp:k:H:q:r", opts, NULL)) != -1) {
         switch (c) {
         case 'c':
             a->connect = optarg;
@@ -58,6 +87,28 @@ static lm_status parse_args(int argc, char **argv, worker_args *a)
         case 's':
             a->self_test = 1;
             break;
+        case 'o':
+            a->once = 1;
+            break;
+        case 'k':
+            a->keys = optarg;
+            break;
+        case 'H':
+            a->health_socket = optarg;
+            break;
+        case 'q':
+            a->health = optarg;
+            break;
+        case 'r':
+            a->ready = 1;
+            break;
+        case 'p': {
+            char *end;
+            a->parent = strtol(optarg, &end, 10);
+            if (*end || a->parent <= 0)
+                return lm_fail(LM_E_INVALID, "--parent expects a process id, got '%s'", optarg);
+            break;
+        }
         case 'v':
             lm_log_set_level(LM_LOG_DEBUG);
             break;
@@ -72,8 +123,9 @@ static lm_status parse_args(int argc, char **argv, worker_args *a)
     }
     if (optind < argc)
         return lm_fail(LM_E_INVALID, "unexpected argument '%s' (see --help)", argv[optind]);
-    if (!a->help && !a->connect && !a->self_test)
-        return lm_fail(LM_E_INVALID, "nothing to do: give --connect ADDR or --self-test");
+    if (!a->help && !a->connect && !a->self_test && !a->health)
+        return lm_fail(LM_E_INVALID, "nothing to do: give --connect ADDR, --health ADDR or "
+                                     "--self-test");
     return LM_OK;
 }
 
@@ -90,6 +142,10 @@ static lm_status self_test(const char *device)
         printf("self-test ok (32x32 clear + triangle, %d/1024 pixels covered)\n", red);
     }
     wk_gl_context_destroy(ctx);
+    char id[WK_RENDERER_ID_CHARS + 1];
+    if (st == LM_OK && (st = wk_probe_renderer(device, id, NULL)) == LM_OK)
+        printf("renderer id %s (the fingerprint of a probe render: workers of one job share it)\n",
+               id);
     return st;
 }
 
@@ -106,7 +162,7 @@ static void log_level_from_env(void)
 
 int main(int argc, char **argv)
 {
-    worker_args a = {NULL, "auto", 0, 0};
+    worker_args a = {.device = "auto"};
     log_level_from_env();
     lm_status st = parse_args(argc, argv, &a);
     if (st != LM_OK) {
@@ -117,6 +173,17 @@ int main(int argc, char **argv)
         usage(stdout);
         return 0;
     }
+    if (a.health) {
+        char state[1024];
+        int ready = 0;
+        st = wk_serve_health_query(a.health, 2.0, state, sizeof state, &ready);
+        if (st != LM_OK) {
+            fprintf(stderr, "lumesh-worker: %s\n", lm_last_error());
+            return 1;
+        }
+        printf("%s\n", state);
+        return a.ready && !ready ? 1 : 0;
+    }
     if (a.self_test) {
         st = self_test(a.device);
         if (st != LM_OK) {
@@ -125,9 +192,21 @@ int main(int argc, char **argv)
         }
     }
     if (a.connect) {
-        fprintf(stderr, "lumesh-worker: --connect is not available in this version "
-                        "(distribution lands with the distribution issue)\n");
-        return 1;
+        if (a.parent) { /* die with the coordinator, and not at all if it is already gone */
+            prctl(PR_SET_PDEATHSIG, SIGTERM);
+            if (getppid() != (pid_t)a.parent)
+                return 0;
+        }
+        wk_serve_options o = {.endpoint = a.connect,
+                              .device = a.device,
+                              .once = a.once,
+                              .keys = a.keys,
+                              .health = a.health_socket};
+        st = wk_serve(&o);
+        if (st != LM_OK) {
+            fprintf(stderr, "lumesh-worker: %s\n", lm_last_error());
+            return lm_exit_code(st);
+        }
     }
     return 0;
 }

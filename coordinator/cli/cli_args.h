@@ -39,10 +39,13 @@ int co_cli_optimize(int argc, char **argv);
 int co_cli_simplify(int argc, char **argv);
 int co_cli_energy(int argc, char **argv);
 int co_cli_compare(int argc, char **argv);
+int co_cli_report(int argc, char **argv);
 int co_cli_render(int argc, char **argv);
 int co_cli_devices(int argc, char **argv);
 int co_cli_gen_frog(int argc, char **argv);
 int co_cli_demo(int argc, char **argv);
 int co_cli_bench(int argc, char **argv);
+int co_cli_workers(int argc, char **argv);
+int co_cli_keygen(int argc, char **argv);
 
 #endif

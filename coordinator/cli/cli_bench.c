@@ -18,24 +18,28 @@
 #include "common/mesh_topology.h"
 #include "common/patch.h"
 #include "common/simplify.h"
+#include "common/view.h"
 #include "coordinator/cli/bench_moves.h"
 #include "coordinator/cli/cli_args.h"
 #include "coordinator/job/progress.h"
+#include "coordinator/pool/pool.h"
 #include "coordinator/quality/view_setup.h"
-#include "worker/views_local.h"
+#include "coordinator/views/views.h"
 
 #define CMD "bench"
 #define BENCH_PATCHES 512
+#define BENCH_MAX_RUNS 10 /* worker counts measured: 1, 2, 4, ... 256 and N */
 #define BUNNY_REL "tests/data/cache/meshes/bunny00.off"
 
 typedef struct bench_args {
     const char *model, *device;
-    uint32_t views, size, evals;
+    uint32_t views, size, evals, workers;
     uint64_t seed;
     int json;
 } bench_args;
 
 typedef struct bench_result {
+    uint32_t workers;
     uint32_t orig_tris, coarse_verts, coarse_tris;
     double full_ms, evals_per_s, evals_per_s_batch, commits_per_s, tris_per_eval;
     double regions_per_eval, pixels_per_region, evals_per_cpu_s;
@@ -44,14 +48,19 @@ typedef struct bench_result {
 
 static void usage(FILE *f)
 {
-    fputs("usage: lumesh bench eval [--json] [--model FILE] [--views N] [--size S] [--evals N]\n"
-          "                         [--device D] [--seed S]\n"
-          "Measures incremental ΔE evaluations per second for single-vertex moves (1-ring\n"
-          "patches) on MODEL simplified by QEM to 1% of its vertices, and a full re-render.\n"
-          "  --model FILE   default: the CGAL bunny of the test data (" BUNNY_REL ")\n"
-          "  --views N      default 20, --size S default 256, --evals N default 5000\n"
-          "  --device D     auto (default), cpu, egl:N or host;  --json  one JSON object\n",
-          f);
+    fprintf(f,
+            "usage: lumesh bench eval [--json] [--model FILE] [--views N] [--size S] [--evals N]\n"
+            "                         [--device D] [--seed S] [--workers N]\n"
+            "Measures incremental ΔE evaluations per second for single-vertex moves (1-ring\n"
+            "patches) on MODEL simplified by QEM to 1%% of its vertices, and a full re-render.\n"
+            "  --model FILE   default: the CGAL bunny of the test data (" BUNNY_REL "),\n"
+            "                 from LUMESH_TEST_DATA if set, else the current folder, the folders\n"
+            "                 above the program or the source tree it was built from\n"
+            "  --views N      default %u, --size S default %d, --evals N default 5000\n"
+            "  --device D     auto (default), cpu, egl:N or host;  --json  one JSON object\n"
+            "  --workers N    through lumesh-worker processes: measured with 1, 2, 4, ... and N\n"
+            "                 workers (each rendering on one core), with the ratio to 1 worker\n",
+            LM_DEFAULT_VIEWS, LM_DEFAULT_VIEW_SIZE);
 }
 
 static int parse_option(int c, char **argv, bench_args *a)
@@ -74,6 +83,8 @@ static int parse_option(int c, char **argv, bench_args *a)
     case 'j':
         a->json = 1;
         return -1;
+    case 'w':
+        return co_arg_u32(CMD, "--workers", optarg, 1, 256, &a->workers) ? 1 : -1;
     case 'h':
         usage(stdout);
         return 0;
@@ -84,15 +95,12 @@ static int parse_option(int c, char **argv, bench_args *a)
 
 static int parse(int argc, char **argv, bench_args *a)
 {
-    static const struct option opts[] = {{"model", required_argument, NULL, 'm'},
-                                         {"views", required_argument, NULL, 'v'},
-                                         {"size", required_argument, NULL, 's'},
-                                         {"evals", required_argument, NULL, 'n'},
-                                         {"seed", required_argument, NULL, 'S'},
-                                         {"device", required_argument, NULL, 'd'},
-                                         {"json", no_argument, NULL, 'j'},
-                                         {"help", no_argument, NULL, 'h'},
-                                         {NULL, 0, NULL, 0}};
+    static const struct option opts[] = {
+        {"model", required_argument, NULL, 'm'}, {"views", required_argument, NULL, 'v'},
+        {"size", required_argument, NULL, 's'},  {"evals", required_argument, NULL, 'n'},
+        {"seed", required_argument, NULL, 'S'},  {"device", required_argument, NULL, 'd'},
+        {"json", no_argument, NULL, 'j'},        {"workers", required_argument, NULL, 'w'},
+        {"help", no_argument, NULL, 'h'},        {NULL, 0, NULL, 0}};
     if (argc < 2 || (strcmp(argv[1], "eval") && strcmp(argv[1], "--help") && strcmp(argv[1], "-h")))
         return co_cli_usage_error(CMD, "expects a benchmark name: eval (see --help)");
     int c, rc;
@@ -110,14 +118,15 @@ static int parse(int argc, char **argv, bench_args *a)
     return -1;
 }
 
-/* The bunny of the test data: $LUMESH_TEST_DATA, the current folder, or beside the build. */
+/* The bunny of the test data. LUMESH_TEST_DATA, when set, is the only place looked at; otherwise
+ * the current folder, the folders above the program (a build folder inside the source tree) and
+ * the source tree the program was built from. */
 static const char *default_model(char *buf, size_t cap)
 {
     const char *env = getenv("LUMESH_TEST_DATA");
     if (env && *env) {
         snprintf(buf, cap, "%s/cache/meshes/bunny00.off", env);
-        if (access(buf, R_OK) == 0)
-            return buf;
+        return access(buf, R_OK) == 0 ? buf : NULL;
     }
     if (access(BUNNY_REL, R_OK) == 0)
         return BUNNY_REL;
@@ -134,21 +143,34 @@ static const char *default_model(char *buf, size_t cap)
         if (access(buf, R_OK) == 0)
             return buf;
     }
-    return NULL;
+    snprintf(buf, cap, "%s/%s", LUMESH_SOURCE_DIR, BUNNY_REL);
+    return access(buf, R_OK) == 0 ? buf : NULL;
+}
+
+static int model_not_found(void)
+{
+    const char *env = getenv("LUMESH_TEST_DATA");
+    if (env && *env)
+        return co_cli_usage_error(CMD,
+                                  "LUMESH_TEST_DATA=%s has no cache/meshes/bunny00.off (the "
+                                  "bunny); run scripts/install-deps.sh or pass --model FILE",
+                                  env);
+    return co_cli_usage_error(CMD,
+                              "the bunny (" BUNNY_REL ") is not in the current folder, above the "
+                              "program or in %s; run scripts/install-deps.sh there, set "
+                              "LUMESH_TEST_DATA=DIR/tests/data or pass --model FILE",
+                              LUMESH_SOURCE_DIR);
 }
 
 /* Mean time of a full re-render (set_mesh) of every view, in ms. */
 static lm_status time_full(lm_views *v, const lm_mesh *coarse, double *ms)
 {
-    lm_tri_data *tris;
-    size_t n;
-    lm_status st = lm_mesh_export_tris(coarse, &tris, &n);
     const int reps = 10;
+    lm_status st = LM_OK;
     double t0 = co_now_s();
     for (int i = 0; st == LM_OK && i < reps; i++)
-        st = v->ops->set_mesh(v, tris, n);
+        st = lm_views_set_mesh_from(v, coarse);
     *ms = (co_now_s() - t0) * 1000.0 / reps;
-    free(tris);
     return st;
 }
 
@@ -209,11 +231,11 @@ static lm_status measure(const bench_args *a, lm_views *v, const lm_mesh *coarse
         st = time_full(v, coarse, &r->full_ms);
     if (st == LM_OK)
         st = time_evals(v, p, BENCH_PATCHES, 200, 1, &warm, NULL);
-    wk_views_local_stats s0, s1;
-    wk_views_local_get_stats(v, &s0);
+    lm_views_info s0, s1;
+    v->ops->info(v, &s0);
     if (st == LM_OK)
         st = time_evals(v, p, BENCH_PATCHES, a->evals, 1, &r->evals_per_s, &r->evals_per_cpu_s);
-    wk_views_local_get_stats(v, &s1);
+    v->ops->info(v, &s1);
     r->tris_per_eval = (double)(s1.tris_drawn - s0.tris_drawn) / (s1.evaluations - s0.evaluations);
     r->regions_per_eval = (double)(s1.regions - s0.regions) / (s1.evaluations - s0.evaluations);
     r->pixels_per_region =
@@ -263,11 +285,84 @@ static void report(const bench_args *a, const char *model, const bench_result *r
     printf("}\n");
 }
 
+/* One line (or JSON record) per worker count, with the ratio to one worker. */
+static void report_workers(const bench_args *a, const char *model, const bench_result *r)
+{
+    uint32_t n = 0;
+    while (n < BENCH_MAX_RUNS && r[n].workers)
+        n++;
+    if (!a->json) {
+        printf("bench eval: %s (%u tris) -> QEM %u verts, %u views of %u px, through workers on "
+               "%s\n",
+               model, r[0].orig_tris, r[0].coarse_verts, a->views, a->size, r[0].renderer);
+        for (uint32_t i = 0; i < n; i++)
+            printf("  %3u worker%s %7.0f evals/s (x%.2f), %7.0f /s in batches of 4 (x%.2f)\n",
+                   r[i].workers, r[i].workers == 1 ? ": " : "s:", r[i].evals_per_s,
+                   r[i].evals_per_s / r[0].evals_per_s, r[i].evals_per_s_batch,
+                   r[i].evals_per_s_batch / r[0].evals_per_s_batch);
+        return;
+    }
+    printf("{\"bench\": \"eval\", \"model\": ");
+    co_json_string(stdout, model);
+    printf(", \"views\": %u, \"size\": %u, \"evals\": %u, \"renderer\": ", a->views, a->size,
+           a->evals);
+    co_json_string(stdout, r[0].renderer);
+    printf(", \"runs\": [");
+    for (uint32_t i = 0; i < n; i++)
+        printf("%s{\"workers\": %u, \"evals_per_s\": %.1f, \"ratio\": %.3f, "
+               "\"evals_per_s_batch4\": %.1f, \"ratio_batch4\": %.3f, \"commits_per_s\": %.1f}",
+               i ? ", " : "", r[i].workers, r[i].evals_per_s, r[i].evals_per_s / r[0].evals_per_s,
+               r[i].evals_per_s_batch, r[i].evals_per_s_batch / r[0].evals_per_s_batch,
+               r[i].commits_per_s);
+    printf("]}\n");
+}
+
+/* Views of orig with coarse set, in process (workers 0) or through a pool of local workers. */
+static lm_status make_views(const bench_args *a, const lm_mesh *orig, const lm_mesh *coarse,
+                            const lm_view_set *vs, uint32_t workers, co_pool **pool, lm_views **v)
+{
+    co_views_desc d = {.original = orig,
+                       .views = vs,
+                       .materials = coarse->materials,
+                       .n_materials = coarse->n_materials,
+                       .mesh = coarse,
+                       .device = a->device};
+    lm_status st = LM_OK;
+    if (workers) {
+        co_pool_options po = {.local_workers = workers, .device = a->device, .quiet = 1};
+        st = co_pool_create(&po, pool);
+        if (st == LM_OK)
+            st = co_pool_wait(*pool, workers, 60);
+        d.kind = CO_VIEWS_REMOTE;
+        d.pool = *pool;
+    }
+    return st == LM_OK ? co_views_create(&d, v) : st;
+}
+
+static lm_status measure_with(const bench_args *a, const lm_mesh *orig, const lm_mesh *coarse,
+                              const lm_view_set *vs, uint32_t workers, bench_result *r)
+{
+    co_pool *pool = NULL;
+    lm_views *v = NULL;
+    lm_status st = make_views(a, orig, coarse, vs, workers, &pool, &v);
+    if (st == LM_OK) {
+        lm_views_info info;
+        v->ops->info(v, &info);
+        snprintf(r->renderer, sizeof r->renderer, "%s", info.renderer);
+        r->orig_tris = orig->live_tris;
+        r->coarse_verts = coarse->live_verts;
+        r->coarse_tris = coarse->live_tris;
+        st = measure(a, v, coarse, r);
+    }
+    lm_views_destroy(v);
+    co_pool_destroy(pool);
+    return st;
+}
+
 static lm_status run(const bench_args *a, const char *model_path, bench_result *r)
 {
     lm_mesh *orig = NULL, *coarse = NULL;
     lm_view_set *vs = NULL;
-    lm_views *v = NULL;
     lm_status st = lm_mesh_load(model_path, NULL, &orig);
     if (st == LM_OK) {
         uint32_t target = orig->live_verts / 100 > 4 ? orig->live_verts / 100 : 4;
@@ -279,18 +374,14 @@ static lm_status run(const bench_args *a, const char *model_path, bench_result *
         st = lm_mesh_build_adjacency(coarse);
     if (st == LM_OK)
         st = co_view_set_around(orig, a->views, (int)a->size, 0, &vs);
-    if (st == LM_OK)
-        st = co_views_with_model(orig, coarse, vs, a->device, &v);
-    if (st == LM_OK) {
-        lm_views_info info;
-        v->ops->info(v, &info);
-        snprintf(r->renderer, sizeof r->renderer, "%s", info.renderer);
-        r->orig_tris = orig->live_tris;
-        r->coarse_verts = coarse->live_verts;
-        r->coarse_tris = coarse->live_tris;
-        st = measure(a, v, coarse, r);
+    /* one result per worker count: 0 (in process), or 1, 2, 4, ... and a->workers */
+    for (uint32_t i = 0, w = a->workers ? 1 : 0; st == LM_OK && i < BENCH_MAX_RUNS; i++) {
+        st = measure_with(a, orig, coarse, vs, w, &r[i]);
+        r[i].workers = w;
+        if (w == a->workers)
+            break;
+        w = 2 * w < a->workers ? 2 * w : a->workers;
     }
-    lm_views_destroy(v);
     free(vs);
     lm_mesh_destroy(orig);
     lm_mesh_destroy(coarse);
@@ -299,19 +390,25 @@ static lm_status run(const bench_args *a, const char *model_path, bench_result *
 
 int co_cli_bench(int argc, char **argv)
 {
-    bench_args a = {.views = 20, .size = 256, .evals = 5000, .seed = 1, .device = "auto"};
+    bench_args a = {.views = LM_DEFAULT_VIEWS,
+                    .size = LM_DEFAULT_VIEW_SIZE,
+                    .evals = 5000,
+                    .seed = 1,
+                    .device = "auto"};
     int rc = parse(argc, argv, &a);
     if (rc >= 0)
         return rc;
     char buf[PATH_MAX + 64];
     const char *model = a.model ? a.model : default_model(buf, sizeof buf);
     if (!model)
-        return co_cli_usage_error(CMD, "the bunny (" BUNNY_REL ") was not found; run "
-                                       "scripts/install-deps.sh or pass --model FILE");
-    bench_result r = {0};
-    lm_status st = run(&a, model, &r);
+        return model_not_found();
+    bench_result r[BENCH_MAX_RUNS] = {0};
+    lm_status st = run(&a, model, r);
     if (st != LM_OK)
         return co_cli_fail(CMD, st);
-    report(&a, model, &r);
+    if (a.workers)
+        report_workers(&a, model, r);
+    else
+        report(&a, model, &r[0]);
     return 0;
 }

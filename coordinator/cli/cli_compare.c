@@ -8,8 +8,10 @@
 #include <stdio.h>
 #include <stdlib.h>
 
+#include "common/folders.h"
 #include "common/image.h"
 #include "common/mesh_io.h"
+#include "common/view.h"
 #include "coordinator/cli/cli_args.h"
 #include "coordinator/job/progress.h"
 #include "coordinator/quality/compare.h"
@@ -27,23 +29,25 @@ typedef struct compare_args {
 
 static void usage(FILE *f)
 {
-    fputs("usage: lumesh compare ORIGINAL MODEL... -o IMAGE [--views N | --heldout] [--size S]\n"
-          "                      [--closeup SIDE] [--device D]\n"
-          "Judges up to 16 models against ORIGINAL and writes a picture grid to IMAGE (PNG or any\n"
-          "format OpenImageIO writes): columns original | MODEL 1 | MODEL 2 ..., one row per\n"
-          "view. Prints JSON: per model the image energy and the silhouette coverage (see\n"
-          "lumesh energy --help), and where the close-up was taken.\n"
-          "  -o, --output IMAGE  the picture grid (written atomically)\n"
-          "  --views N           views around the original (default 4)\n"
-          "  --heldout           the 24 held-out views instead\n"
-          "  --size S            image side in pixels (default 256)\n"
-          "  --closeup SIDE      one SIDE x SIDE window instead of whole views: the one, over all\n"
-          "                      views, where the first MODEL shows the most cracks and holes\n"
-          "                      (pixels inside the original's silhouette left uncovered); render\n"
-          "                      with --size larger than SIDE to magnify\n"
-          "  --device D          auto (default), cpu, egl:N or host\n"
-          "  -h, --help          this text\n",
-          f);
+    fprintf(
+        f,
+        "usage: lumesh compare ORIGINAL MODEL... -o IMAGE [--views N | --heldout] [--size S]\n"
+        "                      [--closeup SIDE] [--device D]\n"
+        "Judges up to 16 models against ORIGINAL and writes a picture grid to IMAGE (PNG or any\n"
+        "format OpenImageIO writes): columns original | MODEL 1 | MODEL 2 ..., one row per\n"
+        "view. Prints JSON: per model the image energy and the silhouette coverage (see\n"
+        "lumesh energy --help), and where the close-up was taken.\n"
+        "  -o, --output IMAGE  the picture grid (written atomically; missing folders are made)\n"
+        "  --views N           views around the original (default 4)\n"
+        "  --heldout           the 24 held-out views instead\n"
+        "  --size S            image side in pixels (default %d)\n"
+        "  --closeup SIDE      one SIDE x SIDE window instead of whole views: the one, over all\n"
+        "                      views, where the first MODEL shows the most cracks and holes\n"
+        "                      (pixels inside the original's silhouette left uncovered); render\n"
+        "                      with --size larger than SIDE to magnify\n"
+        "  --device D          auto (default), cpu, egl:N or host\n"
+        "  -h, --help          this text\n",
+        LM_DEFAULT_VIEW_SIZE);
 }
 
 static int parse_option(int c, char **argv, compare_args *a)
@@ -142,6 +146,8 @@ static lm_status run(const compare_args *a, const lm_mesh *orig, const lm_mesh *
         st = co_compare_grid(orig, vs, a->device, models, a->n_models, a->closeup ? &crop : NULL,
                              &grid);
     if (st == LM_OK)
+        st = lm_make_parent_folders(a->output);
+    if (st == LM_OK)
         st = lm_image_write(a->output, grid);
     lm_image_destroy(grid);
     if (st == LM_OK)
@@ -151,7 +157,7 @@ static lm_status run(const compare_args *a, const lm_mesh *orig, const lm_mesh *
 
 int co_cli_compare(int argc, char **argv)
 {
-    compare_args a = {.views = 4, .size = 256, .device = "auto"};
+    compare_args a = {.views = 4, .size = LM_DEFAULT_VIEW_SIZE, .device = "auto"};
     int rc = parse(argc, argv, &a);
     if (rc >= 0)
         return rc;

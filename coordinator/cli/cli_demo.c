@@ -1,22 +1,23 @@
 /* coordinator/cli/cli_demo.c — `lumesh demo`: generate the frog, simplify it with QEM, optimise the
  * coarse mesh, and write the three models, a before/after picture grid, a close-up of the coarse
- * mesh's worst cracks and a summary with held-out energies and crack pixels (views not used by
- * the optimisation). */
-#include <errno.h>
+ * mesh's worst cracks, a summary with held-out energies and crack pixels (views not used by
+ * the optimisation), and the quality report (DIR/report/index.html). */
 #include <getopt.h>
 #include <inttypes.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
 
+#include "common/folders.h"
 #include "common/frog.h"
 #include "common/mesh_io.h"
 #include "common/simplify.h"
 #include "common/view.h"
 #include "coordinator/cli/cli_args.h"
 #include "coordinator/job/job.h"
+#include "coordinator/job/job_log.h"
 #include "coordinator/quality/compare.h"
+#include "coordinator/quality/report.h"
 
 #define CO_DEMO_TRIS 20000u
 #define CO_DEMO_TARGET 300u
@@ -29,17 +30,18 @@ typedef struct demo_options {
     uint32_t tris, target_verts, views, size;
     uint64_t seed;
     const char *device;
+    uint32_t workers; /* co_job_options.workers */
 } demo_options;
 
 typedef struct demo_paths {
-    char frog[4096], coarse[4096], optimized[4096], grid[4096], closeup[4096];
+    char frog[4096], coarse[4096], optimized[4096], grid[4096], closeup[4096], report[4096];
 } demo_paths;
 
 static const char *co_cmd = "demo";
 
 static const char co_demo_help[] =
     "usage: lumesh demo [-o DIR] [--evals N] [--tris N] [--target-verts N] [--views N]\n"
-    "                   [--size PIXELS] [--seed S] [--device D]\n"
+    "                   [--size PIXELS] [--seed S] [--device D] [--workers N]\n"
     "\n"
     "Generate the procedural frog (separate, interpenetrating body, legs and eyes with a "
     "texture),\n"
@@ -50,9 +52,11 @@ static const char co_demo_help[] =
     "window, at 4x the view size, where the coarse mesh shows the most cracks and holes). Prints\n"
     "the image energy of the coarse and optimised models over 24 held-out views that the\n"
     "optimisation never saw, and their cracks and holes: pixels inside the frog's silhouette\n"
-    "where the model shows the background.\n"
+    "where the model shows the background. The quality report (lumesh report --help) goes to\n"
+    "DIR/report/index.html: open it in a browser.\n"
     "\n"
-    "  -o, --output DIR     output folder, created if needed (default ./lumesh-demo)\n"
+    "  -o, --output DIR     output folder, created with its parents if needed\n"
+    "                       (default ./lumesh-demo)\n"
     "  --evals N            optimisation budget in energy evaluations (default %llu)\n"
     "  --tris N             triangles of the generated frog (default %u)\n"
     "  --target-verts N     vertices of the QEM coarse mesh (default %u)\n"
@@ -60,9 +64,20 @@ static const char co_demo_help[] =
     "  --size PIXELS        side of every view image (default %d)\n"
     "  --seed S             seed of the frog and of the optimiser (default 1)\n"
     "  --device D           rendering device: auto, cpu, host, egl:N (default auto)\n"
+    "  --workers N          lumesh-worker processes rendering the views (default one per\n"
+    "                       core; 0 = in this process); the result is the same for any N\n"
     "  -h, --help           this help\n";
 
-enum { OPT_EVALS = 256, OPT_TRIS, OPT_TARGET, OPT_VIEWS, OPT_SIZE, OPT_SEED, OPT_DEVICE };
+enum {
+    OPT_EVALS = 256,
+    OPT_TRIS,
+    OPT_TARGET,
+    OPT_VIEWS,
+    OPT_SIZE,
+    OPT_SEED,
+    OPT_DEVICE,
+    OPT_WORKERS
+};
 
 static const struct option co_demo_opts[] = {
     {"output", required_argument, NULL, 'o'},
@@ -73,6 +88,7 @@ static const struct option co_demo_opts[] = {
     {"size", required_argument, NULL, OPT_SIZE},
     {"seed", required_argument, NULL, OPT_SEED},
     {"device", required_argument, NULL, OPT_DEVICE},
+    {"workers", required_argument, NULL, OPT_WORKERS},
     {"help", no_argument, NULL, 'h'},
     {NULL, 0, NULL, 0},
 };
@@ -98,6 +114,12 @@ static lm_status parse_value(int c, const char *val, demo_options *o)
     case OPT_DEVICE:
         o->device = val;
         return LM_OK;
+    case OPT_WORKERS: {
+        lm_status st = co_arg_u32(co_cmd, "--workers", val, 0, 4096, &o->workers);
+        if (st == LM_OK && o->workers == 0)
+            o->workers = CO_JOB_IN_PROCESS;
+        return st;
+    }
     }
     return LM_E_INTERNAL;
 }
@@ -133,16 +155,15 @@ static int parse_args(int argc, char **argv, demo_options *o)
 
 static lm_status make_paths(const char *dir, demo_paths *p)
 {
-    if (mkdir(dir, 0755) != 0 && errno != EEXIST)
-        return lm_fail(LM_E_IO, "cannot create folder '%s': %s", dir, strerror(errno));
-    struct stat sb;
-    if (stat(dir, &sb) != 0 || !S_ISDIR(sb.st_mode))
-        return lm_fail(LM_E_IO, "'%s' is not a folder", dir);
+    lm_status st = lm_make_folders(dir);
+    if (st != LM_OK)
+        return st;
     int n = snprintf(p->frog, sizeof p->frog, "%s/frog.obj", dir);
     snprintf(p->coarse, sizeof p->coarse, "%s/coarse.obj", dir);
     snprintf(p->optimized, sizeof p->optimized, "%s/optimized.obj", dir);
     snprintf(p->grid, sizeof p->grid, "%s/before_after.png", dir);
     snprintf(p->closeup, sizeof p->closeup, "%s/closeup.png", dir);
+    snprintf(p->report, sizeof p->report, "%s/report", dir);
     if (n < 0 || (size_t)n + 16 >= sizeof p->frog)
         return lm_fail(LM_E_INVALID, "folder name '%s' is too long", dir);
     return LM_OK;
@@ -173,7 +194,8 @@ static lm_status make_inputs(const demo_options *o, const demo_paths *p)
     return st;
 }
 
-static lm_status optimize(const demo_options *o, const demo_paths *p, co_job_summary *s)
+static lm_status optimize(const demo_options *o, const demo_paths *p, co_job_summary *s,
+                          co_run_log *log)
 {
     co_job_options jo = {
         .original_path = p->frog,
@@ -184,6 +206,9 @@ static lm_status optimize(const demo_options *o, const demo_paths *p, co_job_sum
         .max_evals = o->evals,
         .seed = o->seed,
         .device_spec = o->device,
+        .workers = o->workers,
+        .on_progress = co_job_log_progress,
+        .progress_ctx = log,
     };
     printf("optimising (%" PRIu64 " evaluations, %" PRIu32 " views of %" PRIu32 "x%" PRIu32
            ")...\n",
@@ -290,14 +315,31 @@ static void print_summary(const demo_options *o, const demo_paths *p, const co_j
            j->cov[0].cracks_px, j->cov[1].cracks_px,
            percent((double)j->cov[1].cracks_px, (double)j->cov[0].cracks_px), j->cov[0].missing_px,
            j->cov[1].missing_px);
-    printf("optimisation: %" PRIu64 " evaluations in %.1f s on %s\n", s->progress.evals, s->wall_s,
-           s->renderer);
+    printf("optimisation: %" PRIu64 " evaluations in %.1f s on %" PRIu32 " worker%s, %s\n",
+           s->progress.evals, s->wall_s, s->workers, s->workers == 1 ? "" : "s", s->renderer);
     printf("files in %s:\n  %s\n  %s\n  %s\n  %s  (rows: %u views; columns: original | coarse | "
            "optimized)\n",
            o->dir, p->frog, p->coarse, p->optimized, p->grid, CO_DEMO_GRID_VIEWS);
     if (j->closeup.w > 0)
         printf("  %s  (view %u at %dx, window at (%d, %d): original | coarse | optimized)\n",
                p->closeup, j->closeup.view, CO_DEMO_ZOOM, j->closeup.x, j->closeup.y);
+}
+
+/* The quality report of the three files; returns its page's path in page. */
+static lm_status report(const demo_options *o, const demo_paths *p, const co_job_summary *s,
+                        co_run_log *log, char *page, size_t cap)
+{
+    co_job_log_finish(log, s);
+    co_report_options ro = {.original = p->frog,
+                            .initial = p->coarse,
+                            .optimized = p->optimized,
+                            .log = log,
+                            .device = o->device,
+                            .size = (int)o->size,
+                            .dir = p->report};
+    printf("writing the quality report...\n");
+    fflush(stdout);
+    return co_report_write(&ro, page, cap);
 }
 
 int co_cli_demo(int argc, char **argv)
@@ -309,15 +351,22 @@ int co_cli_demo(int argc, char **argv)
     demo_paths p;
     co_job_summary s;
     demo_judgement j = {0};
+    co_run_log log;
+    co_run_log_init(&log);
+    char page[4096];
     lm_status st = make_paths(o.dir, &p);
     if (st == LM_OK)
         st = make_inputs(&o, &p);
     if (st == LM_OK)
-        st = optimize(&o, &p, &s);
+        st = optimize(&o, &p, &s, &log);
     if (st == LM_OK)
         st = evaluate(&o, &p, &j);
+    if (st == LM_OK)
+        st = report(&o, &p, &s, &log, page, sizeof page);
+    co_run_log_free(&log);
     if (st != LM_OK)
         return co_cli_fail(co_cmd, st);
     print_summary(&o, &p, &s, &j);
+    printf("\nquality report: %s  (open it in a browser)\n", page);
     return 0;
 }

@@ -7,6 +7,7 @@
 #include <stdlib.h>
 
 #include "common/mesh_io.h"
+#include "common/view.h"
 #include "coordinator/cli/cli_args.h"
 #include "coordinator/job/progress.h"
 #include "coordinator/quality/compare.h"
@@ -22,21 +23,22 @@ typedef struct energy_args {
 
 static void usage(FILE *f)
 {
-    fputs("usage: lumesh energy ORIGINAL MODEL [--views N] [--size S] [--heldout] [--device D]\n"
-          "Prints as JSON the image energy of MODEL against ORIGINAL: the sum over views and\n"
-          "pixels of the squared difference of 8-bit luminance (total, per_view, mse), and\n"
-          "the silhouette coverage: pixels where the original shows a surface (original_px),\n"
-          "where MODEL shows background there instead (missing_px: holes, cracks) and where\n"
-          "MODEL covers the original's background (extra_px), and the missing pixels well\n"
-          "inside the original's silhouette (cracks_px: holes and cracks between parts, not a\n"
-          "thinner outline; 2 pixels from its background at 256, more for larger views).\n"
-          "  --views N     views around the original (default 20; 12 icosahedron, 20\n"
-          "                dodecahedron, others a spherical Fibonacci set)\n"
-          "  --size S      image side in pixels (default 256)\n"
-          "  --heldout     the 24 held-out views instead (the paper's evaluation protocol)\n"
-          "  --device D    auto (default), cpu, egl:N or host\n"
-          "  -h, --help    this text\n",
-          f);
+    fprintf(f,
+            "usage: lumesh energy ORIGINAL MODEL [--views N] [--size S] [--heldout] [--device D]\n"
+            "Prints as JSON the image energy of MODEL against ORIGINAL: the sum over views and\n"
+            "pixels of the squared difference of 8-bit luminance (total, per_view, mse), and\n"
+            "the silhouette coverage: pixels where the original shows a surface (original_px),\n"
+            "where MODEL shows background there instead (missing_px: holes, cracks) and where\n"
+            "MODEL covers the original's background (extra_px), and the missing pixels well\n"
+            "inside the original's silhouette (cracks_px: holes and cracks between parts, not a\n"
+            "thinner outline; 2 pixels from its background at 256, more for larger views).\n"
+            "  --views N     views around the original (default %u; 12 icosahedron, 20\n"
+            "                dodecahedron, others a spherical Fibonacci set)\n"
+            "  --size S      image side in pixels (default %d)\n"
+            "  --heldout     the 24 held-out views instead (the paper's evaluation protocol)\n"
+            "  --device D    auto (default), cpu, egl:N or host\n"
+            "  -h, --help    this text\n",
+            LM_DEFAULT_VIEWS, LM_DEFAULT_VIEW_SIZE);
 }
 
 static int parse_option(int c, char **argv, energy_args *a)
@@ -98,7 +100,7 @@ static void print_json(const energy_args *a, const lm_view_set *vs, int64_t tota
 
 int co_cli_energy(int argc, char **argv)
 {
-    energy_args a = {.views = 20, .size = 256, .device = "auto"};
+    energy_args a = {.views = LM_DEFAULT_VIEWS, .size = LM_DEFAULT_VIEW_SIZE, .device = "auto"};
     int rc = parse(argc, argv, &a);
     if (rc >= 0)
         return rc;

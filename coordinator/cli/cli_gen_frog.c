@@ -4,6 +4,7 @@
 #include <stdio.h>
 #include <time.h>
 
+#include "common/folders.h"
 #include "common/frog.h"
 #include "common/mesh_io.h"
 #include "coordinator/cli/cli_args.h"
@@ -23,7 +24,7 @@ static void usage(FILE *f)
             "Writes a procedural frog-style model: body, four legs and two eyes as seven separate\n"
             "closed parts that interpenetrate, with UV charts and a generated 1024x1024 texture.\n"
             "OUT is .obj (with .mtl and the texture as PNG beside it), .ply or .glb.\n"
-            "  -o, --output OUT   the file to write (written atomically)\n"
+            "  -o, --output OUT   the file to write (atomically; missing folders are created)\n"
             "  -t, --tris N       triangles, about (default 20000; %u to %u)\n"
             "  -s, --seed S       varies the spots, stripes and small shape details (default 1)\n"
             "  -h, --help         this text\n",
@@ -86,6 +87,8 @@ int co_cli_gen_frog(int argc, char **argv)
     double t0 = now_s();
     lm_status s = lm_frog_generate(a.tris, a.seed, &m);
     double t1 = now_s();
+    if (!s)
+        s = lm_make_parent_folders(a.output);
     if (!s)
         s = lm_mesh_save(a.output, m);
     double t2 = now_s();

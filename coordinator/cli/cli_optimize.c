@@ -1,17 +1,24 @@
-/* coordinator/cli/cli_optimize.c — `lumesh optimize`: flags → co_job_options → co_job_run. */
+/* coordinator/cli/cli_optimize.c — `lumesh optimize`: flags → co_job_options → co_job_run, and
+ * with --report DIR the quality report of the result (the coarse start saved beside it). */
 #include <getopt.h>
 #include <stdio.h>
 #include <string.h>
 
+#include "common/folders.h"
 #include "common/view.h"
 #include "coordinator/cli/cli_args.h"
 #include "coordinator/job/job.h"
+#include "coordinator/job/job_log.h"
+#include "coordinator/job/progress.h"
+#include "coordinator/quality/report.h"
 
 static const char co_optimize_help[] =
     "usage: lumesh optimize ORIGINAL -o OUT [--initial COARSE | --target-verts N] [--views 20]\n"
     "                       [--size 256] [--evals N] [--time SECONDS] [--seed S]\n"
     "                       [--checkpoint FILE [--checkpoint-every N|Ns]] [--resume FILE]\n"
-    "                       [--attrs pos,normal,uv,color] [--device D] [--json]\n"
+    "                       [--attrs pos,normal,uv,color] [--device D] [--json] [--report DIR]\n"
+    "                       [--workers N] [--listen tcp://ADDR:PORT] [--renderer ID]\n"
+    "                       [--edges-in-flight K] [--keys DIR]\n"
     "\n"
     "Improve a coarse mesh so that its rendered images match the original's from many viewpoints\n"
     "(Lindstrom & Turk 2001): vertex positions and attributes by downhill simplex, connectivity "
@@ -44,11 +51,34 @@ static const char co_optimize_help[] =
     "                          (default: uv if the original has a texture, color if it has vertex\n"
     "                          colours); normals not listed are derived from the geometry\n"
     "  --device D              rendering device: auto (GPU if any, else cpu), cpu, host, egl:N\n"
-    "                          (default auto; see lumesh devices)\n"
+    "                          (default auto; see lumesh devices); local workers use it too\n"
+    "  --workers N             render in N lumesh-worker processes on this machine, each owning\n"
+    "                          some of the views (default: one per core; 0 = in this process);\n"
+    "                          the output is the same for any N\n"
+    "  --listen ADDR           also take workers that connect to ADDR (tcp://HOST:PORT), started\n"
+    "                          anywhere with `lumesh-worker --connect tcp://HOST:PORT`; with\n"
+    "                          --listen alone no local worker is started and the job waits,\n"
+    "                          saying so, until one connects\n"
+    "  --edges-in-flight K     optimise K edges at once, their evaluations in one batch (more\n"
+    "                          work per round trip to the workers; default %u, the paper's\n"
+    "                          order). Part of the job: it changes the output (a --resume must\n"
+    "                          give the same K), the number of workers never does\n"
+    "  --keys DIR              CURVE keys (lumesh keygen): workers' connections encrypted and\n"
+    "                          authenticated, only keys in DIR/workers.allow admitted; needed to\n"
+    "                          --listen beyond this machine\n"
+    "  --renderer ID           accept only workers of this renderer id (lumesh-worker --self-test\n"
+    "                          prints it); default: the first worker's. A job never mixes\n"
+    "                          renderers: workers of another one are refused with the reason\n"
     "  --json                  newline-delimited JSON progress records and a final summary on\n"
     "                          stdout instead of the human progress line on stderr\n"
+    "  --report DIR            then write the quality report into DIR (created): index.html,\n"
+    "                          a self-contained page comparing the result and its coarse start\n"
+    "                          (saved as DIR/initial.obj) with ORIGINAL on 24 held-out views\n"
+    "                          (see lumesh report --help)\n"
     "  -h, --help              this help\n"
     "\n"
+    "SIGINT or SIGTERM end the run at the next step: the last checkpoint and the output are\n"
+    "written, the workers stopped, and the exit status is 130.\n"
     "Exit status: 0 success, 1 bad input or flag (one line on stderr), 2 internal failure.\n";
 
 enum {
@@ -65,6 +95,12 @@ enum {
     OPT_ATTRS,
     OPT_DEVICE,
     OPT_JSON,
+    OPT_WORKERS,
+    OPT_LISTEN,
+    OPT_RENDERER,
+    OPT_REPORT,
+    OPT_IN_FLIGHT,
+    OPT_KEYS,
 };
 
 static const struct option co_optimize_opts[] = {
@@ -82,11 +118,23 @@ static const struct option co_optimize_opts[] = {
     {"attrs", required_argument, NULL, OPT_ATTRS},
     {"device", required_argument, NULL, OPT_DEVICE},
     {"json", no_argument, NULL, OPT_JSON},
+    {"workers", required_argument, NULL, OPT_WORKERS},
+    {"listen", required_argument, NULL, OPT_LISTEN},
+    {"renderer", required_argument, NULL, OPT_RENDERER},
+    {"report", required_argument, NULL, OPT_REPORT},
+    {"edges-in-flight", required_argument, NULL, OPT_IN_FLIGHT},
+    {"keys", required_argument, NULL, OPT_KEYS},
     {"help", no_argument, NULL, 'h'},
     {NULL, 0, NULL, 0},
 };
 
 static const char *co_cmd = "optimize";
+
+typedef struct optimize_args {
+    co_job_options o;
+    const char *report_dir;
+    char initial[4096]; /* DIR/initial.obj */
+} optimize_args;
 
 /* "5000" = every 5000 evaluations, "30s" = every 30 seconds. */
 static lm_status parse_every(const char *val, co_job_options *o)
@@ -150,26 +198,46 @@ static lm_status parse_value(int c, const char *val, co_job_options *o)
     case OPT_DEVICE:
         o->device_spec = val;
         break;
+    case OPT_WORKERS:
+        st = co_arg_u32(co_cmd, "--workers", val, 0, 4096, &o->workers);
+        if (st == LM_OK && o->workers == 0)
+            o->workers = CO_JOB_IN_PROCESS;
+        break;
+    case OPT_LISTEN:
+        o->listen = val;
+        break;
+    case OPT_RENDERER:
+        o->renderer = val;
+        break;
+    case OPT_KEYS:
+        o->keys = val;
+        break;
+    case OPT_IN_FLIGHT:
+        return co_arg_u32(co_cmd, "--edges-in-flight", val, 1, CO_MAX_EDGES_IN_FLIGHT,
+                          &o->edges_in_flight);
     }
     return st;
 }
 
 /* Returns 0 to go on, -1 after --help, or the exit code of a flag error. */
-static int parse_args(int argc, char **argv, co_job_options *o)
+static int parse_args(int argc, char **argv, optimize_args *a)
 {
+    co_job_options *o = &a->o;
     opterr = 0;
     int c;
     while ((c = getopt_long(argc, argv, ":o:h", co_optimize_opts, NULL)) != -1) {
         if (c == 'h') {
             printf(co_optimize_help, CO_JOB_MIN_TARGET_VERTS, CO_JOB_DEFAULT_VIEWS,
                    CO_JOB_DEFAULT_SIZE, (unsigned long long)CO_JOB_DEFAULT_EVALS,
-                   CO_JOB_DEFAULT_CHECKPOINT_S);
+                   CO_JOB_DEFAULT_CHECKPOINT_S, CO_JOB_DEFAULT_IN_FLIGHT);
             return -1;
         }
         if (c == '?' || c == ':')
             return co_cli_bad_option(co_cmd, c, argv);
         if (c == OPT_JSON)
             o->json = 1;
+        else if (c == OPT_REPORT)
+            a->report_dir = optarg;
         else if (parse_value(c, optarg, o) != LM_OK)
             return 1;
     }
@@ -185,14 +253,57 @@ static int parse_args(int argc, char **argv, co_job_options *o)
     return 0;
 }
 
+/* The report of the finished job: its coarse start, its output, the log gathered while it ran. */
+static lm_status write_report(const optimize_args *a, const co_job_summary *s, co_run_log *log)
+{
+    co_job_log_finish(log, s);
+    co_report_options ro = {.original = a->o.original_path,
+                            .initial = a->initial,
+                            .optimized = a->o.output_path,
+                            .log = log,
+                            .device = a->o.device_spec,
+                            .size = a->o.size,
+                            .dir = a->report_dir};
+    char page[4096];
+    lm_status st = co_report_write(&ro, page, sizeof page);
+    if (st == LM_OK && a->o.json) {
+        fputs("{\"type\":\"report\",\"page\":", stdout);
+        co_json_string(stdout, page);
+        fputs("}\n", stdout);
+    } else if (st == LM_OK) {
+        printf("report: %s (open it in a browser)\n", page);
+    }
+    return st;
+}
+
+/* With --report: the folder made before any work, the coarse start saved there, the log kept. */
+static lm_status prepare_report(optimize_args *a, co_run_log *log)
+{
+    int n = snprintf(a->initial, sizeof a->initial, "%s/initial.obj", a->report_dir);
+    if (n < 0 || (size_t)n >= sizeof a->initial)
+        return lm_fail(LM_E_INVALID, "--report: folder name '%s' is too long", a->report_dir);
+    a->o.initial_output_path = a->initial;
+    a->o.on_progress = co_job_log_progress;
+    a->o.progress_ctx = log;
+    return lm_make_folders(a->report_dir);
+}
+
 int co_cli_optimize(int argc, char **argv)
 {
-    co_job_options o = {0};
-    int rc = parse_args(argc, argv, &o);
+    optimize_args a = {.o = {0}};
+    int rc = parse_args(argc, argv, &a);
     if (rc)
         return rc < 0 ? 0 : rc;
-    lm_status st = co_job_run(&o, NULL);
+    co_run_log log;
+    co_run_log_init(&log);
+    co_job_summary s;
+    lm_status st = a.report_dir ? prepare_report(&a, &log) : LM_OK;
+    if (st == LM_OK)
+        st = co_job_run(&a.o, &s);
+    if (st == LM_OK && a.report_dir)
+        st = write_report(&a, &s, &log);
+    co_run_log_free(&log);
     if (st != LM_OK)
         return co_cli_fail(co_cmd, st);
-    return 0;
+    return strcmp(s.stop_reason, "interrupted") ? 0 : 130;
 }

@@ -3,18 +3,18 @@
  * DIR/view_00.png ...; with --against, the views are framed by ORIGINAL and DIR also receives the
  * original's images (target_XX.png) and the amplified absolute luminance differences
  * (diff_XX.png, 4 x |Ŷ - Y| clamped to 255). */
-#include <errno.h>
 #include <getopt.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
 
+#include "common/folders.h"
 #include "common/image.h"
 #include "common/mesh_io.h"
+#include "common/view.h"
 #include "coordinator/cli/cli_args.h"
 #include "coordinator/quality/view_setup.h"
-#include "worker/views_local.h"
+#include "coordinator/views/views.h"
 
 #define CMD "render"
 #define DIFF_GAIN 4
@@ -26,16 +26,17 @@ typedef struct render_args {
 
 static void usage(FILE *f)
 {
-    fputs("usage: lumesh render MODEL -o DIR [--views N] [--size S] [--against ORIGINAL]\n"
-          "                     [--device D]\n"
-          "Writes the view images of MODEL as DIR/view_00.png, view_01.png, ...\n"
-          "  -o, --output DIR      folder for the PNGs (created if missing)\n"
-          "  --views N             views (default 20), --size S  image side (default 256)\n"
-          "  --against ORIGINAL    frame the views by ORIGINAL and also write its images\n"
-          "                        (target_XX.png) and luminance differences (diff_XX.png)\n"
-          "  --device D            auto (default), cpu, egl:N or host\n"
-          "  -h, --help            this text\n",
-          f);
+    fprintf(f,
+            "usage: lumesh render MODEL -o DIR [--views N] [--size S] [--against ORIGINAL]\n"
+            "                     [--device D]\n"
+            "Writes the view images of MODEL as DIR/view_00.png, view_01.png, ...\n"
+            "  -o, --output DIR      folder for the PNGs (created with its parents)\n"
+            "  --views N             views (default %u), --size S  image side (default %d)\n"
+            "  --against ORIGINAL    frame the views by ORIGINAL and also write its images\n"
+            "                        (target_XX.png) and luminance differences (diff_XX.png)\n"
+            "  --device D            auto (default), cpu, egl:N or host\n"
+            "  -h, --help            this text\n",
+            LM_DEFAULT_VIEWS, LM_DEFAULT_VIEW_SIZE);
 }
 
 static int parse_option(int c, char **argv, render_args *a)
@@ -86,21 +87,11 @@ static int parse(int argc, char **argv, render_args *a)
     return -1;
 }
 
-static lm_status ensure_dir(const char *dir)
-{
-    if (mkdir(dir, 0777) != 0 && errno != EEXIST)
-        return lm_fail(LM_E_IO, "cannot create folder %s: %s", dir, strerror(errno));
-    struct stat sb;
-    if (stat(dir, &sb) != 0 || !S_ISDIR(sb.st_mode))
-        return lm_fail(LM_E_IO, "%s is not a folder", dir);
-    return LM_OK;
-}
-
 /* Write the colour image of a view (GL rows are bottom first; files top first). */
 static lm_status write_colour(lm_views *v, uint32_t view, int size, const char *dir,
                               const char *prefix, uint8_t *rgba)
 {
-    lm_status st = wk_views_local_read_rgba(v, view, rgba);
+    lm_status st = v->ops->read_image(v, LM_IMAGE_RGBA, view, rgba);
     lm_image *img = NULL;
     if (st == LM_OK)
         st = lm_image_create(size, size, &img);
@@ -120,9 +111,9 @@ static lm_status write_diff(lm_views *v, uint32_t view, int size, const char *di
 {
     size_t plane = (size_t)size * size;
     uint8_t *t = buf, *y = buf + plane, *d = buf + 2 * plane;
-    lm_status st = wk_views_local_luma(v, 1, view, t);
+    lm_status st = v->ops->read_image(v, LM_IMAGE_TARGET_LUMA, view, t);
     if (st == LM_OK)
-        st = wk_views_local_luma(v, 0, view, y);
+        st = v->ops->read_image(v, LM_IMAGE_CURRENT_LUMA, view, y);
     if (st != LM_OK)
         return st;
     for (int r = 0; r < size; r++)
@@ -138,15 +129,8 @@ static lm_status write_diff(lm_views *v, uint32_t view, int size, const char *di
 
 static lm_status set_model(lm_views *v, const lm_mesh *model)
 {
-    lm_tri_data *tris = NULL;
-    size_t n = 0;
-    lm_status st = wk_views_local_set_materials(v, model->materials, model->n_materials);
-    if (st == LM_OK)
-        st = lm_mesh_export_tris(model, &tris, &n);
-    if (st == LM_OK)
-        st = v->ops->set_mesh(v, tris, n);
-    free(tris);
-    return st;
+    lm_status st = v->ops->set_materials(v, model->materials, model->n_materials);
+    return st == LM_OK ? lm_views_set_mesh_from(v, model) : st;
 }
 
 /* The colour images of the last full render are read: right after creation the framing model's
@@ -155,7 +139,8 @@ static lm_status render_all(const render_args *a, const lm_mesh *framing, const 
                             const lm_view_set *vs, uint8_t *buf)
 {
     lm_views *v = NULL;
-    lm_status st = wk_views_local_create(framing, vs, a->device, &v);
+    co_views_desc d = {.original = framing, .views = vs, .device = a->device};
+    lm_status st = co_views_create(&d, &v);
     for (uint32_t h = 0; st == LM_OK && a->against && h < vs->count; h++)
         st = write_colour(v, h, (int)a->size, a->dir, "target", buf);
     if (st == LM_OK && a->against)
@@ -170,7 +155,7 @@ static lm_status render_all(const render_args *a, const lm_mesh *framing, const 
 
 int co_cli_render(int argc, char **argv)
 {
-    render_args a = {.views = 20, .size = 256, .device = "auto"};
+    render_args a = {.views = LM_DEFAULT_VIEWS, .size = LM_DEFAULT_VIEW_SIZE, .device = "auto"};
     int rc = parse(argc, argv, &a);
     if (rc >= 0)
         return rc;
@@ -185,7 +170,7 @@ int co_cli_render(int argc, char **argv)
     if (st == LM_OK)
         st = co_view_set_around(orig ? orig : model, a.views, (int)a.size, 0, &vs);
     if (st == LM_OK)
-        st = ensure_dir(a.dir);
+        st = lm_make_folders(a.dir);
     if (st == LM_OK)
         st = render_all(&a, orig ? orig : model, model, vs, buf);
     if (st == LM_OK)

@@ -18,11 +18,15 @@ static const command commands[] = {
     {"simplify", co_cli_simplify, "make a coarse mesh (QEM or vertex clustering)"},
     {"energy", co_cli_energy, "image energy of a model against the original (JSON)"},
     {"compare", co_cli_compare, "judge models against the original; picture grid, close-up"},
+    {"report", co_cli_report, "a quality report as a self-contained HTML page"},
     {"render", co_cli_render, "write view images (and difference images) as PNG"},
     {"devices", co_cli_devices, "list rendering devices (EGL, USB accelerators)"},
     {"gen-frog", co_cli_gen_frog, "generate the procedural frog-style demo model"},
-    {"demo", co_cli_demo, "generate, simplify and optimize the frog; write before/after images"},
+    {"demo", co_cli_demo,
+     "the frog generated, simplified, optimised; images and the quality report"},
     {"bench", co_cli_bench, "benchmarks (bench eval: ΔE evaluations per second)"},
+    {"workers", co_cli_workers, "how a running coordinator's workers stand"},
+    {"keygen", co_cli_keygen, "CURVE keys for a coordinator and its workers"},
 };
 
 static void usage(FILE *fp)

@@ -13,6 +13,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "common/folders.h"
 #include "common/mesh.h"
 #include "common/mesh_io.h"
 #include "common/mesh_topology.h"
@@ -20,7 +21,8 @@
 #include "common/view.h"
 #include "coordinator/job/checkpoint.h"
 #include "coordinator/optimizer/optimizer.h"
-#include "worker/views_local.h"
+#include "coordinator/pool/pool.h"
+#include "coordinator/views/views.h"
 
 /* Steps in a row that make no evaluation before the job calls the optimisation converged. */
 #define CO_JOB_MAX_IDLE_STEPS 16
@@ -32,6 +34,10 @@ typedef struct co_job {
     uint32_t attrs;
     const char *checkpoint_path;
     lm_mesh *original;
+    lm_mesh *coarse;           /* until the optimizer takes it */
+    co_pool *pool;             /* the workers (NULL: in process) */
+    co_worker_report *workers; /* what progress shows of them */
+    uint32_t cap_workers;
     lm_views *views;
     co_optimizer *opt;
     co_checkpoint_key key;
@@ -48,6 +54,18 @@ static double seconds_since(const struct timespec *t0)
     struct timespec t;
     clock_gettime(CLOCK_MONOTONIC, &t);
     return (double)(t.tv_sec - t0->tv_sec) + 1e-9 * (double)(t.tv_nsec - t0->tv_nsec);
+}
+
+uint32_t co_job_local_workers(const co_job_options *o)
+{
+    if (o->workers == CO_JOB_IN_PROCESS)
+        return 0;
+    if (o->workers)
+        return o->workers;
+    if (o->listen)
+        return 0;
+    long n = sysconf(_SC_NPROCESSORS_ONLN);
+    return n > 0 ? (uint32_t)n : 1;
 }
 
 lm_status co_job_parse_attrs(const char *spec, uint32_t *out)
@@ -79,9 +97,14 @@ lm_status co_job_parse_attrs(const char *spec, uint32_t *out)
     return LM_OK;
 }
 
-/* Fail before any work when an output can never be written. */
+/* Fail before any work when an output can never be written; missing folders are made. */
 static lm_status check_writable(const char *what, const char *path)
 {
+    if (lm_make_parent_folders(path) != LM_OK) {
+        char why[512];
+        snprintf(why, sizeof why, "%s", lm_last_error());
+        return lm_fail(LM_E_IO, "cannot write %s '%s': %s", what, path, why);
+    }
     const char *slash = strrchr(path, '/');
     char dir[4096];
     if (!slash)
@@ -124,6 +147,11 @@ static lm_status resolve_options(co_job *j, const co_job_options *in)
         o->max_evals = CO_JOB_DEFAULT_EVALS;
     if (!o->seed)
         o->seed = 1;
+    if (!o->edges_in_flight)
+        o->edges_in_flight = CO_JOB_DEFAULT_IN_FLIGHT;
+    if (o->edges_in_flight > CO_MAX_EDGES_IN_FLIGHT)
+        return lm_fail(LM_E_RANGE, "--edges-in-flight %" PRIu32 " is above %u", o->edges_in_flight,
+                       CO_MAX_EDGES_IN_FLIGHT);
     if (!(o->time_limit_s >= 0) || !(o->checkpoint_every_s >= 0))
         return lm_fail(LM_E_RANGE, "time limits must be positive numbers");
     if (!o->checkpoint_every_s && !o->checkpoint_every_evals)
@@ -134,6 +162,8 @@ static lm_status resolve_options(co_job *j, const co_job_options *in)
     lm_status st = check_output_path(o->output_path);
     if (st == LM_OK && j->checkpoint_path)
         st = check_writable("checkpoint", j->checkpoint_path);
+    if (st == LM_OK && o->initial_output_path)
+        st = check_writable("initial mesh", o->initial_output_path);
     return st;
 }
 
@@ -256,6 +286,29 @@ static lm_status prepare_coarse(co_job *j, lm_mesh *m)
     return st;
 }
 
+/* Worker processes (local ones started here, and those that connect to --listen), unless the
+ * job renders in process. Local workers are waited for, so that the views are split between all
+ * of them from the start. */
+static lm_status make_pool(co_job *j)
+{
+    if (j->o.workers == CO_JOB_IN_PROCESS)
+        return LM_OK;
+    uint32_t local = co_job_local_workers(&j->o);
+    co_pool_options po = {.listen = j->o.listen,
+                          .local_workers = local,
+                          .device = j->o.device_spec,
+                          .renderer_id = j->o.renderer,
+                          .keys = j->o.keys,
+                          .quiet = j->rep.style == CO_REPORT_QUIET};
+    lm_status st = co_pool_create(&po, &j->pool);
+    if (st == LM_OK && local)
+        st = co_pool_wait(j->pool, local, CO_JOB_WORKER_START_S);
+    if (st == LM_OK && j->o.listen)
+        note(j, "listening", "workers may join at %s", co_pool_endpoint(j->pool));
+    return st;
+}
+
+/* The views of the original, with the coarse mesh's materials (an --initial file has its own). */
 static lm_status make_views(co_job *j)
 {
     lm_view_set *vs = malloc(sizeof *vs);
@@ -264,16 +317,27 @@ static lm_status make_views(co_job *j)
     float centre[3], radius;
     lm_mesh_bounding_sphere(j->original, centre, &radius);
     lm_status st = lm_view_set_make(vs, j->o.views, j->o.size, centre, radius);
+    co_views_desc d = {.kind = j->pool ? CO_VIEWS_REMOTE : CO_VIEWS_LOCAL,
+                       .original = j->original,
+                       .views = vs,
+                       .materials = j->coarse->materials,
+                       .n_materials = j->coarse->n_materials,
+                       .device = j->o.device_spec,
+                       .pool = j->pool};
     if (st == LM_OK)
-        st = wk_views_local_create(j->original, vs, j->o.device_spec, &j->views);
+        st = co_views_create(&d, &j->views);
     free(vs);
     if (st != LM_OK)
         return st;
     lm_views_info info;
     j->views->ops->info(j->views, &info);
     snprintf(j->renderer, sizeof j->renderer, "%s", info.renderer);
-    note(j, "views", "%" PRIu32 " views of %dx%d on %s", info.n_views, info.width, info.height,
-         info.renderer);
+    if (j->pool)
+        note(j, "views", "%" PRIu32 " views of %dx%d on %" PRIu32 " workers: %s", info.n_views,
+             info.width, info.height, co_pool_alive(j->pool), info.renderer);
+    else
+        note(j, "views", "%" PRIu32 " views of %dx%d on %s", info.n_views, info.width, info.height,
+             info.renderer);
     return LM_OK;
 }
 
@@ -302,24 +366,25 @@ static lm_status load_payload(void *ctx, FILE *fp)
     return co_optimizer_load((co_optimizer *)ctx, fp);
 }
 
+static lm_status make_coarse_mesh(co_job *j)
+{
+    lm_status st = make_coarse(j, &j->coarse);
+    if (st == LM_OK)
+        st = prepare_coarse(j, j->coarse);
+    if (st == LM_OK && j->o.initial_output_path)
+        st = lm_mesh_save(j->o.initial_output_path, j->coarse);
+    return st;
+}
+
 static lm_status make_optimizer(co_job *j)
 {
-    lm_mesh *coarse = NULL;
-    lm_status st = make_coarse(j, &coarse);
-    if (st == LM_OK)
-        st = prepare_coarse(j, coarse);
-    /* The coarse mesh's material ids index its own materials (an --initial file has its own). */
-    if (st == LM_OK)
-        st = wk_views_local_set_materials(j->views, coarse->materials, coarse->n_materials);
-    co_params params = {.seed = j->o.seed, .attrs = j->attrs};
-    if (st == LM_OK)
-        st = co_optimizer_create(coarse, j->views, &params, &j->opt);
-    if (st != LM_OK) {
-        lm_mesh_destroy(coarse); /* the optimizer takes it only on success */
+    co_params params = {
+        .seed = j->o.seed, .attrs = j->attrs, .edges_in_flight = j->o.edges_in_flight};
+    lm_mesh *coarse = j->coarse;
+    j->coarse = NULL; /* the optimizer owns it from here on, even when its creation fails */
+    lm_status st = co_optimizer_create(coarse, j->views, &params, &j->opt);
+    if (st != LM_OK || !j->o.resume_path)
         return st;
-    }
-    if (!j->o.resume_path)
-        return LM_OK;
     st = co_checkpoint_read(j->o.resume_path, &j->key, load_payload, j->opt);
     if (st != LM_OK)
         return st;
@@ -339,6 +404,48 @@ static void write_checkpoint(co_job *j, const co_progress *p)
         note(j, "checkpoint", "%s at %" PRIu64 " evaluations", j->checkpoint_path, p->evals);
 }
 
+/* What progress shows of the workers that served the job. */
+static void report_workers(co_job *j)
+{
+    uint32_t n = j->pool ? co_pool_size(j->pool) : 0, k = 0;
+    if (n > j->cap_workers) {
+        co_worker_report *w = realloc(j->workers, n * sizeof *w);
+        if (!w)
+            return;
+        j->workers = w;
+        j->cap_workers = n;
+    }
+    double now = co_pool_now();
+    for (uint32_t i = 0; i < n; i++) {
+        const co_worker *w = co_pool_worker(j->pool, i);
+        if (!w->in_job && !w->evals)
+            continue;
+        double age = now - w->joined > 1e-3 ? now - w->joined : 1e-3;
+        co_worker_report *r = &j->workers[k++];
+        *r = (co_worker_report){.id = w->id,
+                                .pid = w->pid,
+                                .first = w->first,
+                                .count = w->count,
+                                .evals = w->evals,
+                                .evals_per_s = (double)w->evals / age,
+                                .busy = w->busy_s / age,
+                                .heard_s = now - w->last_heard,
+                                .lost = w->lost};
+        snprintf(r->host, sizeof r->host, "%.63s", w->host);
+        snprintf(r->device, sizeof r->device, "%.31s", w->device);
+    }
+    co_reporter_set_workers(&j->rep, j->workers, k);
+}
+
+/* The reporter, and the caller's progress hook. */
+static void progress(co_job *j, const co_progress *p, double t, int force)
+{
+    report_workers(j);
+    co_reporter_update(&j->rep, p, t, force);
+    if (j->o.on_progress)
+        j->o.on_progress(j->o.progress_ctx, p, t);
+}
+
 /* Why the loop stops now, or NULL to go on. */
 static const char *stop_reason(const co_job *j, const co_progress *p, double t, int idle)
 {
@@ -348,6 +455,8 @@ static const char *stop_reason(const co_job *j, const co_progress *p, double t, 
         return "time";
     if (idle >= CO_JOB_MAX_IDLE_STEPS)
         return "converged";
+    if (co_pool_interrupted())
+        return "interrupted";
     return NULL;
 }
 
@@ -372,7 +481,7 @@ static lm_status run_loop(co_job *j, const char **reason)
     uint64_t ck_evals = p.evals;
     double ck_s = 0.0, t = 0.0;
     int idle = 0;
-    co_reporter_update(&j->rep, &p, 0.0, 1);
+    progress(j, &p, 0.0, 1);
     while (!(*reason = stop_reason(j, &p, t, idle))) {
         uint64_t before = p.evals, before_it = p.iterations;
         uint64_t target = p.evals + step_chunk(p.evals - evals0, t);
@@ -382,7 +491,7 @@ static lm_status run_loop(co_job *j, const char **reason)
         co_optimizer_progress(j->opt, &p);
         idle = p.evals == before ? idle + 1 : 0;
         t = seconds_since(&j->t0) - j->loop_start_s;
-        co_reporter_update(&j->rep, &p, t, 0);
+        progress(j, &p, t, 0);
         int due =
             (j->o.checkpoint_every_evals && p.evals - ck_evals >= j->o.checkpoint_every_evals) ||
             (j->o.checkpoint_every_s > 0 && t - ck_s >= j->o.checkpoint_every_s);
@@ -394,7 +503,7 @@ static lm_status run_loop(co_job *j, const char **reason)
     }
     if (j->checkpoint_path && p.evals != ck_evals)
         write_checkpoint(j, &p);
-    co_reporter_update(&j->rep, &p, t, 1);
+    progress(j, &p, t, 1);
     return LM_OK;
 }
 
@@ -419,6 +528,10 @@ static lm_status job_stages(co_job *j, co_job_summary *summary)
         st = make_key(j);
     if (st == LM_OK && j->o.resume_path)
         st = co_checkpoint_verify(j->o.resume_path, &j->key);
+    if (st == LM_OK)
+        st = make_coarse_mesh(j);
+    if (st == LM_OK)
+        st = make_pool(j);
     if (st == LM_OK)
         st = make_views(j);
     if (st == LM_OK)
@@ -445,6 +558,8 @@ static lm_status job_stages(co_job *j, co_job_summary *summary)
     summary->output_path = j->o.output_path;
     summary->resumed_from_evals = j->resumed_from_evals;
     snprintf(summary->renderer, sizeof summary->renderer, "%s", j->renderer);
+    report_workers(j);
+    summary->workers = j->rep.n_workers;
     co_reporter_summary(&j->rep, summary);
     return LM_OK;
 }
@@ -454,6 +569,8 @@ lm_status co_job_run(const co_job_options *opts, co_job_summary *summary)
     co_job *j = calloc(1, sizeof *j);
     if (!j)
         return lm_fail(LM_E_NOMEM, "out of memory");
+    co_pool_catch_signals(); /* SIGINT/SIGTERM end the loop; checkpoint, output and workers follow
+                              */
     clock_gettime(CLOCK_MONOTONIC, &j->t0);
     co_job_summary local;
     lm_status st = resolve_options(j, opts);
@@ -471,6 +588,10 @@ lm_status co_job_run(const co_job_options *opts, co_job_summary *summary)
     if (j->opt)
         co_optimizer_destroy(j->opt);
     lm_views_destroy(j->views);
+    co_pool_destroy(j->pool);
+    free(j->workers);
+    if (j->coarse)
+        lm_mesh_destroy(j->coarse);
     if (j->original)
         lm_mesh_destroy(j->original);
     free(j);

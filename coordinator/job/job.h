@@ -13,13 +13,17 @@
 #include <stdint.h>
 
 #include "common/error.h"
+#include "common/view.h"
 #include "coordinator/job/progress.h"
 
-#define CO_JOB_DEFAULT_VIEWS 20u
-#define CO_JOB_DEFAULT_SIZE 256
+#define CO_JOB_DEFAULT_VIEWS LM_DEFAULT_VIEWS
+#define CO_JOB_DEFAULT_SIZE LM_DEFAULT_VIEW_SIZE
 #define CO_JOB_DEFAULT_EVALS 100000ull
 #define CO_JOB_DEFAULT_CHECKPOINT_S 60.0
 #define CO_JOB_MIN_TARGET_VERTS 100u
+#define CO_JOB_DEFAULT_IN_FLIGHT 1u
+#define CO_JOB_IN_PROCESS UINT32_MAX /* workers: render in this process (no worker processes) */
+#define CO_JOB_WORKER_START_S 60.0   /* local workers must say hello within this */
 
 /* Zero means default for every field. */
 typedef struct co_job_options {
@@ -41,7 +45,23 @@ typedef struct co_job_options {
     int json;                        /* NDJSON progress + summary on stdout */
     int quiet;                       /* no progress and no summary (callers that report) */
     const char *device_spec;         /* renderer device: "auto" (NULL), "cpu", "host", "egl:N" */
+    uint32_t workers;     /* local lumesh-worker processes to spawn; 0 = one per core (none with
+                             listen), CO_JOB_IN_PROCESS = render in this process */
+    const char *listen;   /* also take workers that connect here ("tcp://ADDR:PORT") */
+    const char *renderer; /* accept only workers of this renderer id; NULL = the first one's */
+    const char *keys;     /* CURVE key folder for the workers' connections (proto/keys.h) */
+    uint32_t
+        edges_in_flight; /* edges optimised at once (co_params); 0 = CO_JOB_DEFAULT_IN_FLIGHT */
+    const char *initial_output_path; /* write the coarse mesh the optimisation starts from (after
+                                        its preparation) here; NULL = not */
+    /* Called with the counters at the start, after every optimizer step and at the end (the
+       quality report's history); NULL = none. */
+    void (*on_progress)(void *ctx, const co_progress *p, double elapsed_s);
+    void *progress_ctx;
 } co_job_options;
+
+/* The number of local workers `workers` means (0 = one per core; none with listen). */
+uint32_t co_job_local_workers(const co_job_options *o);
 
 /* Parse an --attrs list ("pos,normal,uv,color"; "pos" alone = positions only) into LM_ATTR_* bits.
  * LM_E_INVALID naming the bad word. */

@@ -7,16 +7,17 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "common/log.h"
 #include "coordinator/optimizer/moves_internal.h"
 
 #define CO_PENALTY 1e300 /* value of points that are refused without evaluation */
 
-static void set_defaults(co_moves_config *c)
+void co_moves_config_defaults(co_moves_config *c)
 {
     if (!c->evals_per_dim)
         c->evals_per_dim = 32;
     if (!c->max_set_verts)
-        c->max_set_verts = 16;
+        c->max_set_verts = 8;
     if (!c->max_dim)
         c->max_dim = 160;
     if (!(c->pos_step > 0))
@@ -27,6 +28,8 @@ static void set_defaults(co_moves_config *c)
         c->uv_step = 0.2;
     if (!(c->color_step > 0))
         c->color_step = 0.05;
+    if (!(c->size_tol > 0))
+        c->size_tol = 0.25;
 }
 
 static lm_status alloc_buffers(co_moves *mv)
@@ -54,8 +57,9 @@ lm_status co_moves_create(lm_mesh *mesh, lm_views *views, const co_moves_config 
         return lm_fail(LM_E_NOMEM, "out of memory creating the move workspace");
     mv->m = mesh;
     mv->views = views;
+    mv->clock = &mv->evals;
     mv->cfg = *cfg;
-    set_defaults(&mv->cfg);
+    co_moves_config_defaults(&mv->cfg);
     uint32_t a = mv->cfg.attrs;
     mv->derived_normals = !(a & LM_ATTR_NORMAL);
     mv->wattrs =
@@ -108,9 +112,42 @@ void co_moves_set_evals(co_moves *mv, uint64_t evals)
     mv->evals = evals;
 }
 
+uint64_t co_moves_clock(const co_moves *mv)
+{
+    return *mv->clock;
+}
+
+void co_moves_share_clock(co_moves *mv, uint64_t *clock)
+{
+    mv->clock = clock ? clock : &mv->evals;
+}
+
+void co_moves_observe(co_moves *mv, const co_moves_observer *obs)
+{
+    if (obs)
+        mv->obs = *obs;
+    else
+        memset(&mv->obs, 0, sizeof mv->obs);
+}
+
+const lm_journal *co_moves_journal(const co_moves *mv)
+{
+    return mv->j;
+}
+
 size_t co_moves_mark(const co_moves *mv)
 {
     return lm_journal_mark(mv->j);
+}
+
+void co_moves_rollback(co_moves *mv, size_t mark)
+{
+    lm_journal_rollback(mv->m, mv->j, mark);
+}
+
+uint64_t *co_moves_clock_ptr(co_moves *mv)
+{
+    return mv->clock;
 }
 
 void co_moves_forget(co_moves *mv)
@@ -120,15 +157,10 @@ void co_moves_forget(co_moves *mv)
 
 lm_status co_moves_revert(co_moves *mv, size_t mark)
 {
+    if (mv->obs.reverted)
+        mv->obs.reverted(mv->obs.ctx, mark);
     lm_journal_rollback(mv->m, mv->j, mark);
-    lm_tri_data *tris;
-    size_t n;
-    lm_status s = lm_mesh_export_tris(mv->m, &tris, &n);
-    if (s)
-        return s;
-    s = mv->views->ops->set_mesh(mv->views, tris, n);
-    free(tris);
-    return s;
+    return lm_views_set_mesh_from(mv->views, mv->m);
 }
 
 void co_moves_last_change(const co_moves *mv, const uint32_t **before, uint32_t *n_before,
@@ -385,9 +417,18 @@ static lm_status eval_batch(void *ctx, const double *pts, uint32_t n, double *va
     }
     if (k) {
         lm_status st = mv->views->ops->evaluate(mv->views, mv->patches, k, mv->deltas);
+        if (st == LM_E_POISON) { /* every worker failed on it: these points are refused */
+            lm_warn("%s: %u candidate moves refused", lm_last_error(), k);
+            lm_clear_error();
+            for (uint32_t i = 0; i < n; i++)
+                mv->slot[i] = LM_NONE;
+            st = LM_OK;
+        }
         if (st)
             return st;
         mv->evals += k;
+        if (mv->clock != &mv->evals)
+            *mv->clock += k;
     }
     for (uint32_t i = 0; i < n; i++)
         vals[i] = mv->slot[i] == LM_NONE ? CO_PENALTY : (double)mv->deltas[mv->slot[i]];
@@ -408,10 +449,15 @@ static lm_status optimise(co_moves *mv, int64_t *delta)
     return st;
 }
 
-static lm_status accept(co_moves *mv)
+static lm_status accept(co_moves *mv, int level, size_t mark0, int64_t delta)
 {
     co_params_apply(mv, mv->x);
     lm_status st = lm_patch_build(&mv->patches[0], mv->m, mv->B.ids, mv->B.n, mv->T.ids, mv->T.n);
+    if (st == LM_OK && mv->obs.accepted) {
+        co_move_record r = {mv->site.kind, level,   mv->site.a, mv->site.b, mv->site.v,
+                            mark0,         mv->dim, mv->x,      delta};
+        mv->obs.accepted(mv->obs.ctx, &r);
+    }
     return st ? st : mv->views->ops->commit(mv->views, &mv->patches[0]);
 }
 
@@ -451,10 +497,37 @@ lm_status co_moves_try(co_moves *mv, co_move_kind kind, int level, uint32_t a, u
     st = optimise(mv, &res->delta);
     res->evals = (uint32_t)(mv->evals - e0);
     if (!st && res->delta != INT64_MAX && res->delta < accept_below) {
-        st = accept(mv);
+        st = accept(mv, level, mark0, res->delta);
         res->accepted = st == LM_OK;
         return st;
     }
     lm_journal_rollback(mv->m, mv->j, mark0);
     return st;
+}
+
+lm_status co_moves_replay(co_moves *mv, const co_move_record *r, uint32_t *v)
+{
+    *v = LM_NONE;
+    if (!usable_edge(mv->m, r->a, r->b))
+        return lm_fail(LM_E_ILLEGAL, "edge (%u, %u) is gone", r->a, r->b);
+    find_site(mv->m, r->kind, r->a, r->b, &mv->site);
+    size_t mark0 = lm_journal_mark(mv->j);
+    int legal;
+    lm_status st = do_op(mv, &legal);
+    if (st || !legal)
+        return st ? st
+                  : lm_fail(LM_E_ILLEGAL, "move %d on edge (%u, %u) is no longer legal",
+                            (int)r->kind, r->a, r->b);
+    st = prepare(mv, r->level, mark0);
+    if (!st && mv->dim != r->dim)
+        st = lm_fail(LM_E_ILLEGAL, "move %d on edge (%u, %u) has %u parameters now, %u then",
+                     (int)r->kind, r->a, r->b, mv->dim, r->dim);
+    if (st) {
+        lm_journal_rollback(mv->m, mv->j, mark0);
+        return st == LM_E_RANGE ? lm_fail(LM_E_ILLEGAL, "%s", lm_last_error()) : st;
+    }
+    memcpy(mv->x, r->x, (size_t)r->dim * sizeof *mv->x);
+    co_params_apply(mv, mv->x);
+    *v = mv->site.v;
+    return LM_OK;
 }

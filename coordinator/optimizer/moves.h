@@ -26,13 +26,13 @@
 typedef struct co_moves_config {
     uint32_t attrs;         /* LM_ATTR_* optimised besides positions; normals otherwise derived */
     uint32_t evals_per_dim; /* simplex limit: evals_per_dim * n; 0 = 32 */
-    uint32_t max_set_verts; /* vertex sets are cut to this many (core vertices kept); 0 = 16 */
+    uint32_t max_set_verts; /* vertex sets are cut to this many (core vertices kept); 0 = 8 */
     uint32_t max_dim;       /* and to this many parameters; 0 = 160 */
     double pos_step;        /* initial displacement: fraction of mean incident edge length; 0=0.2 */
     double normal_step;     /* absolute; 0 = 0.15 */
     double uv_step;         /* fraction of the mean uv edge length at the wedge; 0 = 0.2 */
     double color_step;      /* absolute; 0 = 0.05 */
-    double size_tol;        /* simplex size tolerance (relative to the steps); 0 = simplex's */
+    double size_tol;        /* simplex size tolerance (relative to the steps); 0 = 0.25 */
     double f_rtol;          /* simplex relative value tolerance; 0 = none */
     float centre[3];        /* positions farther than bound_radius from centre are refused */
     float bound_radius;     /* 0 = no bound */
@@ -58,6 +58,29 @@ typedef struct co_move_result {
 
 typedef struct co_moves co_moves;
 
+/* An accepted operation, as co_moves_replay can do it again on another copy of the mesh. */
+typedef struct co_move_record {
+    co_move_kind kind;
+    int level;
+    uint32_t a, b;
+    uint32_t v;      /* the vertex the move created (split) or kept (collapse); else LM_NONE */
+    size_t mark;     /* journal position before the operation */
+    uint32_t dim;    /* parameters */
+    const double *x; /* their values (valid during the call only) */
+    int64_t delta;   /* ΔE it was accepted with */
+} co_move_record;
+
+/* Who wants to know about accepted operations (before their patch reaches the views) and about
+ * reverts (before the views get the whole mesh again). */
+typedef struct co_moves_observer {
+    void (*accepted)(void *ctx, const co_move_record *r);
+    void (*reverted)(void *ctx, size_t mark);
+    void *ctx;
+} co_moves_observer;
+
+/* Every zero field of c takes its default (the values listed above): the one place they live. */
+void co_moves_config_defaults(co_moves_config *c);
+
 lm_status co_moves_create(lm_mesh *mesh, lm_views *views, const co_moves_config *cfg,
                           co_moves **out);
 void co_moves_destroy(co_moves *mv);
@@ -75,14 +98,30 @@ void co_moves_last_change(const co_moves *mv, const uint32_t **before, uint32_t 
 /* The mesh the moves act on. */
 const lm_mesh *co_moves_mesh(const co_moves *mv);
 
-/* Evaluations sent to the views since creation (the optimizer's clock). */
+/* Evaluations this object sent to the views since creation (or co_moves_set_evals). */
 uint64_t co_moves_evals(const co_moves *mv);
 void co_moves_set_evals(co_moves *mv, uint64_t evals);
+/* The optimizer's clock (what statistics attenuate by): this object's evaluations, or a counter
+ * shared with others (co_moves_share_clock: every evaluation of either advances it). */
+uint64_t co_moves_clock(const co_moves *mv);
+void co_moves_share_clock(co_moves *mv, uint64_t *clock);
+uint64_t *co_moves_clock_ptr(co_moves *mv);
+void co_moves_observe(co_moves *mv, const co_moves_observer *obs);
+
+/* Do an accepted operation again (on a copy of the mesh that matches the one it was found on, up
+ * to vertex ids `r` names in this mesh): the connectivity change, the vertex set, the parameters.
+ * It stays in the mesh, journaled (co_moves_mark/revert/forget), and is NOT sent to the views;
+ * *v the vertex it created or kept. LM_E_ILLEGAL (mesh unchanged) when it no longer fits. */
+lm_status co_moves_replay(co_moves *mv, const co_move_record *r, uint32_t *v);
+/* The journal of this object's mesh changes (for lm_patch_from_journal). */
+const lm_journal *co_moves_journal(const co_moves *mv);
 
 /* Undo support across accepted moves: a journal position, rolling the mesh back to it and
  * re-sending the whole mesh to the views, and forgetting the journal (changes kept). */
 size_t co_moves_mark(const co_moves *mv);
 lm_status co_moves_revert(co_moves *mv, size_t mark);
+/* The mesh back to `mark` without telling the views (changes that never reached them). */
+void co_moves_rollback(co_moves *mv, size_t mark);
 void co_moves_forget(co_moves *mv);
 
 /* The vertex set of Table 1 for `level` of site->kind, on the mesh after the connectivity change:

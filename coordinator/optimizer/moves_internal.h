@@ -29,7 +29,9 @@ struct co_moves {
     int64_t *deltas;   /* [max_dim + 1] */
     uint32_t *slot;    /* [max_dim + 1] */
     uint32_t *buf;     /* [CO_MOVES_BUF] */
-    uint64_t evals;
+    uint64_t evals;    /* evaluations this object sent */
+    uint64_t *clock;   /* the optimizer's clock (&evals unless shared) */
+    co_moves_observer obs;
     co_move_site site;
 };
 

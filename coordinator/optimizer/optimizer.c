@@ -1,8 +1,6 @@
 /* coordinator/optimizer/optimizer.c — the Lindstrom–Turk optimizer (paper §5) as one object:
- * iterations of 64 edges chosen by the oracle and at random; on each edge the operations no-op
- * (levels 1-3), swap (0-3) and teleport (0-3) in that order, each attempted when Inequality 3 says
- * so; the statistics, the teleport's collapse queue and the progress counters kept up to date.
- * Checkpointing lives in optimizer_state.c. */
+ * iterations of 64 edges chosen by the oracle and at random, each edge optimised by edge.c (one at
+ * a time, or several in flight by lanes.c). Checkpointing lives in optimizer_state.c. */
 #include "coordinator/optimizer/optimizer.h"
 
 #include <math.h>
@@ -11,6 +9,8 @@
 
 #include "common/log.h"
 #include "common/mesh_topology.h"
+#include "coordinator/optimizer/edge.h"
+#include "coordinator/optimizer/lanes.h"
 #include "coordinator/optimizer/optimizer_internal.h"
 
 static lm_status prepare_mesh(co_optimizer *o)
@@ -24,13 +24,7 @@ static lm_status prepare_mesh(co_optimizer *o)
         lm_mesh_merge_wedges(m, LM_ATTR_UV | LM_ATTR_COLOR);
         lm_mesh_compute_normals(m);
     }
-    lm_tri_data *tris;
-    size_t n;
-    if ((st = lm_mesh_export_tris(m, &tris, &n)))
-        return st;
-    st = o->views->ops->set_mesh(o->views, tris, n);
-    free(tris);
-    return st;
+    return lm_views_set_mesh_from(o->views, m);
 }
 
 void co_tuning_defaults(co_tuning *t)
@@ -41,15 +35,8 @@ void co_tuning_defaults(co_tuning *t)
                    .oracle_min_share = 0.125,
                    .oracle_max_share = 0.875,
                    .oracle_max_age = 16};
-    d.moves = (co_moves_config){.max_set_verts = 8,
-                                .max_dim = 160,
-                                .pos_step = 0.2,
-                                .normal_step = 0.15,
-                                .uv_step = 0.2,
-                                .color_step = 0.05,
-                                .size_tol = 0.25};
-    d.teleport = (co_teleport_config){
-        .threshold_half_life = 20000, .stats_half_life = 50000, .max_search_evals = 3000};
+    co_moves_config_defaults(&d.moves);
+    co_teleport_config_defaults(&d.teleport);
     *t = d;
 }
 
@@ -83,13 +70,17 @@ static void resolve_tuning(co_tuning *t)
 
 static lm_status make_moves(co_optimizer *o)
 {
-    co_moves_config mc = o->tuning.moves;
-    mc.attrs = o->attrs;
-    mc.evals_per_dim = o->params.simplex_evals_per_dim;
+    co_moves_config *mc = &o->moves_cfg;
+    *mc = o->tuning.moves;
+    mc->attrs = o->attrs;
+    mc->evals_per_dim = o->params.simplex_evals_per_dim;
     float r;
-    lm_mesh_bounding_sphere(o->mesh, mc.centre, &r);
-    mc.bound_radius = 4.0f * r;
-    return co_moves_create(o->mesh, o->views, &mc, &o->mv);
+    lm_mesh_bounding_sphere(o->mesh, mc->centre, &r);
+    mc->bound_radius = 4.0f * r;
+    lm_status st = co_moves_create(o->mesh, o->views, mc, &o->mv);
+    if (st == LM_OK && o->params.edges_in_flight > 1)
+        st = co_lanes_create(o, o->params.edges_in_flight, &o->lanes);
+    return st;
 }
 
 static lm_status alloc_iteration(co_optimizer *o)
@@ -145,10 +136,13 @@ lm_status co_optimizer_create_tuned(lm_mesh *mesh, lm_views *views, const co_par
         o->params.edges_per_iteration = 64;
     if (!o->params.simplex_evals_per_dim)
         o->params.simplex_evals_per_dim = 32;
-    if (o->params.edges_per_iteration > 1u << 20 || o->params.simplex_evals_per_dim > 1u << 16) {
+    if (!o->params.edges_in_flight)
+        o->params.edges_in_flight = 1;
+    if (o->params.edges_per_iteration > 1u << 20 || o->params.simplex_evals_per_dim > 1u << 16 ||
+        o->params.edges_in_flight > CO_MAX_EDGES_IN_FLIGHT) {
         co_optimizer_destroy(o); /* the mesh was taken: it goes too */
-        return lm_fail(LM_E_RANGE, "optimizer: edges per iteration or evaluations per dimension "
-                                   "out of range");
+        return lm_fail(LM_E_RANGE, "optimizer: edges per iteration, evaluations per dimension or "
+                                   "edges in flight out of range");
     }
     o->attrs = o->params.attrs & (LM_ATTR_NORMAL | (mesh->attrs & (LM_ATTR_UV | LM_ATTR_COLOR)));
     co_rng_seed(&o->rng, o->params.seed);
@@ -172,6 +166,7 @@ void co_optimizer_destroy(co_optimizer *opt)
 {
     if (!opt)
         return;
+    co_lanes_destroy(opt->lanes);
     co_moves_destroy(opt->mv);
     co_teleport_free(&opt->tp);
     co_oracle_free(&opt->oracle);
@@ -193,123 +188,6 @@ void co_optimizer_progress(const co_optimizer *opt, co_progress *out)
     out->evals = co_moves_evals(opt->mv);
     out->live_verts = opt->mesh->live_verts;
     out->live_tris = opt->mesh->live_tris;
-}
-
-/* ---- one operation --------------------------------------------------------------------------- */
-
-typedef struct op_outcome {
-    int legal, accepted;
-    int64_t delta; /* committed ΔE (0 when rejected) */
-    uint32_t evals;
-} op_outcome;
-
-static lm_status run_teleport(co_optimizer *o, int level, uint32_t a, uint32_t b, op_outcome *r)
-{
-    co_teleport_result t;
-    lm_status st = co_teleport_try(&o->tp, o->mv, level, a, b, &t);
-    *r = (op_outcome){t.legal, t.accepted, t.accepted ? t.delta : 0, t.evals};
-    o->prog.attempted[CO_MOVE_COLLAPSE] += t.collapse_attempts;
-    o->prog.accepted[CO_MOVE_COLLAPSE] += t.accepted ? 1 : 0;
-    return st;
-}
-
-/* The edge and the vertices of the triangles around the last accepted change. */
-static lm_status mark_touched(co_optimizer *o, uint32_t a, uint32_t b)
-{
-    const uint32_t *before, *now;
-    uint32_t nb, nn;
-    co_moves_last_change(o->mv, &before, &nb, &now, &nn);
-    lm_status st = co_idset_add(&o->it.touched, a);
-    if (!st)
-        st = co_idset_add(&o->it.touched, b);
-    for (uint32_t i = 0; i < nn && !st; i++)
-        if (o->mesh->tri_alive[now[i]])
-            for (int k = 0; k < 3 && !st; k++)
-                st = co_idset_add(&o->it.touched, lm_tri_vertex(o->mesh, now[i], k));
-    return st;
-}
-
-static lm_status run_op(co_optimizer *o, co_move_kind kind, int level, uint32_t a, uint32_t b,
-                        op_outcome *r)
-{
-    lm_status st;
-    if (kind == CO_MOVE_SPLIT) {
-        st = run_teleport(o, level, a, b, r);
-    } else {
-        co_move_result mr;
-        st = co_moves_try(o->mv, kind, level, a, b, 0, &mr);
-        *r = (op_outcome){mr.legal, mr.accepted, mr.accepted ? mr.delta : 0, mr.evals};
-        if (!st && mr.accepted) {
-            const uint32_t *before, *now;
-            uint32_t nb, nn;
-            co_moves_last_change(o->mv, &before, &nb, &now, &nn);
-            st = co_teleport_note_change(&o->tp, o->mesh, now, nn);
-        }
-    }
-    if (!st && r->accepted)
-        st = mark_touched(o, a, b);
-    if (st || !r->legal)
-        return st;
-    o->prog.attempted[kind]++;
-    o->prog.accepted[kind] += r->accepted ? 1 : 0;
-    o->prog.energy += r->delta;
-    co_move_stats_add(&o->stats, kind, level, (double)r->delta, r->evals, co_moves_evals(o->mv));
-    return LM_OK;
-}
-
-/* ---- one edge (paper §5.3) ----------------------------------------------------------------- */
-
-static const co_move_kind edge_moves[3] = {CO_MOVE_NOOP, CO_MOVE_SWAP, CO_MOVE_SPLIT};
-
-/* Operations in their fixed order, each when Inequality 3 holds; a connectivity change that is
- * accepted ends the edge (it no longer exists). */
-static lm_status edge_ops(co_optimizer *o, uint32_t a, uint32_t b, int64_t *total, int *tried)
-{
-    for (int k = 0; k < 3; k++) {
-        co_move_kind kind = edge_moves[k];
-        for (int level = kind == CO_MOVE_NOOP ? 1 : 0; level < CO_LEVELS; level++) {
-            if (!lm_mesh_edge_exists(o->mesh, a, b))
-                return LM_OK;
-            uint64_t now = co_moves_evals(o->mv);
-            if (!co_move_stats_should_try(&o->stats, kind, level, (double)*total, now))
-                continue;
-            op_outcome r;
-            lm_status st = run_op(o, kind, level, a, b, &r);
-            if (st)
-                return st;
-            if (!r.legal)
-                break;
-            *tried = 1;
-            *total += r.delta;
-            if (r.accepted && kind != CO_MOVE_NOOP)
-                return LM_OK;
-        }
-    }
-    return LM_OK;
-}
-
-static lm_status optimise_edge(co_optimizer *o, uint32_t a, uint32_t b, int64_t *total)
-{
-    *total = 0;
-    if (!lm_mesh_edge_exists(o->mesh, a, b))
-        return LM_OK;
-    int tried = 0;
-    lm_status st = edge_ops(o, a, b, total, &tried);
-    if (!st && !tried) {
-        /* Nothing looked worth it: try the most efficient operation anyway, so that the clock
-         * (and with it the attenuation of the statistics) always moves on. */
-        co_move_kind kind = CO_MOVE_NOOP;
-        int level = 1;
-        co_move_stats_best(&o->stats, co_moves_evals(o->mv), &kind, &level);
-        op_outcome r;
-        st = run_op(o, kind, level, a, b, &r);
-        if (!st && !r.legal)
-            st = run_op(o, CO_MOVE_NOOP, 1, a, b, &r);
-        if (!st && r.legal)
-            *total += r.delta;
-    }
-    co_moves_forget(o->mv);
-    return st;
 }
 
 /* ---- iterations (paper §5.4) ----------------------------------------------------------------- */
@@ -380,6 +258,39 @@ static lm_status end_iteration(co_optimizer *o)
     return st;
 }
 
+/* The iteration's bookkeeping for planned edge e, whose operations committed `total`. */
+static void edge_done(co_iteration *it, const co_planned_edge *e, int64_t total)
+{
+    int src = e->from_oracle ? 1 : 0;
+    it->gain[src] += (double)-total;
+    it->count[src]++;
+    if (total >= 0)
+        it->no_progress[it->n_no_progress++] = co_edge_key(e->a, e->b);
+}
+
+/* The next planned edges: one on the optimizer's mesh, or a group in flight in the lanes. */
+static lm_status next_edges(co_optimizer *opt)
+{
+    co_iteration *it = &opt->it;
+    co_planned_edge *e = &it->plan[it->pos];
+    int64_t totals[CO_MAX_EDGES_IN_FLIGHT];
+    uint32_t n = 1;
+    lm_status st;
+    if (opt->lanes) {
+        n = co_lanes_group(opt->lanes, e, it->n_plan - it->pos);
+        lm_debug("edges in flight: a group of %u", n);
+        st = co_lanes_run(opt->lanes, e, n, totals);
+    } else {
+        co_edge_ctx c = {.o = opt, .mesh = opt->mesh, .mv = opt->mv};
+        st = co_edge_optimise(&c, e->a, e->b, &totals[0]);
+    }
+    for (uint32_t i = 0; i < n && st == LM_OK; i++)
+        edge_done(it, &e[i], totals[i]);
+    if (st == LM_OK)
+        it->pos += n;
+    return st;
+}
+
 lm_status co_optimizer_step(co_optimizer *opt, uint64_t max_evals)
 {
     co_iteration *it = &opt->it;
@@ -391,16 +302,8 @@ lm_status co_optimizer_step(co_optimizer *opt, uint64_t max_evals)
     while (it->pos < it->n_plan) {
         if (co_moves_evals(opt->mv) >= max_evals)
             return LM_OK;
-        const co_planned_edge *e = &it->plan[it->pos];
-        int64_t total;
-        if ((st = optimise_edge(opt, e->a, e->b, &total)))
+        if ((st = next_edges(opt)))
             return st;
-        int src = e->from_oracle ? 1 : 0;
-        it->gain[src] += (double)-total;
-        it->count[src]++;
-        if (total >= 0)
-            it->no_progress[it->n_no_progress++] = co_edge_key(e->a, e->b);
-        it->pos++;
     }
     return end_iteration(opt);
 }

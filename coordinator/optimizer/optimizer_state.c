@@ -13,7 +13,7 @@
 #include "coordinator/optimizer/optimizer_internal.h"
 
 #define OPT_MAGIC "LMOPTST1"
-#define OPT_VERSION 1u
+#define OPT_VERSION 2u      /* 2: triangles carry their part */
 #define OPT_END 0x444e4521u /* "!END" */
 
 /* ---- mesh --------------------------------------------------------------------------------------
@@ -22,9 +22,9 @@
 static void save_mesh(co_bin *bp, const lm_mesh *m)
 {
     co_bin b = *bp;
-    uint32_t head[7] = {m->n_verts,   m->n_wedges, m->n_tris,     m->live_verts,
-                        m->live_tris, m->attrs,    m->n_materials};
-    for (int i = 0; i < 7; i++)
+    uint32_t head[8] = {m->n_verts,   m->n_wedges, m->n_tris,      m->live_verts,
+                        m->live_tris, m->attrs,    m->n_materials, m->n_parts};
+    for (int i = 0; i < 8; i++)
         co_put_u32(&b, head[i]);
     for (uint32_t v = 0; v < m->n_verts; v++)
         for (int k = 0; k < 3; k++)
@@ -44,6 +44,7 @@ static void save_mesh(co_bin *bp, const lm_mesh *m)
         for (int k = 0; k < 3; k++)
             co_put_u32(&b, m->tris[t].w[k]);
         co_put_u32(&b, m->tris[t].material);
+        co_put_u32(&b, m->tris[t].part);
     }
     co_put_bytes(&b, m->tri_alive, m->n_tris);
     *bp = b;
@@ -97,6 +98,7 @@ static lm_status read_arrays(co_bin *b, mesh_arrays *a)
         for (int k = 0; k < 3; k++)
             a->tris[t].w[k] = co_get_u32(b);
         a->tris[t].material = co_get_u32(b);
+        a->tris[t].part = co_get_u32(b);
     }
     co_get_bytes(b, a->tri_alive, a->n_tris);
     return b->status;
@@ -104,7 +106,8 @@ static lm_status read_arrays(co_bin *b, mesh_arrays *a)
 
 /* References and counts must be consistent: alive wedges on alive vertices, alive triangles on
  * alive wedges and existing materials. */
-static lm_status check_arrays(co_bin *b, const mesh_arrays *a, uint32_t n_materials)
+static lm_status check_arrays(co_bin *b, const mesh_arrays *a, uint32_t n_materials,
+                              uint32_t n_parts)
 {
     uint32_t lv = 0, lt = 0;
     for (uint32_t v = 0; v < a->n_verts; v++) {
@@ -130,6 +133,8 @@ static lm_status check_arrays(co_bin *b, const mesh_arrays *a, uint32_t n_materi
         }
         if (a->tris[t].material >= (n_materials ? n_materials : 1))
             return co_bin_bad(b, "triangle %u refers to a missing material", t);
+        if (a->tris[t].part >= (n_parts ? n_parts : 1))
+            return co_bin_bad(b, "triangle %u refers to a missing part", t);
     }
     if (lv != a->live_verts || lt != a->live_tris)
         return co_bin_bad(b, "live counts do not match the alive flags");
@@ -177,19 +182,21 @@ static lm_status load_mesh(co_bin *b, const lm_mesh *m, mesh_arrays *a)
                       &a->live_verts, &a->live_tris, &a->attrs};
     for (int i = 0; i < 6; i++)
         *h[i] = co_get_u32(b);
-    uint32_t n_materials = co_get_u32(b);
+    uint32_t n_materials = co_get_u32(b), n_parts = co_get_u32(b);
     if (b->status)
         return b->status;
     if (n_materials != m->n_materials)
         return co_bin_bad(b, "%u materials, the mesh has %u", n_materials, m->n_materials);
+    if (n_parts != m->n_parts)
+        return co_bin_bad(b, "%u parts, the mesh has %u", n_parts, m->n_parts);
     uint64_t need =
-        (uint64_t)a->n_verts * 13 + (uint64_t)a->n_wedges * 41 + (uint64_t)a->n_tris * 17;
+        (uint64_t)a->n_verts * 13 + (uint64_t)a->n_wedges * 41 + (uint64_t)a->n_tris * 21;
     if (a->n_verts > LM_MESH_MAX_VERTS || a->n_tris > LM_MESH_MAX_TRIS ||
         a->n_wedges > LM_MESH_MAX_VERTS * 4u || a->live_verts > a->n_verts ||
         a->live_tris > a->n_tris || need > remaining(b->fp))
         return co_bin_bad(b, "element counts out of range or truncated");
     lm_status st = read_arrays(b, a);
-    return st ? st : check_arrays(b, a, n_materials);
+    return st ? st : check_arrays(b, a, n_materials, n_parts);
 }
 
 /* ---- statistics, oracle, iteration ---------------------------------------------------------- */
@@ -381,6 +388,7 @@ static void save_params(co_bin *b, const co_optimizer *o)
     co_put_u32(b, o->attrs);
     co_put_u32(b, o->params.edges_per_iteration);
     co_put_u32(b, o->params.simplex_evals_per_dim);
+    co_put_u32(b, o->params.edges_in_flight);
     double v[32];
     uint32_t n = tuning_values(&o->tuning, v);
     co_put_u32(b, n);
@@ -398,15 +406,16 @@ static lm_status check_params(co_bin *b, const co_optimizer *o)
     if (!b->status && version != OPT_VERSION)
         return co_bin_bad(b, "version %u, this build reads %u", version, OPT_VERSION);
     uint64_t seed = co_get_u64(b);
-    uint32_t p[4];
-    for (int i = 0; i < 4; i++)
+    uint32_t p[5];
+    for (int i = 0; i < 5; i++)
         p[i] = co_get_u32(b);
     if (b->status)
         return b->status;
     if (seed != o->params.seed || p[0] != o->params.attrs || p[1] != o->attrs ||
-        p[2] != o->params.edges_per_iteration || p[3] != o->params.simplex_evals_per_dim)
+        p[2] != o->params.edges_per_iteration || p[3] != o->params.simplex_evals_per_dim ||
+        p[4] != o->params.edges_in_flight)
         return co_bin_bad(b, "written with other optimizer parameters (seed, attrs, edges per "
-                             "iteration or simplex limit)");
+                             "iteration, simplex limit or edges in flight)");
     double v[32];
     uint32_t n = tuning_values(&o->tuning, v), got = co_get_u32(b);
     if (!b->status && got != n)
@@ -496,13 +505,7 @@ static lm_status parse(co_bin *b, const co_optimizer *o, loaded *l)
 
 static lm_status resend_mesh(co_optimizer *o)
 {
-    lm_tri_data *tris;
-    size_t n;
-    lm_status st = lm_mesh_export_tris(o->mesh, &tris, &n);
-    if (st)
-        return st;
-    st = o->views->ops->set_mesh(o->views, tris, n);
-    free(tris);
+    lm_status st = lm_views_set_mesh_from(o->views, o->mesh);
     int64_t e = 0;
     if (!st)
         st = o->views->ops->energy(o->views, &e, NULL);

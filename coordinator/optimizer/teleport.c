@@ -24,17 +24,22 @@ typedef struct search {
     uint32_t attempts;
 } search;
 
+void co_teleport_config_defaults(co_teleport_config *c)
+{
+    if (!(c->threshold_half_life > 0))
+        c->threshold_half_life = 20000;
+    if (!(c->stats_half_life > 0))
+        c->stats_half_life = 50000;
+    if (!c->max_search_evals)
+        c->max_search_evals = 3000;
+}
+
 lm_status co_teleport_init(co_teleport *tp, const co_teleport_config *cfg, const lm_mesh *m)
 {
     memset(tp, 0, sizeof *tp);
     if (cfg)
         tp->cfg = *cfg;
-    if (!(tp->cfg.threshold_half_life > 0))
-        tp->cfg.threshold_half_life = 20000;
-    if (!(tp->cfg.stats_half_life > 0))
-        tp->cfg.stats_half_life = 50000;
-    if (!tp->cfg.max_search_evals)
-        tp->cfg.max_search_evals = 3000;
+    co_teleport_config_defaults(&tp->cfg);
     lm_status st = co_cq_create(&tp->queue);
     if (st || !m)
         return st;
@@ -103,6 +108,12 @@ static lm_status park(search *s, const co_cq_entry *e)
     return LM_OK;
 }
 
+/* An edge the collapse search must leave alone (another lane's neighbourhood). */
+static int vetoed(const co_teleport *tp, const co_cq_entry *e)
+{
+    return tp->veto && tp->veto(tp->veto_ctx, e->a, e->b);
+}
+
 /* 3σ rule: even a lucky level increase would not bring the estimate under the gain. */
 static int hopeless(const search *s, const co_cq_entry *e, uint64_t now)
 {
@@ -133,7 +144,7 @@ static lm_status attempt(search *s, const co_cq_entry *e, int L, int64_t accept_
         return st;
     if (!r.legal)
         return co_cq_set(tp->queue, e->a, e->b, INT64_MAX, 3, 0);
-    uint64_t now = co_moves_evals(s->mv);
+    uint64_t now = co_moves_clock(s->mv);
     if (e->level >= 0 && L == e->level + 1 && e->est != INT64_MAX)
         co_stat_add(&tp->improve[e->level], (double)r.delta - (double)e->est, r.evals, now,
                     tp->cfg.stats_half_life);
@@ -158,6 +169,8 @@ static lm_status search_step(search *s, int *done)
         co_cq_remove(q, e.a, e.b);
         return LM_OK;
     }
+    if (vetoed(s->tp, &e))
+        return park(s, &e);
     int L;
     if (e.level < 0) {
         L = 0;
@@ -165,13 +178,24 @@ static lm_status search_step(search *s, int *done)
         L = e.level;
     } else if (e.level >= 3) {
         return park(s, &e);
-    } else if (hopeless(s, &e, co_moves_evals(s->mv))) {
+    } else if (hopeless(s, &e, co_moves_clock(s->mv))) {
         *done = 1;
         return co_cq_set(q, e.a, e.b, e.est, e.level, 1);
     } else {
         L = e.level + 1;
     }
     return attempt(s, &e, L, s->gain);
+}
+
+/* Parked entries go back into the queue as they were. */
+static lm_status unpark(search *s, lm_status st)
+{
+    for (uint32_t i = 0; i < s->n_parked && !st; i++) {
+        const co_cq_entry *e = &s->parked[i];
+        st = co_cq_set(s->tp->queue, e->a, e->b, e->est, e->level, 1);
+    }
+    s->n_parked = 0;
+    return st;
 }
 
 static lm_status run_search(search *s)
@@ -181,12 +205,7 @@ static lm_status run_search(search *s)
     while (!st && !done && !s->found &&
            co_moves_evals(s->mv) - s->start < s->tp->cfg.max_search_evals)
         st = search_step(s, &done);
-    for (uint32_t i = 0; i < s->n_parked && !st; i++) {
-        const co_cq_entry *e = &s->parked[i];
-        st = co_cq_set(s->tp->queue, e->a, e->b, e->est, e->level, 1);
-    }
-    s->n_parked = 0;
-    return st;
+    return unpark(s, st);
 }
 
 /* No collapse paid for the split: collapse the cheapest one anyway (an uphill move). */
@@ -207,11 +226,15 @@ static lm_status fallback(search *s)
             co_cq_remove(s->tp->queue, e.a, e.b);
             continue;
         }
+        if (vetoed(s->tp, &e)) {
+            st = park(s, &e);
+            continue;
+        }
         int L = e.level < 0 ? 0 : e.level;
         e.level = -2;
         st = attempt(s, &e, L, INT64_MAX);
     }
-    return st;
+    return unpark(s, st);
 }
 
 lm_status co_teleport_try(co_teleport *tp, co_moves *mv, int level, uint32_t a, uint32_t b,
@@ -219,7 +242,7 @@ lm_status co_teleport_try(co_teleport *tp, co_moves *mv, int level, uint32_t a, 
 {
     memset(res, 0, sizeof *res);
     uint64_t e0 = co_moves_evals(mv);
-    int64_t thr = co_teleport_threshold(tp, e0);
+    int64_t thr = co_teleport_threshold(tp, co_moves_clock(mv));
     size_t mark = co_moves_mark(mv);
     co_move_result r;
     lm_status st = co_moves_try(mv, CO_MOVE_SPLIT, level, a, b, -thr, &r);
@@ -245,7 +268,7 @@ lm_status co_teleport_try(co_teleport *tp, co_moves *mv, int level, uint32_t a, 
         res->accepted = 1;
         res->delta = r.delta + s.found_delta;
         tp->last_collapse = s.found_delta > 0 ? s.found_delta : 0;
-        tp->last_time = co_moves_evals(mv);
+        tp->last_time = co_moves_clock(mv);
     }
     res->evals = (uint32_t)(co_moves_evals(mv) - e0);
     return st;

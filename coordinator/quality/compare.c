@@ -7,21 +7,21 @@
 #include <string.h>
 
 #include "common/patch.h"
-#include "worker/views_local.h"
+#include "coordinator/views/views.h"
+
+/* Views of the original over `views` on `device`, with no current mesh yet. */
+static lm_status original_views(const lm_mesh *original, const lm_view_set *views,
+                                const char *device, lm_views **out)
+{
+    co_views_desc d = {.original = original, .views = views, .device = device};
+    return co_views_create(&d, out);
+}
 
 /* Make `m` (with its own materials) the current mesh of the views. */
 static lm_status set_model(lm_views *views, const lm_mesh *m)
 {
-    lm_status st = wk_views_local_set_materials(views, m->materials, m->n_materials);
-    if (st != LM_OK)
-        return st;
-    lm_tri_data *tris = NULL;
-    size_t n = 0;
-    st = lm_mesh_export_tris(m, &tris, &n);
-    if (st == LM_OK)
-        st = views->ops->set_mesh(views, tris, n);
-    free(tris);
-    return st;
+    lm_status st = views->ops->set_materials(views, m->materials, m->n_materials);
+    return st == LM_OK ? lm_views_set_mesh_from(views, m) : st;
 }
 
 /* Energy (total and per view, which may be NULL) and, where depth images exist, coverage of the
@@ -50,7 +50,7 @@ lm_status co_compare_energies(const lm_mesh *original, const lm_view_set *views,
     uint8_t *om = NULL;
     if (cov)
         memset(cov, 0, n * sizeof *cov);
-    lm_status st = wk_views_local_create(original, views, device_spec, &v);
+    lm_status st = original_views(original, views, device_spec, &v);
     if (st == LM_OK && cov && co_coverage_masks(v, &om) != LM_OK)
         lm_clear_error(); /* no depth images on this device: energies only */
     for (uint32_t i = 0; st == LM_OK && i < n; i++) {
@@ -81,7 +81,7 @@ lm_status co_coverage_masks(lm_views *views, uint8_t **masks)
         return lm_fail(LM_E_NOMEM, "out of memory for coverage masks");
     lm_status st = LM_OK;
     for (uint32_t i = 0; st == LM_OK && i < info.n_views; i++)
-        st = wk_views_local_read_coverage(views, i, m + plane * i);
+        st = views->ops->read_image(views, LM_IMAGE_COVERAGE, i, m + plane * i);
     if (st != LM_OK) {
         free(m);
         return st;
@@ -217,7 +217,7 @@ static lm_status fill_column(lm_views *v, lm_image *grid, uint8_t *buf, const gr
     for (uint32_t i = 0; i < r->count; i++) {
         co_crop whole = {i, 0, 0, r->w, r->h};
         const co_crop *c = r->crop ? r->crop : &whole;
-        lm_status st = wk_views_local_read_rgba(v, c->view, buf);
+        lm_status st = v->ops->read_image(v, LM_IMAGE_RGBA, c->view, buf);
         if (st != LM_OK)
             return st;
         blit(grid, buf, r->w, r->h, c, (int)i, col);
@@ -252,7 +252,7 @@ lm_status co_compare_grid(const lm_mesh *original, const lm_view_set *views,
     lm_views *v = NULL;
     lm_status st = grid && buf ? LM_OK : lm_fail(LM_E_NOMEM, "out of memory for the image grid");
     if (st == LM_OK)
-        st = wk_views_local_create(original, views, device_spec, &v);
+        st = original_views(original, views, device_spec, &v);
     if (st == LM_OK)
         st = fill_column(v, grid, buf, &r, 0);
     for (uint32_t m = 0; st == LM_OK && m < n; m++) {
@@ -321,7 +321,7 @@ lm_status co_compare_find_cracks(const lm_mesh *original, const lm_view_set *vie
                        h);
     lm_views *v = NULL;
     uint8_t *om = NULL, *mm = NULL;
-    lm_status st = wk_views_local_create(original, views, device_spec, &v);
+    lm_status st = original_views(original, views, device_spec, &v);
     if (st == LM_OK)
         st = co_coverage_masks(v, &om);
     if (st == LM_OK)

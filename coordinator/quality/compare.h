@@ -30,7 +30,7 @@ typedef struct co_coverage {
 int co_crack_margin(int width);
 
 /* Coverage masks of every view from the views' last full render (the original's right after
- * wk_views_local_create, the model's right after set_mesh): n_views * width * height bytes,
+ * the views are made, the model's right after set_mesh): n_views * width * height bytes,
  * caller frees *masks. LM_E_UNSUPPORTED where the device has no depth images. */
 lm_status co_coverage_masks(lm_views *views, uint8_t **masks);
 /* Compare two mask sets of `views` images of w x h pixels. */

@@ -5,8 +5,7 @@
 #include <stdlib.h>
 #include <time.h>
 
-#include "common/patch.h"
-#include "worker/views_local.h"
+#include "coordinator/views/views.h"
 
 lm_status co_view_set_around(const lm_mesh *framing, uint32_t n, int size, int heldout,
                              lm_view_set **out)
@@ -33,23 +32,12 @@ lm_status co_view_set_around(const lm_mesh *framing, uint32_t n, int size, int h
 lm_status co_views_with_model(const lm_mesh *original, const lm_mesh *model,
                               const lm_view_set *views, const char *device, lm_views **out)
 {
-    lm_views *v = NULL;
-    lm_tri_data *tris = NULL;
-    size_t n = 0;
-    lm_status st = wk_views_local_create(original, views, device, &v);
-    if (st == LM_OK && model != original)
-        st = wk_views_local_set_materials(v, model->materials, model->n_materials);
-    if (st == LM_OK)
-        st = lm_mesh_export_tris(model, &tris, &n);
-    if (st == LM_OK)
-        st = v->ops->set_mesh(v, tris, n);
-    free(tris);
-    if (st != LM_OK) {
-        lm_views_destroy(v);
-        return st;
+    co_views_desc d = {.original = original, .views = views, .device = device, .mesh = model};
+    if (model != original) {
+        d.materials = model->materials;
+        d.n_materials = model->n_materials;
     }
-    *out = v;
-    return LM_OK;
+    return co_views_create(&d, out);
 }
 
 double co_now_s(void)

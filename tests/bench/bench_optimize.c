@@ -201,8 +201,8 @@ static lm_status bench(const opts *o)
     int64_t held0 = 0;
     if (!(st = lm_view_set_make(vs, o->views, o->size, c, r)) &&
         !(st = lm_view_set_make_heldout(hs, o->size, c, r)) &&
-        !(st = wk_views_local_create(orig, vs, o->device, &v)) &&
-        !(st = wk_views_local_create(orig, hs, o->device, &held)))
+        !(st = wk_views_local_create(orig, vs, 0, 0, o->device, &v)) &&
+        !(st = wk_views_local_create(orig, hs, 0, 0, o->device, &held)))
         st = energy_of(held, coarse, &held0);
     co_optimizer *opt = NULL;
     co_params p = {.seed = o->seed, .attrs = o->attrs, .simplex_evals_per_dim = o->evals_per_dim};

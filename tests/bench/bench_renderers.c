@@ -89,10 +89,10 @@ static lm_status run(const opts *o)
     lm_views *va = NULL, *vb = NULL;
     double t0 = now(), ta = 0, tb = 0;
     if (!(st = lm_view_set_make(vs, o->views, o->size, c, r)) &&
-        !(st = wk_views_local_create(m, vs, o->a, &va))) {
+        !(st = wk_views_local_create(m, vs, 0, 0, o->a, &va))) {
         ta = now() - t0;
         t0 = now();
-        st = wk_views_local_create(m, vs, o->b, &vb);
+        st = wk_views_local_create(m, vs, 0, 0, o->b, &vb);
         tb = now() - t0;
     }
     size_t n = (size_t)o->size * o->size;
@@ -100,8 +100,8 @@ static lm_status run(const opts *o)
     double sum = 0, worst = 0;
     for (uint32_t h = 0; !st && h < o->views; h++) {
         double mse;
-        if (!(st = wk_views_local_read_rgba(va, h, x)) &&
-            !(st = wk_views_local_read_rgba(vb, h, y))) {
+        if (!(st = va->ops->read_image(va, LM_IMAGE_RGBA, h, x)) &&
+            !(st = vb->ops->read_image(vb, LM_IMAGE_RGBA, h, y))) {
             compare_view(h, x, y, n, &mse);
             sum += mse;
             worst = mse > worst ? mse : worst;

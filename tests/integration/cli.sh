@@ -8,7 +8,7 @@ expect_exit 0 "$LUMESH" --help
 expect_exit 0 "$LUMESH" --version
 expect_exit 1 "$LUMESH"
 expect_fail_line "$LUMESH" frobnicate
-for cmd in optimize simplify energy render devices gen-frog demo bench; do
+for cmd in optimize simplify energy compare report render devices gen-frog demo bench; do
   expect_exit 0 "$LUMESH" "$cmd" --help
 done
 tmp=$(mktemp -d)

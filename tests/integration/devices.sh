@@ -72,12 +72,21 @@ for spec in gpu egl:99 egl:x ''; do
     grep -q '^lumesh-worker: ' "$tmp/e" || fail "--device '$spec': message not prefixed"
 done
 
-# --connect is honest about not being available yet; no arguments is a usage error.
+# --connect: with no coordinator there the worker keeps trying (and exits cleanly on SIGTERM);
+# an endpoint ZeroMQ cannot use is one line and exit 1; no arguments is a usage error.
+"$LUMESH_WORKER" --connect tcp://127.0.0.1:1 --device host 2>"$tmp/e" &
+wpid=$!
+sleep 1.5
+kill -0 "$wpid" 2>/dev/null || fail "--connect with no coordinator did not keep trying: $(cat "$tmp/e")"
+kill -TERM "$wpid"
 set +e
-"$LUMESH_WORKER" --connect tcp://127.0.0.1:1 2>"$tmp/e"; rc=$?
+wait "$wpid"; rc=$?
+"$LUMESH_WORKER" --connect nonsense://x --device host 2>"$tmp/e"; rc1=$?
 "$LUMESH_WORKER" 2>/dev/null; rc2=$?
 set -e
-[ "$rc" = 1 ] && grep -q 'not available in this version' "$tmp/e" || fail "--connect: rc=$rc"
+[ "$rc" = 0 ] || fail "a waiting worker stopped by SIGTERM exited $rc"
+[ "$rc1" = 1 ] && [ "$(wc -l <"$tmp/e")" = 1 ] && grep -q 'cannot connect' "$tmp/e" ||
+    fail "--connect nonsense://x: rc=$rc1: $(cat "$tmp/e")"
 [ "$rc2" = 1 ] || fail "no arguments exited $rc2"
 "$LUMESH_WORKER" --help | grep -q -- '--self-test' || fail "--help"
 echo "devices.sh: ok"

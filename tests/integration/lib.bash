@@ -1,6 +1,9 @@
 # tests/integration/lib.bash — shared helpers for integration scripts (sourced, not a test).
 : "${LUMESH:?LUMESH must point at the lumesh binary}"
 failures=0
+# LUMESH_TEST_LIGHT=1 (the sanitizer run of scripts/test.sh): the heavy scripts do less of the
+# same (fewer worker counts, shorter runs); every behaviour is still checked.
+light=${LUMESH_TEST_LIGHT:-0}
 checks=0
 fail() { echo "FAIL: $*" >&2; failures=$((failures + 1)); }
 # expect_exit CODE CMD... — run CMD, check its exit code.
@@ -20,6 +23,15 @@ expect_fail_line() {
   local got=$?
   [ "$got" = 1 ] || fail "'$*' exited $got, expected 1 (stderr: $err)"
   [ "$(printf '%s\n' "$err" | grep -c .)" = 1 ] || fail "'$*' printed $(printf '%s\n' "$err" | grep -c .) lines on stderr, expected 1: $err"
+}
+# wait_for SECONDS CMD... — run CMD every 0.2 s until it succeeds (0) or SECONDS have passed (1):
+# for states a loaded machine reaches late, never a fixed sleep.
+wait_for() {
+  local end=$((SECONDS + $1)); shift
+  until "$@"; do
+    [ "$SECONDS" -lt "$end" ] || return 1
+    sleep 0.2
+  done
 }
 finish() {
   echo "$((checks - failures)) passed, $failures failed"

@@ -134,7 +134,7 @@ expect_fail_line "$LUMESH" optimize "$frog" -o "$bad" --initial "$frog" --target
 expect_fail_line "$LUMESH" optimize "$frog" -o "$bad" --attrs pos,bogus
 expect_fail_line "$LUMESH" optimize "$frog" -o "$tmp/bad/out.xyz"
 expect_fail_line "$LUMESH" optimize "$tmp/missing.obj" -o "$bad"
-expect_fail_line "$LUMESH" optimize "$frog" -o "$tmp/no/such/dir/out.obj"
+expect_fail_line "$LUMESH" optimize "$frog" -o "$frog/not/a/folder/out.obj"
 printf 'not a checkpoint\n' >"$tmp/foreign.ckpt"
 expect_fail_line "$LUMESH" optimize "$frog" -o "$bad" "${opts[@]}" --resume "$tmp/foreign.ckpt"
 head -c 100 "$tmp/ck1" >"$tmp/trunc.ckpt"

@@ -87,8 +87,9 @@ expect_fail_line "$LUMESH" compare "$spider" "$tmp/coarse.obj" -o "$tmp/c.png" -
 
 if [ -r "$bunny" ]; then
   checks=$((checks + 1))
-  "$LUMESH" bench eval --json --views 6 --size 64 --evals 200 > "$tmp/bench.json" ||
-    fail "bench eval failed"
+  # From another folder, without LUMESH_TEST_DATA: the bunny is found beside the program.
+  (cd "$tmp" && env -u LUMESH_TEST_DATA "$LUMESH" bench eval --json --views 6 --size 64 \
+    --evals 200 > "$tmp/bench.json") || fail "bench eval failed from $tmp"
   for key in evals_per_s full_render_ms speedup_vs_full; do
     v=$(json "$tmp/bench.json" "$key")
     awk -v v="$v" 'BEGIN {exit !(v > 0)}' || fail "bench $key is '$v': $(cat "$tmp/bench.json")"
@@ -103,4 +104,5 @@ expect_fail_line "$LUMESH" energy "$spider" "$spider" --device gpu
 expect_fail_line "$LUMESH" render "$spider"
 expect_fail_line "$LUMESH" render "$tmp/missing.obj" -o "$tmp/x"
 expect_fail_line "$LUMESH" bench nosuch
+expect_fail_line env LUMESH_TEST_DATA="$tmp/nowhere" "$LUMESH" bench eval --evals 10
 finish

@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # Integration: `lumesh gen-frog` and `lumesh simplify` end to end — generate the frog in each output
 # format, simplify it with both methods and the bunny with QEM, read the one-line summaries, and
-# check that unreachable targets fail with one line and write nothing.
+# check that a target is an upper bound: a model already small enough is written as it is with a
+# note, an unreachable target gives the best mesh with a warning (exit 0), and only real errors
+# fail (one line, nothing written).
 set -u
 . "$(dirname "$0")/lib.bash"
 tmp=$(mktemp -d)
@@ -37,9 +39,41 @@ if [ -n "${LUMESH_TEST_DATA:-}" ] && [ -r "$LUMESH_TEST_DATA/cache/meshes/bunny0
   [ -n "$v" ] && [ "$v" -ge 731 ] && [ "$v" -le 809 ] || fail "bunny gave '$v' vertices: $line"
 fi
 
-# Unreachable targets: one line on stderr, exit 1, no output file.
-expect_fail_line "$LUMESH" simplify "$tmp/frog.glb" -o "$tmp/too-many.obj" --target-verts 999999
-expect_fail_line "$LUMESH" simplify "$tmp/frog.glb" -o "$tmp/too-few.obj" --target-verts 2
+# The target is an upper bound: a model below it is written as it is, with a note.
+checks=$((checks + 1))
+line=$("$LUMESH" simplify "$tmp/frog.glb" -o "$tmp/as-is.obj" --target-verts 999999 2>"$tmp/err") ||
+  fail "simplify above the model's size failed: $(cat "$tmp/err")"
+grep -q 'note: .* at most the target 999999: written as it is' "$tmp/err" ||
+  fail "no note for a model below the target: $(cat "$tmp/err")"
+[ "$(out_verts "$line")" = "$(printf '%s\n' "$line" | sed -n 's/.* \([0-9]*\) vertices \/ [0-9]* triangles ->.*/\1/p')" ] ||
+  fail "a model below the target was not written as it is: $line"
+# A target of 10: written either way; a warning whenever the result has more than 10 (+5%).
+for method in qem cluster; do
+  checks=$((checks + 1))
+  line=$("$LUMESH" simplify "$tmp/frog.glb" -o "$tmp/few-$method.glb" --target-verts 10 \
+         --method "$method" 2>"$tmp/err") || fail "unreachable target ($method) failed: $(cat "$tmp/err")"
+  [ -s "$tmp/few-$method.glb" ] || fail "unreachable target ($method) wrote nothing"
+  v=$(out_verts "$line")
+  if [ "${v:-0}" -gt 10 ]; then
+    grep -q 'warning: target not reached' "$tmp/err" || fail "$method: $v vertices, no warning"
+  else
+    [ -s "$tmp/err" ] && fail "$method: $v vertices and a message: $(cat "$tmp/err")"
+  fi
+done
+# QEM stops on the spider's 19 small closed parts: the best mesh, and a warning saying what goes
+# further.
+spider=${LUMESH_TEST_DATA:-}/cache/root/usr/share/assimp/models/OBJ/spider.obj
+if [ -r "$spider" ]; then
+  checks=$((checks + 1))
+  line=$("$LUMESH" simplify "$spider" -o "$tmp/spider.glb" --target-verts 50 2>"$tmp/err") ||
+    fail "spider at 50 vertices failed: $(cat "$tmp/err")"
+  [ "$(out_verts "$line")" -gt 52 ] && grep -q 'warning: target not reached: QEM stopped' "$tmp/err" &&
+    grep -q 'method cluster goes further' "$tmp/err" ||
+    fail "no warning for the spider at 50 vertices: $line $(cat "$tmp/err")"
+  [ -s "$tmp/spider.glb" ] || fail "spider at 50 vertices: nothing written"
+fi
+# Real errors: one line on stderr, exit 1, no output file.
 expect_fail_line "$LUMESH" simplify "$tmp/frog.glb" -o "$tmp/x.obj" --target-verts 100 --method x
-[ -e "$tmp/too-many.obj" ] || [ -e "$tmp/too-few.obj" ] && fail "a failed simplify left a file"
+expect_fail_line "$LUMESH" simplify "$tmp/missing.glb" -o "$tmp/y.obj" --target-verts 100
+[ -e "$tmp/x.obj" ] || [ -e "$tmp/y.obj" ] && fail "a failed simplify left a file"
 finish

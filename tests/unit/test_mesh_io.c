@@ -486,6 +486,17 @@ static void test_bad_gltf(void **state)
     expect_load(dir, "dup.gltf", "{\"asset\": {\"version\": \"2.0\"}, \"asset\": {}}", LM_E_FORMAT);
     expect_load(dir, "nover.gltf", "{\"asset\": {\"generator\": \"x\"}}", LM_E_FORMAT);
     expect_load(dir, "v1.gltf", "{\"asset\": {\"version\": \"1.0\"}}", LM_E_UNSUPPORTED);
+    assert_non_null(strstr(lm_last_error(), "glTF 1.0 file"));
+    assert_non_null(strstr(lm_last_error(), "convert it"));
+    /* glTF 1.0 as some exporters wrote it: the version a number, or no version but dictionaries
+     * where 2.0 has arrays (CesiumMilkTruck.gltf of assimp's test models). */
+    expect_load(dir, "v1n.gltf", "{\"asset\": {\"version\": 1}}", LM_E_UNSUPPORTED);
+    assert_non_null(strstr(lm_last_error(), "glTF 1.0 file"));
+    expect_load(dir, "v1d.gltf", "{\"accessors\": {\"a\": {}}}", LM_E_UNSUPPORTED);
+    assert_non_null(strstr(lm_last_error(), "glTF 1.0 file"));
+    static const uint8_t glb1[20] = {'g', 'l', 'T', 'F', 1, 0, 0, 0, 200, 0, 0, 0, 0};
+    expect_load_bytes(dir, "v1.glb", glb1, sizeof glb1, LM_E_UNSUPPORTED);
+    assert_non_null(strstr(lm_last_error(), "binary (KHR_binary_glTF) glTF 1.0 file"));
     lmt_rmdir(dir);
 }
 

@@ -54,9 +54,11 @@ static void rig_init(rig *r, lm_mesh *orig, lm_mesh *coarse, uint32_t attrs)
     lm_mesh_bounding_sphere(orig, c, &rad);
     r->vs = malloc(sizeof *r->vs);
     assert_int_equal(lm_view_set_make(r->vs, N_VIEWS, SIZE, c, rad), LM_OK);
-    assert_int_equal(wk_views_local_create(orig, r->vs, "host", &r->v), LM_OK);
+    assert_int_equal(wk_views_local_create(orig, r->vs, 0, 0, "host", &r->v), LM_OK);
     send_mesh(r->v, coarse);
-    co_moves_config cfg = {.attrs = attrs, .bound_radius = 4 * rad};
+    /* a finer simplex tolerance than the optimizer's default (0.25): these tests check how far a
+     * single move gets */
+    co_moves_config cfg = {.attrs = attrs, .bound_radius = 4 * rad, .size_tol = 1.0 / 16};
     memcpy(cfg.centre, c, sizeof c);
     assert_int_equal(co_moves_create(coarse, r->v, &cfg, &r->mv), LM_OK);
 }
@@ -81,7 +83,7 @@ static int64_t energy(lm_views *v)
 static void check_fresh(const rig *r)
 {
     lm_views *f;
-    assert_int_equal(wk_views_local_create(r->orig, r->vs, "host", &f), LM_OK);
+    assert_int_equal(wk_views_local_create(r->orig, r->vs, 0, 0, "host", &f), LM_OK);
     send_mesh(f, r->m);
     assert_true(energy(f) == energy(r->v));
     lm_views_destroy(f);

@@ -41,7 +41,7 @@ static void run_start(run *r, uint64_t seed)
     float c[3], rad;
     lm_mesh_bounding_sphere(r->orig, c, &rad);
     assert_int_equal(lm_view_set_make(&r->vs, N_VIEWS, SIZE, c, rad), LM_OK);
-    assert_int_equal(wk_views_local_create(r->orig, &r->vs, "host", &r->v), LM_OK);
+    assert_int_equal(wk_views_local_create(r->orig, &r->vs, 0, 0, "host", &r->v), LM_OK);
     co_params p = {.seed = seed};
     assert_int_equal(co_optimizer_create(noisy_sphere(), r->v, &p, &r->o), LM_OK);
 }
@@ -96,7 +96,7 @@ static void test_energy_falls(void **state)
     assert_int_equal(lm_mesh_validate(co_optimizer_mesh(r.o)), LM_OK);
     /* a fresh full render of the result agrees with the tracked energy */
     lm_views *f;
-    assert_int_equal(wk_views_local_create(r.orig, &r.vs, "host", &f), LM_OK);
+    assert_int_equal(wk_views_local_create(r.orig, &r.vs, 0, 0, "host", &f), LM_OK);
     lm_tri_data *t;
     size_t n;
     assert_int_equal(lm_mesh_export_tris(co_optimizer_mesh(r.o), &t, &n), LM_OK);

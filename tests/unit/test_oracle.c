@@ -61,8 +61,13 @@ static void fv_destroy(lm_views *v)
     (void)v;
 }
 
-static const lm_views_ops fake_ops = {fv_set_mesh,   fv_evaluate, fv_commit, fv_energy,
-                                      fv_potentials, fv_info,     fv_destroy};
+static const lm_views_ops fake_ops = {.set_mesh = fv_set_mesh,
+                                      .evaluate = fv_evaluate,
+                                      .commit = fv_commit,
+                                      .energy = fv_energy,
+                                      .potentials = fv_potentials,
+                                      .info = fv_info,
+                                      .destroy = fv_destroy};
 
 typedef struct fixture {
     lm_mesh *m;

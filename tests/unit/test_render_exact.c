@@ -66,7 +66,7 @@ static void skip_if_auto_is_covered(void)
     lm_view_set *vs = malloc(sizeof *vs);
     assert_int_equal(lm_view_set_make(vs, 1, 16, c, r), LM_OK);
     lm_views *v;
-    assert_int_equal(wk_views_local_create(m, vs, "auto", &v), LM_OK);
+    assert_int_equal(wk_views_local_create(m, vs, 0, 0, "auto", &v), LM_OK);
     lm_views_info info;
     v->ops->info(v, &info);
     lm_views_destroy(v);
@@ -104,8 +104,8 @@ static void harness_init(harness *h, const lm_mesh *original, const lm_mesh *coa
     lm_mesh_bounding_sphere(original, c, &r);
     lm_view_set *vs = malloc(sizeof *vs);
     assert_int_equal(lm_view_set_make(vs, N_VIEWS, VIEW_SIZE, c, r), LM_OK);
-    assert_int_equal(wk_views_local_create(original, vs, device(), &h->inc), LM_OK);
-    assert_int_equal(wk_views_local_create(original, vs, device(), &h->full), LM_OK);
+    assert_int_equal(wk_views_local_create(original, vs, 0, 0, device(), &h->inc), LM_OK);
+    assert_int_equal(wk_views_local_create(original, vs, 0, 0, device(), &h->full), LM_OK);
     free(vs);
     if (!occlusion)
         assert_int_equal(wk_views_local_set_occlusion(h->inc, 0), LM_OK);
@@ -134,7 +134,9 @@ static void harness_free(harness *h)
 static void snapshot(lm_views *v, uint8_t *out)
 {
     for (uint32_t k = 0; k < N_VIEWS; k++)
-        assert_int_equal(wk_views_local_luma(v, 0, k, out + k * (VIEW_SIZE * VIEW_SIZE)), LM_OK);
+        assert_int_equal(
+            v->ops->read_image(v, LM_IMAGE_CURRENT_LUMA, k, out + k * (VIEW_SIZE * VIEW_SIZE)),
+            LM_OK);
 }
 
 /* The incremental images equal a full re-render of the mesh, pixel for pixel. */

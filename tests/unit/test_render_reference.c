@@ -37,7 +37,7 @@ static lm_image *render_montage(lm_views *v)
     assert_int_equal(lm_image_create(2 * SIZE, 2 * SIZE, &img), LM_OK);
     uint8_t *rgba = malloc((size_t)SIZE * SIZE * 4);
     for (uint32_t h = 0; h < N_VIEWS; h++) {
-        assert_int_equal(wk_views_local_read_rgba(v, h, rgba), LM_OK);
+        assert_int_equal(v->ops->read_image(v, LM_IMAGE_RGBA, h, rgba), LM_OK);
         int ox = (int)(h % 2) * SIZE, oy = (int)(h / 2) * SIZE;
         for (int y = 0; y < SIZE; y++) /* GL rows are bottom first */
             memcpy(img->pixels + (((size_t)(oy + y) * 2 * SIZE) + ox) * 4,
@@ -99,7 +99,7 @@ static void test_spider_reference(void **state)
     lm_view_set *vs = malloc(sizeof *vs);
     assert_int_equal(lm_view_set_make(vs, N_VIEWS, SIZE, c, r), LM_OK);
     lm_views *v;
-    assert_int_equal(wk_views_local_create(m, vs, "host", &v), LM_OK);
+    assert_int_equal(wk_views_local_create(m, vs, 0, 0, "host", &v), LM_OK);
     lm_views_info info;
     v->ops->info(v, &info);
     lm_image *img = render_montage(v);
@@ -141,7 +141,7 @@ static void test_cpu_looks_like_reference(void **state)
     lm_view_set *vs = malloc(sizeof *vs);
     assert_int_equal(lm_view_set_make(vs, N_VIEWS, SIZE, c, r), LM_OK);
     lm_views *v;
-    assert_int_equal(wk_views_local_create(m, vs, "cpu", &v), LM_OK);
+    assert_int_equal(wk_views_local_create(m, vs, 0, 0, "cpu", &v), LM_OK);
     lm_image *img = render_montage(v), *ref;
     assert_int_equal(lm_image_read(lmt_data_path(REFERENCE), &ref), LM_OK);
     size_t n = (size_t)img->width * img->height;

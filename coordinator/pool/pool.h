@@ -1,0 +1,122 @@
+/* coordinator/pool/pool.h — the coordinator's workers: one ROUTER socket that lumesh-worker
+ * processes connect to (local ones the pool spawns itself, remote ones that join by --connect at
+ * any time), the handshake (protocol version and renderer identity: a job never mixes renderers),
+ * heartbeats both ways, and one reply slot per worker for the request in flight.
+ *
+ * Contract (for the remote views backend, coordinator/views/views_remote.c, its only user):
+ *   - Every call is made from one thread. co_pool_pump blocks up to its timeout; everything else
+ *     returns at once (a send is queued by ZeroMQ, never waits for a peer).
+ *   - Workers come and go: co_pool_pump welcomes or refuses new ones (a refused worker is told
+ *     why), and marks a worker lost when its process exits (local: a replacement is started,
+ *     within a budget), a send to it fails, it has been silent for CO_POOL_SILENCE_S (its
+ *     heartbeat thread beats every second even while it works), it left a request unanswered for
+ *     CO_POOL_REQUEST_S, or it failed CO_POOL_MAX_FAILURES requests (blocklisted for the job). A
+ *     lost worker is never used again: its late answers are dropped, and whatever it says next is
+ *     answered Rejoin (drop your job, say Hello: it comes back as a new worker, with no views
+ *     until it is brought up again). Callers see losses as w->lost and re-plan; the pool never
+ *     fails because of a worker.
+ *   - Anyone connected may ask for the pool's state (Status): `lumesh workers --connect ADDR`.
+ *   - Replies land in the worker's slot when their req matches the one armed by co_pool_request;
+ *     any other reply is dropped (late answers, answers to a request that was given up).
+ *   - Ownership: workers are owned by the pool (pointers stay valid until co_pool_destroy);
+ *     co_pool_destroy ends the job on every worker, stops and reaps the processes it spawned, and
+ *     closes the socket. Local workers also die with the coordinator (PR_SET_PDEATHSIG). */
+#ifndef LM_COORDINATOR_POOL_POOL_H
+#define LM_COORDINATOR_POOL_POOL_H
+
+#include <stddef.h>
+#include <stdint.h>
+#include <sys/types.h>
+
+#include "common/error.h"
+#include "proto/wire.h"
+#include "worker/probe.h"
+
+#define CO_POOL_SILENCE_S 3.0   /* a worker silent this long is presumed dead */
+#define CO_POOL_REQUEST_S 120.0 /* a worker that leaves a request unanswered this long is stuck */
+
+typedef struct co_worker {
+    uint32_t id; /* 1, 2, ... in the order they were welcomed */
+    uint8_t rid[LM_WIRE_MAX_IDENTITY];
+    size_t rid_len;
+    char host[128], device[64], renderer[128], renderer_id[WK_RENDERER_ID_CHARS + 1];
+    uint32_t pid;
+    uint32_t join; /* the Hello's join number: a repeat of it is the same join, not a restart */
+    int lost;
+    double joined, last_heard; /* seconds on the pool's clock */
+    /* what the job made of it (kept by the views backend) */
+    int in_job;            /* brought up for the current job */
+    uint32_t first, count; /* views assigned */
+    uint64_t evals;        /* patches evaluated for the job */
+    double busy_s;         /* seconds spent evaluating them (the worker's own count) */
+    /* the request in flight */
+    uint64_t want; /* req armed; 0 = none */
+    double armed_at;
+    int replied;
+    lm_wire_in reply;
+    uint32_t failures; /* requests it failed (CO_POOL_MAX_FAILURES: blocklisted) */
+} co_worker;
+
+typedef struct co_pool co_pool;
+
+typedef struct co_pool_options {
+    const char *listen;      /* "tcp://ADDR:PORT" to bind; NULL = a private ipc:// endpoint */
+    uint32_t local_workers;  /* lumesh-worker processes to spawn (connected to the endpoint) */
+    const char *worker_path; /* their program; NULL = LUMESH_WORKER, beside lumesh, or PATH */
+    const char *device;      /* their --device (NULL = "auto") */
+    const char *renderer_id; /* accept only this renderer; NULL = the first worker's */
+    const char *keys;        /* CURVE key folder (proto/keys.h); required to listen beyond this
+                                machine; local workers are given it too */
+    int quiet;               /* no notes on stderr about workers joining and leaving */
+} co_pool_options;
+
+lm_status co_pool_create(const co_pool_options *o, co_pool **out);
+void co_pool_destroy(co_pool *p);
+
+/* The endpoint workers connect to (e.g. for `lumesh-worker --connect`). */
+const char *co_pool_endpoint(const co_pool *p);
+/* The renderer identity the pool accepts ("" until the first worker pins it). */
+const char *co_pool_renderer_id(const co_pool *p);
+
+/* Take in messages for up to timeout_ms (0 = what is there), send heartbeats, notice losses. */
+lm_status co_pool_pump(co_pool *p, int timeout_ms);
+
+/* Workers welcomed so far (lost ones included: check w->lost). */
+uint32_t co_pool_size(const co_pool *p);
+co_worker *co_pool_worker(co_pool *p, uint32_t i);
+/* Welcomed and not lost. */
+uint32_t co_pool_alive(const co_pool *p);
+
+/* Wait until `n` workers are alive: pumping, saying every few seconds that the job waits.
+ * LM_E_IO after timeout_s (0 = forever), LM_E_INVALID when interrupted (SIGINT/SIGTERM). */
+lm_status co_pool_wait(co_pool *p, uint32_t n, double timeout_s);
+
+/* Send one message to w (a change of state when req is 0). A failed send marks w lost and
+ * returns LM_OK: the caller sees w->lost. */
+lm_status co_pool_send(co_pool *p, co_worker *w, uint64_t req, uint64_t seq,
+                       Lumesh__Msg__BodyCase body_case, void *body);
+/* Send bytes packed once (lumesh__msg__pack) to w: one encoding for many workers. */
+lm_status co_pool_send_packed(co_pool *p, co_worker *w, const uint8_t *data, size_t size);
+/* A fresh request number (one may be armed on several workers: one encoding for all). */
+uint64_t co_pool_next_req(co_pool *p);
+/* Arm w's slot for request req (the previous reply, if any, is released). */
+void co_pool_arm_req(co_worker *w, uint64_t req);
+/* A fresh request number armed in w's slot. */
+uint64_t co_pool_arm(co_pool *p, co_worker *w);
+/* Release w's reply and disarm its slot. */
+void co_pool_disarm(co_worker *w);
+
+/* A request of w failed (a Failure answer): the third blocklists w for the job (lost; its Hello
+ * refused). */
+void co_pool_failed(co_pool *p, co_worker *w, const char *what);
+/* What status queries report as the job's evaluations so far. */
+void co_pool_set_job_evals(co_pool *p, uint64_t evals);
+
+/* Seconds on the pool's clock (monotonic). */
+double co_pool_now(void);
+
+/* SIGINT/SIGTERM seen since the process started (set by co_pool_catch_signals's handler). */
+void co_pool_catch_signals(void);
+int co_pool_interrupted(void);
+
+#endif

@@ -1,0 +1,35 @@
+/* coordinator/pool/spawn.h — lumesh-worker processes started by the coordinator (local mode):
+ * found beside the lumesh program (or by LUMESH_WORKER, or on PATH), connected to the pool's
+ * endpoint, told to exit when their job ends (--once) and to die with the coordinator
+ * (--parent PID: the worker sets PR_SET_PDEATHSIG and checks its parent), rendering single-threaded
+ * (LP_NUM_THREADS=0 unless the user set it). Ownership: co_spawn_stop_all signals, waits for and
+ * forgets every process it started. */
+#ifndef LM_COORDINATOR_POOL_SPAWN_H
+#define LM_COORDINATOR_POOL_SPAWN_H
+
+#include <stdint.h>
+#include <sys/types.h>
+
+#include "common/error.h"
+
+typedef struct co_spawned {
+    pid_t *pids;
+    uint32_t n, cap;
+} co_spawned;
+
+/* The worker program: `path` if given, else $LUMESH_WORKER, else lumesh-worker beside this
+ * program (or in ../worker/ of a build tree), else "lumesh-worker" from PATH. buf >= 4096. */
+const char *co_spawn_find_worker(const char *path, char *buf);
+
+/* Start n workers connecting to endpoint with --device device (NULL: auto) and --keys keys (NULL:
+ * none). */
+lm_status co_spawn_workers(co_spawned *s, const char *program, const char *endpoint,
+                           const char *device, const char *keys, uint32_t n);
+
+/* Reap the ones that exited: returns how many, their pids in exited[] (up to cap). */
+uint32_t co_spawn_reap(co_spawned *s, pid_t *exited, uint32_t cap);
+
+/* SIGTERM, up to 2 s of waiting, then SIGKILL for what is left; all reaped. */
+void co_spawn_stop_all(co_spawned *s);
+
+#endif

@@ -1,0 +1,260 @@
+/* coordinator/quality/bvh.c — closest-point queries over a triangle mesh: build (median split of
+ * the centroids on the box's longest axis), point-to-triangle distance by Voronoi regions, and a
+ * depth-first query that visits the nearer child first and skips boxes farther than the best. */
+#include "coordinator/quality/bvh.h"
+
+#include <float.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+typedef struct bvh_node {
+    double lo[3], hi[3];
+    uint32_t first, count; /* leaf: triangles [first, first + count); inner: count = 0 */
+    uint32_t left, right;  /* inner: children */
+} bvh_node;
+
+struct co_bvh {
+    double (*tri)[3][3]; /* [n] corner positions, in leaf order */
+    uint32_t n, n_nodes;
+    bvh_node *nodes; /* [2n] at most */
+};
+
+typedef struct build_ctx {
+    co_bvh *b;
+    double (*centre)[3];
+    uint32_t *order; /* triangle of each slot */
+    double (*src)[3][3];
+} build_ctx;
+
+static void node_bounds(build_ctx *c, bvh_node *nd)
+{
+    for (int k = 0; k < 3; k++) {
+        nd->lo[k] = DBL_MAX;
+        nd->hi[k] = -DBL_MAX;
+    }
+    for (uint32_t i = nd->first; i < nd->first + nd->count; i++)
+        for (int v = 0; v < 3; v++)
+            for (int k = 0; k < 3; k++) {
+                double x = c->src[c->order[i]][v][k];
+                nd->lo[k] = x < nd->lo[k] ? x : nd->lo[k];
+                nd->hi[k] = x > nd->hi[k] ? x : nd->hi[k];
+            }
+}
+
+/* Partition slots [first, first + count) around their median centroid on `axis` (quickselect). */
+static void median_split(build_ctx *c, uint32_t first, uint32_t count, int axis)
+{
+    uint32_t lo = first, hi = first + count - 1, want = first + count / 2;
+    while (lo < hi) {
+        double pivot = c->centre[c->order[(lo + hi) / 2]][axis];
+        uint32_t i = lo, j = hi;
+        while (i <= j) {
+            while (c->centre[c->order[i]][axis] < pivot)
+                i++;
+            while (c->centre[c->order[j]][axis] > pivot)
+                j--;
+            if (i <= j) {
+                uint32_t t = c->order[i];
+                c->order[i++] = c->order[j];
+                c->order[j] = t;
+                if (j == 0)
+                    break;
+                j--;
+            }
+        }
+        if (want <= j)
+            hi = j;
+        else if (want >= i)
+            lo = i;
+        else
+            break;
+    }
+}
+
+/* Build the subtree of slots [first, first + count); returns its node index. Depth is about
+ * log2(n) (median splits), so recursion is bounded. */
+static uint32_t build(build_ctx *c, uint32_t first, uint32_t count)
+{
+    uint32_t id = c->b->n_nodes++;
+    bvh_node *nd = &c->b->nodes[id];
+    nd->first = first;
+    nd->count = count;
+    node_bounds(c, nd);
+    if (count <= CO_BVH_LEAF)
+        return id;
+    int axis = 0;
+    for (int k = 1; k < 3; k++)
+        if (nd->hi[k] - nd->lo[k] > nd->hi[axis] - nd->lo[axis])
+            axis = k;
+    median_split(c, first, count, axis);
+    uint32_t half = count / 2;
+    uint32_t left = build(c, first, half);
+    uint32_t right = build(c, first + half, count - half);
+    nd = &c->b->nodes[id]; /* (no reallocation happens, but keep the pointer fresh) */
+    nd->count = 0;
+    nd->left = left;
+    nd->right = right;
+    return id;
+}
+
+static lm_status gather(const lm_mesh *m, build_ctx *c, uint32_t n)
+{
+    c->src = malloc((size_t)n * sizeof *c->src);
+    c->centre = malloc((size_t)n * sizeof *c->centre);
+    c->order = malloc((size_t)n * sizeof *c->order);
+    if (!c->src || !c->centre || !c->order)
+        return lm_fail(LM_E_NOMEM, "out of memory for the distance hierarchy");
+    uint32_t i = 0;
+    for (uint32_t t = 0; t < m->n_tris; t++) {
+        if (!m->tri_alive[t])
+            continue;
+        for (int v = 0; v < 3; v++) {
+            const float *p = m->pos[lm_tri_vertex(m, t, v)];
+            for (int k = 0; k < 3; k++)
+                c->src[i][v][k] = p[k];
+        }
+        for (int k = 0; k < 3; k++)
+            c->centre[i][k] = (c->src[i][0][k] + c->src[i][1][k] + c->src[i][2][k]) / 3.0;
+        c->order[i] = i;
+        i++;
+    }
+    return LM_OK;
+}
+
+lm_status co_bvh_create(const lm_mesh *m, co_bvh **out)
+{
+    *out = NULL;
+    uint32_t n = m->live_tris;
+    if (n == 0)
+        return lm_fail(LM_E_INVALID, "a distance hierarchy needs at least one triangle");
+    co_bvh *b = calloc(1, sizeof *b);
+    build_ctx c = {.b = b};
+    lm_status s = b ? gather(m, &c, n) : lm_fail(LM_E_NOMEM, "out of memory");
+    if (!s) {
+        b->n = n;
+        b->nodes = malloc(2 * (size_t)n * sizeof *b->nodes);
+        b->tri = malloc((size_t)n * sizeof *b->tri);
+        if (!b->nodes || !b->tri)
+            s = lm_fail(LM_E_NOMEM, "out of memory for the distance hierarchy");
+    }
+    if (!s) {
+        build(&c, 0, n);
+        for (uint32_t i = 0; i < n; i++)
+            memcpy(b->tri[i], c.src[c.order[i]], sizeof b->tri[i]);
+    }
+    free(c.src);
+    free(c.centre);
+    free(c.order);
+    if (s) {
+        co_bvh_destroy(b);
+        return s;
+    }
+    *out = b;
+    return LM_OK;
+}
+
+void co_bvh_destroy(co_bvh *b)
+{
+    if (!b)
+        return;
+    free(b->tri);
+    free(b->nodes);
+    free(b);
+}
+
+static double dot3(const double a[3], const double b[3])
+{
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+static double dist_sq(const double p[3], const double q[3])
+{
+    double d[3] = {p[0] - q[0], p[1] - q[1], p[2] - q[2]};
+    return dot3(d, d);
+}
+
+/* q = a + s*ab + t*ac */
+static double at(const double p[3], const double a[3], const double ab[3], const double ac[3],
+                 double s, double t)
+{
+    double q[3];
+    for (int k = 0; k < 3; k++)
+        q[k] = a[k] + s * ab[k] + t * ac[k];
+    return dist_sq(p, q);
+}
+
+double co_point_triangle_sq(const double p[3], const double a[3], const double b[3],
+                            const double c[3])
+{
+    double ab[3], ac[3], ap[3], bp[3], cp[3];
+    for (int k = 0; k < 3; k++) {
+        ab[k] = b[k] - a[k], ac[k] = c[k] - a[k];
+        ap[k] = p[k] - a[k], bp[k] = p[k] - b[k], cp[k] = p[k] - c[k];
+    }
+    double d1 = dot3(ab, ap), d2 = dot3(ac, ap);
+    if (d1 <= 0 && d2 <= 0)
+        return dist_sq(p, a);
+    double d3 = dot3(ab, bp), d4 = dot3(ac, bp);
+    if (d3 >= 0 && d4 <= d3)
+        return dist_sq(p, b);
+    double vc = d1 * d4 - d3 * d2;
+    if (vc <= 0 && d1 >= 0 && d3 <= 0)
+        return at(p, a, ab, ac, d1 / (d1 - d3), 0);
+    double d5 = dot3(ab, cp), d6 = dot3(ac, cp);
+    if (d6 >= 0 && d5 <= d6)
+        return dist_sq(p, c);
+    double vb = d5 * d2 - d1 * d6;
+    if (vb <= 0 && d2 >= 0 && d6 <= 0)
+        return at(p, a, ab, ac, 0, d2 / (d2 - d6));
+    double va = d3 * d6 - d5 * d4;
+    if (va <= 0 && d4 - d3 >= 0 && d5 - d6 >= 0) {
+        double w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+        return at(p, a, ab, ac, 1 - w, w);
+    }
+    double sum = va + vb + vc;
+    if (!(sum > 0)) /* degenerate triangle: nearest of its corners */
+        return fmin(dist_sq(p, a), fmin(dist_sq(p, b), dist_sq(p, c)));
+    return at(p, a, ab, ac, vb / sum, vc / sum);
+}
+
+static double box_sq(const bvh_node *nd, const double p[3])
+{
+    double d = 0;
+    for (int k = 0; k < 3; k++) {
+        double e = p[k] < nd->lo[k] ? nd->lo[k] - p[k] : p[k] > nd->hi[k] ? p[k] - nd->hi[k] : 0;
+        d += e * e;
+    }
+    return d;
+}
+
+#define BVH_STACK 128 /* median splits: depth ~log2(n) + 1 */
+
+double co_bvh_closest_sq(const co_bvh *b, const double p[3])
+{
+    double best = DBL_MAX;
+    uint32_t stack[BVH_STACK];
+    int top = 0;
+    stack[top++] = 0;
+    while (top > 0) {
+        const bvh_node *nd = &b->nodes[stack[--top]];
+        if (box_sq(nd, p) >= best)
+            continue;
+        if (nd->count) {
+            for (uint32_t i = nd->first; i < nd->first + nd->count; i++) {
+                double d = co_point_triangle_sq(p, b->tri[i][0], b->tri[i][1], b->tri[i][2]);
+                best = d < best ? d : best;
+            }
+            continue;
+        }
+        uint32_t near = nd->left, far = nd->right;
+        if (box_sq(&b->nodes[far], p) < box_sq(&b->nodes[near], p)) {
+            near = nd->right;
+            far = nd->left;
+        }
+        LM_ASSERT(top + 2 <= BVH_STACK);
+        stack[top++] = far;
+        stack[top++] = near;
+    }
+    return best;
+}

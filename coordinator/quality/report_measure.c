@@ -1,0 +1,89 @@
+/* coordinator/quality/report_measure.c — the report's numbers: load the original and the models
+ * from their files, then on the 24 held-out views their image energies (total and per view),
+ * silhouette coverage and cracks, and against the original's surface their symmetric surface
+ * distance; and the vertex, triangle and part counts. */
+#include <stdlib.h>
+#include <string.h>
+
+#include "common/mesh_io.h"
+#include "coordinator/quality/report_internal.h"
+#include "coordinator/quality/view_setup.h"
+
+static lm_status load_model(co_report_model *m, const char *label, const char *path)
+{
+    m->label = label;
+    m->path = path;
+    lm_status s = lm_mesh_load(path, NULL, &m->mesh);
+    if (s)
+        return s;
+    m->verts = m->mesh->live_verts;
+    m->tris = m->mesh->live_tris;
+    m->parts = lm_mesh_count_parts(m->mesh);
+    return LM_OK;
+}
+
+static lm_status load_all(co_report *r)
+{
+    const co_report_options *o = r->o;
+    lm_status s = load_model(&r->model[0], "original", o->original);
+    r->n_models = 1;
+    if (!s && o->initial)
+        s = load_model(&r->model[r->n_models++], "initial", o->initial);
+    if (!s)
+        s = load_model(&r->model[r->n_models++], "optimized", o->optimized);
+    return s;
+}
+
+/* Energies and coverage of the models against the original on the held-out views. */
+static lm_status judge(co_report *r)
+{
+    uint32_t n = r->n_models - 1, views = r->heldout->count;
+    const lm_mesh *models[2];
+    int64_t energy[2], *per_view = malloc((size_t)n * views * sizeof *per_view);
+    co_coverage cov[2];
+    if (!per_view)
+        return lm_fail(LM_E_NOMEM, "out of memory for per-view energies");
+    for (uint32_t i = 0; i < n; i++)
+        models[i] = r->model[i + 1].mesh;
+    lm_status s = co_compare_energies(r->model[0].mesh, r->heldout, r->o->device, models, n, energy,
+                                      per_view, cov, r->renderer);
+    for (uint32_t i = 0; !s && i < n; i++) {
+        co_report_model *m = &r->model[i + 1];
+        m->energy = energy[i];
+        m->cov = cov[i];
+        m->per_view = malloc((size_t)views * sizeof *m->per_view);
+        if (!m->per_view)
+            s = lm_fail(LM_E_NOMEM, "out of memory for per-view energies");
+        else
+            memcpy(m->per_view, per_view + (size_t)i * views, (size_t)views * sizeof *per_view);
+    }
+    free(per_view);
+    return s;
+}
+
+lm_status co_report_measure(co_report *r)
+{
+    lm_status s = load_all(r);
+    r->size = r->o->size ? r->o->size : 256;
+    if (!s)
+        s = co_view_set_around(r->model[0].mesh, 0, r->size, 1, &r->heldout);
+    if (!s)
+        s = judge(r);
+    for (uint32_t i = 1; !s && i < r->n_models; i++)
+        s = co_surface_distance_measure(r->model[0].mesh, r->model[i].mesh, 0, &r->model[i].dist);
+    for (uint32_t i = 0; !s && i < CO_REPORT_SHEET_VIEWS; i++)
+        r->sheet_view[i] = i * r->heldout->count / CO_REPORT_SHEET_VIEWS;
+    return s;
+}
+
+void co_report_free(co_report *r)
+{
+    for (uint32_t i = 0; i < 3; i++) {
+        lm_mesh_destroy(r->model[i].mesh);
+        free(r->model[i].per_view);
+    }
+    free(r->heldout);
+    lm_image_destroy(r->sheet);
+    lm_image_destroy(r->closeup);
+    memset(r, 0, sizeof *r);
+}

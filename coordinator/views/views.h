@@ -1,0 +1,58 @@
+/* coordinator/views/views.h — the one constructor of views backends (common/views_api.h).
+ *
+ * Every kind is made from one description: what the targets are (the original), which views (a
+ * view set and the range of it this object serves), the current mesh's materials (and optionally
+ * the mesh itself), and where the pixels are made:
+ *   local   in this process, on an EGL device (worker/views_local.c);
+ *   split   `split` in-process children, each owning a contiguous range of the views, their int64
+ *           results summed (coordinator/views/views_split.c): bit-identical to one local backend;
+ *   remote  lumesh-worker processes of a pool (coordinator/pool/pool.h), each serving a range of
+ *           the views (coordinator/views/views_remote.c): bit-identical again, for any number of
+ *           workers.
+ * Defaults are resolved here and nowhere else (co_views_desc_defaults). The coordinator makes
+ * views only through this constructor; nothing outside coordinator/views/ names a backend. */
+#ifndef LM_COORDINATOR_VIEWS_VIEWS_H
+#define LM_COORDINATOR_VIEWS_VIEWS_H
+
+#include <stdint.h>
+
+#include "common/mesh.h"
+#include "common/view.h"
+#include "common/views_api.h"
+
+typedef struct co_pool co_pool; /* coordinator/pool/pool.h */
+
+typedef enum co_views_kind {
+    CO_VIEWS_LOCAL = 0,
+    CO_VIEWS_SPLIT,
+    CO_VIEWS_REMOTE,
+} co_views_kind;
+
+/* Zero means default for every field but original and views. */
+typedef struct co_views_desc {
+    co_views_kind kind;           /* 0 = local */
+    const lm_mesh *original;      /* required: the targets are its images; its materials are the
+                                     material table unless `materials` is given */
+    const lm_view_set *views;     /* required: the job's whole view set (copied) */
+    uint32_t first, count;        /* the range of `views` served; count 0 = first to the end */
+    const lm_material *materials; /* the current mesh's material table; NULL = the original's */
+    uint32_t n_materials;
+    const lm_mesh *mesh; /* set as the current mesh right away; NULL = later, by set_mesh */
+    const char *device;  /* local and split children: "auto" (NULL), "host", "egl:N" */
+    uint32_t split;      /* split: children (at most the range's views); 0 = 2 */
+    co_pool *pool;       /* remote: the workers (borrowed; must outlive the views) */
+} co_views_desc;
+
+/* The description with every zero field resolved (no checks). */
+co_views_desc co_views_desc_defaults(const co_views_desc *d);
+
+/* Make views from a description. On success *out is ready: targets rendered, materials set, and
+ * the mesh set when one was given. Nothing is left behind on failure. */
+lm_status co_views_create(const co_views_desc *d, lm_views **out);
+
+/* The split backend over children made by the caller (each serving a range of views, in order;
+ * every child the same width, height and renderer). Takes ownership of the children, also on
+ * failure. */
+lm_status co_views_split_create(lm_views **children, uint32_t n, lm_views **out);
+
+#endif

@@ -1,0 +1,76 @@
+/* coordinator/views/views_remote_internal.h — state of the remote views backend, shared by
+ * views_remote.c (the ops) and views_remote_layout.c (layout, bringing workers up, exchanges).
+ * Not for other files. */
+#ifndef LM_COORDINATOR_VIEWS_VIEWS_REMOTE_INTERNAL_H
+#define LM_COORDINATOR_VIEWS_VIEWS_REMOTE_INTERNAL_H
+
+#include <stdint.h>
+
+#include "coordinator/pool/pool.h"
+#include "coordinator/views/views_remote.h"
+#include "proto/asset.h"
+#include "proto/wire_records.h"
+#include "worker/replica.h"
+
+#define CO_REMOTE_TRIES 32  /* attempts of one operation (workers lost or stale in between) */
+#define CO_REMOTE_STRIKES 3 /* attempts whose workers died or failed on it: then it is poison */
+
+typedef struct co_range {
+    uint32_t first, count; /* job view indices */
+} co_range;
+
+typedef struct co_remote {
+    lm_views base;
+    co_pool *pool;
+    uint64_t job;
+    lm_asset_set assets;
+    lm_asset_hash original, materials;
+    int has_materials;
+    lm_view_set *views; /* the job's whole view set */
+    uint32_t first, count;
+    int width, height;
+    /* the current state, re-sent to workers that lack it */
+    wk_replica rep;
+    int mesh_set;
+    uint64_t seq;
+    /* the layout: live[i] serves range[group[i]] */
+    co_worker **live;
+    uint32_t n_live, cap_live;
+    uint32_t *group;
+    co_range ranges[LM_MAX_VIEWS];
+    uint32_t n_ranges;
+    char renderer[128];
+    uint64_t evaluations;
+    /* scratch */
+    lm_wire_arena arena;
+    uint8_t *pack;
+    size_t cap_pack;
+} co_remote;
+
+/* Make sure the layout uses every live worker and no lost one, bringing workers up as needed;
+ * waits for a first worker when there is none. */
+lm_status co_remote_layout(co_remote *r);
+/* 1 when a worker of the layout is lost or a new one waits to be brought in. */
+int co_remote_layout_stale(co_remote *r);
+
+/* Pump until every worker of ws (n) that is not lost has replied to its armed request. */
+lm_status co_remote_await(co_remote *r, co_worker **ws, uint32_t n);
+
+/* Pack a message into r->pack (valid until the next pack); *size its length. */
+lm_status co_remote_pack(co_remote *r, uint64_t req, uint64_t seq, Lumesh__Msg__BodyCase c,
+                         void *body, size_t *size);
+
+/* Every asset of r->assets on every worker of ws: Offer, then what each Needs, until Ready. */
+lm_status co_remote_ship(co_remote *r, co_worker **ws, uint32_t n);
+
+/* Send the current state (materials, mesh) to w: after its views were assigned, or when it said
+ * it is stale. */
+lm_status co_remote_send_state(co_remote *r, co_worker *w);
+
+/* A reply that is not the expected kind: Stale (1: resend the state and try again) or a Failure
+ * or anything else (an error naming the worker). */
+lm_status co_remote_check_reply(co_remote *r, co_worker *w, Lumesh__Msg__BodyCase want, int *stale);
+
+void co_remote_layout_free(co_remote *r);
+
+#endif

@@ -1,0 +1,346 @@
+/* coordinator/views/views_remote_layout.c — which worker serves which views, bringing workers
+ * into the job (assets they lack, the job, their views, the current state), and waiting for
+ * replies. */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "common/log.h"
+#include "coordinator/views/views_remote_internal.h"
+
+lm_status co_remote_pack(co_remote *r, uint64_t req, uint64_t seq, Lumesh__Msg__BodyCase c,
+                         void *body, size_t *size)
+{
+    lm_msg m;
+    lm_wire_msg_init(&m, req, seq, c, body);
+    size_t n = lumesh__msg__get_packed_size(&m);
+    if (n > LM_WIRE_MAX_FRAME)
+        return lm_fail(LM_E_RANGE, "a %s message of %zu bytes exceeds the frame limit of %u",
+                       lm_wire_body_name(&m), n, LM_WIRE_MAX_FRAME);
+    if (n > r->cap_pack) {
+        uint8_t *p = realloc(r->pack, n);
+        if (!p)
+            return lm_fail(LM_E_NOMEM, "out of memory for a %zu-byte message", n);
+        r->pack = p;
+        r->cap_pack = n;
+    }
+    lumesh__msg__pack(&m, r->pack);
+    *size = n;
+    return LM_OK;
+}
+
+lm_status co_remote_await(co_remote *r, co_worker **ws, uint32_t n)
+{
+    for (;;) {
+        uint32_t waiting = 0;
+        for (uint32_t i = 0; i < n; i++)
+            waiting += ws[i] && !ws[i]->lost && ws[i]->want && !ws[i]->replied;
+        if (!waiting)
+            return LM_OK;
+        lm_status st = co_pool_pump(r->pool, 200);
+        if (st != LM_OK)
+            return st;
+    }
+}
+
+lm_status co_remote_check_reply(co_remote *r, co_worker *w, Lumesh__Msg__BodyCase want, int *stale)
+{
+    (void)r;
+    *stale = 0;
+    const lm_msg *m = w->reply.msg;
+    if (m->body_case == want)
+        return LM_OK;
+    if (m->body_case == LUMESH__MSG__BODY_STALE) {
+        *stale = 1;
+        return LM_OK;
+    }
+    if (m->body_case == LUMESH__MSG__BODY_FAILURE)
+        return lm_fail((lm_status)(m->failure->code && m->failure->code < LM_E_COUNT_
+                                       ? m->failure->code
+                                       : LM_E_INTERNAL),
+                       "worker %u (%s): %s", w->id, w->host,
+                       m->failure->message ? m->failure->message : "failed");
+    return lm_fail(LM_E_INTERNAL, "worker %u (%s) answered %s where %s was due", w->id, w->host,
+                   lm_wire_body_name(m), lm_wire_case_name(want));
+}
+
+/* ---- one step of bringing workers up, on all of them at once --------------------------------- */
+
+typedef lm_status (*step_fn)(co_remote *r, co_worker *w, uint64_t req);
+
+/* Send a request to each worker (step), wait for all, and check each reply is `want` (a worker
+ * lost meanwhile is left out: the layout will change). */
+static lm_status step_all(co_remote *r, co_worker **ws, uint32_t n, step_fn step,
+                          Lumesh__Msg__BodyCase want)
+{
+    lm_status st = LM_OK;
+    for (uint32_t i = 0; i < n && st == LM_OK; i++)
+        if (!ws[i]->lost)
+            st = step(r, ws[i], co_pool_arm(r->pool, ws[i]));
+    if (st == LM_OK)
+        st = co_remote_await(r, ws, n);
+    for (uint32_t i = 0; i < n && st == LM_OK; i++) {
+        int stale;
+        if (!ws[i]->lost && ws[i]->replied)
+            st = co_remote_check_reply(r, ws[i], want, &stale);
+    }
+    return st;
+}
+
+static lm_status offer(co_remote *r, co_worker *w, uint64_t req)
+{
+    ProtobufCBinaryData *h = lm_wire_arena_alloc(&r->arena, (r->assets.n + 1) * sizeof *h);
+    if (!h)
+        return lm_fail(LM_E_NOMEM, "out of memory offering assets");
+    for (uint32_t i = 0; i < r->assets.n; i++)
+        h[i] = (ProtobufCBinaryData){LM_ASSET_HASH_BYTES, r->assets.items[i].hash.b};
+    Lumesh__Offer o = LUMESH__OFFER__INIT;
+    o.n_assets = r->assets.n;
+    o.assets = h;
+    lm_status st = co_pool_send(r->pool, w, req, r->seq, LUMESH__MSG__BODY_OFFER, &o);
+    lm_wire_arena_reset(&r->arena);
+    return st;
+}
+
+static lm_status send_asset(co_remote *r, co_worker *w, const lm_asset *a, uint64_t req)
+{
+    lm_status st = LM_OK;
+    for (size_t off = 0; off < a->size && st == LM_OK; off += LM_WIRE_CHUNK) {
+        size_t len = a->size - off < LM_WIRE_CHUNK ? a->size - off : LM_WIRE_CHUNK;
+        Lumesh__Asset m = LUMESH__ASSET__INIT;
+        m.hash = (ProtobufCBinaryData){LM_ASSET_HASH_BYTES, (uint8_t *)a->hash.b};
+        m.size = a->size;
+        m.offset = off;
+        m.data = (ProtobufCBinaryData){len, a->data + off};
+        st = co_pool_send(r->pool, w, req, r->seq, LUMESH__MSG__BODY_ASSET, &m);
+    }
+    return st;
+}
+
+/* A Need answered with the assets; the slot is re-armed for the Ready that follows. */
+static lm_status send_needed(co_remote *r, co_worker *w)
+{
+    const Lumesh__Need *need = w->reply.msg->need;
+    uint64_t req = w->want;
+    lm_status st = LM_OK;
+    for (size_t i = 0; i < need->n_assets && st == LM_OK; i++) {
+        lm_asset_hash h;
+        if (need->assets[i].len != LM_ASSET_HASH_BYTES)
+            return lm_fail(LM_E_FORMAT, "worker %u asked for a malformed asset hash", w->id);
+        memcpy(h.b, need->assets[i].data, sizeof h.b);
+        const lm_asset *a = lm_asset_set_find(&r->assets, &h);
+        if (!a)
+            return lm_fail(LM_E_INVALID, "worker %u asked for an asset that was not offered",
+                           w->id);
+        st = send_asset(r, w, a, req);
+    }
+    co_pool_arm_req(w, req);
+    return st;
+}
+
+lm_status co_remote_ship(co_remote *r, co_worker **ws, uint32_t n)
+{
+    lm_status st = LM_OK;
+    for (uint32_t i = 0; i < n && st == LM_OK; i++)
+        if (!ws[i]->lost)
+            st = offer(r, ws[i], co_pool_arm(r->pool, ws[i]));
+    for (int round = 0; round < 2 && st == LM_OK; round++) {
+        st = co_remote_await(r, ws, n);
+        for (uint32_t i = 0; i < n && st == LM_OK; i++) {
+            co_worker *w = ws[i];
+            if (w->lost || !w->replied)
+                continue;
+            if (w->reply.msg->body_case == LUMESH__MSG__BODY_NEED && round == 0)
+                st = send_needed(r, w);
+            else if (w->reply.msg->body_case != LUMESH__MSG__BODY_READY) {
+                int stale;
+                st = co_remote_check_reply(r, w, LUMESH__MSG__BODY_READY, &stale);
+                if (st == LM_OK)
+                    st = lm_fail(LM_E_INTERNAL, "worker %u did not take the job's assets", w->id);
+            }
+        }
+    }
+    return st;
+}
+
+static lm_status send_job(co_remote *r, co_worker *w, uint64_t req)
+{
+    Lumesh__View *views = lm_wire_arena_alloc(&r->arena, r->views->count * sizeof *views);
+    Lumesh__View **ptrs = lm_wire_arena_alloc(&r->arena, r->views->count * sizeof *ptrs);
+    lm_status st = views && ptrs ? LM_OK : lm_fail(LM_E_NOMEM, "out of memory sending the job");
+    for (uint32_t i = 0; i < r->views->count && st == LM_OK; i++) {
+        st = lm_wire_view_encode(&r->views->views[i], &r->arena, &views[i]);
+        ptrs[i] = &views[i];
+    }
+    Lumesh__Job j = LUMESH__JOB__INIT;
+    j.job = r->job;
+    j.original = (ProtobufCBinaryData){LM_ASSET_HASH_BYTES, r->original.b};
+    j.width = (uint32_t)r->width;
+    j.height = (uint32_t)r->height;
+    j.n_views = r->views->count;
+    j.views = ptrs;
+    if (st == LM_OK)
+        st = co_pool_send(r->pool, w, req, r->seq, LUMESH__MSG__BODY_JOB, &j);
+    lm_wire_arena_reset(&r->arena);
+    return st;
+}
+
+static lm_status send_assign(co_remote *r, co_worker *w, uint64_t req)
+{
+    Lumesh__Assign a = LUMESH__ASSIGN__INIT;
+    a.job = r->job;
+    a.first = w->first;
+    a.count = w->count;
+    return co_pool_send(r->pool, w, req, r->seq, LUMESH__MSG__BODY_ASSIGN, &a);
+}
+
+lm_status co_remote_send_state(co_remote *r, co_worker *w)
+{
+    lm_status st = LM_OK;
+    if (r->has_materials) {
+        Lumesh__SetMaterials m = LUMESH__SET_MATERIALS__INIT;
+        m.materials = (ProtobufCBinaryData){LM_ASSET_HASH_BYTES, r->materials.b};
+        st = co_pool_send(r->pool, w, 0, r->seq, LUMESH__MSG__BODY_SET_MATERIALS, &m);
+    }
+    if (st != LM_OK || !r->mesh_set)
+        return st;
+    lm_tri_data *tris = malloc((r->rep.n_alive + 1) * sizeof *tris);
+    if (!tris)
+        return lm_fail(LM_E_NOMEM, "out of memory re-sending the mesh");
+    size_t n = 0;
+    for (size_t id = 0; id < r->rep.cap; id++)
+        if (r->rep.alive[id])
+            tris[n++] = r->rep.tris[id];
+    Lumesh__SetMesh sm = LUMESH__SET_MESH__INIT;
+    sm.n_tris = n;
+    st = lm_wire_tris_encode(tris, n, &r->arena, &sm.tris);
+    if (st == LM_OK)
+        st = co_pool_send(r->pool, w, 0, r->seq, LUMESH__MSG__BODY_SET_MESH, &sm);
+    lm_wire_arena_reset(&r->arena);
+    free(tris);
+    return st;
+}
+
+/* ---- the layout ------------------------------------------------------------------------------ */
+
+int co_remote_layout_stale(co_remote *r)
+{
+    for (uint32_t i = 0; i < r->n_live; i++)
+        if (r->live[i]->lost)
+            return 1;
+    return co_pool_alive(r->pool) != r->n_live;
+}
+
+/* Every alive worker, in the order they joined. */
+static lm_status gather_live(co_remote *r)
+{
+    uint32_t n = co_pool_size(r->pool);
+    if (n > r->cap_live) {
+        co_worker **l = realloc(r->live, n * sizeof *l);
+        uint32_t *g = realloc(r->group, n * sizeof *g);
+        if (l)
+            r->live = l;
+        if (g)
+            r->group = g;
+        if (!l || !g)
+            return lm_fail(LM_E_NOMEM, "out of memory for the layout");
+        r->cap_live = n;
+    }
+    r->n_live = 0;
+    for (uint32_t i = 0; i < n; i++) {
+        co_worker *w = co_pool_worker(r->pool, i);
+        if (!w->lost)
+            r->live[r->n_live++] = w;
+    }
+    return LM_OK;
+}
+
+/* G near-equal contiguous ranges (the first ones a view longer); worker i serves i mod G. */
+static void plan(co_remote *r)
+{
+    uint32_t g = r->n_live < r->count ? r->n_live : r->count, at = r->first;
+    r->n_ranges = g;
+    for (uint32_t k = 0; k < g; k++) {
+        uint32_t c = r->count / g + (k < r->count % g);
+        r->ranges[k] = (co_range){at, c};
+        at += c;
+    }
+    for (uint32_t i = 0; i < r->n_live; i++)
+        r->group[i] = i % g;
+}
+
+/* Workers new to the job get the assets and the job; workers whose views change get them. */
+static lm_status bring_up(co_remote *r)
+{
+    co_worker **fresh = malloc((r->n_live + 1) * sizeof *fresh);
+    co_worker **moved = malloc((r->n_live + 1) * sizeof *moved);
+    uint32_t nf = 0, nm = 0;
+    lm_status st = fresh && moved ? LM_OK : lm_fail(LM_E_NOMEM, "out of memory for the layout");
+    for (uint32_t i = 0; i < r->n_live && st == LM_OK; i++) {
+        co_worker *w = r->live[i];
+        const co_range *g = &r->ranges[r->group[i]];
+        if (!w->in_job)
+            fresh[nf++] = w;
+        if (!w->in_job || w->first != g->first || w->count != g->count) {
+            w->first = g->first;
+            w->count = g->count;
+            moved[nm++] = w;
+        }
+    }
+    if (st == LM_OK && nf)
+        st = co_remote_ship(r, fresh, nf);
+    if (st == LM_OK && nf)
+        st = step_all(r, fresh, nf, send_job, LUMESH__MSG__BODY_READY);
+    for (uint32_t i = 0; i < nf && st == LM_OK; i++)
+        fresh[i]->in_job = !fresh[i]->lost;
+    if (st == LM_OK && nm)
+        st = step_all(r, moved, nm, send_assign, LUMESH__MSG__BODY_ASSIGNED);
+    for (uint32_t i = 0; i < nm && st == LM_OK; i++) {
+        co_pool_disarm(moved[i]);
+        st = co_remote_send_state(r, moved[i]);
+    }
+    free(fresh);
+    free(moved);
+    return st;
+}
+
+/* The renderer's description, from the first worker of the layout. */
+static void take_renderer(co_remote *r)
+{
+    if (r->n_live && !r->renderer[0])
+        snprintf(r->renderer, sizeof r->renderer, "%.100s [%.16s]", r->live[0]->renderer,
+                 r->live[0]->renderer_id);
+}
+
+lm_status co_remote_layout(co_remote *r)
+{
+    for (int tries = 0; tries < 64; tries++) {
+        lm_status st = co_pool_pump(r->pool, 0);
+        if (st == LM_OK && co_pool_alive(r->pool) == 0)
+            st = co_pool_wait(r->pool, 1, 0);
+        if (st != LM_OK)
+            return st;
+        if (r->n_live && !co_remote_layout_stale(r))
+            return LM_OK;
+        if ((st = gather_live(r)) != LM_OK)
+            return st;
+        plan(r);
+        take_renderer(r);
+        if ((st = bring_up(r)) != LM_OK)
+            return st;
+        if (!co_remote_layout_stale(r))
+            return LM_OK;
+    }
+    return lm_fail(LM_E_IO, "workers keep coming and going: no stable set to serve the views");
+}
+
+void co_remote_layout_free(co_remote *r)
+{
+    for (uint32_t i = 0; i < r->n_live; i++)
+        r->live[i]->in_job = 0;
+    free(r->live);
+    free(r->group);
+    r->live = NULL;
+    r->group = NULL;
+    r->n_live = r->cap_live = 0;
+}

@@ -1,0 +1,216 @@
+/* proto/wire_records.c — triangle records, patches and cameras to and from wire messages, with
+ * the checks of every decoded count, number and index; the encoding arena. */
+#include "proto/wire_records.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* ---- arena ----------------------------------------------------------------------------------- */
+
+void lm_wire_arena_init(lm_wire_arena *a)
+{
+    memset(a, 0, sizeof *a);
+}
+
+void lm_wire_arena_reset(lm_wire_arena *a)
+{
+    for (size_t i = 0; i < a->n_old; i++)
+        free(a->old[i]);
+    a->n_old = 0;
+    a->used = 0;
+}
+
+void lm_wire_arena_free(lm_wire_arena *a)
+{
+    lm_wire_arena_reset(a);
+    free(a->old);
+    free(a->block);
+    memset(a, 0, sizeof *a);
+}
+
+/* A bigger block; the current one is kept until the next reset (pointers into it live on). */
+static int arena_grow(lm_wire_arena *a, size_t need)
+{
+    size_t cap = a->cap ? a->cap * 2 : 65536;
+    while (cap < need)
+        cap *= 2;
+    uint8_t *b = malloc(cap);
+    if (!b)
+        return 0;
+    if (a->block && a->used) {
+        if (a->n_old == a->cap_old) {
+            size_t c = a->cap_old ? a->cap_old * 2 : 8;
+            void **o = realloc(a->old, c * sizeof *o);
+            if (!o) {
+                free(b);
+                return 0;
+            }
+            a->old = o;
+            a->cap_old = c;
+        }
+        a->old[a->n_old++] = a->block;
+    } else {
+        free(a->block);
+    }
+    a->block = b;
+    a->cap = cap;
+    a->used = 0;
+    return 1;
+}
+
+void *lm_wire_arena_alloc(lm_wire_arena *a, size_t n)
+{
+    n = (n + 15) & ~(size_t)15;
+    if (a->used + n > a->cap && !arena_grow(a, n))
+        return NULL;
+    void *p = a->block + a->used;
+    a->used += n;
+    memset(p, 0, n);
+    return p;
+}
+
+/* ---- encoding -------------------------------------------------------------------------------- */
+
+void lm_wire_tri_point(const lm_tri_data *t, Lumesh__Tri *out)
+{
+    lumesh__tri__init(out);
+    out->id = t->id;
+    out->material = t->material;
+    out->n_corners = LM_WIRE_FLOATS_PER_TRI;
+    out->corners = (float *)(void *)t->c; /* 3 lm_corner = 36 consecutive floats */
+}
+
+lm_status lm_wire_tris_encode(const lm_tri_data *tris, size_t n, lm_wire_arena *a,
+                              Lumesh__Tri ***out)
+{
+    Lumesh__Tri **ptrs = lm_wire_arena_alloc(a, n * sizeof *ptrs);
+    Lumesh__Tri *w = lm_wire_arena_alloc(a, n * sizeof *w);
+    if (n && (!ptrs || !w))
+        return lm_fail(LM_E_NOMEM, "out of memory encoding %zu triangles", n);
+    for (size_t i = 0; i < n; i++) {
+        lm_wire_tri_point(&tris[i], &w[i]);
+        ptrs[i] = &w[i];
+    }
+    *out = ptrs;
+    return LM_OK;
+}
+
+lm_status lm_wire_patch_encode(const lm_patch *p, lm_wire_arena *a, Lumesh__Patch *out)
+{
+    lumesh__patch__init(out);
+    out->n_removed = p->n_removed;
+    out->removed = p->removed;
+    out->n_added = p->n_added;
+    return lm_wire_tris_encode(p->added, p->n_added, a, &out->added);
+}
+
+/* A float array of the arena holding a copy of src (the View message points at it). */
+static float *floats(lm_wire_arena *a, const float *src, size_t n)
+{
+    float *f = lm_wire_arena_alloc(a, n * sizeof *f);
+    if (f)
+        memcpy(f, src, n * sizeof *f);
+    return f;
+}
+
+lm_status lm_wire_view_encode(const lm_view *v, lm_wire_arena *a, Lumesh__View *out)
+{
+    lumesh__view__init(out);
+    out->n_eye = out->n_dir = 3;
+    out->n_view = out->n_proj = out->n_view_proj = 16;
+    out->eye = floats(a, v->eye, 3);
+    out->dir = floats(a, v->dir, 3);
+    out->view = floats(a, v->view, 16);
+    out->proj = floats(a, v->proj, 16);
+    out->view_proj = floats(a, v->view_proj, 16);
+    if (!out->eye || !out->dir || !out->view || !out->proj || !out->view_proj)
+        return lm_fail(LM_E_NOMEM, "out of memory encoding a camera");
+    return LM_OK;
+}
+
+/* ---- decoding -------------------------------------------------------------------------------- */
+
+static int all_finite(const float *f, size_t n)
+{
+    for (size_t i = 0; i < n; i++)
+        if (!isfinite(f[i]))
+            return 0;
+    return 1;
+}
+
+lm_status lm_wire_tri_decode(const Lumesh__Tri *t, uint32_t n_materials, lm_tri_data *out)
+{
+    if (t->n_corners != LM_WIRE_FLOATS_PER_TRI)
+        return lm_fail(LM_E_FORMAT, "triangle %u has %zu corner values, not %u", t->id,
+                       t->n_corners, LM_WIRE_FLOATS_PER_TRI);
+    if (t->id >= LM_MESH_MAX_TRIS)
+        return lm_fail(LM_E_RANGE, "triangle id %u exceeds the limit", t->id);
+    if (t->material >= n_materials)
+        return lm_fail(LM_E_RANGE, "triangle %u uses material %u of %u", t->id, t->material,
+                       n_materials);
+    if (!all_finite(t->corners, LM_WIRE_FLOATS_PER_TRI))
+        return lm_fail(LM_E_RANGE, "triangle %u has a corner value that is not a finite number",
+                       t->id);
+    out->id = t->id;
+    out->material = t->material;
+    memcpy(out->c, t->corners, sizeof out->c);
+    return LM_OK;
+}
+
+lm_status lm_wire_patch_decode(const Lumesh__Patch *w, uint32_t n_materials, lm_patch *p)
+{
+    lm_patch_reset(p);
+    if (w->n_removed > LM_WIRE_MAX_PATCH_TRIS || w->n_added > LM_WIRE_MAX_PATCH_TRIS)
+        return lm_fail(LM_E_RANGE, "a patch of %zu removed and %zu added triangles exceeds %u",
+                       w->n_removed, w->n_added, LM_WIRE_MAX_PATCH_TRIS);
+    lm_status st = LM_OK;
+    for (size_t i = 0; i < w->n_removed && st == LM_OK; i++) {
+        if (w->removed[i] >= LM_MESH_MAX_TRIS)
+            return lm_fail(LM_E_RANGE, "removed triangle id %u exceeds the limit", w->removed[i]);
+        st = lm_patch_remove(p, w->removed[i]);
+    }
+    for (size_t i = 0; i < w->n_added && st == LM_OK; i++) {
+        lm_tri_data t;
+        st = lm_wire_tri_decode(w->added[i], n_materials, &t);
+        if (st == LM_OK)
+            st = lm_patch_add(p, &t);
+    }
+    return st;
+}
+
+static lm_status check_len(const char *what, size_t n, size_t want)
+{
+    if (n != want)
+        return lm_fail(LM_E_FORMAT, "a camera's %s has %zu values, not %zu", what, n, want);
+    return LM_OK;
+}
+
+lm_status lm_wire_view_decode(const Lumesh__View *w, int width, int height, lm_view *out)
+{
+    lm_status st = check_len("eye", w->n_eye, 3);
+    if (st == LM_OK)
+        st = check_len("direction", w->n_dir, 3);
+    if (st == LM_OK)
+        st = check_len("view matrix", w->n_view, 16);
+    if (st == LM_OK)
+        st = check_len("projection", w->n_proj, 16);
+    if (st == LM_OK)
+        st = check_len("view-projection", w->n_view_proj, 16);
+    if (st != LM_OK)
+        return st;
+    if (!all_finite(w->eye, 3) || !all_finite(w->dir, 3) || !all_finite(w->view, 16) ||
+        !all_finite(w->proj, 16) || !all_finite(w->view_proj, 16))
+        return lm_fail(LM_E_RANGE, "a camera has a value that is not a finite number");
+    if (width < 16 || width > LM_MAX_VIEW_SIZE || height < 16 || height > LM_MAX_VIEW_SIZE)
+        return lm_fail(LM_E_RANGE, "views of %dx%d are outside 16..%d", width, height,
+                       LM_MAX_VIEW_SIZE);
+    memcpy(out->eye, w->eye, sizeof out->eye);
+    memcpy(out->dir, w->dir, sizeof out->dir);
+    memcpy(out->view, w->view, sizeof out->view);
+    memcpy(out->proj, w->proj, sizeof out->proj);
+    memcpy(out->view_proj, w->view_proj, sizeof out->view_proj);
+    out->width = width;
+    out->height = height;
+    return LM_OK;
+}

@@ -1,0 +1,278 @@
+/* worker/serve.c — the worker's connection: DEALER socket, Hello until welcomed (again after a job
+ * ends or the coordinator falls silent), heartbeats, signals, and the dispatch of every message. */
+#include "worker/serve.h"
+
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+#include <zmq.h>
+
+#include "common/log.h"
+#include "proto/keys.h"
+#include "worker/serve_internal.h"
+
+#define WK_HELLO_EVERY_S 1.0
+#define WK_UNHEARD_NOTE_S 10.0   /* unwelcomed this long: say so once */
+#define WK_RECONNECT_MS 100      /* ZeroMQ's reconnection backoff: from this ... */
+#define WK_RECONNECT_MAX_MS 2000 /* ... doubling up to this */
+
+static volatile sig_atomic_t stop_signal;
+
+static void on_signal(int sig)
+{
+    stop_signal = sig;
+}
+
+double wk_serve_now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+lm_status wk_serve_send(wk_server *s, uint64_t req, Lumesh__Msg__BodyCase c, void *body)
+{
+    lm_msg m;
+    lm_wire_msg_init(&m, req, s->seq, c, body);
+    lm_status st = lm_wire_send(s->sock, NULL, 0, &m);
+    lm_wire_arena_reset(&s->arena);
+    return st;
+}
+
+lm_status wk_serve_fail(wk_server *s, uint64_t req, lm_status code, const char *message)
+{
+    lm_warn("refused a request: %s", message);
+    Lumesh__Failure f = LUMESH__FAILURE__INIT;
+    f.code = (uint32_t)code;
+    f.message = (char *)message;
+    return wk_serve_send(s, req, LUMESH__MSG__BODY_FAILURE, &f);
+}
+
+static lm_status say_hello(wk_server *s)
+{
+    Lumesh__Hello h = LUMESH__HELLO__INIT;
+    h.version = LM_WIRE_VERSION;
+    h.host = s->host;
+    h.pid = (uint32_t)getpid();
+    h.device = (char *)s->o.device;
+    h.renderer = s->renderer;
+    h.renderer_id = s->renderer_id;
+    h.join = s->join;
+    s->last_hello = wk_serve_now();
+    return wk_serve_send(s, 0, LUMESH__MSG__BODY_HELLO, &h);
+}
+
+lm_status wk_serve_secure(wk_server *s, void *sock)
+{
+    int ivl = WK_RECONNECT_MS, max = WK_RECONNECT_MAX_MS;
+    if (zmq_setsockopt(sock, ZMQ_RECONNECT_IVL, &ivl, sizeof ivl) != 0 ||
+        zmq_setsockopt(sock, ZMQ_RECONNECT_IVL_MAX, &max, sizeof max) != 0)
+        return lm_fail(LM_E_INTERNAL, "setting reconnection: %s", zmq_strerror(zmq_errno()));
+    return s->o.keys ? lm_keys_client(sock, s->o.keys) : LM_OK;
+}
+
+/* A stable routing id: host, pid and a random tag (a restarted worker is a new peer). */
+static lm_status connect_socket(wk_server *s)
+{
+    s->zctx = zmq_ctx_new();
+    s->sock = s->zctx ? zmq_socket(s->zctx, ZMQ_DEALER) : NULL;
+    if (!s->sock)
+        return lm_fail(LM_E_INTERNAL, "creating a ZeroMQ socket: %s", zmq_strerror(zmq_errno()));
+    snprintf(s->id, sizeof s->id, "%.200s:%d:%08x", s->host, (int)getpid(),
+             (unsigned)(wk_serve_now() * 1e6));
+    lm_status st = lm_wire_socket_setup(s->sock, 0);
+    if (st == LM_OK)
+        st = wk_serve_secure(s, s->sock);
+    if (st == LM_OK && zmq_setsockopt(s->sock, ZMQ_ROUTING_ID, s->id, strlen(s->id)) != 0)
+        st = lm_fail(LM_E_INTERNAL, "setting the worker's id: %s", zmq_strerror(zmq_errno()));
+    if (st == LM_OK && zmq_connect(s->sock, s->o.endpoint) != 0)
+        st = lm_fail(LM_E_INVALID, "cannot connect to '%s': %s", s->o.endpoint,
+                     zmq_strerror(zmq_errno()));
+    return st;
+}
+
+/* The worker no longer counts as welcomed (its job, if any, was ended): its next Hello is a new
+ * join, said at once. */
+static void drop_welcome(wk_server *s)
+{
+    s->welcomed = 0;
+    s->join++;
+    s->last_hello = 0;
+}
+
+static lm_status server_init(wk_server *s, const wk_serve_options *o)
+{
+    memset(s, 0, sizeof *s);
+    s->o = *o;
+    if (!s->o.device)
+        s->o.device = "auto";
+    if (!(s->o.silence_s > 0))
+        s->o.silence_s = 5.0;
+    lm_asset_set_init(&s->cache);
+    lm_wire_arena_init(&s->arena);
+    s->fault = getenv("LUMESH_WORKER_FAULT");
+    if (gethostname(s->host, sizeof s->host - 1) != 0)
+        snprintf(s->host, sizeof s->host, "unknown");
+    lm_status st = wk_probe_renderer(s->o.device, s->renderer_id, s->renderer);
+    if (st == LM_OK)
+        st = connect_socket(s);
+    if (st == LM_OK)
+        st = wk_beat_start(s, s->id);
+    if (st == LM_OK && s->o.health)
+        st = wk_health_open(s);
+    return st;
+}
+
+static void server_free(wk_server *s)
+{
+    wk_beat_stop(s);
+    if (s->health)
+        zmq_close(s->health);
+    wk_serve_end_job(s);
+    wk_serve_assets_free(s);
+    for (uint32_t i = 0; i < s->cap_patches; i++)
+        lm_patch_free(&s->patches[i]);
+    free(s->patches);
+    free(s->deltas);
+    lm_wire_arena_free(&s->arena);
+    if (s->sock)
+        zmq_close(s->sock);
+    if (s->zctx)
+        zmq_ctx_term(s->zctx);
+}
+
+/* What a message asks; LM_E_INVALID ends the worker (refused), other failures were answered. */
+static lm_status dispatch(wk_server *s, const lm_msg *m, int *job_ended)
+{
+    switch (m->body_case) {
+    case LUMESH__MSG__BODY_WELCOME:
+        if (s->welcomed || m->welcome->join != s->join)
+            return LM_OK; /* the answer to a repeated Hello, or to an older join */
+        s->welcomed = 1;
+        s->unheard_noted = 0;
+        lm_info("welcomed by %s as worker %u", s->o.endpoint, m->welcome->worker);
+        return LM_OK;
+    case LUMESH__MSG__BODY_REFUSE:
+        return lm_fail(LM_E_INVALID, "refused by the coordinator: %s", m->refuse->reason);
+    case LUMESH__MSG__BODY_REJOIN:
+        if (s->welcomed)
+            lm_warn("the coordinator does not know this worker (%s): joining again",
+                    m->rejoin->reason);
+        wk_serve_end_job(s);
+        drop_welcome(s);
+        return LM_OK;
+    case LUMESH__MSG__BODY_HEARTBEAT:
+        return LM_OK;
+    case LUMESH__MSG__BODY_OFFER:
+        return wk_serve_offer(s, m);
+    case LUMESH__MSG__BODY_ASSET:
+        return wk_serve_asset(s, m);
+    case LUMESH__MSG__BODY_JOB:
+        return wk_serve_job(s, m);
+    case LUMESH__MSG__BODY_ASSIGN:
+        return wk_serve_assign(s, m);
+    case LUMESH__MSG__BODY_SET_MATERIALS:
+    case LUMESH__MSG__BODY_SET_MESH:
+    case LUMESH__MSG__BODY_COMMIT:
+        return wk_serve_change(s, m);
+    case LUMESH__MSG__BODY_EVALUATE:
+    case LUMESH__MSG__BODY_ENERGY:
+    case LUMESH__MSG__BODY_POTENTIALS:
+    case LUMESH__MSG__BODY_READ_IMAGE:
+        return wk_serve_request(s, m);
+    case LUMESH__MSG__BODY_END_JOB:
+        wk_serve_end_job(s);
+        drop_welcome(s); /* the next job may come from another coordinator */
+        *job_ended = 1;
+        return LM_OK;
+    default:
+        return wk_serve_fail(s, m->req, LM_E_INVALID, "a message a worker does not take");
+    }
+}
+
+/* One frame: decode, dispatch. Malformed frames are answered and forgotten. */
+static lm_status handle(wk_server *s, const lm_wire_frame *f, int *job_ended)
+{
+    lm_wire_in in;
+    lm_status st = lm_wire_decode(f->data, f->size, &in);
+    if (st != LM_OK) {
+        lm_wire_in_free(&in);
+        return wk_serve_fail(s, 0, st, lm_last_error());
+    }
+    wk_beat_busy(s, 1);
+    st = dispatch(s, in.msg, job_ended);
+    wk_beat_busy(s, 0);
+    lm_wire_in_free(&in);
+    return st;
+}
+
+/* Hello while not welcomed; silence means the coordinator is gone. */
+static lm_status keep_alive(wk_server *s, double now)
+{
+    if (s->welcomed && now - s->last_heard > s->o.silence_s) {
+        lm_warn("the coordinator at %s has been silent for %.0f s: waiting for one", s->o.endpoint,
+                now - s->last_heard);
+        wk_serve_end_job(s);
+        drop_welcome(s);
+    }
+    if (!s->welcomed && now - s->last_heard > WK_UNHEARD_NOTE_S && !s->unheard_noted) {
+        lm_warn("no coordinator has answered at %s for %.0f s (none there yet, or keys that do "
+                "not match): still trying",
+                s->o.endpoint, now - s->last_heard);
+        s->unheard_noted = 1;
+    }
+    if (!s->welcomed && now - s->last_hello >= WK_HELLO_EVERY_S)
+        return say_hello(s);
+    return LM_OK;
+}
+
+static lm_status serve_loop(wk_server *s)
+{
+    lm_status st = say_hello(s);
+    s->last_heard = wk_serve_now();
+    while (st == LM_OK && !stop_signal) {
+        lm_wire_frame f;
+        if (s->health) {
+            zmq_pollitem_t hp = {.socket = s->health, .events = ZMQ_POLLIN};
+            if (zmq_poll(&hp, 1, 0) > 0)
+                wk_health_answer(s);
+        }
+        st = lm_wire_recv(s->sock, 0, s->health ? 100 : 250, &f);
+        int ended = 0;
+        if (st == LM_OK && f.data) {
+            s->last_heard = wk_serve_now();
+            st = handle(s, &f, &ended);
+        }
+        lm_wire_frame_release(&f);
+        if (st == LM_OK && ended && s->o.once)
+            break;
+        if (st == LM_OK)
+            st = keep_alive(s, wk_serve_now());
+        if (st == LM_E_IO) { /* a send to a coordinator that went: wait for the next */
+            lm_clear_error();
+            st = LM_OK;
+        }
+    }
+    return st;
+}
+
+lm_status wk_serve(const wk_serve_options *opts)
+{
+    struct sigaction sa;
+    memset(&sa, 0, sizeof sa);
+    sa.sa_handler = on_signal;
+    sigaction(SIGINT, &sa, NULL);
+    sigaction(SIGTERM, &sa, NULL);
+    wk_server *s = malloc(sizeof *s);
+    if (!s)
+        return lm_fail(LM_E_NOMEM, "out of memory starting the worker");
+    lm_status st = server_init(s, opts);
+    if (st == LM_OK)
+        st = serve_loop(s);
+    server_free(s);
+    free(s);
+    return st;
+}
