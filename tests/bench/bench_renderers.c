@@ -2,7 +2,8 @@
  * views rendered by device A (default cpu, lumesh's rasteriser) and device B (default host,
  * llvmpipe), then per view the mean squared difference of the 8-bit luminance (what the energy
  * sees) and of the RGB channels, the largest luminance difference and the share of pixels more
- * than 2 levels apart; and each device's time for the full render of all views.
+ * than 2 levels apart; and each device's time, wall and CPU seconds of all threads, for making
+ * the views object (context, programs, the target images) and for a full render of all views.
  *
  * usage: bench_renderers MODEL [--views N (20)] [--size S (256)] [--a DEVICE] [--b DEVICE]
  *        prints one JSON line per view and a summary line. */
@@ -22,11 +23,34 @@ typedef struct opts {
     int size;
 } opts;
 
-static double now(void)
+static double clock_s(clockid_t id)
 {
     struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
+    clock_gettime(id, &t);
     return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+/* Wall and CPU seconds (of every thread: llvmpipe's too) spent in making a views object (context,
+ * programs, the target images) and in a second full render of the model (set_mesh). */
+typedef struct timing {
+    double create_wall, create_cpu, render_wall, render_cpu;
+} timing;
+
+static lm_status timed_create(const lm_mesh *m, const lm_view_set *vs, const char *device,
+                              lm_views **out, timing *t)
+{
+    double w = clock_s(CLOCK_MONOTONIC), c = clock_s(CLOCK_PROCESS_CPUTIME_ID);
+    lm_status st = wk_views_local_create(m, vs, 0, 0, device, out);
+    t->create_wall = clock_s(CLOCK_MONOTONIC) - w;
+    t->create_cpu = clock_s(CLOCK_PROCESS_CPUTIME_ID) - c;
+    if (st != LM_OK)
+        return st;
+    w = clock_s(CLOCK_MONOTONIC);
+    c = clock_s(CLOCK_PROCESS_CPUTIME_ID);
+    st = lm_views_set_mesh_from(*out, m);
+    t->render_wall = clock_s(CLOCK_MONOTONIC) - w;
+    t->render_cpu = clock_s(CLOCK_PROCESS_CPUTIME_ID) - c;
+    return st;
 }
 
 static int parse(int argc, char **argv, opts *o)
@@ -87,14 +111,10 @@ static lm_status run(const opts *o)
     lm_mesh_bounding_sphere(m, c, &r);
     lm_view_set *vs = malloc(sizeof *vs);
     lm_views *va = NULL, *vb = NULL;
-    double t0 = now(), ta = 0, tb = 0;
+    timing ta = {0, 0, 0, 0}, tb = {0, 0, 0, 0};
     if (!(st = lm_view_set_make(vs, o->views, o->size, c, r)) &&
-        !(st = wk_views_local_create(m, vs, 0, 0, o->a, &va))) {
-        ta = now() - t0;
-        t0 = now();
-        st = wk_views_local_create(m, vs, 0, 0, o->b, &vb);
-        tb = now() - t0;
-    }
+        !(st = timed_create(m, vs, o->a, &va, &ta)))
+        st = timed_create(m, vs, o->b, &vb, &tb);
     size_t n = (size_t)o->size * o->size;
     uint8_t *x = malloc(n * 4), *y = malloc(n * 4);
     double sum = 0, worst = 0;
@@ -113,9 +133,12 @@ static lm_status run(const opts *o)
         vb->ops->info(vb, &ib);
         printf("{\"model\": \"%s\", \"tris\": %u, \"views\": %u, \"size\": %d, \"mean_luma_mse\": "
                "%.4f, \"max_view_luma_mse\": %.4f, \"a\": \"%s\", \"b\": \"%s\", \"a_create_s\": "
-               "%.3f, \"b_create_s\": %.3f}\n",
+               "%.3f, \"b_create_s\": %.3f, \"a_create_cpu_s\": %.3f, \"b_create_cpu_s\": "
+               "%.3f, \"a_render_s\": %.3f, \"b_render_s\": %.3f, \"a_render_cpu_s\": %.3f, "
+               "\"b_render_cpu_s\": %.3f}\n",
                o->path, m->live_tris, o->views, o->size, sum / o->views, worst, ia.renderer,
-               ib.renderer, ta, tb);
+               ib.renderer, ta.create_wall, tb.create_wall, ta.create_cpu, tb.create_cpu,
+               ta.render_wall, tb.render_wall, ta.render_cpu, tb.render_cpu);
     }
     free(x);
     free(y);
