@@ -4,8 +4,9 @@
  * full), the images kept up to date by commit() equal a full re-render of the new mesh pixel for
  * pixel, evaluate()'s ΔE equals E(after) - E(before) of full renders exactly, and an evaluated but
  * rejected move leaves the images untouched. A second views object (same device) does the full
- * renders. LUMESH_DEVICE names the device (ctest runs it as "cpu" and "host"); unset, "auto",
- * which is skipped where it means the CPU rasteriser or llvmpipe (covered by those runs). */
+ * renders; LUMESH_TEST_LIGHT=1 makes a quarter of the moves. LUMESH_DEVICE names the device
+ * (ctest runs it as "cpu" and "host"); unset, "auto", which is skipped where it means the CPU
+ * rasteriser or llvmpipe (covered by those runs). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -364,9 +365,18 @@ static void run_moves(harness *h, int n_moves, int kinds, int delta_every)
     check_images(h);
 }
 
+/* The sanitizer stage (LUMESH_TEST_LIGHT=1) makes a quarter of the moves: the same kinds, checks
+ * and models. */
+static int scaled_moves(int n)
+{
+    const char *light = getenv("LUMESH_TEST_LIGHT");
+    return light && strcmp(light, "1") == 0 ? n / 4 : n;
+}
+
 static void exercise(const lm_mesh *original, const lm_mesh *coarse, int n_moves, int delta_every,
                      uint64_t seed, int occlusion, const char *name)
 {
+    n_moves = scaled_moves(n_moves);
     harness h;
     harness_init(&h, original, coarse, seed, occlusion);
     check_images(&h);
