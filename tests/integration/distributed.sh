@@ -32,8 +32,9 @@ same() { # same NAME FILE_A FILE_B
 no_workers_left() {
   checks=$((checks + 1))
   sleep 0.5
-  if pgrep -f "lumesh-worker --connect ipc://" >/dev/null; then
-    fail "$1: lumesh-worker processes left behind: $(pgrep -af 'lumesh-worker --connect ipc://')"
+  # this build's workers only: other builds and checkouts may be running their own on this machine
+  if pgrep -f "$LUMESH_WORKER --connect ipc://" >/dev/null; then
+    fail "$1: lumesh-worker processes left behind: $(pgrep -af "$LUMESH_WORKER --connect ipc://")"
   fi
 }
 
