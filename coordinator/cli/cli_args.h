@@ -45,5 +45,7 @@ int co_cli_devices(int argc, char **argv);
 int co_cli_gen_frog(int argc, char **argv);
 int co_cli_demo(int argc, char **argv);
 int co_cli_bench(int argc, char **argv);
+int co_cli_lod(int argc, char **argv);
+int co_cli_pm_extract(int argc, char **argv);
 
 #endif
