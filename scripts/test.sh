@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Sets up everything and runs every test: the release build (-Werror) with ctest, the same tests
-# under ASan+UBSan, the model-loading fuzz target for a short time, and the clang-format check.
+# under ASan+UBSan, the model-loading and progressive-mesh fuzz targets for a short time, and the
+# clang-format check.
 # LUMESH_TEST_QUICK=1 runs only the release tests.
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
@@ -30,6 +31,12 @@ cp tests/fuzz/corpus/mesh_load/* "$corpus"/
 # A fixed seed keeps CI reproducible (LUMESH_FUZZ_SEED=0 lets libFuzzer pick one); longer
 # exploratory runs go through the same binary with other seeds, and what they find joins the corpus.
 ASAN_OPTIONS=detect_leaks=0 "$dir/tests/fuzz_mesh_load" -max_total_time="${LUMESH_FUZZ_SECONDS:-60}" \
+  -seed="${LUMESH_FUZZ_SEED:-1}" -rss_limit_mb=4096 -max_len=65536 "$corpus" 2>&1 | tail -n 5
+rm -rf "$corpus"
+echo "== fuzz (progressive-mesh files, ${LUMESH_FUZZ_PM_SECONDS:-30} s)"
+corpus=$(mktemp -d)
+cp tests/fuzz/corpus/pm/* "$corpus"/
+ASAN_OPTIONS=detect_leaks=1 "$dir/tests/fuzz_pm" -max_total_time="${LUMESH_FUZZ_PM_SECONDS:-30}" \
   -seed="${LUMESH_FUZZ_SEED:-1}" -rss_limit_mb=4096 -max_len=65536 "$corpus" 2>&1 | tail -n 5
 rm -rf "$corpus"
 echo "all tests passed"

@@ -74,7 +74,7 @@ static lm_status run(const opts *o, const lm_mesh *orig, const lm_mesh *start, u
     lm_view_set *vs = NULL;
     co_pool *pool = NULL;
     lm_views *v = NULL;
-    int derived;
+    int derived = 0;
     lm_status st = lm_mesh_clone(start, &m);
     if (!st)
         st = co_simplify_prepare(m, &derived);
