@@ -234,11 +234,12 @@ static int run_image(simplify_args *a)
     if (s.start_verts < s.in_verts)
         snprintf(qem, sizeof qem, "QEM to %u first, ", s.start_verts);
     printf("lumesh simplify: %s %u vertices / %u triangles -> %u vertices / %u triangles, %u "
-           "parts (%s: %s%u collapses, %llu evaluations; load %.2f s, views %.2f s, simplify "
+           "part%s (%s: %s%u collapses, %llu evaluations; load %.2f s, views %.2f s, simplify "
            "%.2f s) -> %s%s%s\n",
-           a->input, s.in_verts, s.in_tris, s.out_verts, s.out_tris, s.out_parts, method, qem,
-           s.stats.collapses, (unsigned long long)s.stats.evaluations, s.load_s, s.prepare_s,
-           s.simplify_s, a->output, o->pm_path ? ", " : "", o->pm_path ? o->pm_path : "");
+           a->input, s.in_verts, s.in_tris, s.out_verts, s.out_tris, s.out_parts,
+           s.out_parts == 1 ? "" : "s", method, qem, s.stats.collapses,
+           (unsigned long long)s.stats.evaluations, s.load_s, s.prepare_s, s.simplify_s, a->output,
+           o->pm_path ? ", " : "", o->pm_path ? o->pm_path : "");
     return 0;
 }
 
