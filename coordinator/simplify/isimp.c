@@ -354,6 +354,8 @@ lm_status co_isimp_run(lm_mesh *m, lm_views *views, const co_isimp_config *cfg,
     memset(stats, 0, sizeof *stats);
     if (!cfg->views || cfg->views->count == 0)
         return lm_fail(LM_E_INVALID, "image simplification needs the views' view set");
+    if (m->live_verts <= cfg->target_verts)
+        return LM_OK; /* nothing to collapse: nothing to price */
     double t0 = now_s();
     isimp s = {.stats = stats};
     lm_status st = setup(&s, m, views, cfg);

@@ -111,6 +111,81 @@ static void collapse_costs_equal_full_renders(void **state)
     rig_free(&r);
 }
 
+/* The shard after placement k: the shard's triangles the patch leaves, then those it adds. */
+static size_t shard_after(const co_cands *c, const co_cand_edge *e, const lm_patch *p,
+                          lm_tri_data *out)
+{
+    size_t n = 0;
+    for (uint32_t i = 0; i < e->n_shard; i++) {
+        const lm_tri_data *t = &c->shard[e->shard0 + i];
+        int gone = 0;
+        for (uint32_t r = 0; r < p->n_removed; r++)
+            gone |= p->removed[r] == t->id;
+        if (!gone)
+            out[n++] = *t;
+    }
+    for (uint32_t a = 0; a < p->n_added; a++)
+        out[n++] = p->added[a];
+    return n;
+}
+
+/* Shard prices (edges grouped, rendered together) against each shard rendered by itself: the
+ * render before as the target, a full render after as the current images. */
+static void shard_prices_are_shards_alone(void **state)
+{
+    (void)state;
+    rig r;
+    rig_init(&r, 150);
+    lm_views *v, *alone;
+    assert_int_equal(
+        co_simplify_make_views(CO_PRICE_SHARD, r.orig, r.work, &r.vs, "host", NULL, &v), LM_OK);
+    assert_int_equal(
+        co_simplify_make_views(CO_PRICE_SHARD, r.orig, r.work, &r.vs, "host", NULL, &alone), LM_OK);
+    co_eq *q;
+    assert_int_equal(co_eq_create(r.vs.count, &q), LM_OK);
+    uint32_t(*edges)[2];
+    size_t n_edges;
+    assert_int_equal(lm_mesh_list_edges(r.work, &edges, &n_edges), LM_OK);
+    uint32_t idx[40];
+    for (uint32_t i = 0; i < 40; i++)
+        assert_int_equal(co_eq_insert(q, edges[i * 5][0], edges[i * 5][1], 0, &idx[i]), LM_OK);
+    free(edges);
+    co_cands c;
+    co_pricer *p;
+    assert_int_equal(co_cands_init(&c), LM_OK);
+    assert_int_equal(co_pricer_create(CO_PRICE_SHARD, v, &r.vs, 16, &p), LM_OK);
+    assert_int_equal(co_cands_build(&c, r.work, q, &r.vs, r.derived, idx, 40), LM_OK);
+    assert_int_equal(co_pricer_price(p, &c, q), LM_OK);
+    co_pricer_stats ps;
+    co_pricer_stats_get(p, &ps);
+    assert_true(ps.renders > 1 && ps.renders < 40); /* grouped, and more than one group */
+    lm_tri_data *after = malloc((c.n_shard + 64) * sizeof *after);
+    assert_non_null(after);
+    uint32_t positive = 0;
+    for (uint32_t i = 0; i < c.n_edges; i++) {
+        const co_cand_edge *e = &c.edges[i];
+        for (uint32_t k = 0; k < e->n; k++) {
+            const lm_patch *pt = &c.patches[e->patch0 + k];
+            assert_int_equal(alone->ops->set_mesh(alone, c.shard + e->shard0, e->n_shard), LM_OK);
+            assert_int_equal(lm_views_retarget(alone), LM_OK);
+            assert_int_equal(alone->ops->set_mesh(alone, after, shard_after(&c, e, pt, after)),
+                             LM_OK);
+            int64_t energy;
+            assert_int_equal(alone->ops->energy(alone, &energy, NULL), LM_OK);
+            assert_true(c.delta[e->patch0 + k] == energy);
+            positive += energy > 0;
+        }
+    }
+    assert_true(positive > c.n_patches / 2);
+    free(after);
+    co_pricer_destroy(p);
+    co_cands_free(&c);
+    co_eq_destroy(q);
+    lm_views_destroy(v);
+    lm_views_destroy(alone);
+    rig_free(&r);
+}
+
 static lm_status count_steps(void *ctx, const lm_mesh *m, co_isimp_step *s)
 {
     (void)m;
@@ -232,6 +307,7 @@ int main(void)
         cmocka_unit_test(lazy_queue_never_uses_a_stale_cost),
         cmocka_unit_test(verify_catches_missing_footprints),
         cmocka_unit_test(same_result_for_any_views),
+        cmocka_unit_test(shard_prices_are_shards_alone),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
