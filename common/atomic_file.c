@@ -5,6 +5,7 @@
 
 #include <errno.h>
 #include <fcntl.h>
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -90,11 +91,29 @@ static int finish_tmp(lm_atomic_file *f)
     return e;
 }
 
+/* Fault injection for tests: LUMESH_FAULT_RENAME="SUFFIX:N" kills the process (SIGKILL) at the
+ * N-th commit of a file whose name ends with SUFFIX, after the temporary file is written and
+ * synced and before it is renamed: the moment a crash may leave a temporary file and the old
+ * version behind. */
+static void maybe_die_before_rename(const char *path)
+{
+    static int seen;
+    const char *spec = getenv("LUMESH_FAULT_RENAME");
+    const char *colon = spec ? strrchr(spec, ':') : NULL;
+    if (!colon)
+        return;
+    size_t n = (size_t)(colon - spec), len = strlen(path);
+    if (len >= n && !strncmp(path + len - n, spec, n) && ++seen == atoi(colon + 1))
+        raise(SIGKILL);
+}
+
 lm_status lm_atomic_commit(lm_atomic_file *f)
 {
     LM_ASSERT(f->tmp_path != NULL && f->final_path != NULL);
     errno = 0;
     int e = finish_tmp(f);
+    if (!e)
+        maybe_die_before_rename(f->final_path);
     if (!e && rename(f->tmp_path, f->final_path) != 0)
         e = errno;
     if (e) {

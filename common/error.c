@@ -20,6 +20,7 @@ const char *lm_strerror(lm_status s)
         [LM_E_DEVICE] = "rendering device error",
         [LM_E_INTERNAL] = "internal error",
         [LM_E_UNSUPPORTED] = "unsupported",
+        [LM_E_POISON] = "poison batch",
     };
     if ((int)s < 0 || s >= LM_E_COUNT_)
         return "unknown error";

@@ -18,6 +18,7 @@ typedef enum lm_status {
     LM_E_DEVICE,      /* rendering device / EGL / GL failure */
     LM_E_INTERNAL,    /* a bug or an unexpected library failure */
     LM_E_UNSUPPORTED, /* valid request this build or device cannot serve */
+    LM_E_POISON,      /* a batch the workers it was sent to failed on: its moves are refused */
     LM_E_COUNT_
 } lm_status;
 

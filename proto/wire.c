@@ -38,13 +38,14 @@ lm_status lm_wire_send(void *sock, const void *id, size_t id_len, const lm_msg *
     if (zmq_msg_init_size(&msg, n) != 0)
         return lm_fail(LM_E_NOMEM, "out of memory for a %zu-byte message", n);
     lumesh__msg__pack(m, zmq_msg_data(&msg));
-    if (id && zmq_send(sock, id, id_len, ZMQ_SNDMORE) < 0) {
+    /* never blocking: a peer that is not there (or not reading) loses the message */
+    if (id && zmq_send(sock, id, id_len, ZMQ_SNDMORE | ZMQ_DONTWAIT) < 0) {
         int e = errno;
         zmq_msg_close(&msg);
-        return lm_fail(e == EHOSTUNREACH ? LM_E_IO : LM_E_INTERNAL, "sending to a worker: %s",
-                       zmq_strerror(e));
+        return lm_fail(e == EHOSTUNREACH || e == EAGAIN ? LM_E_IO : LM_E_INTERNAL,
+                       "sending to a worker: %s", zmq_strerror(e));
     }
-    if (zmq_msg_send(&msg, sock, 0) < 0) {
+    if (zmq_msg_send(&msg, sock, ZMQ_DONTWAIT) < 0) {
         int e = errno;
         zmq_msg_close(&msg);
         return lm_fail(LM_E_IO, "sending a %s message: %s", lm_wire_body_name(m), zmq_strerror(e));

@@ -15,7 +15,7 @@ PKGS=(
   libegl-dev libgles-dev libgl-dev libegl-mesa0 libgl1-mesa-dri libgbm1
   libopenimageio-dev libusb-1.0-0-dev libassimp-dev libmeshoptimizer-dev libjansson-dev
   libzmq3-dev libprotobuf-c-dev protobuf-c-compiler libsodium-dev libcmocka-dev
-  python3 chromium
+  python3 chromium iproute2
 )
 
 missing=()

@@ -11,10 +11,13 @@
 #include <zmq.h>
 
 #include "common/log.h"
+#include "proto/keys.h"
 #include "worker/serve_internal.h"
 
 #define WK_HELLO_EVERY_S 1.0
-#define WK_BEAT_EVERY_S 1.0
+#define WK_UNHEARD_NOTE_S 10.0   /* unwelcomed this long: say so once */
+#define WK_RECONNECT_MS 100      /* ZeroMQ's reconnection backoff: from this ... */
+#define WK_RECONNECT_MAX_MS 2000 /* ... doubling up to this */
 
 static volatile sig_atomic_t stop_signal;
 
@@ -61,6 +64,15 @@ static lm_status say_hello(wk_server *s)
     return wk_serve_send(s, 0, LUMESH__MSG__BODY_HELLO, &h);
 }
 
+lm_status wk_serve_secure(wk_server *s, void *sock)
+{
+    int ivl = WK_RECONNECT_MS, max = WK_RECONNECT_MAX_MS;
+    if (zmq_setsockopt(sock, ZMQ_RECONNECT_IVL, &ivl, sizeof ivl) != 0 ||
+        zmq_setsockopt(sock, ZMQ_RECONNECT_IVL_MAX, &max, sizeof max) != 0)
+        return lm_fail(LM_E_INTERNAL, "setting reconnection: %s", zmq_strerror(zmq_errno()));
+    return s->o.keys ? lm_keys_client(sock, s->o.keys) : LM_OK;
+}
+
 /* A stable routing id: host, pid and a random tag (a restarted worker is a new peer). */
 static lm_status connect_socket(wk_server *s)
 {
@@ -68,11 +80,12 @@ static lm_status connect_socket(wk_server *s)
     s->sock = s->zctx ? zmq_socket(s->zctx, ZMQ_DEALER) : NULL;
     if (!s->sock)
         return lm_fail(LM_E_INTERNAL, "creating a ZeroMQ socket: %s", zmq_strerror(zmq_errno()));
-    char id[300];
-    snprintf(id, sizeof id, "%.200s:%d:%08x", s->host, (int)getpid(),
+    snprintf(s->id, sizeof s->id, "%.200s:%d:%08x", s->host, (int)getpid(),
              (unsigned)(wk_serve_now() * 1e6));
     lm_status st = lm_wire_socket_setup(s->sock, 0);
-    if (st == LM_OK && zmq_setsockopt(s->sock, ZMQ_ROUTING_ID, id, strlen(id)) != 0)
+    if (st == LM_OK)
+        st = wk_serve_secure(s, s->sock);
+    if (st == LM_OK && zmq_setsockopt(s->sock, ZMQ_ROUTING_ID, s->id, strlen(s->id)) != 0)
         st = lm_fail(LM_E_INTERNAL, "setting the worker's id: %s", zmq_strerror(zmq_errno()));
     if (st == LM_OK && zmq_connect(s->sock, s->o.endpoint) != 0)
         st = lm_fail(LM_E_INVALID, "cannot connect to '%s': %s", s->o.endpoint,
@@ -87,19 +100,27 @@ static lm_status server_init(wk_server *s, const wk_serve_options *o)
     if (!s->o.device)
         s->o.device = "auto";
     if (!(s->o.silence_s > 0))
-        s->o.silence_s = 10.0;
+        s->o.silence_s = 5.0;
     lm_asset_set_init(&s->cache);
     lm_wire_arena_init(&s->arena);
+    s->fault = getenv("LUMESH_WORKER_FAULT");
     if (gethostname(s->host, sizeof s->host - 1) != 0)
         snprintf(s->host, sizeof s->host, "unknown");
     lm_status st = wk_probe_renderer(s->o.device, s->renderer_id, s->renderer);
     if (st == LM_OK)
         st = connect_socket(s);
+    if (st == LM_OK)
+        st = wk_beat_start(s, s->id);
+    if (st == LM_OK && s->o.health)
+        st = wk_health_open(s);
     return st;
 }
 
 static void server_free(wk_server *s)
 {
+    wk_beat_stop(s);
+    if (s->health)
+        zmq_close(s->health);
     wk_serve_end_job(s);
     wk_serve_assets_free(s);
     for (uint32_t i = 0; i < s->cap_patches; i++)
@@ -119,10 +140,19 @@ static lm_status dispatch(wk_server *s, const lm_msg *m, int *job_ended)
     switch (m->body_case) {
     case LUMESH__MSG__BODY_WELCOME:
         s->welcomed = 1;
+        s->unheard_noted = 0;
         lm_info("welcomed by %s as worker %u", s->o.endpoint, m->welcome->worker);
         return LM_OK;
     case LUMESH__MSG__BODY_REFUSE:
         return lm_fail(LM_E_INVALID, "refused by the coordinator: %s", m->refuse->reason);
+    case LUMESH__MSG__BODY_REJOIN:
+        if (s->welcomed)
+            lm_warn("the coordinator does not know this worker (%s): joining again",
+                    m->rejoin->reason);
+        wk_serve_end_job(s);
+        s->welcomed = 0;
+        s->last_hello = 0;
+        return LM_OK;
     case LUMESH__MSG__BODY_HEARTBEAT:
         return LM_OK;
     case LUMESH__MSG__BODY_OFFER:
@@ -161,12 +191,14 @@ static lm_status handle(wk_server *s, const lm_wire_frame *f, int *job_ended)
         lm_wire_in_free(&in);
         return wk_serve_fail(s, 0, st, lm_last_error());
     }
+    wk_beat_busy(s, 1);
     st = dispatch(s, in.msg, job_ended);
+    wk_beat_busy(s, 0);
     lm_wire_in_free(&in);
     return st;
 }
 
-/* Hello while not welcomed; heartbeats while welcomed; silence means the coordinator is gone. */
+/* Hello while not welcomed; silence means the coordinator is gone. */
 static lm_status keep_alive(wk_server *s, double now)
 {
     if (s->welcomed && now - s->last_heard > s->o.silence_s) {
@@ -175,13 +207,14 @@ static lm_status keep_alive(wk_server *s, double now)
         wk_serve_end_job(s);
         s->welcomed = 0;
     }
+    if (!s->welcomed && now - s->last_heard > WK_UNHEARD_NOTE_S && !s->unheard_noted) {
+        lm_warn("no coordinator has answered at %s for %.0f s (none there yet, or keys that do "
+                "not match): still trying",
+                s->o.endpoint, now - s->last_heard);
+        s->unheard_noted = 1;
+    }
     if (!s->welcomed && now - s->last_hello >= WK_HELLO_EVERY_S)
         return say_hello(s);
-    if (s->welcomed && now - s->last_beat >= WK_BEAT_EVERY_S) {
-        Lumesh__Heartbeat h = LUMESH__HEARTBEAT__INIT;
-        s->last_beat = now;
-        return wk_serve_send(s, 0, LUMESH__MSG__BODY_HEARTBEAT, &h);
-    }
     return LM_OK;
 }
 
@@ -191,7 +224,12 @@ static lm_status serve_loop(wk_server *s)
     s->last_heard = wk_serve_now();
     while (st == LM_OK && !stop_signal) {
         lm_wire_frame f;
-        st = lm_wire_recv(s->sock, 0, 250, &f);
+        if (s->health) {
+            zmq_pollitem_t hp = {.socket = s->health, .events = ZMQ_POLLIN};
+            if (zmq_poll(&hp, 1, 0) > 0)
+                wk_health_answer(s);
+        }
+        st = lm_wire_recv(s->sock, 0, s->health ? 100 : 250, &f);
         int ended = 0;
         if (st == LM_OK && f.data) {
             s->last_heard = wk_serve_now();

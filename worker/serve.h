@@ -8,12 +8,17 @@
  * evaluations, energies, oracle potentials, images — for its views. A request that finds the
  * replica at another sequence number than the coordinator expects is answered Stale, never priced.
  *
- * Between jobs, and whenever the coordinator has been silent for a while (it went away; a new one
- * may come at the same address), the worker says Hello again every second: a long-lived worker
- * serves job after job, its asset cache warm. Every malformed message is answered with a Failure
- * and logged; the worker goes on. */
+ * Between jobs, whenever the coordinator has been silent for a while (it went away; a new one may
+ * come at the same address) and when a coordinator says it does not know this worker (Rejoin: it
+ * restarted, or presumed the worker dead), the worker drops its job and says Hello again every
+ * second: a long-lived worker serves job after job, its asset cache warm. A heartbeat thread tells
+ * the coordinator every second that the process lives, also while a long request runs
+ * (serve_beat.c). Every malformed message is answered with a Failure and logged; the worker goes
+ * on. With keys, every frame is encrypted and both ends authenticated (CURVE). */
 #ifndef LM_WORKER_SERVE_H
 #define LM_WORKER_SERVE_H
+
+#include <stddef.h>
 
 #include "common/error.h"
 
@@ -21,8 +26,16 @@ typedef struct wk_serve_options {
     const char *endpoint; /* required: "tcp://host:port" or "ipc://path" */
     const char *device;   /* NULL = "auto" */
     int once;             /* exit after the first job ends (workers spawned by a coordinator) */
-    double silence_s;     /* coordinator presumed gone after this long without a word; 0 = 10 */
+    double silence_s;     /* coordinator presumed gone after this long without a word; 0 = 5 */
+    const char *keys;     /* CURVE key folder (proto/keys.h): worker.key, coordinator.pub */
+    const char *health;   /* answer health queries on this endpoint (e.g. ipc://PATH); NULL = no */
 } wk_serve_options;
+
+/* Ask the worker whose health endpoint is `endpoint` how it stands: its answer (one JSON
+ * object) into buf; LM_E_IO when it does not answer within timeout_s. *ready = 1 when it is
+ * welcomed by a coordinator. */
+lm_status wk_serve_health_query(const char *endpoint, double timeout_s, char *buf, size_t cap,
+                                int *ready);
 
 /* Serve until told to stop (SIGINT/SIGTERM), refused by a coordinator (LM_E_INVALID with its
  * reason) or, with once, the end of the first job. */

@@ -23,11 +23,17 @@ typedef struct wk_upload {
     size_t size, got;
 } wk_upload;
 
+typedef struct wk_beat wk_beat; /* serve_beat.c */
+
 typedef struct wk_server {
     wk_serve_options o;
     void *zctx, *sock;
+    void *health; /* REP socket answering health queries (NULL = none) */
+    wk_beat *beat;
+    char id[320]; /* routing id */
     char host[256], renderer[128], renderer_id[WK_RENDERER_ID_CHARS + 1];
-    int welcomed;
+    int welcomed, unheard_noted;
+    const char *fault; /* LUMESH_WORKER_FAULT (fault-injection tests): serve_job.c */
     double last_heard, last_hello, last_beat;
     /* assets */
     lm_asset_set cache;
@@ -53,6 +59,19 @@ typedef struct wk_server {
 } wk_server;
 
 double wk_serve_now(void);
+
+/* The CURVE client options of a socket of this worker, when it has keys (no-op otherwise). */
+lm_status wk_serve_secure(wk_server *s, void *sock);
+
+/* serve_beat.c */
+lm_status wk_beat_start(wk_server *s, const char *id);
+void wk_beat_busy(wk_server *s, int busy);
+void wk_beat_stop(wk_server *s);
+
+/* serve_health.c */
+lm_status wk_health_open(wk_server *s);
+/* Answer a waiting health query (call when the health socket is readable). */
+void wk_health_answer(wk_server *s);
 
 /* Replies (req echoed, the replica's seq). */
 lm_status wk_serve_send(wk_server *s, uint64_t req, Lumesh__Msg__BodyCase c, void *body);

@@ -214,9 +214,28 @@ static double cpu_now(void)
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
+/* Fault injection for tests (LUMESH_WORKER_FAULT): "crash-on-tris=N" aborts the process, and
+ * "fail-on-tris=N" answers a Failure, on any batch with a patch adding more than N triangles — a
+ * poison batch, the same on every worker and every retry. */
+static int faulty(const wk_server *s, const Lumesh__Evaluate *e, const char *kind)
+{
+    size_t n = strlen(kind);
+    if (!s->fault || strncmp(s->fault, kind, n) || s->fault[n] != '=')
+        return 0;
+    size_t limit = (size_t)strtoul(s->fault + n + 1, NULL, 10);
+    for (size_t i = 0; i < e->n_patches; i++)
+        if (e->patches[i]->n_added > limit)
+            return 1;
+    return 0;
+}
+
 static lm_status evaluate(wk_server *s, const lm_msg *m)
 {
     const Lumesh__Evaluate *e = m->evaluate;
+    if (faulty(s, e, "crash-on-tris"))
+        abort();
+    if (faulty(s, e, "fail-on-tris"))
+        return wk_serve_fail(s, m->req, LM_E_INTERNAL, "injected failure (LUMESH_WORKER_FAULT)");
     double t0 = cpu_now();
     lm_status st = reserve_patches(s, e->n_patches);
     for (size_t i = 0; i < e->n_patches && st == LM_OK; i++)

@@ -20,13 +20,19 @@ typedef struct worker_args {
     const char *device;
     int self_test;
     int once;
-    long parent; /* exit with this process (a coordinator that spawned us); 0 = none */
+    long parent;      /* exit with this process (a coordinator that spawned us); 0 = none */
+    const char *keys; /* CURVE key folder */
+    const char *health_socket; /* answer health queries here */
+    const char *health;        /* ask the worker answering here, and exit */
+    int ready;                 /* with health: exit 0 only when it is welcomed by a coordinator */
     int help;
 } worker_args;
 
 static void usage(FILE *f)
 {
-    fputs("usage: lumesh-worker --connect ADDR [--device auto|egl:N|host] [--once]\n"
+    fputs("usage: lumesh-worker --connect ADDR [--device auto|egl:N|host] [--once] [--keys DIR]\n"
+          "                     [--health-socket ADDR]\n"
+          "       lumesh-worker --health ADDR [--ready]\n"
           "       lumesh-worker --self-test [--device auto|egl:N|host]\n"
           "\n"
           "Renders views for a lumesh coordinator: `lumesh optimize --listen ADDR` waits for\n"
@@ -36,6 +42,13 @@ static void usage(FILE *f)
           "\n"
           "  --connect ADDR   coordinator address, e.g. tcp://host:5555 (or ipc://PATH)\n"
           "  --once           exit when the first job ends\n"
+          "  --keys DIR       authenticate and encrypt with the CURVE keys in DIR (worker.key and\n"
+          "                   coordinator.pub, from `lumesh keygen`): the coordinator's key is\n"
+          "                   checked, and the coordinator checks this worker's\n"
+          "  --health-socket ADDR  answer health queries at ADDR (e.g. ipc:///tmp/w.health)\n"
+          "  --health ADDR    ask the worker answering at ADDR how it stands: print its JSON\n"
+          "                   state and exit 0, or exit 1 when it does not answer within 2 s\n"
+          "  --ready          with --health: exit 0 only when a coordinator has welcomed it\n"
           "  --parent PID     exit when process PID (the coordinator that started this worker)\n"
           "                   does\n"
           "  --device SPEC    rendering device: auto (first working GPU, else the software\n"
@@ -55,11 +68,13 @@ static lm_status parse_args(int argc, char **argv, worker_args *a)
         {"connect", required_argument, NULL, 'c'}, {"device", required_argument, NULL, 'd'},
         {"self-test", no_argument, NULL, 's'},     {"verbose", no_argument, NULL, 'v'},
         {"once", no_argument, NULL, 'o'},          {"parent", required_argument, NULL, 'p'},
+        {"keys", required_argument, NULL, 'k'},    {"health-socket", required_argument, NULL, 'H'},
+        {"health", required_argument, NULL, 'q'},  {"ready", no_argument, NULL, 'r'},
         {"help", no_argument, NULL, 'h'},          {NULL, 0, NULL, 0}};
     int c;
     opterr = 0;
     optind = 1;
-    while ((c = getopt_long(argc, argv, ":c:d:svohp:", opts, NULL)) != -1) {
+    while ((c = getopt_long(argc, argv, ":c:d:svohp:k:H:q:r", opts, NULL)) != -1) {
         switch (c) {
         case 'c':
             a->connect = optarg;
@@ -72,6 +87,18 @@ static lm_status parse_args(int argc, char **argv, worker_args *a)
             break;
         case 'o':
             a->once = 1;
+            break;
+        case 'k':
+            a->keys = optarg;
+            break;
+        case 'H':
+            a->health_socket = optarg;
+            break;
+        case 'q':
+            a->health = optarg;
+            break;
+        case 'r':
+            a->ready = 1;
             break;
         case 'p': {
             char *end;
@@ -94,8 +121,9 @@ static lm_status parse_args(int argc, char **argv, worker_args *a)
     }
     if (optind < argc)
         return lm_fail(LM_E_INVALID, "unexpected argument '%s' (see --help)", argv[optind]);
-    if (!a->help && !a->connect && !a->self_test)
-        return lm_fail(LM_E_INVALID, "nothing to do: give --connect ADDR or --self-test");
+    if (!a->help && !a->connect && !a->self_test && !a->health)
+        return lm_fail(LM_E_INVALID, "nothing to do: give --connect ADDR, --health ADDR or "
+                                     "--self-test");
     return LM_OK;
 }
 
@@ -143,6 +171,17 @@ int main(int argc, char **argv)
         usage(stdout);
         return 0;
     }
+    if (a.health) {
+        char state[1024];
+        int ready = 0;
+        st = wk_serve_health_query(a.health, 2.0, state, sizeof state, &ready);
+        if (st != LM_OK) {
+            fprintf(stderr, "lumesh-worker: %s\n", lm_last_error());
+            return 1;
+        }
+        printf("%s\n", state);
+        return a.ready && !ready ? 1 : 0;
+    }
     if (a.self_test) {
         st = self_test(a.device);
         if (st != LM_OK) {
@@ -156,7 +195,11 @@ int main(int argc, char **argv)
             if (getppid() != (pid_t)a.parent)
                 return 0;
         }
-        wk_serve_options o = {.endpoint = a.connect, .device = a.device, .once = a.once};
+        wk_serve_options o = {.endpoint = a.connect,
+                              .device = a.device,
+                              .once = a.once,
+                              .keys = a.keys,
+                              .health = a.health_socket};
         st = wk_serve(&o);
         if (st != LM_OK) {
             fprintf(stderr, "lumesh-worker: %s\n", lm_last_error());

@@ -47,5 +47,7 @@ int co_cli_demo(int argc, char **argv);
 int co_cli_bench(int argc, char **argv);
 int co_cli_lod(int argc, char **argv);
 int co_cli_pm_extract(int argc, char **argv);
+int co_cli_workers(int argc, char **argv);
+int co_cli_keygen(int argc, char **argv);
 
 #endif

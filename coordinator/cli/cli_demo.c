@@ -30,6 +30,7 @@ typedef struct demo_options {
     uint32_t tris, target_verts, views, size;
     uint64_t seed;
     const char *device;
+    uint32_t workers; /* co_job_options.workers */
 } demo_options;
 
 typedef struct demo_paths {
@@ -40,7 +41,7 @@ static const char *co_cmd = "demo";
 
 static const char co_demo_help[] =
     "usage: lumesh demo [-o DIR] [--evals N] [--tris N] [--target-verts N] [--views N]\n"
-    "                   [--size PIXELS] [--seed S] [--device D]\n"
+    "                   [--size PIXELS] [--seed S] [--device D] [--workers N]\n"
     "\n"
     "Generate the procedural frog (separate, interpenetrating body, legs and eyes with a "
     "texture),\n"
@@ -63,9 +64,20 @@ static const char co_demo_help[] =
     "  --size PIXELS        side of every view image (default %d)\n"
     "  --seed S             seed of the frog and of the optimiser (default 1)\n"
     "  --device D           rendering device: auto, host, egl:N (default auto)\n"
+    "  --workers N          lumesh-worker processes rendering the views (default one per\n"
+    "                       core; 0 = in this process); the result is the same for any N\n"
     "  -h, --help           this help\n";
 
-enum { OPT_EVALS = 256, OPT_TRIS, OPT_TARGET, OPT_VIEWS, OPT_SIZE, OPT_SEED, OPT_DEVICE };
+enum {
+    OPT_EVALS = 256,
+    OPT_TRIS,
+    OPT_TARGET,
+    OPT_VIEWS,
+    OPT_SIZE,
+    OPT_SEED,
+    OPT_DEVICE,
+    OPT_WORKERS
+};
 
 static const struct option co_demo_opts[] = {
     {"output", required_argument, NULL, 'o'},
@@ -76,6 +88,7 @@ static const struct option co_demo_opts[] = {
     {"size", required_argument, NULL, OPT_SIZE},
     {"seed", required_argument, NULL, OPT_SEED},
     {"device", required_argument, NULL, OPT_DEVICE},
+    {"workers", required_argument, NULL, OPT_WORKERS},
     {"help", no_argument, NULL, 'h'},
     {NULL, 0, NULL, 0},
 };
@@ -101,6 +114,12 @@ static lm_status parse_value(int c, const char *val, demo_options *o)
     case OPT_DEVICE:
         o->device = val;
         return LM_OK;
+    case OPT_WORKERS: {
+        lm_status st = co_arg_u32(co_cmd, "--workers", val, 0, 4096, &o->workers);
+        if (st == LM_OK && o->workers == 0)
+            o->workers = CO_JOB_IN_PROCESS;
+        return st;
+    }
     }
     return LM_E_INTERNAL;
 }
@@ -187,6 +206,7 @@ static lm_status optimize(const demo_options *o, const demo_paths *p, co_job_sum
         .max_evals = o->evals,
         .seed = o->seed,
         .device_spec = o->device,
+        .workers = o->workers,
         .on_progress = co_job_log_progress,
         .progress_ctx = log,
     };
@@ -295,8 +315,8 @@ static void print_summary(const demo_options *o, const demo_paths *p, const co_j
            j->cov[0].cracks_px, j->cov[1].cracks_px,
            percent((double)j->cov[1].cracks_px, (double)j->cov[0].cracks_px), j->cov[0].missing_px,
            j->cov[1].missing_px);
-    printf("optimisation: %" PRIu64 " evaluations in %.1f s on %s\n", s->progress.evals, s->wall_s,
-           s->renderer);
+    printf("optimisation: %" PRIu64 " evaluations in %.1f s on %" PRIu32 " worker%s, %s\n",
+           s->progress.evals, s->wall_s, s->workers, s->workers == 1 ? "" : "s", s->renderer);
     printf("files in %s:\n  %s\n  %s\n  %s\n  %s  (rows: %u views; columns: original | coarse | "
            "optimized)\n",
            o->dir, p->frog, p->coarse, p->optimized, p->grid, CO_DEMO_GRID_VIEWS);

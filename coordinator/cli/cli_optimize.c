@@ -18,6 +18,7 @@ static const char co_optimize_help[] =
     "                       [--checkpoint FILE [--checkpoint-every N|Ns]] [--resume FILE]\n"
     "                       [--attrs pos,normal,uv,color] [--device D] [--json] [--report DIR]\n"
     "                       [--workers N] [--listen tcp://ADDR:PORT] [--renderer ID]\n"
+    "                       [--edges-in-flight K] [--keys DIR]\n"
     "\n"
     "Improve a coarse mesh so that its rendered images match the original's from many viewpoints\n"
     "(Lindstrom & Turk 2001): vertex positions and attributes by downhill simplex, connectivity "
@@ -58,6 +59,13 @@ static const char co_optimize_help[] =
     "                          anywhere with `lumesh-worker --connect tcp://HOST:PORT`; with\n"
     "                          --listen alone no local worker is started and the job waits,\n"
     "                          saying so, until one connects\n"
+    "  --edges-in-flight K     optimise K edges at once, their evaluations in one batch (more\n"
+    "                          work per round trip to the workers; default %u, the paper's\n"
+    "                          order). Part of the job: it changes the output (a --resume must\n"
+    "                          give the same K), the number of workers never does\n"
+    "  --keys DIR              CURVE keys (lumesh keygen): workers' connections encrypted and\n"
+    "                          authenticated, only keys in DIR/workers.allow admitted; needed to\n"
+    "                          --listen beyond this machine\n"
     "  --renderer ID           accept only workers of this renderer id (lumesh-worker --self-test\n"
     "                          prints it); default: the first worker's. A job never mixes\n"
     "                          renderers: workers of another one are refused with the reason\n"
@@ -91,6 +99,8 @@ enum {
     OPT_LISTEN,
     OPT_RENDERER,
     OPT_REPORT,
+    OPT_IN_FLIGHT,
+    OPT_KEYS,
 };
 
 static const struct option co_optimize_opts[] = {
@@ -112,6 +122,8 @@ static const struct option co_optimize_opts[] = {
     {"listen", required_argument, NULL, OPT_LISTEN},
     {"renderer", required_argument, NULL, OPT_RENDERER},
     {"report", required_argument, NULL, OPT_REPORT},
+    {"edges-in-flight", required_argument, NULL, OPT_IN_FLIGHT},
+    {"keys", required_argument, NULL, OPT_KEYS},
     {"help", no_argument, NULL, 'h'},
     {NULL, 0, NULL, 0},
 };
@@ -197,6 +209,12 @@ static lm_status parse_value(int c, const char *val, co_job_options *o)
     case OPT_RENDERER:
         o->renderer = val;
         break;
+    case OPT_KEYS:
+        o->keys = val;
+        break;
+    case OPT_IN_FLIGHT:
+        return co_arg_u32(co_cmd, "--edges-in-flight", val, 1, CO_MAX_EDGES_IN_FLIGHT,
+                          &o->edges_in_flight);
     }
     return st;
 }
@@ -211,7 +229,7 @@ static int parse_args(int argc, char **argv, optimize_args *a)
         if (c == 'h') {
             printf(co_optimize_help, CO_JOB_MIN_TARGET_VERTS, CO_JOB_DEFAULT_VIEWS,
                    CO_JOB_DEFAULT_SIZE, (unsigned long long)CO_JOB_DEFAULT_EVALS,
-                   CO_JOB_DEFAULT_CHECKPOINT_S);
+                   CO_JOB_DEFAULT_CHECKPOINT_S, CO_JOB_DEFAULT_IN_FLIGHT);
             return -1;
         }
         if (c == '?' || c == ':')

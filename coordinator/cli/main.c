@@ -28,6 +28,8 @@ static const command commands[] = {
     {"demo", co_cli_demo,
      "the frog generated, simplified, optimised; images and the quality report"},
     {"bench", co_cli_bench, "benchmarks (bench eval: ΔE evaluations per second)"},
+    {"workers", co_cli_workers, "how a running coordinator's workers stand"},
+    {"keygen", co_cli_keygen, "CURVE keys for a coordinator and its workers"},
 };
 
 static void usage(FILE *fp)

@@ -34,8 +34,10 @@ typedef struct co_job {
     uint32_t attrs;
     const char *checkpoint_path;
     lm_mesh *original;
-    lm_mesh *coarse; /* until the optimizer takes it */
-    co_pool *pool;   /* the workers (NULL: in process) */
+    lm_mesh *coarse;           /* until the optimizer takes it */
+    co_pool *pool;             /* the workers (NULL: in process) */
+    co_worker_report *workers; /* what progress shows of them */
+    uint32_t cap_workers;
     lm_views *views;
     co_optimizer *opt;
     co_checkpoint_key key;
@@ -145,6 +147,11 @@ static lm_status resolve_options(co_job *j, const co_job_options *in)
         o->max_evals = CO_JOB_DEFAULT_EVALS;
     if (!o->seed)
         o->seed = 1;
+    if (!o->edges_in_flight)
+        o->edges_in_flight = CO_JOB_DEFAULT_IN_FLIGHT;
+    if (o->edges_in_flight > CO_MAX_EDGES_IN_FLIGHT)
+        return lm_fail(LM_E_RANGE, "--edges-in-flight %" PRIu32 " is above %u", o->edges_in_flight,
+                       CO_MAX_EDGES_IN_FLIGHT);
     if (!(o->time_limit_s >= 0) || !(o->checkpoint_every_s >= 0))
         return lm_fail(LM_E_RANGE, "time limits must be positive numbers");
     if (!o->checkpoint_every_s && !o->checkpoint_every_evals)
@@ -291,6 +298,7 @@ static lm_status make_pool(co_job *j)
                           .local_workers = local,
                           .device = j->o.device_spec,
                           .renderer_id = j->o.renderer,
+                          .keys = j->o.keys,
                           .quiet = j->rep.style == CO_REPORT_QUIET};
     lm_status st = co_pool_create(&po, &j->pool);
     if (st == LM_OK && local)
@@ -370,7 +378,8 @@ static lm_status make_coarse_mesh(co_job *j)
 
 static lm_status make_optimizer(co_job *j)
 {
-    co_params params = {.seed = j->o.seed, .attrs = j->attrs};
+    co_params params = {
+        .seed = j->o.seed, .attrs = j->attrs, .edges_in_flight = j->o.edges_in_flight};
     lm_mesh *coarse = j->coarse;
     j->coarse = NULL; /* the optimizer owns it from here on, even when its creation fails */
     lm_status st = co_optimizer_create(coarse, j->views, &params, &j->opt);
@@ -395,9 +404,43 @@ static void write_checkpoint(co_job *j, const co_progress *p)
         note(j, "checkpoint", "%s at %" PRIu64 " evaluations", j->checkpoint_path, p->evals);
 }
 
+/* What progress shows of the workers that served the job. */
+static void report_workers(co_job *j)
+{
+    uint32_t n = j->pool ? co_pool_size(j->pool) : 0, k = 0;
+    if (n > j->cap_workers) {
+        co_worker_report *w = realloc(j->workers, n * sizeof *w);
+        if (!w)
+            return;
+        j->workers = w;
+        j->cap_workers = n;
+    }
+    double now = co_pool_now();
+    for (uint32_t i = 0; i < n; i++) {
+        const co_worker *w = co_pool_worker(j->pool, i);
+        if (!w->in_job && !w->evals)
+            continue;
+        double age = now - w->joined > 1e-3 ? now - w->joined : 1e-3;
+        co_worker_report *r = &j->workers[k++];
+        *r = (co_worker_report){.id = w->id,
+                                .pid = w->pid,
+                                .first = w->first,
+                                .count = w->count,
+                                .evals = w->evals,
+                                .evals_per_s = (double)w->evals / age,
+                                .busy = w->busy_s / age,
+                                .heard_s = now - w->last_heard,
+                                .lost = w->lost};
+        snprintf(r->host, sizeof r->host, "%.63s", w->host);
+        snprintf(r->device, sizeof r->device, "%.31s", w->device);
+    }
+    co_reporter_set_workers(&j->rep, j->workers, k);
+}
+
 /* The reporter, and the caller's progress hook. */
 static void progress(co_job *j, const co_progress *p, double t, int force)
 {
+    report_workers(j);
     co_reporter_update(&j->rep, p, t, force);
     if (j->o.on_progress)
         j->o.on_progress(j->o.progress_ctx, p, t);
@@ -515,6 +558,8 @@ static lm_status job_stages(co_job *j, co_job_summary *summary)
     summary->output_path = j->o.output_path;
     summary->resumed_from_evals = j->resumed_from_evals;
     snprintf(summary->renderer, sizeof summary->renderer, "%s", j->renderer);
+    report_workers(j);
+    summary->workers = j->rep.n_workers;
     co_reporter_summary(&j->rep, summary);
     return LM_OK;
 }
@@ -544,6 +589,7 @@ lm_status co_job_run(const co_job_options *opts, co_job_summary *summary)
         co_optimizer_destroy(j->opt);
     lm_views_destroy(j->views);
     co_pool_destroy(j->pool);
+    free(j->workers);
     if (j->coarse)
         lm_mesh_destroy(j->coarse);
     if (j->original)

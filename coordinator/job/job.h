@@ -21,6 +21,7 @@
 #define CO_JOB_DEFAULT_EVALS 100000ull
 #define CO_JOB_DEFAULT_CHECKPOINT_S 60.0
 #define CO_JOB_MIN_TARGET_VERTS 100u
+#define CO_JOB_DEFAULT_IN_FLIGHT 1u
 #define CO_JOB_IN_PROCESS UINT32_MAX /* workers: render in this process (no worker processes) */
 #define CO_JOB_WORKER_START_S 60.0   /* local workers must say hello within this */
 
@@ -48,6 +49,9 @@ typedef struct co_job_options {
                              listen), CO_JOB_IN_PROCESS = render in this process */
     const char *listen;   /* also take workers that connect here ("tcp://ADDR:PORT") */
     const char *renderer; /* accept only workers of this renderer id; NULL = the first one's */
+    const char *keys;     /* CURVE key folder for the workers' connections (proto/keys.h) */
+    uint32_t
+        edges_in_flight; /* edges optimised at once (co_params); 0 = CO_JOB_DEFAULT_IN_FLIGHT */
     const char *initial_output_path; /* write the coarse mesh the optimisation starts from (after
                                         its preparation) here; NULL = not */
     /* Called with the counters at the start, after every optimizer step and at the end (the

@@ -105,6 +105,41 @@ static void json_counts(FILE *fp, const char *name, const uint64_t *counts)
     fputc('}', fp);
 }
 
+void co_reporter_set_workers(co_reporter *r, const co_worker_report *w, uint32_t n)
+{
+    r->workers = w;
+    r->n_workers = n;
+}
+
+/* ,"workers":[...] */
+static void json_workers(FILE *fp, const co_reporter *r)
+{
+    if (!r->n_workers)
+        return;
+    fputs(",\"workers\":[", fp);
+    for (uint32_t i = 0; i < r->n_workers; i++) {
+        const co_worker_report *w = &r->workers[i];
+        fprintf(fp, "%s{\"id\":%" PRIu32 ",\"host\":", i ? "," : "", w->id);
+        co_json_string(fp, w->host);
+        fprintf(fp, ",\"pid\":%" PRIu32 ",\"device\":", w->pid);
+        co_json_string(fp, w->device);
+        fprintf(fp,
+                ",\"views\":[%" PRIu32 ",%" PRIu32 "],\"evals\":%" PRIu64
+                ",\"evals_per_s\":%.1f,\"busy\":%.3f,\"last_heard_s\":%.2f,\"lost\":%s}",
+                w->first, w->count, w->evals, w->evals_per_s, w->busy, w->heard_s,
+                w->lost ? "true" : "false");
+    }
+    fputc(']', fp);
+}
+
+static uint32_t alive_workers(const co_reporter *r)
+{
+    uint32_t n = 0;
+    for (uint32_t i = 0; i < r->n_workers; i++)
+        n += !r->workers[i].lost;
+    return n;
+}
+
 static void json_progress(const co_reporter *r, const co_progress *p, double elapsed_s, double rate,
                           double eta)
 {
@@ -120,9 +155,11 @@ static void json_progress(const co_reporter *r, const co_progress *p, double ela
     fprintf(fp, ",\"verts\":%" PRIu32 ",\"tris\":%" PRIu32 ",\"eta_s\":", p->live_verts,
             p->live_tris);
     if (eta >= 0)
-        fprintf(fp, "%.1f}\n", eta);
+        fprintf(fp, "%.1f", eta);
     else
-        fputs("null}\n", fp);
+        fputs("null", fp);
+    json_workers(fp, r);
+    fputs("}\n", fp);
     fflush(fp);
 }
 
@@ -161,6 +198,8 @@ static void human_progress(co_reporter *r, const co_progress *p, double rate, do
     for (int k = 0; k < CO_MOVE_KINDS; k++)
         CO_APPEND(" %s %" PRIu64, co_report_move_name((co_move_kind)k), p->accepted[k]);
     CO_APPEND(" | %" PRIu32 " verts", p->live_verts);
+    if (r->n_workers)
+        CO_APPEND(" | %" PRIu32 " worker%s", alive_workers(r), alive_workers(r) == 1 ? "" : "s");
 #undef CO_APPEND
     if (r->style == CO_REPORT_TTY) {
         tty_line(r, line);
@@ -228,7 +267,7 @@ void co_reporter_note(co_reporter *r, const char *event, const char *detail)
     }
 }
 
-static void json_summary(FILE *fp, const co_job_summary *s)
+static void json_summary(FILE *fp, const co_reporter *r, const co_job_summary *s)
 {
     const co_progress *p = &s->progress;
     double run_evals = (double)(p->evals - s->resumed_from_evals);
@@ -248,10 +287,24 @@ static void json_summary(FILE *fp, const co_job_summary *s)
     json_counts(fp, "accepted", p->accepted);
     fputc(',', fp);
     json_counts(fp, "attempted", p->attempted);
+    json_workers(fp, r);
     fputs("}\n", fp);
 }
 
-static void human_summary(FILE *fp, const co_job_summary *s)
+/* One line per worker: what it served and how busy it was. */
+static void human_workers(FILE *fp, const co_reporter *r)
+{
+    for (uint32_t i = 0; i < r->n_workers; i++) {
+        const co_worker_report *w = &r->workers[i];
+        fprintf(fp,
+                "worker %" PRIu32 ": %s pid %" PRIu32 ", views %" PRIu32 "-%" PRIu32 ", %" PRIu64
+                " evaluations, %.0f%% busy%s\n",
+                w->id, w->host, w->pid, w->first, w->first + w->count - (w->count > 0), w->evals,
+                100.0 * w->busy, w->lost ? " (lost)" : "");
+    }
+}
+
+static void human_summary(FILE *fp, const co_reporter *r, const co_job_summary *s)
 {
     const co_progress *p = &s->progress;
     uint64_t run_evals = p->evals - s->resumed_from_evals;
@@ -267,6 +320,7 @@ static void human_summary(FILE *fp, const co_job_summary *s)
         fprintf(fp, " %s %" PRIu64 "/%" PRIu64 "%s", co_report_move_name((co_move_kind)k),
                 p->accepted[k], p->attempted[k], k + 1 < CO_MOVE_KINDS ? "," : "");
     fprintf(fp, "; %" PRIu32 " vertices, %" PRIu32 " triangles\n", p->live_verts, p->live_tris);
+    human_workers(fp, r);
     fprintf(fp, "wrote %s (renderer: %s)\n", s->output_path, s->renderer);
 }
 
@@ -276,8 +330,8 @@ void co_reporter_summary(co_reporter *r, const co_job_summary *s)
         return;
     co_reporter_end_line(r);
     if (r->style == CO_REPORT_JSON)
-        json_summary(r->summary_out, s);
+        json_summary(r->summary_out, r, s);
     else
-        human_summary(r->summary_out, s);
+        human_summary(r->summary_out, r, s);
     fflush(r->summary_out);
 }

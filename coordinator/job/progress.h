@@ -17,6 +17,18 @@ typedef enum co_report_style {
     CO_REPORT_JSON,  /* a JSON record every second */
 } co_report_style;
 
+/* One worker as progress shows it. */
+typedef struct co_worker_report {
+    uint32_t id, pid;
+    char host[64], device[32];
+    uint32_t first, count; /* its views */
+    uint64_t evals;        /* patches it evaluated for the job */
+    double evals_per_s;    /* since it joined */
+    double busy;           /* fraction of that time spent evaluating */
+    double heard_s;        /* seconds since it was last heard */
+    int lost;
+} co_worker_report;
+
 typedef struct co_reporter {
     co_report_style style;
     FILE *out;            /* progress records */
@@ -27,6 +39,8 @@ typedef struct co_reporter {
     uint64_t start_evals; /* evaluations at the first update (rates count this process only) */
     uint64_t last_evals;  /* evaluations at the last report */
     int line_open;        /* a TTY line is showing and needs a newline before other output */
+    const co_worker_report *workers; /* shown with every report (owned by the caller) */
+    uint32_t n_workers;
 } co_reporter;
 
 /* What a finished job reports. */
@@ -38,6 +52,7 @@ typedef struct co_job_summary {
     const char *output_path;
     char renderer[128];
     uint64_t resumed_from_evals; /* evaluations done before this process started (0 = fresh) */
+    uint32_t workers;            /* worker processes that served the job (0 = in process) */
 } co_job_summary;
 
 /* The style for a stream: JSON if asked, TTY if `out` is a terminal, plain lines otherwise. */
@@ -45,6 +60,8 @@ co_report_style co_report_style_for(FILE *out, int json);
 
 void co_reporter_init(co_reporter *r, co_report_style style, FILE *out, uint64_t max_evals,
                       double time_limit_s);
+/* The workers the next reports show (the array stays the caller's; n = 0: none). */
+void co_reporter_set_workers(co_reporter *r, const co_worker_report *w, uint32_t n);
 /* Report if enough time passed since the last report (always when `force`). */
 void co_reporter_update(co_reporter *r, const co_progress *p, double elapsed_s, int force);
 /* A set-up step or event ("original", "views", "checkpoint", "warning"...): a JSON event record;

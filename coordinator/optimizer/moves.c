@@ -7,6 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "common/log.h"
 #include "coordinator/optimizer/moves_internal.h"
 
 #define CO_PENALTY 1e300 /* value of points that are refused without evaluation */
@@ -137,6 +138,16 @@ const lm_journal *co_moves_journal(const co_moves *mv)
 size_t co_moves_mark(const co_moves *mv)
 {
     return lm_journal_mark(mv->j);
+}
+
+void co_moves_rollback(co_moves *mv, size_t mark)
+{
+    lm_journal_rollback(mv->m, mv->j, mark);
+}
+
+uint64_t *co_moves_clock_ptr(co_moves *mv)
+{
+    return mv->clock;
 }
 
 void co_moves_forget(co_moves *mv)
@@ -406,6 +417,13 @@ static lm_status eval_batch(void *ctx, const double *pts, uint32_t n, double *va
     }
     if (k) {
         lm_status st = mv->views->ops->evaluate(mv->views, mv->patches, k, mv->deltas);
+        if (st == LM_E_POISON) { /* every worker failed on it: these points are refused */
+            lm_warn("%s: %u candidate moves refused", lm_last_error(), k);
+            lm_clear_error();
+            for (uint32_t i = 0; i < n; i++)
+                mv->slot[i] = LM_NONE;
+            st = LM_OK;
+        }
         if (st)
             return st;
         mv->evals += k;

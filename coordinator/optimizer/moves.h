@@ -105,6 +105,7 @@ void co_moves_set_evals(co_moves *mv, uint64_t evals);
  * shared with others (co_moves_share_clock: every evaluation of either advances it). */
 uint64_t co_moves_clock(const co_moves *mv);
 void co_moves_share_clock(co_moves *mv, uint64_t *clock);
+uint64_t *co_moves_clock_ptr(co_moves *mv);
 void co_moves_observe(co_moves *mv, const co_moves_observer *obs);
 
 /* Do an accepted operation again (on a copy of the mesh that matches the one it was found on, up
@@ -119,6 +120,8 @@ const lm_journal *co_moves_journal(const co_moves *mv);
  * re-sending the whole mesh to the views, and forgetting the journal (changes kept). */
 size_t co_moves_mark(const co_moves *mv);
 lm_status co_moves_revert(co_moves *mv, size_t mark);
+/* The mesh back to `mark` without telling the views (changes that never reached them). */
+void co_moves_rollback(co_moves *mv, size_t mark);
 void co_moves_forget(co_moves *mv);
 
 /* The vertex set of Table 1 for `level` of site->kind, on the mesh after the connectivity change:

@@ -10,6 +10,7 @@
 #include "common/log.h"
 #include "common/mesh_topology.h"
 #include "coordinator/optimizer/edge.h"
+#include "coordinator/optimizer/lanes.h"
 #include "coordinator/optimizer/optimizer_internal.h"
 
 static lm_status prepare_mesh(co_optimizer *o)
@@ -69,13 +70,17 @@ static void resolve_tuning(co_tuning *t)
 
 static lm_status make_moves(co_optimizer *o)
 {
-    co_moves_config mc = o->tuning.moves;
-    mc.attrs = o->attrs;
-    mc.evals_per_dim = o->params.simplex_evals_per_dim;
+    co_moves_config *mc = &o->moves_cfg;
+    *mc = o->tuning.moves;
+    mc->attrs = o->attrs;
+    mc->evals_per_dim = o->params.simplex_evals_per_dim;
     float r;
-    lm_mesh_bounding_sphere(o->mesh, mc.centre, &r);
-    mc.bound_radius = 4.0f * r;
-    return co_moves_create(o->mesh, o->views, &mc, &o->mv);
+    lm_mesh_bounding_sphere(o->mesh, mc->centre, &r);
+    mc->bound_radius = 4.0f * r;
+    lm_status st = co_moves_create(o->mesh, o->views, mc, &o->mv);
+    if (st == LM_OK && o->params.edges_in_flight > 1)
+        st = co_lanes_create(o, o->params.edges_in_flight, &o->lanes);
+    return st;
 }
 
 static lm_status alloc_iteration(co_optimizer *o)
@@ -131,10 +136,13 @@ lm_status co_optimizer_create_tuned(lm_mesh *mesh, lm_views *views, const co_par
         o->params.edges_per_iteration = 64;
     if (!o->params.simplex_evals_per_dim)
         o->params.simplex_evals_per_dim = 32;
-    if (o->params.edges_per_iteration > 1u << 20 || o->params.simplex_evals_per_dim > 1u << 16) {
+    if (!o->params.edges_in_flight)
+        o->params.edges_in_flight = 1;
+    if (o->params.edges_per_iteration > 1u << 20 || o->params.simplex_evals_per_dim > 1u << 16 ||
+        o->params.edges_in_flight > CO_MAX_EDGES_IN_FLIGHT) {
         co_optimizer_destroy(o); /* the mesh was taken: it goes too */
-        return lm_fail(LM_E_RANGE, "optimizer: edges per iteration or evaluations per dimension "
-                                   "out of range");
+        return lm_fail(LM_E_RANGE, "optimizer: edges per iteration, evaluations per dimension or "
+                                   "edges in flight out of range");
     }
     o->attrs = o->params.attrs & (LM_ATTR_NORMAL | (mesh->attrs & (LM_ATTR_UV | LM_ATTR_COLOR)));
     co_rng_seed(&o->rng, o->params.seed);
@@ -158,6 +166,7 @@ void co_optimizer_destroy(co_optimizer *opt)
 {
     if (!opt)
         return;
+    co_lanes_destroy(opt->lanes);
     co_moves_destroy(opt->mv);
     co_teleport_free(&opt->tp);
     co_oracle_free(&opt->oracle);
@@ -249,6 +258,39 @@ static lm_status end_iteration(co_optimizer *o)
     return st;
 }
 
+/* The iteration's bookkeeping for planned edge e, whose operations committed `total`. */
+static void edge_done(co_iteration *it, const co_planned_edge *e, int64_t total)
+{
+    int src = e->from_oracle ? 1 : 0;
+    it->gain[src] += (double)-total;
+    it->count[src]++;
+    if (total >= 0)
+        it->no_progress[it->n_no_progress++] = co_edge_key(e->a, e->b);
+}
+
+/* The next planned edges: one on the optimizer's mesh, or a group in flight in the lanes. */
+static lm_status next_edges(co_optimizer *opt)
+{
+    co_iteration *it = &opt->it;
+    co_planned_edge *e = &it->plan[it->pos];
+    int64_t totals[CO_MAX_EDGES_IN_FLIGHT];
+    uint32_t n = 1;
+    lm_status st;
+    if (opt->lanes) {
+        n = co_lanes_group(opt->lanes, e, it->n_plan - it->pos);
+        lm_debug("edges in flight: a group of %u", n);
+        st = co_lanes_run(opt->lanes, e, n, totals);
+    } else {
+        co_edge_ctx c = {.o = opt, .mesh = opt->mesh, .mv = opt->mv};
+        st = co_edge_optimise(&c, e->a, e->b, &totals[0]);
+    }
+    for (uint32_t i = 0; i < n && st == LM_OK; i++)
+        edge_done(it, &e[i], totals[i]);
+    if (st == LM_OK)
+        it->pos += n;
+    return st;
+}
+
 lm_status co_optimizer_step(co_optimizer *opt, uint64_t max_evals)
 {
     co_iteration *it = &opt->it;
@@ -260,17 +302,8 @@ lm_status co_optimizer_step(co_optimizer *opt, uint64_t max_evals)
     while (it->pos < it->n_plan) {
         if (co_moves_evals(opt->mv) >= max_evals)
             return LM_OK;
-        const co_planned_edge *e = &it->plan[it->pos];
-        int64_t total;
-        co_edge_ctx c = {.o = opt, .mesh = opt->mesh, .mv = opt->mv};
-        if ((st = co_edge_optimise(&c, e->a, e->b, &total)))
+        if ((st = next_edges(opt)))
             return st;
-        int src = e->from_oracle ? 1 : 0;
-        it->gain[src] += (double)-total;
-        it->count[src]++;
-        if (total >= 0)
-            it->no_progress[it->n_no_progress++] = co_edge_key(e->a, e->b);
-        it->pos++;
     }
     return end_iteration(opt);
 }

@@ -26,7 +26,13 @@ typedef struct co_params {
     uint32_t attrs; /* LM_ATTR_* optimised besides positions; normals not in the set are derived */
     uint32_t edges_per_iteration;   /* 0 = 64 */
     uint32_t simplex_evals_per_dim; /* 0 = 32 (at most 32n evaluations per simplex run) */
+    uint32_t edges_in_flight; /* edges optimised at once, their evaluations in one batch (lanes.h);
+                                 0 = 1, the paper's order; at most CO_MAX_EDGES_IN_FLIGHT. A job
+                                 parameter (kept in checkpoints), never the number of workers: the
+                                 output depends on it and on nothing else of the machinery */
 } co_params;
+
+#define CO_MAX_EDGES_IN_FLIGHT 64u
 
 typedef struct co_progress {
     uint64_t evals;                   /* ΔE evaluations so far */

@@ -22,12 +22,16 @@ typedef struct co_iteration {
     co_idset touched; /* vertices around the moves accepted in this iteration */
 } co_iteration;
 
+typedef struct co_lanes co_lanes; /* lanes.h */
+
 struct co_optimizer {
     lm_mesh *mesh;
     lm_views *views;
     co_params params;
-    co_tuning tuning; /* resolved (no zero fields) */
-    uint32_t attrs;   /* effective optimised attributes */
+    co_moves_config moves_cfg; /* every move workspace's (the optimizer's, its lanes') */
+    co_lanes *lanes;           /* edges in flight (NULL when one at a time) */
+    co_tuning tuning;          /* resolved (no zero fields) */
+    uint32_t attrs;            /* effective optimised attributes */
     co_moves *mv;
     co_move_stats stats;
     co_teleport tp;

@@ -388,6 +388,7 @@ static void save_params(co_bin *b, const co_optimizer *o)
     co_put_u32(b, o->attrs);
     co_put_u32(b, o->params.edges_per_iteration);
     co_put_u32(b, o->params.simplex_evals_per_dim);
+    co_put_u32(b, o->params.edges_in_flight);
     double v[32];
     uint32_t n = tuning_values(&o->tuning, v);
     co_put_u32(b, n);
@@ -405,15 +406,16 @@ static lm_status check_params(co_bin *b, const co_optimizer *o)
     if (!b->status && version != OPT_VERSION)
         return co_bin_bad(b, "version %u, this build reads %u", version, OPT_VERSION);
     uint64_t seed = co_get_u64(b);
-    uint32_t p[4];
-    for (int i = 0; i < 4; i++)
+    uint32_t p[5];
+    for (int i = 0; i < 5; i++)
         p[i] = co_get_u32(b);
     if (b->status)
         return b->status;
     if (seed != o->params.seed || p[0] != o->params.attrs || p[1] != o->attrs ||
-        p[2] != o->params.edges_per_iteration || p[3] != o->params.simplex_evals_per_dim)
+        p[2] != o->params.edges_per_iteration || p[3] != o->params.simplex_evals_per_dim ||
+        p[4] != o->params.edges_in_flight)
         return co_bin_bad(b, "written with other optimizer parameters (seed, attrs, edges per "
-                             "iteration or simplex limit)");
+                             "iteration, simplex limit or edges in flight)");
     double v[32];
     uint32_t n = tuning_values(&o->tuning, v), got = co_get_u32(b);
     if (!b->status && got != n)

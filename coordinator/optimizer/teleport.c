@@ -108,6 +108,12 @@ static lm_status park(search *s, const co_cq_entry *e)
     return LM_OK;
 }
 
+/* An edge the collapse search must leave alone (another lane's neighbourhood). */
+static int vetoed(const co_teleport *tp, const co_cq_entry *e)
+{
+    return tp->veto && tp->veto(tp->veto_ctx, e->a, e->b);
+}
+
 /* 3σ rule: even a lucky level increase would not bring the estimate under the gain. */
 static int hopeless(const search *s, const co_cq_entry *e, uint64_t now)
 {
@@ -163,6 +169,8 @@ static lm_status search_step(search *s, int *done)
         co_cq_remove(q, e.a, e.b);
         return LM_OK;
     }
+    if (vetoed(s->tp, &e))
+        return park(s, &e);
     int L;
     if (e.level < 0) {
         L = 0;
@@ -179,6 +187,17 @@ static lm_status search_step(search *s, int *done)
     return attempt(s, &e, L, s->gain);
 }
 
+/* Parked entries go back into the queue as they were. */
+static lm_status unpark(search *s, lm_status st)
+{
+    for (uint32_t i = 0; i < s->n_parked && !st; i++) {
+        const co_cq_entry *e = &s->parked[i];
+        st = co_cq_set(s->tp->queue, e->a, e->b, e->est, e->level, 1);
+    }
+    s->n_parked = 0;
+    return st;
+}
+
 static lm_status run_search(search *s)
 {
     lm_status st = LM_OK;
@@ -186,12 +205,7 @@ static lm_status run_search(search *s)
     while (!st && !done && !s->found &&
            co_moves_evals(s->mv) - s->start < s->tp->cfg.max_search_evals)
         st = search_step(s, &done);
-    for (uint32_t i = 0; i < s->n_parked && !st; i++) {
-        const co_cq_entry *e = &s->parked[i];
-        st = co_cq_set(s->tp->queue, e->a, e->b, e->est, e->level, 1);
-    }
-    s->n_parked = 0;
-    return st;
+    return unpark(s, st);
 }
 
 /* No collapse paid for the split: collapse the cheapest one anyway (an uphill move). */
@@ -212,11 +226,15 @@ static lm_status fallback(search *s)
             co_cq_remove(s->tp->queue, e.a, e.b);
             continue;
         }
+        if (vetoed(s->tp, &e)) {
+            st = park(s, &e);
+            continue;
+        }
         int L = e.level < 0 ? 0 : e.level;
         e.level = -2;
         st = attempt(s, &e, L, INT64_MAX);
     }
-    return st;
+    return unpark(s, st);
 }
 
 lm_status co_teleport_try(co_teleport *tp, co_moves *mv, int level, uint32_t a, uint32_t b,

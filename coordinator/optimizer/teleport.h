@@ -30,6 +30,10 @@ typedef struct co_teleport {
     uint64_t last_time;         /* evaluation clock then */
     co_stat improve[CO_LEVELS]; /* level l -> l+1: (ΔE at l+1) - (estimate at l) */
     uint64_t searches, searches_failed, collapses_tried;
+    /* Edges the collapse search skips (left in the queue as they are), when set: edges in flight
+     * keep each lane's collapses out of the other lanes' neighbourhoods (lanes.c). */
+    int (*veto)(void *ctx, uint32_t a, uint32_t b);
+    void *veto_ctx;
 } co_teleport;
 
 typedef struct co_teleport_result {

@@ -7,9 +7,15 @@
  *   - Every call is made from one thread. co_pool_pump blocks up to its timeout; everything else
  *     returns at once (a send is queued by ZeroMQ, never waits for a peer).
  *   - Workers come and go: co_pool_pump welcomes or refuses new ones (a refused worker is told
- *     why), and marks a worker lost when its process exits (local), a send to it fails, or it has
- *     been silent for CO_POOL_SILENCE_S. A lost worker is never used again; its replies are
- *     dropped. Callers see this as w->lost and re-plan; the pool never fails because of a worker.
+ *     why), and marks a worker lost when its process exits (local: a replacement is started,
+ *     within a budget), a send to it fails, it has been silent for CO_POOL_SILENCE_S (its
+ *     heartbeat thread beats every second even while it works), it left a request unanswered for
+ *     CO_POOL_REQUEST_S, or it failed CO_POOL_MAX_FAILURES requests (blocklisted for the job). A
+ *     lost worker is never used again: its late answers are dropped, and whatever it says next is
+ *     answered Rejoin (drop your job, say Hello: it comes back as a new worker, with no views
+ *     until it is brought up again). Callers see losses as w->lost and re-plan; the pool never
+ *     fails because of a worker.
+ *   - Anyone connected may ask for the pool's state (Status): `lumesh workers --connect ADDR`.
  *   - Replies land in the worker's slot when their req matches the one armed by co_pool_request;
  *     any other reply is dropped (late answers, answers to a request that was given up).
  *   - Ownership: workers are owned by the pool (pointers stay valid until co_pool_destroy);
@@ -26,7 +32,8 @@
 #include "proto/wire.h"
 #include "worker/probe.h"
 
-#define CO_POOL_SILENCE_S 10.0 /* a worker silent this long is lost */
+#define CO_POOL_SILENCE_S 3.0   /* a worker silent this long is presumed dead */
+#define CO_POOL_REQUEST_S 120.0 /* a worker that leaves a request unanswered this long is stuck */
 
 typedef struct co_worker {
     uint32_t id; /* 1, 2, ... in the order they were welcomed */
@@ -43,8 +50,10 @@ typedef struct co_worker {
     double busy_s;         /* seconds spent evaluating them (the worker's own count) */
     /* the request in flight */
     uint64_t want; /* req armed; 0 = none */
+    double armed_at;
     int replied;
     lm_wire_in reply;
+    uint32_t failures; /* requests it failed (CO_POOL_MAX_FAILURES: blocklisted) */
 } co_worker;
 
 typedef struct co_pool co_pool;
@@ -55,6 +64,8 @@ typedef struct co_pool_options {
     const char *worker_path; /* their program; NULL = LUMESH_WORKER, beside lumesh, or PATH */
     const char *device;      /* their --device (NULL = "auto") */
     const char *renderer_id; /* accept only this renderer; NULL = the first worker's */
+    const char *keys;        /* CURVE key folder (proto/keys.h); required to listen beyond this
+                                machine; local workers are given it too */
     int quiet;               /* no notes on stderr about workers joining and leaving */
 } co_pool_options;
 
@@ -93,6 +104,12 @@ void co_pool_arm_req(co_worker *w, uint64_t req);
 uint64_t co_pool_arm(co_pool *p, co_worker *w);
 /* Release w's reply and disarm its slot. */
 void co_pool_disarm(co_worker *w);
+
+/* A request of w failed (a Failure answer): the third blocklists w for the job (lost; its Hello
+ * refused). */
+void co_pool_failed(co_pool *p, co_worker *w, const char *what);
+/* What status queries report as the job's evaluations so far. */
+void co_pool_set_job_evals(co_pool *p, uint64_t evals);
 
 /* Seconds on the pool's clock (monotonic). */
 double co_pool_now(void);

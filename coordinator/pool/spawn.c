@@ -67,7 +67,7 @@ static char **worker_env(void)
 }
 
 lm_status co_spawn_workers(co_spawned *s, const char *program, const char *endpoint,
-                           const char *device, uint32_t n)
+                           const char *device, const char *keys, uint32_t n)
 {
     char parent[32];
     snprintf(parent, sizeof parent, "%d", (int)getpid());
@@ -79,6 +79,8 @@ lm_status co_spawn_workers(co_spawned *s, const char *program, const char *endpo
                     "--once",
                     "--parent",
                     parent,
+                    keys ? "--keys" : NULL,
+                    (char *)keys,
                     NULL};
     char **env = worker_env();
     if (!env)

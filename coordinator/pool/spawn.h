@@ -21,9 +21,10 @@ typedef struct co_spawned {
  * program (or in ../worker/ of a build tree), else "lumesh-worker" from PATH. buf >= 4096. */
 const char *co_spawn_find_worker(const char *path, char *buf);
 
-/* Start n workers connecting to endpoint with --device device (NULL: auto). */
+/* Start n workers connecting to endpoint with --device device (NULL: auto) and --keys keys (NULL:
+ * none). */
 lm_status co_spawn_workers(co_spawned *s, const char *program, const char *endpoint,
-                           const char *device, uint32_t n);
+                           const char *device, const char *keys, uint32_t n);
 
 /* Reap the ones that exited: returns how many, their pids in exited[] (up to cap). */
 uint32_t co_spawn_reap(co_spawned *s, pid_t *exited, uint32_t cap);

@@ -124,12 +124,44 @@ typedef struct round {
     uint32_t n;
 } round;
 
-static lm_status run_round(round *rd, int *again)
+/* How a round went: done, to redo (a worker lost or stale: the state was sent again), or struck
+ * (workers holding the request were lost or failed it: to redo too, and each one counts). */
+enum { ROUND_DONE, ROUND_AGAIN, ROUND_STRUCK };
+
+/* One worker's answer: taken, or why the round goes again. */
+static lm_status judge(round *rd, uint32_t i, int *outcome, int *strikes)
+{
+    co_remote *r = rd->r;
+    co_worker *w = rd->ws[i];
+    if (w->lost) {
+        *outcome = ROUND_STRUCK;
+        ++*strikes;
+        return LM_OK;
+    }
+    int stale = 0;
+    lm_status st = co_remote_check_reply(r, w, rd->want, &stale);
+    if (st == LM_OK && stale) {
+        *outcome = *outcome > ROUND_AGAIN ? *outcome : ROUND_AGAIN;
+        return co_remote_send_state(r, w);
+    }
+    if (st != LM_OK && w->reply.msg->body_case == LUMESH__MSG__BODY_FAILURE) {
+        co_pool_failed(r->pool, w, lm_last_error()); /* the third blocklists it */
+        lm_clear_error();
+        *outcome = ROUND_STRUCK;
+        ++*strikes;
+        return w->lost ? LM_OK : co_remote_send_state(r, w);
+    }
+    if (st == LM_OK && *outcome == ROUND_DONE)
+        st = rd->take(rd, i);
+    return st;
+}
+
+static lm_status run_round(round *rd, int *outcome, int *strikes)
 {
     co_remote *r = rd->r;
     uint64_t req = co_pool_next_req(r->pool);
     lm_status st = LM_OK;
-    *again = 0;
+    *outcome = ROUND_DONE;
     for (uint32_t i = 0; i < rd->n && st == LM_OK; i++)
         if (rd->ws[i]) {
             co_pool_arm_req(rd->ws[i], req);
@@ -137,38 +169,35 @@ static lm_status run_round(round *rd, int *again)
         }
     if (st == LM_OK)
         st = co_remote_await(r, rd->ws, rd->n);
-    for (uint32_t i = 0; i < rd->n && st == LM_OK; i++) {
-        co_worker *w = rd->ws[i];
-        if (!w)
-            continue;
-        int stale = 0;
-        if (w->lost)
-            *again = 1;
-        else if ((st = co_remote_check_reply(r, w, rd->want, &stale)) == LM_OK && stale)
-            *again = 1, st = co_remote_send_state(r, w);
-        else if (st == LM_OK && !*again)
-            st = rd->take(rd, i);
-    }
+    for (uint32_t i = 0; i < rd->n && st == LM_OK; i++)
+        if (rd->ws[i])
+            st = judge(rd, i, outcome, strikes);
     for (uint32_t i = 0; i < rd->n; i++)
         if (rd->ws[i])
             co_pool_disarm(rd->ws[i]);
     return st;
 }
 
-/* Redo a round (made afresh by plan() on the current layout) until no worker was lost or stale. */
+/* Redo a round (made afresh by plan() on the current layout) until it is done: workers may be lost
+ * or stale meanwhile. A request that CO_REMOTE_STRIKES workers holding it died or failed on is
+ * poison (LM_E_POISON); one that keeps finding workers out of step gives up (LM_E_IO). */
 static lm_status with_retries(co_remote *r, lm_status (*plan)(round *rd), round *rd)
 {
+    int strikes = 0;
     for (int t = 0; t < CO_REMOTE_TRIES; t++) {
-        int again = 0;
+        int outcome = ROUND_DONE;
         lm_status st = co_remote_layout(r);
         if (st == LM_OK)
             st = plan(rd);
         if (st == LM_OK)
-            st = run_round(rd, &again);
+            st = run_round(rd, &outcome, &strikes);
         free(rd->ws);
         rd->ws = NULL;
-        if (st != LM_OK || !again)
+        if (st != LM_OK || outcome == ROUND_DONE)
             return st;
+        if (strikes >= CO_REMOTE_STRIKES)
+            return lm_fail(LM_E_POISON, "a request failed on %d workers, every one it went to",
+                           strikes);
     }
     return lm_fail(LM_E_IO, "workers were lost or out of step %d times in a row", CO_REMOTE_TRIES);
 }
@@ -193,6 +222,9 @@ typedef struct eval_ctx {
     uint32_t n;
     int64_t *delta;
     uint32_t *lo, *hi; /* slice of worker i */
+    size_t packed;     /* bytes of the message in r->pack (0 = none) */
+    uint32_t packed_lo, packed_hi;
+    uint64_t packed_req;
 } eval_ctx;
 
 /* Every worker of the layout, with its slice of the batch (replicas of a range share it). */
@@ -221,25 +253,33 @@ static lm_status plan_evaluate(round *rd)
     return LM_OK;
 }
 
+/* Worker i's slice, packed once for every worker that has the same one (every worker when no
+ * range has replicas). */
 static lm_status send_evaluate(round *rd, uint32_t i, uint64_t req)
 {
     co_remote *r = rd->r;
     eval_ctx *e = rd->ctx;
     uint32_t lo = e->lo[i], n = e->hi[i] - lo;
-    Lumesh__Patch *p = lm_wire_arena_alloc(&r->arena, n * sizeof *p);
-    Lumesh__Patch **pp = lm_wire_arena_alloc(&r->arena, n * sizeof *pp);
-    lm_status st = p && pp ? LM_OK : lm_fail(LM_E_NOMEM, "out of memory encoding patches");
-    for (uint32_t k = 0; k < n && st == LM_OK; k++) {
-        st = lm_wire_patch_encode(&e->patches[lo + k], &r->arena, &p[k]);
-        pp[k] = &p[k];
+    lm_status st = LM_OK;
+    if (!e->packed || e->packed_lo != lo || e->packed_hi != e->hi[i] || e->packed_req != req) {
+        Lumesh__Patch *p = lm_wire_arena_alloc(&r->arena, n * sizeof *p);
+        Lumesh__Patch **pp = lm_wire_arena_alloc(&r->arena, n * sizeof *pp);
+        st = p && pp ? LM_OK : lm_fail(LM_E_NOMEM, "out of memory encoding patches");
+        for (uint32_t k = 0; k < n && st == LM_OK; k++) {
+            st = lm_wire_patch_encode(&e->patches[lo + k], &r->arena, &p[k]);
+            pp[k] = &p[k];
+        }
+        Lumesh__Evaluate m = LUMESH__EVALUATE__INIT;
+        m.n_patches = n;
+        m.patches = pp;
+        if (st == LM_OK)
+            st = co_remote_pack(r, req, r->seq, LUMESH__MSG__BODY_EVALUATE, &m, &e->packed);
+        lm_wire_arena_reset(&r->arena);
+        e->packed_lo = lo, e->packed_hi = e->hi[i], e->packed_req = req;
+        if (st != LM_OK)
+            e->packed = 0;
     }
-    Lumesh__Evaluate m = LUMESH__EVALUATE__INIT;
-    m.n_patches = n;
-    m.patches = pp;
-    if (st == LM_OK)
-        st = co_pool_send(r->pool, rd->ws[i], req, r->seq, LUMESH__MSG__BODY_EVALUATE, &m);
-    lm_wire_arena_reset(&r->arena);
-    return st;
+    return st == LM_OK ? co_pool_send_packed(r->pool, rd->ws[i], r->pack, e->packed) : st;
 }
 
 static lm_status take_deltas(round *rd, uint32_t i)
@@ -275,6 +315,7 @@ static lm_status rm_evaluate(lm_views *v, const lm_patch *patches, uint32_t n, i
     free(e.lo);
     free(e.hi);
     r->evaluations += st == LM_OK ? n : 0;
+    co_pool_set_job_evals(r->pool, r->evaluations);
     return st;
 }
 

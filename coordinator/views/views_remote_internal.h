@@ -12,7 +12,8 @@
 #include "proto/wire_records.h"
 #include "worker/replica.h"
 
-#define CO_REMOTE_TRIES 4 /* attempts of one operation (workers lost or stale in between) */
+#define CO_REMOTE_TRIES 32  /* attempts of one operation (workers lost or stale in between) */
+#define CO_REMOTE_STRIKES 3 /* attempts whose workers died or failed on it: then it is poison */
 
 typedef struct co_range {
     uint32_t first, count; /* job view indices */

@@ -1,6 +1,9 @@
 # tests/integration/lib.bash — shared helpers for integration scripts (sourced, not a test).
 : "${LUMESH:?LUMESH must point at the lumesh binary}"
 failures=0
+# LUMESH_TEST_LIGHT=1 (the sanitizer run of scripts/test.sh): the heavy scripts do less of the
+# same (fewer worker counts, shorter runs); every behaviour is still checked.
+light=${LUMESH_TEST_LIGHT:-0}
 checks=0
 fail() { echo "FAIL: $*" >&2; failures=$((failures + 1)); }
 # expect_exit CODE CMD... — run CMD, check its exit code.

@@ -1,0 +1,69 @@
+/* coordinator/pool/pool_internal.h — the pool's state, shared by pool.c (socket, sending,
+ * reply slots, pumping, waiting), pool_peers.c (handshake, heartbeats, losses, blocklist, Rejoin,
+ * status queries) and pool_security.c (CURVE, the ZAP handler, handshake failures, which
+ * addresses need keys). Not for other files. */
+#ifndef LM_COORDINATOR_POOL_POOL_INTERNAL_H
+#define LM_COORDINATOR_POOL_POOL_INTERNAL_H
+
+#include <pthread.h>
+
+#include "coordinator/pool/pool.h"
+#include "coordinator/pool/spawn.h"
+#include "proto/keys.h"
+
+#define CO_POOL_BEAT_S 1.0
+#define CO_POOL_WAIT_NOTE_S 5.0
+/* failures after which a worker is blocklisted for the job */
+#define CO_POOL_MAX_FAILURES 3
+/* local workers are replaced at most 3N + 8 times in this many seconds */
+#define CO_POOL_RESPAWN_WINDOW_S 60.0
+
+typedef struct co_zap {
+    pthread_t thread;
+    void *sock;
+    lm_allow allow;
+    co_pool *pool;
+    int started;
+} co_zap;
+
+struct co_pool {
+    co_pool_options o;
+    void *zctx, *sock;
+    void *monitor; /* PAIR socket of the ROUTER's events (handshake failures); NULL = none */
+    char endpoint[512];
+    char ipc_dir[256]; /* the private folder of an ipc endpoint ("" for tcp) */
+    char renderer_id[WK_RENDERER_ID_CHARS + 1];
+    co_worker **w;
+    uint32_t n, cap;
+    uint64_t next_req;
+    double last_beat, last_refusal_note;
+    co_spawned spawned;
+    double *respawns; /* when recent replacements of lost local workers were started */
+    uint32_t n_respawns, cap_respawns;
+    char (*blocked)[160]; /* "host:pid" of blocklisted workers */
+    uint32_t n_blocked;
+    co_zap zap;
+    uint64_t job_evals; /* for status queries: evaluations of the job so far (views backend) */
+};
+
+void co_pool_note(const co_pool *p, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+
+/* pool_peers.c */
+lm_status co_pool_on_frame(co_pool *p, const lm_wire_frame *f);
+void co_pool_notice_losses(co_pool *p, double now);
+void co_pool_lose(co_pool *p, co_worker *w, const char *why);
+
+/* pool.c */
+lm_status co_pool_spawn(co_pool *p, uint32_t n);
+/* Replacements of lost local workers still allowed now (pool_peers.c). */
+uint32_t co_pool_respawns_left(co_pool *p, double now);
+
+/* pool_security.c */
+lm_status co_pool_secure(co_pool *p);
+void co_pool_security_free(co_pool *p); /* before the context ends */
+void co_pool_security_join(co_pool *p); /* after */
+void co_pool_watch_handshakes(co_pool *p);
+/* 1 when a tcp endpoint listens beyond this machine (loopback and ipc do not). */
+int co_pool_endpoint_is_public(const char *endpoint);
+
+#endif

@@ -1,0 +1,409 @@
+/* tests/bench/bench_scaling.c — the costs that decide how the job runner scales on a cluster, and
+ * the efficiency they predict.
+ *
+ * A real optimisation (the model simplified by QEM to 1%, in-process views behind a measuring
+ * wrapper) is run twice, one edge at a time and K edges in flight. For every evaluation batch the
+ * wrapper records its patches, the bytes of the Evaluate message a worker would receive (encoded
+ * exactly as the remote backend encodes it) and the time the views took; the process CPU outside
+ * the views is the coordinator's own work. One worker process then answers small requests over the
+ * pool's ipc socket to measure this machine's round trip.
+ *
+ * The model for W workers over V views, per batch i of n_i patches (perfect balance, a (patch,
+ * view) pair the smallest piece of work):
+ *     T_i(W) = RTT + coord_i + bytes_i * min(W, V) / bandwidth + n_i * V * c / min(W, n_i * V)
+ * against the in-process T_i = coord_i + n_i * V * c; speed-up = sum T_i / sum T_i(W), efficiency
+ * = speed-up / W. Printed for W = 1, 2, 4, 8, 16, 128 at --rtt-us (default 100) and --gbps
+ * (default 10), both orders of edges.
+ *
+ * usage: bench_scaling [MODEL] [--evals N] [--in-flight K] [--views N] [--size S] [--rtt-us U]
+ *                      [--gbps G] [--device D] [--json] */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "common/mesh_io.h"
+#include "common/mesh_topology.h"
+#include "common/simplify.h"
+#include "common/view.h"
+#include "coordinator/optimizer/optimizer.h"
+#include "coordinator/pool/pool.h"
+#include "coordinator/views/views.h"
+#include "proto/wire_records.h"
+
+typedef struct opts {
+    const char *model, *device;
+    uint64_t evals;
+    uint32_t in_flight, views, size;
+    double rtt_us, gbps;
+    int json;
+} opts;
+
+/* ---- the measuring views --------------------------------------------------------------------- */
+
+typedef struct meter {
+    lm_views base;
+    lm_views *in;
+    uint32_t *n;     /* patches of batch i */
+    uint32_t *bytes; /* its Evaluate message for one worker */
+    size_t batches, cap;
+    uint64_t patches, commits, commit_bytes;
+    double views_s, views_cpu_s, encode_cpu_s;
+    lm_wire_arena arena;
+} meter;
+
+static double wall(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+static double cpu(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+/* Bytes of an Evaluate (or, with n == 1 and commit, a Commit) message carrying these patches. */
+static size_t message_bytes(meter *m, const lm_patch *p, uint32_t n, int commit)
+{
+    Lumesh__Patch *wp = lm_wire_arena_alloc(&m->arena, n * sizeof *wp);
+    Lumesh__Patch **pp = lm_wire_arena_alloc(&m->arena, n * sizeof *pp);
+    for (uint32_t i = 0; i < n; i++) {
+        lm_wire_patch_encode(&p[i], &m->arena, &wp[i]);
+        pp[i] = &wp[i];
+    }
+    Lumesh__Evaluate e = LUMESH__EVALUATE__INIT;
+    Lumesh__Commit c = LUMESH__COMMIT__INIT;
+    e.n_patches = n, e.patches = pp, c.patch = wp;
+    lm_msg msg;
+    lm_wire_msg_init(&msg, 1, 1, commit ? LUMESH__MSG__BODY_COMMIT : LUMESH__MSG__BODY_EVALUATE,
+                     commit ? (void *)&c : (void *)&e);
+    size_t bytes = lumesh__msg__get_packed_size(&msg);
+    lm_wire_arena_reset(&m->arena);
+    return bytes;
+}
+
+static lm_status me_evaluate(lm_views *v, const lm_patch *p, uint32_t n, int64_t *d)
+{
+    meter *m = (meter *)v;
+    double c0 = cpu(), t0 = wall();
+    lm_status st = m->in->ops->evaluate(m->in, p, n, d);
+    m->views_s += wall() - t0;
+    double c1 = cpu();
+    m->views_cpu_s += c1 - c0;
+    if (m->batches == m->cap) {
+        m->cap = m->cap ? 2 * m->cap : 4096;
+        m->n = realloc(m->n, m->cap * sizeof *m->n);
+        m->bytes = realloc(m->bytes, m->cap * sizeof *m->bytes);
+    }
+    m->n[m->batches] = n;
+    m->bytes[m->batches++] = (uint32_t)message_bytes(m, p, n, 0);
+    m->encode_cpu_s += cpu() - c1;
+    m->patches += n;
+    return st;
+}
+
+static lm_status me_commit(lm_views *v, const lm_patch *p)
+{
+    meter *m = (meter *)v;
+    m->commits++;
+    m->commit_bytes += message_bytes(m, p, 1, 1);
+    return m->in->ops->commit(m->in, p);
+}
+
+static lm_status me_set_mesh(lm_views *v, const lm_tri_data *t, size_t n)
+{
+    meter *m = (meter *)v;
+    return m->in->ops->set_mesh(m->in, t, n);
+}
+
+static lm_status me_set_materials(lm_views *v, const lm_material *mat, uint32_t n)
+{
+    meter *m = (meter *)v;
+    return m->in->ops->set_materials(m->in, mat, n);
+}
+
+static lm_status me_energy(lm_views *v, int64_t *t, int64_t *pv)
+{
+    meter *m = (meter *)v;
+    return m->in->ops->energy(m->in, t, pv);
+}
+
+static lm_status me_potentials(lm_views *v, const float (*pts)[3], size_t n, int64_t *out)
+{
+    meter *m = (meter *)v;
+    return m->in->ops->potentials(m->in, pts, n, out);
+}
+
+static lm_status me_read_image(lm_views *v, lm_image_kind k, uint32_t view, uint8_t *out)
+{
+    meter *m = (meter *)v;
+    return m->in->ops->read_image(m->in, k, view, out);
+}
+
+static void me_info(lm_views *v, lm_views_info *out)
+{
+    meter *m = (meter *)v;
+    m->in->ops->info(m->in, out);
+}
+
+static void me_destroy(lm_views *v)
+{
+    (void)v;
+}
+
+static const lm_views_ops meter_ops = {me_set_mesh,   me_set_materials, me_evaluate,
+                                       me_commit,     me_energy,        me_potentials,
+                                       me_read_image, me_info,          me_destroy};
+
+/* ---- runs ------------------------------------------------------------------------------------ */
+
+typedef struct costs {
+    uint32_t k;
+    uint64_t evals, batches;
+    double per_patch_view_us; /* c */
+    double coord_us_per_eval; /* the optimizer and encoding */
+    double bytes_per_batch, patches_per_batch, commit_bytes;
+    double t_local_s; /* sum of the in-process T_i */
+    const meter *m;
+} costs;
+
+static lm_status run_once(const opts *o, const lm_mesh *orig, const lm_mesh *coarse,
+                          const lm_view_set *vs, uint32_t k, meter *m, costs *c)
+{
+    co_views_desc d = {.original = orig,
+                       .views = vs,
+                       .materials = coarse->materials,
+                       .n_materials = coarse->n_materials,
+                       .device = o->device};
+    lm_mesh *mesh = NULL;
+    co_optimizer *opt = NULL;
+    memset(m, 0, sizeof *m);
+    m->base.ops = &meter_ops;
+    lm_wire_arena_init(&m->arena);
+    lm_status st = co_views_create(&d, &m->in);
+    if (st == LM_OK)
+        st = lm_mesh_clone(coarse, &mesh);
+    co_params params = {.seed = 1, .edges_in_flight = k};
+    double c0 = cpu();
+    if (st == LM_OK)
+        st = co_optimizer_create(mesh, &m->base, &params, &opt);
+    for (int guard = 0; st == LM_OK && guard < 100000; guard++) {
+        co_progress p;
+        co_optimizer_progress(opt, &p);
+        if (p.evals >= o->evals)
+            break;
+        st = co_optimizer_step(opt, o->evals);
+    }
+    double total_cpu = cpu() - c0;
+    co_optimizer_destroy(opt);
+    lm_views_destroy(m->in);
+    if (st != LM_OK)
+        return st;
+    double views = vs->count, bytes = 0;
+    for (size_t i = 0; i < m->batches; i++)
+        bytes += m->bytes[i];
+    *c = (costs){.k = k, .evals = m->patches, .batches = m->batches, .m = m};
+    c->per_patch_view_us = 1e6 * m->views_s / ((double)m->patches * views);
+    c->coord_us_per_eval = 1e6 * (total_cpu - m->views_cpu_s) / (double)m->patches;
+    c->bytes_per_batch = bytes / (double)m->batches;
+    c->patches_per_batch = (double)m->patches / (double)m->batches;
+    c->commit_bytes = m->commits ? (double)m->commit_bytes / (double)m->commits : 0;
+    return LM_OK;
+}
+
+/* Predicted speed-up over in process for w workers. */
+static double speedup(const opts *o, const costs *c, uint32_t views, uint32_t w)
+{
+    double t1 = 0, tw = 0, rtt = o->rtt_us * 1e-6, bw = o->gbps * 1e9 / 8.0;
+    double cost = c->per_patch_view_us * 1e-6, coord = c->coord_us_per_eval * 1e-6;
+    for (size_t i = 0; i < c->m->batches; i++) {
+        double n = c->m->n[i], work = n * views * cost;
+        double pieces = n * views < w ? n * views : w;
+        double ranges = w < views ? w : views;
+        t1 += coord * n + work;
+        tw += rtt + coord * n + c->m->bytes[i] * ranges / bw + work / pieces;
+    }
+    return t1 / tw;
+}
+
+/* Round trip of a small request to one worker process over the pool's ipc socket, in µs. */
+static lm_status measure_rtt(const opts *o, const lm_mesh *orig, const lm_mesh *coarse,
+                             const lm_view_set *vs, double *us)
+{
+    co_pool *pool = NULL;
+    lm_views *v = NULL;
+    co_pool_options po = {.local_workers = 1, .device = o->device, .quiet = 1};
+    lm_status st = co_pool_create(&po, &pool);
+    if (st == LM_OK)
+        st = co_pool_wait(pool, 1, 60);
+    co_views_desc d = {.kind = CO_VIEWS_REMOTE,
+                       .original = orig,
+                       .views = vs,
+                       .mesh = coarse,
+                       .materials = coarse->materials,
+                       .n_materials = coarse->n_materials,
+                       .pool = pool};
+    if (st == LM_OK)
+        st = co_views_create(&d, &v);
+    int64_t e;
+    double t0 = wall();
+    const int reps = 500;
+    for (int i = 0; i < reps && st == LM_OK; i++)
+        st = v->ops->energy(v, &e, NULL);
+    *us = 1e6 * (wall() - t0) / reps;
+    lm_views_destroy(v);
+    co_pool_destroy(pool);
+    return st;
+}
+
+/* ---- report ---------------------------------------------------------------------------------- */
+
+static const uint32_t workers[] = {1, 2, 4, 8, 16, 128};
+#define N_W (sizeof workers / sizeof *workers)
+
+static void print_human(const opts *o, const costs *c, uint32_t views, double rtt_here)
+{
+    printf("bench scaling: %s, %u views of %u px, %llu evaluations per run; round trip here %.0f "
+           "us (ipc, small request)\n",
+           o->model, views, o->size, (unsigned long long)o->evals, rtt_here);
+    for (int r = 0; r < 2; r++) {
+        const costs *x = &c[r];
+        printf("  %u in flight: %.1f us per (patch, view); coordinator %.1f us per evaluation; "
+               "%.1f patches and %.0f bytes per batch (%.0f per commit)\n",
+               x->k, x->per_patch_view_us, x->coord_us_per_eval, x->patches_per_batch,
+               x->bytes_per_batch, x->commit_bytes);
+        printf("    predicted at %.0f us RTT, %.0f Gb/s:", o->rtt_us, o->gbps);
+        for (size_t i = 0; i < N_W; i++) {
+            double s = speedup(o, x, views, workers[i]);
+            printf(" %u: x%.1f (%.0f%%)", workers[i], s, 100.0 * s / workers[i]);
+        }
+        printf("\n");
+    }
+}
+
+static void print_json(const opts *o, const costs *c, uint32_t views, double rtt_here)
+{
+    printf("{\"bench\": \"scaling\", \"model\": \"%s\", \"views\": %u, \"size\": %u, "
+           "\"evals\": %llu, \"rtt_here_us\": %.1f, \"model_rtt_us\": %.1f, \"model_gbps\": "
+           "%.1f, \"runs\": [",
+           o->model, views, o->size, (unsigned long long)o->evals, rtt_here, o->rtt_us, o->gbps);
+    for (int r = 0; r < 2; r++) {
+        const costs *x = &c[r];
+        printf("%s{\"edges_in_flight\": %u, \"us_per_patch_view\": %.3f, "
+               "\"coordinator_us_per_eval\": %.3f, \"patches_per_batch\": %.3f, "
+               "\"bytes_per_batch\": %.1f, \"bytes_per_commit\": %.1f, \"predicted\": [",
+               r ? ", " : "", x->k, x->per_patch_view_us, x->coord_us_per_eval,
+               x->patches_per_batch, x->bytes_per_batch, x->commit_bytes);
+        for (size_t i = 0; i < N_W; i++) {
+            double s = speedup(o, x, views, workers[i]);
+            printf("%s{\"workers\": %u, \"speedup\": %.3f, \"efficiency\": %.3f}", i ? ", " : "",
+                   workers[i], s, s / workers[i]);
+        }
+        printf("]}");
+    }
+    printf("]}\n");
+}
+
+/* ---- main ------------------------------------------------------------------------------------ */
+
+static int parse(int argc, char **argv, opts *o)
+{
+    for (int i = 1; i < argc; i++) {
+        const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
+        if (!strcmp(a, "--json"))
+            o->json = 1;
+        else if (v && !strcmp(a, "--evals"))
+            o->evals = strtoull(argv[++i], NULL, 10);
+        else if (v && !strcmp(a, "--in-flight"))
+            o->in_flight = (uint32_t)atoi(argv[++i]);
+        else if (v && !strcmp(a, "--views"))
+            o->views = (uint32_t)atoi(argv[++i]);
+        else if (v && !strcmp(a, "--size"))
+            o->size = (uint32_t)atoi(argv[++i]);
+        else if (v && !strcmp(a, "--rtt-us"))
+            o->rtt_us = atof(argv[++i]);
+        else if (v && !strcmp(a, "--gbps"))
+            o->gbps = atof(argv[++i]);
+        else if (v && !strcmp(a, "--device"))
+            o->device = argv[++i];
+        else if (a[0] != '-')
+            o->model = a;
+        else
+            return fprintf(stderr, "bench_scaling: unknown argument '%s'\n", a), 1;
+    }
+    if (!o->model || !o->evals || o->in_flight < 1 || o->in_flight > CO_MAX_EDGES_IN_FLIGHT ||
+        o->views < 1 || o->views > LM_MAX_VIEWS || o->size < 16)
+        return fprintf(stderr, "bench_scaling: bad arguments (see the comment at the top of "
+                               "tests/bench/bench_scaling.c)\n"),
+               1;
+    return 0;
+}
+
+static lm_status setup(const opts *o, lm_mesh **orig, lm_mesh **coarse, lm_view_set *vs)
+{
+    lm_status st = lm_mesh_load(o->model, NULL, orig);
+    if (st == LM_OK) {
+        uint32_t target = (*orig)->live_verts / 100 > 100 ? (*orig)->live_verts / 100 : 100;
+        st = lm_simplify(*orig, LM_SIMPLIFY_QEM, target, coarse);
+        if (st == LM_E_RANGE && *coarse)
+            st = LM_OK;
+    }
+    if (st == LM_OK)
+        st = lm_mesh_build_adjacency(*coarse);
+    float c[3], r;
+    if (st == LM_OK) {
+        lm_mesh_bounding_sphere(*orig, c, &r);
+        st = lm_view_set_make(vs, o->views, (int)o->size, c, r);
+    }
+    return st;
+}
+
+int main(int argc, char **argv)
+{
+    opts o = {.model = getenv("LUMESH_TEST_DATA") ? NULL : "tests/data/cache/meshes/bunny00.off",
+              .device = "auto",
+              .evals = 3000,
+              .in_flight = 8,
+              .views = LM_DEFAULT_VIEWS,
+              .size = LM_DEFAULT_VIEW_SIZE,
+              .rtt_us = 100,
+              .gbps = 10};
+    char buf[4096];
+    if (!o.model) {
+        snprintf(buf, sizeof buf, "%s/cache/meshes/bunny00.off", getenv("LUMESH_TEST_DATA"));
+        o.model = buf;
+    }
+    if (parse(argc, argv, &o))
+        return 1;
+    lm_mesh *orig = NULL, *coarse = NULL;
+    static lm_view_set vs;
+    static meter m[2];
+    costs c[2];
+    double rtt = 0;
+    lm_status st = setup(&o, &orig, &coarse, &vs);
+    uint32_t ks[2] = {1, o.in_flight};
+    for (int r = 0; r < 2 && st == LM_OK; r++)
+        st = run_once(&o, orig, coarse, &vs, ks[r], &m[r], &c[r]);
+    if (st == LM_OK)
+        st = measure_rtt(&o, orig, coarse, &vs, &rtt);
+    if (st != LM_OK) {
+        fprintf(stderr, "bench_scaling: %s\n", lm_last_error());
+        return 2;
+    }
+    if (o.json)
+        print_json(&o, c, vs.count, rtt);
+    else
+        print_human(&o, c, vs.count, rtt);
+    for (int r = 0; r < 2; r++) {
+        free(m[r].n);
+        free(m[r].bytes);
+        lm_wire_arena_free(&m[r].arena);
+    }
+    lm_mesh_destroy(orig);
+    lm_mesh_destroy(coarse);
+    return 0;
+}

@@ -1,0 +1,160 @@
+#!/usr/bin/env bash
+# tests/integration/distributed.sh — the job runner with real lumesh-worker processes: the output
+# is byte-identical in process and with 1, 2, 4 and 8 local workers (one edge at a time and 4 in
+# flight), after a resume on another number of workers, and in cluster mode (--listen) with a
+# worker that joins late, one that joins mid-run, and a long-lived worker serving two jobs in a
+# row. One renderer per job: llvmpipe at 128 bits is the same renderer and is accepted; softpipe
+# draws other pixels and is refused with the reason. SIGINT ends a run with its output written,
+# exit 130 and no worker left behind. Progress JSON lists the workers.
+set -uo pipefail
+here=$(cd "$(dirname "$0")" && pwd)
+source "$here/lib.bash"
+: "${LUMESH_WORKER:?}" "${LUMESH_TEST_DATA:?}"
+bunny="$LUMESH_TEST_DATA/cache/meshes/bunny00.off"
+[ -f "$bunny" ] || { echo "distributed.sh: skipped (no bunny: run scripts/install-deps.sh)"; exit 0; }
+tmp=$(mktemp -d)
+pids=()
+cleanup() {
+  for p in "${pids[@]}"; do kill -9 "$p" 2>/dev/null; done
+  rm -rf "$tmp"
+}
+trap cleanup EXIT
+export LP_NUM_THREADS=0
+job=(--evals 1500 --target-verts 300 --views 12 --size 96 --device host)
+
+free_port() { python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])'; }
+same() { # same NAME FILE_A FILE_B
+  checks=$((checks + 1))
+  cmp -s "$2" "$3" || fail "$1: $2 and $3 differ"
+}
+no_workers_left() {
+  checks=$((checks + 1))
+  sleep 0.5
+  if pgrep -f "lumesh-worker --connect ipc://" >/dev/null; then
+    fail "$1: lumesh-worker processes left behind: $(pgrep -af 'lumesh-worker --connect ipc://')"
+  fi
+}
+
+# -- byte-identical for any number of local workers, one edge at a time and 4 in flight --
+ks="1 4" counts="1 2 4 8"
+[ "$light" = 1 ] && ks="4" counts="2 8"
+for k in $ks; do
+  "$LUMESH" optimize "$bunny" -o "$tmp/k$k-w0.glb" "${job[@]}" --edges-in-flight "$k" --workers 0 \
+    2>"$tmp/err" || fail "in-process k=$k: $(tail -1 "$tmp/err")"
+  for w in $counts; do
+    "$LUMESH" optimize "$bunny" -o "$tmp/k$k-w$w.glb" "${job[@]}" --edges-in-flight "$k" \
+      --workers "$w" 2>"$tmp/err" || fail "$w workers k=$k: $(tail -1 "$tmp/err")"
+    same "$w workers, $k in flight" "$tmp/k$k-w0.glb" "$tmp/k$k-w$w.glb"
+  done
+done
+[ "$light" = 1 ] && "$LUMESH" optimize "$bunny" -o "$tmp/k1-w0.glb" "${job[@]}" --workers 0 2>/dev/null
+checks=$((checks + 1))
+cmp -s "$tmp/k1-w0.glb" "$tmp/k4-w0.glb" && fail "4 edges in flight gave the output of 1 (the parameter does nothing)"
+no_workers_left "after the runs"
+
+# -- a resume on another number of workers continues to the same bytes --
+"$LUMESH" optimize "$bunny" -o "$tmp/half.glb" "${job[@]}" --evals 700 --edges-in-flight 4 \
+  --workers 2 --checkpoint "$tmp/ck" 2>"$tmp/err" || fail "first half: $(tail -1 "$tmp/err")"
+"$LUMESH" optimize "$bunny" -o "$tmp/resumed.glb" "${job[@]}" --edges-in-flight 4 --workers 3 \
+  --resume "$tmp/ck" 2>"$tmp/err" || fail "resume: $(tail -1 "$tmp/err")"
+same "resumed on 3 workers" "$tmp/k4-w0.glb" "$tmp/resumed.glb"
+expect_fail_line "$LUMESH" optimize "$bunny" -o "$tmp/x.glb" "${job[@]}" --edges-in-flight 2 \
+  --workers 0 --resume "$tmp/ck"
+
+# -- progress JSON shows the workers --
+"$LUMESH" optimize "$bunny" -o "$tmp/j.glb" "${job[@]}" --workers 2 --json >"$tmp/j.jsonl" 2>/dev/null ||
+  fail "--json run"
+python3 - "$tmp/j.jsonl" <<'PY' || fail "workers in the JSON records"
+import json, sys
+recs = [json.loads(l) for l in open(sys.argv[1])]
+summary = recs[-1]
+assert summary["type"] == "summary", summary
+ws = summary["workers"]
+assert len(ws) == 2 and {w["id"] for w in ws} == {1, 2}, ws
+assert sorted(w["views"][0] for w in ws) == [0, 6] and all(w["views"][1] == 6 for w in ws), ws
+assert all(w["evals"] == summary["evals"] and not w["lost"] for w in ws), ws
+assert any("workers" in r for r in recs if r["type"] == "progress"), "no workers in progress"
+PY
+
+# -- cluster mode: the job waits for its first worker, a second joins mid-run --
+port=$(free_port)
+"$LUMESH" optimize "$bunny" -o "$tmp/cluster.glb" "${job[@]}" --listen "tcp://127.0.0.1:$port" \
+  2>"$tmp/cluster.err" &
+coord=$!
+pids+=("$coord")
+sleep 6 # longer than the 5 s after which a waiting job says so
+"$LUMESH_WORKER" --connect "tcp://127.0.0.1:$port" --device host --once 2>"$tmp/w1.err" &
+pids+=($!)
+for _ in $(seq 100); do grep -q "worker 1 joined" "$tmp/cluster.err" && break; sleep 0.1; done
+GALLIUM_DRIVER=softpipe timeout 60 "$LUMESH_WORKER" --connect "tcp://127.0.0.1:$port" \
+  --device host 2>"$tmp/soft.err" &
+soft=$!
+sleep 0.5
+LP_NATIVE_VECTOR_WIDTH=128 "$LUMESH_WORKER" --connect "tcp://127.0.0.1:$port" --device host --once \
+  2>"$tmp/w2.err" &
+pids+=($!)
+wait "$soft"
+soft_rc=$?
+wait "$coord"
+rc=$?
+checks=$((checks + 1))
+[ "$rc" = 0 ] || fail "cluster job exited $rc: $(tail -3 "$tmp/cluster.err")"
+same "cluster mode (late and mid-run workers)" "$tmp/k1-w0.glb" "$tmp/cluster.glb"
+checks=$((checks + 1))
+grep -q "waiting for workers at tcp://127.0.0.1:$port" "$tmp/cluster.err" ||
+  fail "the waiting job did not say so: $(head -5 "$tmp/cluster.err")"
+checks=$((checks + 1))
+[ "$soft_rc" = 1 ] && grep -q "refused by the coordinator: renderer .*softpipe.* never mixes renderers" "$tmp/soft.err" ||
+  fail "a softpipe worker was not refused (rc $soft_rc): $(cat "$tmp/soft.err")"
+checks=$((checks + 1))
+grep -q "worker 2 joined" "$tmp/cluster.err" || fail "the 128-bit llvmpipe worker was not taken: $(cat "$tmp/cluster.err")"
+
+# -- a long-lived worker serves two jobs in a row at the same address; its health query and the
+#    coordinator's status query tell how they stand --
+port=$(free_port)
+"$LUMESH_WORKER" --connect "tcp://127.0.0.1:$port" --device host \
+  --health-socket "ipc://$tmp/worker.health" 2>"$tmp/pool.err" &
+pool=$!
+pids+=("$pool")
+sleep 1
+checks=$((checks + 1))
+"$LUMESH_WORKER" --health "ipc://$tmp/worker.health" >"$tmp/health.json" &&
+  python3 -c 'import json,sys; d=json.load(open(sys.argv[1])); assert d["state"]=="waiting" and not d["welcomed"], d' "$tmp/health.json" ||
+  fail "health of a waiting worker: $(cat "$tmp/health.json")"
+checks=$((checks + 1))
+"$LUMESH_WORKER" --health "ipc://$tmp/worker.health" --ready >/dev/null && fail "a waiting worker said it is ready"
+"$LUMESH" optimize "$bunny" -o "$tmp/status.glb" "${job[@]}" --evals 6000 \
+  --listen "tcp://127.0.0.1:$port" 2>/dev/null &
+status_job=$!
+sleep 3
+checks=$((checks + 1))
+"$LUMESH" workers --connect "tcp://127.0.0.1:$port" --json >"$tmp/status.json" &&
+  python3 -c 'import json,sys; d=json.load(open(sys.argv[1])); ws=[w for w in d["workers"] if not w["lost"]]; assert len(ws)==1 and ws[0]["in_job"] and ws[0]["evals"]>0 and d["job_evals"]>0, d' "$tmp/status.json" ||
+  fail "status of a running pool: $(cat "$tmp/status.json")"
+checks=$((checks + 1))
+"$LUMESH_WORKER" --health "ipc://$tmp/worker.health" --ready >"$tmp/health.json" &&
+  grep -q '"state": "serving"' "$tmp/health.json" || fail "health of a serving worker: $(cat "$tmp/health.json")"
+wait "$status_job" || fail "the job the status was asked of"
+expect_fail_line "$LUMESH" workers --connect "tcp://127.0.0.1:$(free_port)"
+for n in 1 2; do
+  "$LUMESH" optimize "$bunny" -o "$tmp/pool$n.glb" "${job[@]}" --listen "tcp://127.0.0.1:$port" \
+    2>"$tmp/pool$n.coord" || fail "pool job $n: $(tail -1 "$tmp/pool$n.coord")"
+  same "long-lived worker, job $n" "$tmp/k1-w0.glb" "$tmp/pool$n.glb"
+done
+checks=$((checks + 1))
+kill -0 "$pool" 2>/dev/null || fail "the long-lived worker did not outlive its jobs"
+kill -TERM "$pool"
+
+# -- SIGINT: output written, exit 130, workers gone --
+"$LUMESH" optimize "$bunny" -o "$tmp/int.glb" "${job[@]}" --evals 10000000 --workers 2 \
+  2>"$tmp/int.err" &
+run=$!
+sleep 4
+kill -INT "$run"
+wait "$run"
+rc=$?
+checks=$((checks + 1))
+[ "$rc" = 130 ] && [ -s "$tmp/int.glb" ] || fail "SIGINT: exit $rc, output $(ls -l "$tmp/int.glb" 2>&1)"
+no_workers_left "after SIGINT"
+
+finish

@@ -1,0 +1,192 @@
+#!/usr/bin/env bash
+# tests/integration/faults.sh — nothing lost when workers die, hang or lie, and no one without a
+# key takes part: each run below is disturbed and must still write the bytes of the undisturbed
+# run. Faults: local workers SIGKILLed mid-run (big batches in flight); a cluster worker
+# SIGSTOPped past its lease then SIGCONTed (its late answers dropped, it rejoins); every worker
+# gone for a while, then a new one; the coordinator SIGKILLed and resumed, its workers coming back
+# by themselves; garbage, bodyless, oversize and wrong-version frames at the port; workers with no
+# key, a wrong coordinator key, and a key not on the allow-list. Poison batches (a fault hook in
+# the worker, LUMESH_WORKER_FAULT) are retried 3 times then refused, deterministically; workers
+# that fail 3 times are blocklisted. Prints the detection time of each loss it causes.
+set -uo pipefail
+here=$(cd "$(dirname "$0")" && pwd)
+source "$here/lib.bash"
+: "${LUMESH_WORKER:?}" "${LUMESH_TEST_DATA:?}" "${LUMESH_BUILD:?}"
+bunny="$LUMESH_TEST_DATA/cache/meshes/bunny00.off"
+[ -f "$bunny" ] || { echo "faults.sh: skipped (no bunny: run scripts/install-deps.sh)"; exit 0; }
+poke="$LUMESH_BUILD/tests/zmq_poke"
+tmp=$(mktemp -d)
+pids=()
+cleanup() {
+  for p in "${pids[@]}"; do kill -9 "$p" 2>/dev/null; done
+  pkill -9 -f "lumesh-worker --connect tcp://127.0.0.1:$base" 2>/dev/null
+  wait 2>/dev/null
+  rm -rf "$tmp"
+}
+trap cleanup EXIT
+export LP_NUM_THREADS=0
+base=$(python3 -c 'import random; print(random.randrange(20000, 40000, 10))')
+job=(--evals 3000 --target-verts 300 --views 12 --size 96 --device host)
+long=(--evals 9000 --target-verts 300 --views 12 --size 96 --device host)
+
+stamp() { while IFS= read -r l; do printf '%s %s\n' "$EPOCHREALTIME" "$l"; done; }
+same() { # same NAME FILE
+  checks=$((checks + 1))
+  cmp -s "$tmp/ref$2.glb" "$3" || fail "$1: the output differs from the undisturbed run's"
+}
+# seconds from $2 (epoch) to the first line of $1 matching $3
+detected() { awk -v t0="$2" -v pat="$3" '$0 ~ pat { printf "%.2f", $1 - t0; exit }' "$1"; }
+no_workers_after() { # local workers die with their coordinator, within seconds
+  checks=$((checks + 1))
+  sleep 2
+  ! pgrep -f "lumesh-worker --connect ipc://" >/dev/null ||
+    fail "local workers outlived $1: $(pgrep -af 'lumesh-worker --connect ipc://')"
+}
+worker() { # worker PORT LOG [ARGS...]: a long-lived cluster worker in the background
+  local port=$1 log=$2
+  shift 2
+  "$LUMESH_WORKER" --connect "tcp://127.0.0.1:$port" --device host "$@" 2> >(stamp >"$log") &
+  pids+=($!)
+  last_worker=$!
+}
+
+"$LUMESH" optimize "$bunny" -o "$tmp/ref1.glb" "${job[@]}" --workers 0 2>/dev/null || fail "reference run"
+"$LUMESH" optimize "$bunny" -o "$tmp/ref4.glb" "${job[@]}" --edges-in-flight 4 --workers 0 \
+  2>/dev/null || fail "reference run, 4 in flight"
+"$LUMESH" optimize "$bunny" -o "$tmp/ref9.glb" "${long[@]}" --workers 0 2>/dev/null || fail "reference run, 9000"
+
+# -- local workers SIGKILLed mid-run, batches of 4 edges in flight --
+"$LUMESH" optimize "$bunny" -o "$tmp/kill.glb" "${job[@]}" --edges-in-flight 4 --workers 3 \
+  2> >(stamp >"$tmp/kill.err") &
+coord=$!
+sleep 2.5
+victim=$(pgrep -P "$coord" lumesh-worker | head -1)
+t_kill=$EPOCHREALTIME
+kill -9 "$victim"
+sleep 0.7
+kill -9 "$(pgrep -P "$coord" lumesh-worker | tail -1)"
+wait "$coord" || fail "the run with killed workers failed: $(tail -2 "$tmp/kill.err")"
+same "workers SIGKILLed" 4 "$tmp/kill.glb"
+echo "faults.sh: local worker SIGKILL detected after $(detected "$tmp/kill.err" "$t_kill" "pid $victim) lost") s"
+
+# -- a cluster worker stopped past its lease, then continued --
+port=$((base + 1))
+worker "$port" "$tmp/w1.err"
+worker "$port" "$tmp/w2.err"
+stopped=$last_worker
+"$LUMESH" optimize "$bunny" -o "$tmp/stop.glb" "${long[@]}" --listen "tcp://127.0.0.1:$port" \
+  2> >(stamp >"$tmp/stop.err") &
+coord=$!
+sleep 3
+t_stop=$EPOCHREALTIME
+kill -STOP "$stopped"
+sleep 5
+kill -CONT "$stopped"
+wait "$coord" || fail "the run with a stopped worker failed: $(tail -2 "$tmp/stop.err")"
+same "a worker SIGSTOPped past its lease" 9 "$tmp/stop.glb"
+echo "faults.sh: a stopped worker presumed dead after $(detected "$tmp/stop.err" "$t_stop" "silent for too long") s"
+checks=$((checks + 1))
+grep -q "worker 3 joined" "$tmp/stop.err" || fail "the continued worker did not come back as a new worker"
+
+# -- every worker gone for a while, then a new one --
+port=$((base + 2))
+"$LUMESH" optimize "$bunny" -o "$tmp/gone.glb" "${job[@]}" --listen "tcp://127.0.0.1:$port" \
+  2> >(stamp >"$tmp/gone.err") &
+coord=$!
+worker "$port" "$tmp/g1.err" --once
+first=$last_worker
+sleep 3
+kill -9 "$first"
+wait "$first" 2>/dev/null
+sleep 7
+worker "$port" "$tmp/g2.err" --once
+wait "$coord" || fail "the run that lost every worker failed: $(tail -2 "$tmp/gone.err")"
+same "every worker gone, then a new one" 1 "$tmp/gone.glb"
+checks=$((checks + 1))
+grep -q "waiting for workers" "$tmp/gone.err" || fail "the job did not say it waits"
+
+# -- the coordinator SIGKILLed and resumed; its workers come back by themselves --
+port=$((base + 3))
+worker "$port" "$tmp/r1.err"
+worker "$port" "$tmp/r2.err"
+"$LUMESH" optimize "$bunny" -o "$tmp/resume.glb" "${long[@]}" --listen "tcp://127.0.0.1:$port" \
+  --checkpoint "$tmp/ck" --checkpoint-every 200 2>/dev/null &
+coord=$!
+for _ in $(seq 300); do [ -s "$tmp/ck" ] && break; sleep 0.1; done
+sleep 0.3
+kill -9 "$coord"
+wait "$coord" 2>/dev/null
+checks=$((checks + 1))
+[ -s "$tmp/ck" ] || fail "no checkpoint before the kill"
+t_restart=$EPOCHREALTIME
+"$LUMESH" optimize "$bunny" -o "$tmp/resume.glb" "${long[@]}" --listen "tcp://127.0.0.1:$port" \
+  --resume "$tmp/ck" 2> >(stamp >"$tmp/resume.err") || fail "the resumed run failed: $(tail -2 "$tmp/resume.err")"
+same "coordinator SIGKILLed and resumed" 9 "$tmp/resume.glb"
+echo "faults.sh: workers back with a restarted coordinator after $(detected "$tmp/resume.err" "$t_restart" "worker 2 joined") s"
+
+# -- the coordinator killed between writing a checkpoint and renaming it: the one before stays --
+rm -f "$tmp/ck" "$tmp"/ck.tmp.*
+LUMESH_FAULT_RENAME="ck:2" "$LUMESH" optimize "$bunny" -o "$tmp/rename.glb" "${long[@]}" --workers 2 \
+  --checkpoint "$tmp/ck" --checkpoint-every 200 2>/dev/null
+checks=$((checks + 1))
+[ -s "$tmp/ck" ] && ls "$tmp"/ck.tmp.* >/dev/null 2>&1 || fail "no crash between a checkpoint's write and rename"
+no_workers_after "the coordinator's death"
+"$LUMESH" optimize "$bunny" -o "$tmp/rename.glb" "${long[@]}" --workers 2 --resume "$tmp/ck" \
+  2>"$tmp/rename.err" || fail "the resume after a crash before a rename: $(tail -2 "$tmp/rename.err")"
+same "killed between a checkpoint's write and rename, resumed" 9 "$tmp/rename.glb"
+
+# -- hostile frames at a coordinator's port, and workers without the right keys --
+"$LUMESH" keygen -o "$tmp/keys" >/dev/null
+"$LUMESH" keygen -o "$tmp/other" >/dev/null
+mkdir "$tmp/stranger"
+cp "$tmp/other/worker.key" "$tmp/keys/coordinator.pub" "$tmp/stranger/" # right coordinator, key not allowed
+port=$((base + 4))
+"$LUMESH" optimize "$bunny" -o "$tmp/keys.glb" "${job[@]}" --listen "tcp://127.0.0.1:$port" \
+  --keys "$tmp/keys" 2>"$tmp/keys.err" &
+coord=$!
+for k in "" "$tmp/other" "$tmp/stranger"; do
+  timeout 12 "$LUMESH_WORKER" --connect "tcp://127.0.0.1:$port" --device host ${k:+--keys "$k"} \
+    2>/dev/null &
+done
+"$poke" "tcp://127.0.0.1:$port" garbage 50
+sleep 2
+worker "$port" "$tmp/k1.err" --keys "$tmp/keys" --once
+wait "$coord" || fail "the keyed run failed: $(tail -2 "$tmp/keys.err")"
+same "keys, with strangers at the door" 1 "$tmp/keys.glb"
+checks=$((checks + 1))
+grep -q "its key is not in workers.allow" "$tmp/keys.err" || fail "an unknown key was not refused and logged"
+checks=$((checks + 1))
+grep -q "failed its handshake" "$tmp/keys.err" || fail "plaintext and wrong-key peers were not logged"
+checks=$((checks + 1))
+[ "$(grep -c ' joined' "$tmp/keys.err")" = 1 ] || fail "a worker without the right keys joined: $(grep joined "$tmp/keys.err")"
+
+port=$((base + 5))
+"$LUMESH" optimize "$bunny" -o "$tmp/poked.glb" "${long[@]}" --listen "tcp://127.0.0.1:$port" \
+  2>"$tmp/poked.err" &
+coord=$!
+worker "$port" "$tmp/p1.err" --once
+for mode in "garbage 200" "bodyless 20" "oversize 80" "hello"; do
+  "$poke" "tcp://127.0.0.1:$port" $mode || fail "zmq_poke $mode"
+done
+wait "$coord" || fail "the poked run failed: $(tail -2 "$tmp/poked.err")"
+same "garbage, bodyless, oversize and wrong-version frames" 9 "$tmp/poked.glb"
+checks=$((checks + 1))
+grep -q "refused a worker: protocol version" "$tmp/poked.err" || fail "the wrong-version hello was not refused"
+
+# -- poison: a batch that kills (or fails on) every worker is refused after 3 tries --
+for fault in crash fail; do
+  for run in a b; do
+    LUMESH_WORKER_FAULT="$fault-on-tris=64" "$LUMESH" optimize "$bunny" -o "$tmp/poison-$fault-$run.glb" \
+      "${job[@]}" --workers 2 2>"$tmp/poison-$fault-$run.err" ||
+      fail "the $fault poison run $run failed: $(tail -2 "$tmp/poison-$fault-$run.err")"
+  done
+  checks=$((checks + 1))
+  grep -Eq "failed on [0-9]+ workers, every one it went to" "$tmp/poison-$fault-a.err" ||
+    fail "no poison batch was refused ($fault)"
+  checks=$((checks + 1))
+  cmp -s "$tmp/poison-$fault-a.glb" "$tmp/poison-$fault-b.glb" || fail "two $fault poison runs differ"
+done
+checks=$((checks + 1))
+grep -q "blocklisted for the job" "$tmp/poison-fail-a.err" || fail "a worker failing 3 times was not blocklisted"
+
+finish
