@@ -38,15 +38,11 @@ done
 
 # cpu_ticks PID: user + system clock ticks the process has used (0 once it is gone)
 cpu_ticks() { awk '{ print $14 + $15 }' "/proc/$1/stat" 2>/dev/null || echo 0; }
-# busy_worker COORD: a worker of COORD that has done some work, within 120 s (polled)
+# busy_worker COORD: sets victim to a worker of COORD that has done some work
 busy_worker() {
-  local i w
-  for ((i = 0; i < 2400; i++)); do
-    for w in $(pgrep -P "$1" lumesh-worker); do
-      [ "$(cpu_ticks "$w")" -ge 30 ] && { echo "$w"; return 0; }
-    done
-    kill -0 "$1" 2>/dev/null || return 1
-    sleep 0.05
+  local w
+  for w in $(pgrep -P "$1" lumesh-worker); do
+    [ "$(cpu_ticks "$w")" -ge 30 ] && { victim=$w; return 0; }
   done
   return 1
 }
@@ -57,7 +53,8 @@ disturbed() {
   "$LUMESH" simplify "$spider" -o "$tmp/$name/m.obj" "${job[@]}" --workers 2 >/dev/null \
     2>"$tmp/$name.err" &
   coord=$!
-  victim=$(busy_worker "$coord") || fail "$name: no worker got to work"
+  victim=
+  wait_for 120 busy_worker "$coord" || fail "$name: no worker got to work"
   [ -n "$victim" ] && "$@"
   wait "$coord" || fail "$name: the run failed: $(tail -n 1 "$tmp/$name.err")"
   coord=
