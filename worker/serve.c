@@ -15,6 +15,11 @@
 #include "worker/serve_internal.h"
 
 #define WK_HELLO_EVERY_S 1.0
+/* A coordinator silent this long is presumed gone. Generous: a coordinator beats from its main
+ * loop, which a long step (a checkpoint of a big mesh, a loaded machine) can hold up for
+ * seconds, and dropping a live job costs a re-send of everything; a coordinator that really died
+ * is replaced by one that sends Rejoin at once, whatever this says. */
+#define WK_COORDINATOR_SILENCE_S 30.0
 #define WK_UNHEARD_NOTE_S 10.0   /* unwelcomed this long: say so once */
 #define WK_RECONNECT_MS 100      /* ZeroMQ's reconnection backoff: from this ... */
 #define WK_RECONNECT_MAX_MS 2000 /* ... doubling up to this */
@@ -60,6 +65,7 @@ static lm_status say_hello(wk_server *s)
     h.device = (char *)s->o.device;
     h.renderer = s->renderer;
     h.renderer_id = s->renderer_id;
+    h.join = s->join;
     s->last_hello = wk_serve_now();
     return wk_serve_send(s, 0, LUMESH__MSG__BODY_HELLO, &h);
 }
@@ -93,6 +99,15 @@ static lm_status connect_socket(wk_server *s)
     return st;
 }
 
+/* The worker no longer counts as welcomed (its job, if any, was ended): its next Hello is a new
+ * join, said at once. */
+static void drop_welcome(wk_server *s)
+{
+    s->welcomed = 0;
+    s->join++;
+    s->last_hello = 0;
+}
+
 static lm_status server_init(wk_server *s, const wk_serve_options *o)
 {
     memset(s, 0, sizeof *s);
@@ -100,7 +115,7 @@ static lm_status server_init(wk_server *s, const wk_serve_options *o)
     if (!s->o.device)
         s->o.device = "auto";
     if (!(s->o.silence_s > 0))
-        s->o.silence_s = 5.0;
+        s->o.silence_s = WK_COORDINATOR_SILENCE_S;
     lm_asset_set_init(&s->cache);
     lm_wire_arena_init(&s->arena);
     s->fault = getenv("LUMESH_WORKER_FAULT");
@@ -139,6 +154,8 @@ static lm_status dispatch(wk_server *s, const lm_msg *m, int *job_ended)
 {
     switch (m->body_case) {
     case LUMESH__MSG__BODY_WELCOME:
+        if (s->welcomed || m->welcome->join != s->join)
+            return LM_OK; /* the answer to a repeated Hello, or to an older join */
         s->welcomed = 1;
         s->unheard_noted = 0;
         lm_info("welcomed by %s as worker %u", s->o.endpoint, m->welcome->worker);
@@ -150,8 +167,7 @@ static lm_status dispatch(wk_server *s, const lm_msg *m, int *job_ended)
             lm_warn("the coordinator does not know this worker (%s): joining again",
                     m->rejoin->reason);
         wk_serve_end_job(s);
-        s->welcomed = 0;
-        s->last_hello = 0;
+        drop_welcome(s);
         return LM_OK;
     case LUMESH__MSG__BODY_HEARTBEAT:
         return LM_OK;
@@ -174,7 +190,7 @@ static lm_status dispatch(wk_server *s, const lm_msg *m, int *job_ended)
         return wk_serve_request(s, m);
     case LUMESH__MSG__BODY_END_JOB:
         wk_serve_end_job(s);
-        s->welcomed = 0; /* the next job may come from another coordinator */
+        drop_welcome(s); /* the next job may come from another coordinator */
         *job_ended = 1;
         return LM_OK;
     default:
@@ -205,7 +221,7 @@ static lm_status keep_alive(wk_server *s, double now)
         lm_warn("the coordinator at %s has been silent for %.0f s: waiting for one", s->o.endpoint,
                 now - s->last_heard);
         wk_serve_end_job(s);
-        s->welcomed = 0;
+        drop_welcome(s);
     }
     if (!s->welcomed && now - s->last_heard > WK_UNHEARD_NOTE_S && !s->unheard_noted) {
         lm_warn("no coordinator has answered at %s for %.0f s (none there yet, or keys that do "
