@@ -14,6 +14,7 @@ source "$here/lib.bash"
 bunny="$LUMESH_TEST_DATA/cache/meshes/bunny00.off"
 [ -f "$bunny" ] || { echo "distributed.sh: skipped (no bunny: run scripts/install-deps.sh)"; exit 0; }
 tmp=$(mktemp -d)
+export TMPDIR="$tmp" # local workers' ipc endpoints live here: the checks see only this script's
 pids=()
 cleanup() {
   for p in "${pids[@]}"; do kill -9 "$p" 2>/dev/null; done
@@ -31,8 +32,8 @@ same() { # same NAME FILE_A FILE_B
 no_workers_left() {
   checks=$((checks + 1))
   sleep 0.5
-  if pgrep -f "lumesh-worker --connect ipc://" >/dev/null; then
-    fail "$1: lumesh-worker processes left behind: $(pgrep -af 'lumesh-worker --connect ipc://')"
+  if pgrep -f "lumesh-worker --connect ipc://$tmp/" >/dev/null; then
+    fail "$1: lumesh-worker processes left behind: $(pgrep -af "lumesh-worker --connect ipc://$tmp/")"
   fi
 }
 
