@@ -3,7 +3,8 @@
 # leases, replacements) writes the bytes of the in-process run for any N and through faults: the
 # spider (6 views of 48 pixels) to 600 vertices in process, then with 1, 2 and 3 local workers, with
 # a worker SIGKILLed mid-run, and with a worker SIGSTOPped past its lease and then continued.
-# LUMESH_TEST_LIGHT=1: 2 workers and the SIGKILL only.
+# LUMESH_TEST_LIGHT=1 (the sanitizer stage; the release stage runs it whole): 2 workers and the
+# SIGKILL only, to 640 vertices on 4 views of 32 pixels.
 set -u
 . "$(dirname "$0")/lib.bash"
 : "${LUMESH_WORKER:?LUMESH_WORKER must point at lumesh-worker}"
@@ -19,6 +20,7 @@ spider=${LUMESH_TEST_DATA:-}/cache/root/usr/share/assimp/models/OBJ/spider.obj
 [ -r "$spider" ] || { echo "spider.obj missing: skipped"; exit 77; }
 export LP_NUM_THREADS=0
 job=(--target-verts 600 --method image --views 6 --size 48 --device host)
+[ "$light" = 1 ] && job=(--target-verts 640 --method image --views 4 --size 32 --device host)
 
 "$LUMESH" simplify "$spider" -o "$tmp/ref/m.obj" "${job[@]}" >/dev/null 2>"$tmp/err" ||
   fail "in-process run failed: $(tail -n 1 "$tmp/err")"
