@@ -23,6 +23,7 @@ if [[ "$build" == *asan* ]]; then
     LSAN_OPTIONS="suppressions=$here/tests/lsan.supp:print_suppressions=0"
 fi
 out=$(mktemp -d)
+export TMPDIR="$out" # the workers' ipc endpoints: the last check sees only this run's workers
 echo "soak: $evals evaluations, $workers workers, $build; logs in $out"
 "$lumesh" optimize "$here/tests/data/cache/meshes/bunny00.off" -o "$out/soak.glb" --device host \
   --evals "$evals" --workers "$workers" --edges-in-flight "${SOAK_IN_FLIGHT:-4}" \
@@ -61,6 +62,6 @@ check "the run finished (exit $rc)" '[ "$rc" = 0 ] && [ -s "$out/soak.glb" ]'
 check "no stall" 'grep -q STALL_OK "$out/figures.txt"'
 check "coordinator memory bounded" 'grep -q GROWTH_OK "$out/figures.txt"'
 check "no leak reported" '! grep -q "LeakSanitizer" "$out/run.err"'
-check "no worker left behind" '! pgrep -f "lumesh-worker --connect ipc://" >/dev/null'
+check "no worker left behind" "! pgrep -f 'lumesh-worker --connect ipc://$out/' >/dev/null"
 echo "soak: workers lost and replaced: $(grep -c ' lost: ' "$out/run.err") (see $out/run.err)"
 exit $status

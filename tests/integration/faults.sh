@@ -16,6 +16,7 @@ bunny="$LUMESH_TEST_DATA/cache/meshes/bunny00.off"
 [ -f "$bunny" ] || { echo "faults.sh: skipped (no bunny: run scripts/install-deps.sh)"; exit 0; }
 poke="$LUMESH_BUILD/tests/zmq_poke"
 tmp=$(mktemp -d)
+export TMPDIR="$tmp" # local workers' ipc endpoints live here: the checks see only this script's
 pids=()
 cleanup() {
   for p in "${pids[@]}"; do kill -9 "$p" 2>/dev/null; done
@@ -44,8 +45,8 @@ detected() { awk -v t0="$2" -v pat="$3" '$0 ~ pat { printf "%.2f", $1 - t0; exit
 no_workers_after() { # local workers die with their coordinator, within seconds
   checks=$((checks + 1))
   sleep 2
-  ! pgrep -f "lumesh-worker --connect ipc://" >/dev/null ||
-    fail "local workers outlived $1: $(pgrep -af 'lumesh-worker --connect ipc://')"
+  ! pgrep -f "lumesh-worker --connect ipc://$tmp/" >/dev/null ||
+    fail "local workers outlived $1: $(pgrep -af "lumesh-worker --connect ipc://$tmp/")"
 }
 worker() { # worker PORT LOG [ARGS...]: a long-lived cluster worker in the background
   local port=$1 log=$2
