@@ -60,6 +60,7 @@ static lm_status say_hello(wk_server *s)
     h.device = (char *)s->o.device;
     h.renderer = s->renderer;
     h.renderer_id = s->renderer_id;
+    h.join = s->join;
     s->last_hello = wk_serve_now();
     return wk_serve_send(s, 0, LUMESH__MSG__BODY_HELLO, &h);
 }
@@ -91,6 +92,15 @@ static lm_status connect_socket(wk_server *s)
         st = lm_fail(LM_E_INVALID, "cannot connect to '%s': %s", s->o.endpoint,
                      zmq_strerror(zmq_errno()));
     return st;
+}
+
+/* The worker no longer counts as welcomed (its job, if any, was ended): its next Hello is a new
+ * join, said at once. */
+static void drop_welcome(wk_server *s)
+{
+    s->welcomed = 0;
+    s->join++;
+    s->last_hello = 0;
 }
 
 static lm_status server_init(wk_server *s, const wk_serve_options *o)
@@ -139,6 +149,8 @@ static lm_status dispatch(wk_server *s, const lm_msg *m, int *job_ended)
 {
     switch (m->body_case) {
     case LUMESH__MSG__BODY_WELCOME:
+        if (s->welcomed || m->welcome->join != s->join)
+            return LM_OK; /* the answer to a repeated Hello, or to an older join */
         s->welcomed = 1;
         s->unheard_noted = 0;
         lm_info("welcomed by %s as worker %u", s->o.endpoint, m->welcome->worker);
@@ -150,8 +162,7 @@ static lm_status dispatch(wk_server *s, const lm_msg *m, int *job_ended)
             lm_warn("the coordinator does not know this worker (%s): joining again",
                     m->rejoin->reason);
         wk_serve_end_job(s);
-        s->welcomed = 0;
-        s->last_hello = 0;
+        drop_welcome(s);
         return LM_OK;
     case LUMESH__MSG__BODY_HEARTBEAT:
         return LM_OK;
@@ -174,7 +185,7 @@ static lm_status dispatch(wk_server *s, const lm_msg *m, int *job_ended)
         return wk_serve_request(s, m);
     case LUMESH__MSG__BODY_END_JOB:
         wk_serve_end_job(s);
-        s->welcomed = 0; /* the next job may come from another coordinator */
+        drop_welcome(s); /* the next job may come from another coordinator */
         *job_ended = 1;
         return LM_OK;
     default:
@@ -205,7 +216,7 @@ static lm_status keep_alive(wk_server *s, double now)
         lm_warn("the coordinator at %s has been silent for %.0f s: waiting for one", s->o.endpoint,
                 now - s->last_heard);
         wk_serve_end_job(s);
-        s->welcomed = 0;
+        drop_welcome(s);
     }
     if (!s->welcomed && now - s->last_heard > WK_UNHEARD_NOTE_S && !s->unheard_noted) {
         lm_warn("no coordinator has answered at %s for %.0f s (none there yet, or keys that do "

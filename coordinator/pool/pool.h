@@ -41,6 +41,7 @@ typedef struct co_worker {
     size_t rid_len;
     char host[128], device[64], renderer[128], renderer_id[WK_RENDERER_ID_CHARS + 1];
     uint32_t pid;
+    uint32_t join; /* the Hello's join number: a repeat of it is the same join, not a restart */
     int lost;
     double joined, last_heard; /* seconds on the pool's clock */
     /* what the job made of it (kept by the views backend) */

@@ -107,13 +107,21 @@ static const char *refusal(co_pool *p, const Lumesh__Hello *h, char *why, size_t
 }
 
 /* A Hello: welcome it (pinning the renderer on the first) or refuse it, saying why. A known
- * worker that says Hello again lost its state: it is a new worker. */
+ * worker repeating the Hello of the join it was welcomed for (its retries queued while the
+ * coordinator was busy or not yet listening) gets the same Welcome again; one with another join
+ * number dropped its state: it is a new worker. */
 static lm_status on_hello(co_pool *p, const lm_wire_frame *f, const Lumesh__Hello *h, co_worker *w)
 {
     char why[512];
     if (refusal(p, h, why, sizeof why)) {
         refuse(p, f, why);
         return LM_OK;
+    }
+    if (w && h->join == w->join) {
+        Lumesh__Welcome again = LUMESH__WELCOME__INIT;
+        again.worker = w->id;
+        again.join = w->join;
+        return co_pool_send(p, w, 0, 0, LUMESH__MSG__BODY_WELCOME, &again);
     }
     if (w)
         co_pool_lose(p, w, "it said hello again (restarted or rejoining)");
@@ -127,11 +135,13 @@ static lm_status on_hello(co_pool *p, const lm_wire_frame *f, const Lumesh__Hell
     copy_str(w->renderer, sizeof w->renderer, h->renderer);
     copy_str(w->renderer_id, sizeof w->renderer_id, h->renderer_id);
     w->pid = h->pid;
+    w->join = h->join;
     w->joined = w->last_heard = co_pool_now();
     if (!p->renderer_id[0])
         copy_str(p->renderer_id, sizeof p->renderer_id, w->renderer_id);
     Lumesh__Welcome wel = LUMESH__WELCOME__INIT;
     wel.worker = w->id;
+    wel.join = w->join;
     co_pool_note(p, "worker %u joined: %s, pid %u, %s", w->id, w->host, w->pid, w->renderer);
     return co_pool_send(p, w, 0, 0, LUMESH__MSG__BODY_WELCOME, &wel);
 }

@@ -116,9 +116,8 @@ port=$(free_port)
   --health-socket "ipc://$tmp/worker.health" 2>"$tmp/pool.err" &
 pool=$!
 pids+=("$pool")
-sleep 1
 checks=$((checks + 1))
-"$LUMESH_WORKER" --health "ipc://$tmp/worker.health" >"$tmp/health.json" &&
+wait_for 30 "$LUMESH_WORKER" --health "ipc://$tmp/worker.health" >"$tmp/health.json" 2>/dev/null &&
   python3 -c 'import json,sys; d=json.load(open(sys.argv[1])); assert d["state"]=="waiting" and not d["welcomed"], d' "$tmp/health.json" ||
   fail "health of a waiting worker: $(cat "$tmp/health.json")"
 checks=$((checks + 1))
@@ -126,14 +125,18 @@ checks=$((checks + 1))
 "$LUMESH" optimize "$bunny" -o "$tmp/status.glb" "${job[@]}" --evals 6000 \
   --listen "tcp://127.0.0.1:$port" 2>/dev/null &
 status_job=$!
-sleep 3
+pool_serving() {
+  "$LUMESH" workers --connect "tcp://127.0.0.1:$port" --json >"$tmp/status.json" &&
+    python3 -c 'import json,sys; d=json.load(open(sys.argv[1])); ws=[w for w in d["workers"] if not w["lost"]]; assert len(ws)==1 and ws[0]["in_job"] and ws[0]["evals"]>0 and d["job_evals"]>0, d' "$tmp/status.json" 2>/dev/null
+}
 checks=$((checks + 1))
-"$LUMESH" workers --connect "tcp://127.0.0.1:$port" --json >"$tmp/status.json" &&
-  python3 -c 'import json,sys; d=json.load(open(sys.argv[1])); ws=[w for w in d["workers"] if not w["lost"]]; assert len(ws)==1 and ws[0]["in_job"] and ws[0]["evals"]>0 and d["job_evals"]>0, d' "$tmp/status.json" ||
-  fail "status of a running pool: $(cat "$tmp/status.json")"
+wait_for 60 pool_serving || fail "status of a running pool: $(cat "$tmp/status.json")"
+worker_serving() {
+  "$LUMESH_WORKER" --health "ipc://$tmp/worker.health" --ready >"$tmp/health.json" &&
+    grep -q '"state": "serving"' "$tmp/health.json"
+}
 checks=$((checks + 1))
-"$LUMESH_WORKER" --health "ipc://$tmp/worker.health" --ready >"$tmp/health.json" &&
-  grep -q '"state": "serving"' "$tmp/health.json" || fail "health of a serving worker: $(cat "$tmp/health.json")"
+wait_for 30 worker_serving || fail "health of a serving worker: $(cat "$tmp/health.json")"
 wait "$status_job" || fail "the job the status was asked of"
 expect_fail_line "$LUMESH" workers --connect "tcp://127.0.0.1:$(free_port)"
 for n in 1 2; do
@@ -149,7 +152,8 @@ kill -TERM "$pool"
 "$LUMESH" optimize "$bunny" -o "$tmp/int.glb" "${job[@]}" --evals 10000000 --workers 2 \
   2>"$tmp/int.err" &
 run=$!
-sleep 4
+wait_for 60 grep -q "evals [0-9]*/s" "$tmp/int.err" || fail "the run to interrupt never got going: $(cat "$tmp/int.err")"
+sleep 1
 kill -INT "$run"
 wait "$run"
 rc=$?

@@ -59,7 +59,8 @@ worker() { # worker PORT LOG [ARGS...]: a long-lived cluster worker in the backg
 "$LUMESH" optimize "$bunny" -o "$tmp/kill.glb" "${job[@]}" --edges-in-flight 4 --workers 3 \
   2> >(stamp >"$tmp/kill.err") &
 coord=$!
-sleep 2.5
+wait_for 60 grep -q "evals [0-9]*/s .*3 workers" "$tmp/kill.err" || fail "the run never had its 3 workers"
+sleep 0.5
 victim=$(pgrep -P "$coord" lumesh-worker | head -1)
 t_kill=$EPOCHREALTIME
 kill -9 "$victim"
@@ -77,7 +78,8 @@ stopped=$last_worker
 "$LUMESH" optimize "$bunny" -o "$tmp/stop.glb" "${long[@]}" --listen "tcp://127.0.0.1:$port" \
   2> >(stamp >"$tmp/stop.err") &
 coord=$!
-sleep 3
+wait_for 60 grep -q "evals [0-9]*/s .*2 workers" "$tmp/stop.err" || fail "the run never had 2 workers"
+sleep 1
 t_stop=$EPOCHREALTIME
 kill -STOP "$stopped"
 sleep 5
@@ -95,7 +97,8 @@ port=$((base + 2))
 coord=$!
 worker "$port" "$tmp/g1.err" --once
 first=$last_worker
-sleep 3
+wait_for 60 grep -q "evals [0-9]*/s .*1 workers\?" "$tmp/gone.err" || fail "the run never got its worker"
+sleep 1
 kill -9 "$first"
 wait "$first" 2>/dev/null
 sleep 7

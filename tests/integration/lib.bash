@@ -24,6 +24,15 @@ expect_fail_line() {
   [ "$got" = 1 ] || fail "'$*' exited $got, expected 1 (stderr: $err)"
   [ "$(printf '%s\n' "$err" | grep -c .)" = 1 ] || fail "'$*' printed $(printf '%s\n' "$err" | grep -c .) lines on stderr, expected 1: $err"
 }
+# wait_for SECONDS CMD... — run CMD every 0.2 s until it succeeds (0) or SECONDS have passed (1):
+# for states a loaded machine reaches late, never a fixed sleep.
+wait_for() {
+  local end=$((SECONDS + $1)); shift
+  until "$@"; do
+    [ "$SECONDS" -lt "$end" ] || return 1
+    sleep 0.2
+  done
+}
 finish() {
   echo "$((checks - failures)) passed, $failures failed"
   [ "$failures" = 0 ]

@@ -79,7 +79,10 @@ for w in 1 2; do
   ip netns exec "${ns[$w]}" "$LUMESH_WORKER" --connect tcp://10.213.0.1:5871 --device host \
     --keys "$tmp/keys" 2>"$tmp/cw$w.err" &
 done
-sleep 3
+# cut the link once the run is under way with both workers (a loaded machine starts late)
+wait_for 120 grep -q "evals [0-9]*/s .*2 workers" "$tmp/cut.err" ||
+  fail "the run with two workers never got going: $(tail -3 "$tmp/cut.err")"
+sleep 1
 ip -n "${ns[1]}" link set "v${tag}2" down
 sleep 6
 ip -n "${ns[1]}" link set "v${tag}2" up
