@@ -138,17 +138,6 @@ probe() {
   local -n cmd="w$1_$2"
   timeout 10 "${cmd[@]}" >/dev/null 2>&1
 }
-# poll_probe N KIND RC SECONDS — until worker N's probe exits RC.
-poll_probe() {
-  local i rc
-  for i in $(seq 1 $(($4 * 5))); do
-    probe "$1" "$2"
-    rc=$?
-    [ "$rc" = "$3" ] && return 0
-    sleep 0.2
-  done
-  return 1
-}
 # worker N — start worker N's pod: the Deployment's command and environment.
 worker() {
   local -n cmd="w$1_cmd" envs="w$1_env"
@@ -161,7 +150,7 @@ worker 0
 worker 1
 for i in 0 1; do
   checks=$((checks + 1))
-  poll_probe "$i" livenessProbe 0 20 || fail "worker $i not live: $(tail -2 "$tmp/worker$i.err")"
+  wait_for 20 probe "$i" livenessProbe || fail "worker $i not live: $(tail -2 "$tmp/worker$i.err")"
   checks=$((checks + 1))
   probe "$i" readinessProbe && fail "worker $i ready before any coordinator"
 done
@@ -177,7 +166,7 @@ evals() { status | python3 -c 'import json,sys; print(json.load(sys.stdin)["job_
 coordinator pod1
 for i in 0 1; do
   checks=$((checks + 1))
-  poll_probe "$i" readinessProbe 0 30 || fail "worker $i not ready with a coordinator: $(tail -2 "$tmp/pod1.err")"
+  wait_for 30 probe "$i" readinessProbe || fail "worker $i not ready with a coordinator: $(tail -2 "$tmp/pod1.err")"
 done
 n=0
 for _ in $(seq 1 300); do

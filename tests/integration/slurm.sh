@@ -130,17 +130,14 @@ checks=$((checks + 1))
 t_submit=$(now)
 status() { "$LUMESH" workers --connect "tcp://127.0.0.1:$port" --keys "$jobdir/keys" --json 2>/dev/null; }
 field() { python3 -c "import json,sys; d=json.load(sys.stdin); print($1)" 2>/dev/null; }
-# wait_for WHAT SECONDS PYTHON-EXPR — poll the coordinator's status until the expression holds.
-wait_for() {
-  local what=$1 secs=$2 expr=$3
-  for _ in $(seq 1 $((secs * 5))); do
-    [ "$(status | field "$expr")" = True ] && return 0
-    sleep 0.2
-  done
-  fail "$what: not within $secs s (job: $(squeue -h -j "$jid" -o %T), $(tail -n 2 "$tmp/work/job.out" | tr '\n' ' '))"
+holds() { [ "$(status | field "$1")" = True ]; } # holds PYTHON-EXPR: the status satisfies it
+# wait_status WHAT SECONDS PYTHON-EXPR — poll the coordinator's status until the expression holds.
+wait_status() {
+  wait_for "$2" holds "$3" && return 0
+  fail "$1: not within $2 s (job: $(squeue -h -j "$jid" -o %T), $(tail -n 2 "$tmp/work/job.out" | tr '\n' ' '))"
   return 1
 }
-wait_for "both worker tasks serving" 60 \
+wait_status "both worker tasks serving" 60 \
   'sum(1 for w in d["workers"] if w["in_job"] and not w["lost"]) == 2 and d["job_evals"] > 0'
 echo "slurm.sh: job $jid optimising with 2 worker tasks $(since "$t_submit") s after sbatch"
 
@@ -156,9 +153,9 @@ checks=$((checks + 1))
 evals_kill=$(status | field 'd["job_evals"]')
 t_kill=$(now)
 kill -9 "$victim"
-wait_for "the killed worker seen lost" 10 'any(w["lost"] for w in d["workers"])' &&
+wait_status "the killed worker seen lost" 10 'any(w["lost"] for w in d["workers"])' &&
   echo "slurm.sh: the SIGKILLed worker task (pid $victim) lost after $(since "$t_kill") s, at $evals_kill evaluations"
-wait_for "progress with one worker" 60 "d['job_evals'] >= $evals_kill + 1500"
+wait_status "progress with one worker" 60 "d['job_evals'] >= $evals_kill + 1500"
 
 # -- Slurm's warning signal: suspended, requeued, resumed in the next allocation --
 evals_usr1=$(status | field 'd["job_evals"]')
@@ -175,7 +172,17 @@ checks=$((checks + 1))
 echo "slurm.sh: suspended at ~$evals_usr1 evaluations and requeued $(since "$t_usr1") s after USR1"
 checks=$((checks + 1))
 [ -s "$jobdir/checkpoint" ] || fail "no checkpoint in the job's folder after the suspension"
-# A requeued job waits ~2 minutes before it is eligible again (Slurm's own delay): start it now.
+# A requeued job waits ~2 minutes before it is eligible again (Slurm's own delay): start it now,
+# once the first allocation is gone (its processes ended, the node idle), as that delay ensures.
+first_gone() {
+  [ "$(sinfo -h -n "$node" -o %t 2>/dev/null)" = idle ] || return 1
+  local p
+  for p in $(in_tmp); do
+    case "$(readlink "/proc/$p/cwd" 2>/dev/null)" in "$tmp/work"*) return 1 ;; esac
+  done
+}
+checks=$((checks + 1))
+wait_for 60 first_gone || fail "the first allocation's processes still run 60 s after the requeue"
 scontrol update JobId="$jid" StartTime=now || fail "scontrol update StartTime=now"
 t_requeue=$(now)
 for _ in $(seq 1 900); do
@@ -189,7 +196,8 @@ echo "slurm.sh: second allocation finished $(since "$t_requeue") s after the req
 info=$(scontrol show job "$jid" 2>/dev/null)
 checks=$((checks + 1))
 grep -q "JobState=COMPLETED" <<<"$info" && grep -q "Restarts=1" <<<"$info" ||
-  fail "job $jid: $(grep -oE 'JobState=[A-Z_]+|Restarts=[0-9]+|ExitCode=[0-9:]+' <<<"$info" | tr '\n' ' ')"
+  fail "job $jid: $(grep -oE 'JobState=[A-Z_]+|Restarts=[0-9]+|ExitCode=[0-9:]+' <<<"$info" | tr '\n' ' ')" \
+    "$(tail -n 3 "$tmp/work/job.out" "$tmp/log/slurmd.log" | tr '\n' ' ')"
 
 # -- what the job says, and its output --
 out=$tmp/work/job.out

@@ -157,14 +157,6 @@ health() {
   local -n dir="w$1_runtime"
   timeout 10 "$LUMESH_WORKER" --health "ipc://$dir/health" "${@:2}" >/dev/null 2>&1
 }
-poll() { # poll SECONDS CMD... — until CMD succeeds
-  local i
-  for i in $(seq 1 $(($1 * 5))); do
-    "${@:2}" && return 0
-    sleep 0.2
-  done
-  return 1
-}
 # stopped NAME — wait for unit NAME's process; its exit status, and whether the unit counts it
 # a success (0 or one of SuccessExitStatus=)
 stopped() {
@@ -180,7 +172,7 @@ start w2
 start coord
 for i in 1 2; do
   checks=$((checks + 1))
-  poll 30 health "$i" --ready || fail "lumesh-worker@$i not ready: $(tail -2 "$tmp/w$i.err") $(tail -2 "$tmp/coord.err")"
+  wait_for 30 health "$i" --ready || fail "lumesh-worker@$i not ready: $(tail -2 "$tmp/w$i.err") $(tail -2 "$tmp/coord.err")"
 done
 evals() {
   "$LUMESH" workers --connect "tcp://127.0.0.1:$port" --keys "$tmp/keys" --json 2>/dev/null |
@@ -188,7 +180,7 @@ evals() {
 }
 at_least() { [ "$(evals || echo 0)" -ge "$1" ] 2>/dev/null; }
 checks=$((checks + 1))
-poll 60 at_least 1500 || fail "the coordinator unit made no progress: $(tail -2 "$tmp/coord.err")"
+wait_for 60 at_least 1500 || fail "the coordinator unit made no progress: $(tail -2 "$tmp/coord.err")"
 # systemctl stop: the unit's KillSignal
 kill -s "$coord_kill" "$coord_pid"
 stopped coord
