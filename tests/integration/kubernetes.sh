@@ -38,7 +38,8 @@ trap cleanup EXIT
 # check.mjs finds its packages beside it
 cp "$root/tests/support/k8s/check.mjs" "$tmp/check.mjs"
 ln -s "$npmdir/node_modules" "$tmp/node_modules"
-check() { node "$tmp/check.mjs" "$@"; }
+# (without the sanitizer run's LD_PRELOAD: Node.js does not run under the ASan runtime)
+check() { env -u LD_PRELOAD node "$tmp/check.mjs" "$@"; }
 
 # -- static checks --
 expect_exit 0 yamllint -s -c "$root/tests/support/k8s/yamllint.yaml" "$kdir"
@@ -60,8 +61,12 @@ check validate "$tmp/broken.yaml" >"$tmp/broken.out" 2>&1 && fail "a broken mani
 checks=$((checks + 1))
 grep -q 'livenessProbe.periodSecond' "$tmp/broken.out" && grep -q 'containerPort must be integer' "$tmp/broken.out" ||
   fail "the broken manifest's faults not named: $(head -c 600 "$tmp/broken.out")"
-check json "${manifests[@]}" >"$tmp/objects.json" || fail "reading the manifests"
-check json "$kdir/kustomization.yaml" >"$tmp/kustomization.json" || fail "reading kustomization.yaml"
+check json "${manifests[@]}" >"$tmp/objects.json" &&
+  check json "$kdir/kustomization.yaml" >"$tmp/kustomization.json" || {
+  fail "reading the manifests: $(check json "${manifests[@]}" 2>&1 >/dev/null | head -c 300)"
+  finish
+  exit
+}
 
 # -- what the pods run, as this machine runs it --
 port=$(python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])')
@@ -73,7 +78,7 @@ ln -s "$LUMESH_WORKER" "$tmp/bin/lumesh-worker"
 # volumes' mount paths and the Service's address replaced by this test's folders and port, and
 # each pod's key folder holding the Secret's items it mounts; it checks that the objects agree.
 checks=$((checks + 1))
-python3 - "$tmp" "$port" >"$tmp/pods.sh" 2>"$tmp/pods.err" <<'PY' || fail "the manifests disagree: $(cat "$tmp/pods.err")"
+python3 - "$tmp" "$port" >"$tmp/pods.sh" 2>"$tmp/pods.err" <<'PY' || : >"$tmp/pods.sh"
 import json, os, re, shlex, shutil, sys
 tmp, port = sys.argv[1], sys.argv[2]
 objs = {o["kind"]: o for o in json.load(open(f"{tmp}/objects.json"))}
@@ -99,6 +104,11 @@ assert claim == pvc["metadata"]["name"], f"Job claims {claim}"
 
 def pod(name, spec, c, folder):
     os.makedirs(folder)
+    sc = spec["spec"].get("securityContext", {})
+    for v in spec["spec"]["volumes"]:
+        mode = v.get("secret", {}).get("defaultMode", 0o644)
+        if "secret" in v and sc.get("runAsUser", 0) != 0 and not mode & 0o004:
+            assert mode & 0o040 and "fsGroup" in sc, f"{name}: user {sc['runAsUser']} cannot read the {v['name']} Secret (mode {mode:o}, no fsGroup)"
     mounts = {}
     for m in c["volumeMounts"]:
         v = vols(spec)[m["name"]]
@@ -123,6 +133,11 @@ pod("coord", jpod, jc, f"{tmp}/coordinator")
 for i in range(2):
     pod(f"w{i}", dpod, dc, f"{tmp}/worker{i}")
 PY
+[ -s "$tmp/pods.sh" ] || {
+  fail "the manifests disagree: $(tail -n 1 "$tmp/pods.err")"
+  finish
+  exit
+}
 source "$tmp/pods.sh"
 export PATH=$tmp/bin:$PATH LP_NUM_THREADS=0
 "$LUMESH" gen-frog -o "$tmp/data/model.obj" --tris 8000 >/dev/null || fail "gen-frog"

@@ -1,5 +1,5 @@
 // tests/support/k8s/check.mjs — reads Kubernetes manifests (multi-document YAML) for
-// tests/integration/kubernetes.sh. `validate FILE...` checks every object against the API's JSON
+// tests/integration/kubernetes.sh, as YAML 1.1 like the API server (0440 is octal). `validate FILE...` checks every object against the API's JSON
 // schema for its apiVersion and kind (the kubernetes-models package) and refuses duplicate keys,
 // unknown kinds and fields the schema does not know; `json FILE...` prints the objects as one
 // JSON array. Run from the folder where scripts/install-deps.sh installed its packages.
@@ -9,7 +9,7 @@ import { fileURLToPath } from "node:url";
 import { parseAllDocuments } from "yaml";
 
 function objects(file) {
-  const docs = parseAllDocuments(readFileSync(file, "utf8"), { uniqueKeys: true });
+  const docs = parseAllDocuments(readFileSync(file, "utf8"), { uniqueKeys: true, version: "1.1" });
   const out = [];
   for (const doc of docs) {
     if (doc.errors.length) throw new Error(`${file}: ${doc.errors[0].message}`);
