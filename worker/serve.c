@@ -15,6 +15,11 @@
 #include "worker/serve_internal.h"
 
 #define WK_HELLO_EVERY_S 1.0
+/* A coordinator silent this long is presumed gone. Generous: a coordinator beats from its main
+ * loop, which a long step (a checkpoint of a big mesh, a loaded machine) can hold up for
+ * seconds, and dropping a live job costs a re-send of everything; a coordinator that really died
+ * is replaced by one that sends Rejoin at once, whatever this says. */
+#define WK_COORDINATOR_SILENCE_S 30.0
 #define WK_UNHEARD_NOTE_S 10.0   /* unwelcomed this long: say so once */
 #define WK_RECONNECT_MS 100      /* ZeroMQ's reconnection backoff: from this ... */
 #define WK_RECONNECT_MAX_MS 2000 /* ... doubling up to this */
@@ -110,7 +115,7 @@ static lm_status server_init(wk_server *s, const wk_serve_options *o)
     if (!s->o.device)
         s->o.device = "auto";
     if (!(s->o.silence_s > 0))
-        s->o.silence_s = 5.0;
+        s->o.silence_s = WK_COORDINATOR_SILENCE_S;
     lm_asset_set_init(&s->cache);
     lm_wire_arena_init(&s->arena);
     s->fault = getenv("LUMESH_WORKER_FAULT");

@@ -26,7 +26,7 @@ typedef struct wk_serve_options {
     const char *endpoint; /* required: "tcp://host:port" or "ipc://path" */
     const char *device;   /* NULL = "auto" */
     int once;             /* exit after the first job ends (workers spawned by a coordinator) */
-    double silence_s;     /* coordinator presumed gone after this long without a word; 0 = 5 */
+    double silence_s;     /* coordinator presumed gone after this long without a word; 0 = 30 */
     const char *keys;     /* CURVE key folder (proto/keys.h): worker.key, coordinator.pub */
     const char *health;   /* answer health queries on this endpoint (e.g. ipc://PATH); NULL = no */
 } wk_serve_options;

@@ -62,9 +62,13 @@ done
 
 # --connect: with no coordinator there the worker keeps trying (and exits cleanly on SIGTERM);
 # an endpoint ZeroMQ cannot use is one line and exit 1; no arguments is a usage error.
-"$LUMESH_WORKER" --connect tcp://127.0.0.1:1 --device host 2>"$tmp/e" &
+"$LUMESH_WORKER" --connect tcp://127.0.0.1:1 --device host --health-socket "ipc://$tmp/h" 2>"$tmp/e" &
 wpid=$!
-sleep 1.5
+for _ in $(seq 300); do # until it answers health queries (a loaded machine starts it late)
+  "$LUMESH_WORKER" --health "ipc://$tmp/h" >/dev/null 2>&1 && break
+  sleep 0.2
+done
+sleep 1
 kill -0 "$wpid" 2>/dev/null || fail "--connect with no coordinator did not keep trying: $(cat "$tmp/e")"
 kill -TERM "$wpid"
 set +e
