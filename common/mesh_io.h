@@ -28,6 +28,14 @@ lm_status lm_mesh_load_memory(const void *data, size_t size, const char *ext_hin
 /* Format from the extension: .obj, .ply, .glb. Dead elements are skipped (written compacted). */
 lm_status lm_mesh_save(const char *path, const lm_mesh *m);
 
+/* Levels of detail (finest first) in one GLB: level k's part nodes under a node "LODk"; LOD0 is
+ * the scene's node and names the others through the MSFT_lod extension, with coverage[k] in
+ * extras.MSFT_screencoverage. Readers without the extension (assimp, so lm_mesh_load) see LOD0.
+ * The levels share LOD0's materials (same count). Written atomically. */
+#define LM_MESH_MAX_LODS 32
+lm_status lm_mesh_save_glb_lods(const char *path, const lm_mesh *const *levels, uint32_t n,
+                                const float *coverage);
+
 /* Atomic file helpers shared by every writer: open "<path>.tmp.XXXXXX" beside path, then commit
  * (fflush, fsync, rename) or abort (unlink). A writer that must write tmp_path by name
  * (OpenImageIO) closes fp and sets it to NULL before writing; commit then syncs the file by name.

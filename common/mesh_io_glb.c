@@ -3,12 +3,16 @@
  * with min/max, NORMAL, TEXCOORD_0, COLOR_0 as the mesh has them; uint32 indices),
  * pbrMetallicRoughness materials (baseColorFactor = diffuse, not metallic) whose textures are
  * embedded as PNG. glTF puts the UV origin at the image's top left, lumesh (like OBJ and assimp) at
- * the bottom left, so v is written as 1 - v. Written atomically. */
+ * the bottom left, so v is written as 1 - v. Written atomically. A chain of levels of detail goes
+ * into one file the same way, each level's part nodes under a node "LODk", the first level's node
+ * in the scene and the others named by its MSFT_lod extension. */
 #include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "common/mesh_io_internal.h"
+
+#define LM_GLB_MAX_LODS LM_MESH_MAX_LODS
 
 typedef struct bytes {
     uint8_t *d;
@@ -75,6 +79,9 @@ typedef struct glb {
     uint32_t *local; /* [n_wedges] index in the current primitive, LM_NONE if absent */
     uint32_t *order; /* wedges of the current primitive */
     uint32_t *index; /* indices of the current primitive */
+    uint32_t n_levels;
+    uint32_t level_first[LM_GLB_MAX_LODS + 1]; /* part nodes of level k: [first[k], first[k+1]) */
+    const float *coverage;                     /* MSFT_screencoverage, one per level */
 } glb;
 
 /* Append data to the binary chunk as a new buffer view; returns its index. */
@@ -308,13 +315,39 @@ static lm_status add_materials(glb *g, bytes *js)
 }
 
 /* The whole JSON chunk; primitives and materials must have filled the binary chunk. */
+/* The node "LODk" over level k's part nodes; the first names the others (MSFT_lod). */
+static void lod_roots(glb *g)
+{
+    for (uint32_t k = 0; k < g->n_levels; k++) {
+        b_printf(&g->nodes, ",{\"name\":\"LOD%u\",\"children\":[", k);
+        for (uint32_t i = g->level_first[k]; i < g->level_first[k + 1]; i++)
+            b_printf(&g->nodes, "%s%u", i > g->level_first[k] ? "," : "", i);
+        b_printf(&g->nodes, "]");
+        if (k == 0 && g->n_levels > 1) {
+            b_printf(&g->nodes, ",\"extensions\":{\"MSFT_lod\":{\"ids\":[");
+            for (uint32_t i = 1; i < g->n_levels; i++)
+                b_printf(&g->nodes, "%s%u", i > 1 ? "," : "", g->n_meshes + i);
+            b_printf(&g->nodes, "]}},\"extras\":{\"MSFT_screencoverage\":[");
+            for (uint32_t i = 0; i < g->n_levels; i++)
+                b_printf(&g->nodes, "%s%.6g", i ? "," : "", g->coverage[i]);
+            b_printf(&g->nodes, "]}");
+        }
+        b_printf(&g->nodes, "}");
+    }
+}
+
 static void assemble_json(glb *g, bytes *js, const bytes *mats)
 {
     b_printf(js, "{\"asset\":{\"version\":\"2.0\",\"generator\":\"lumesh\"},\"scene\":0,"
                  "\"scenes\":[{\"nodes\":[");
-    for (uint32_t i = 0; i < g->n_meshes; i++)
+    if (g->n_levels)
+        b_printf(js, "%u", g->n_meshes);
+    for (uint32_t i = 0; !g->n_levels && i < g->n_meshes; i++)
         b_printf(js, "%s%u", i ? "," : "", i);
-    b_printf(js, "]}],\"nodes\":[");
+    b_printf(js, "]}],");
+    if (g->n_levels > 1)
+        b_printf(js, "\"extensionsUsed\":[\"MSFT_lod\"],");
+    b_printf(js, "\"nodes\":[");
     b_put(js, g->nodes.d, g->nodes.n);
     b_printf(js, "],\"meshes\":[");
     b_put(js, g->meshes.d, g->meshes.n);
@@ -370,35 +403,78 @@ static void glb_free(glb *g)
     free(g->index);
 }
 
-lm_status lm_io_save_glb(const char *path, const lm_mesh *m)
+/* Buffers for the wedges of m; the groups of m in *groups. */
+static lm_status begin_mesh(glb *g, const lm_mesh *m, lm_out_groups *groups)
 {
-    lm_out_groups groups;
-    lm_status s = lm_out_groups_build(m, &groups);
+    lm_status s = lm_out_groups_build(m, groups);
     if (s)
         return s;
-    glb g = {.m = m, .groups = &groups};
+    free(g->local);
+    free(g->order);
+    free(g->index);
+    g->m = m;
+    g->groups = groups;
+    g->local = malloc(((size_t)m->n_wedges + 1) * sizeof *g->local);
+    g->order = malloc(((size_t)m->n_wedges + 1) * sizeof *g->order);
+    g->index = malloc(((size_t)m->n_tris * 3 + 1) * sizeof *g->index);
+    if (!g->local || !g->order || !g->index)
+        return lm_fail(LM_E_NOMEM, "out of memory writing a GLB");
+    memset(g->local, 0xff, ((size_t)m->n_wedges + 1) * sizeof *g->local);
+    return LM_OK;
+}
+
+/* Every mesh's parts, the first mesh's materials, the JSON, the file. */
+static lm_status write_glb(glb *g, const char *path, const lm_mesh *const *meshes, uint32_t n)
+{
     bytes mats = {0}, js = {0};
-    g.local = malloc(((size_t)m->n_wedges + 1) * sizeof *g.local);
-    g.order = malloc(((size_t)m->n_wedges + 1) * sizeof *g.order);
-    g.index = malloc(((size_t)m->n_tris * 3 + 1) * sizeof *g.index);
-    if (!g.local || !g.order || !g.index)
-        s = lm_fail(LM_E_NOMEM, "out of memory writing %s", path);
-    if (!s) {
-        memset(g.local, 0xff, ((size_t)m->n_wedges + 1) * sizeof *g.local);
-        add_parts(&g);
-        s = add_materials(&g, &mats);
+    lm_status s = LM_OK;
+    for (uint32_t k = 0; k < n && !s; k++) {
+        lm_out_groups groups;
+        s = begin_mesh(g, meshes[k], &groups);
+        if (!s) {
+            g->level_first[k] = g->n_meshes;
+            add_parts(g);
+            g->level_first[k + 1] = g->n_meshes;
+        }
+        lm_out_groups_free(&groups);
     }
+    g->m = meshes[0];
+    if (!s && g->n_levels)
+        lod_roots(g);
+    if (!s)
+        s = add_materials(g, &mats);
     if (!s) {
-        assemble_json(&g, &js, &mats);
-        if (g.bin.failed || g.views.failed || g.accessors.failed || g.meshes.failed ||
-            g.nodes.failed || mats.failed || js.failed)
+        assemble_json(g, &js, &mats);
+        if (g->bin.failed || g->views.failed || g->accessors.failed || g->meshes.failed ||
+            g->nodes.failed || mats.failed || js.failed)
             s = lm_fail(LM_E_NOMEM, "out of memory writing %s", path);
     }
     if (!s)
-        s = write_container(path, &js, &g.bin);
-    glb_free(&g);
-    lm_out_groups_free(&groups);
+        s = write_container(path, &js, &g->bin);
+    glb_free(g);
     free(mats.d);
     free(js.d);
     return s;
+}
+
+lm_status lm_io_save_glb(const char *path, const lm_mesh *m)
+{
+    glb g = {0};
+    const lm_mesh *const one[1] = {m};
+    return write_glb(&g, path, one, 1);
+}
+
+lm_status lm_mesh_save_glb_lods(const char *path, const lm_mesh *const *levels, uint32_t n,
+                                const float *coverage)
+{
+    if (n < 1 || n > LM_MESH_MAX_LODS)
+        return lm_fail(LM_E_RANGE, "%u levels of detail (1..%u)", n, LM_MESH_MAX_LODS);
+    for (uint32_t k = 1; k < n; k++)
+        if (levels[k]->n_materials != levels[0]->n_materials)
+            return lm_fail(LM_E_INVALID,
+                           "level %u has %u materials, level 0 %u: levels share "
+                           "their materials",
+                           k, levels[k]->n_materials, levels[0]->n_materials);
+    glb g = {.n_levels = n, .coverage = coverage};
+    return write_glb(&g, path, levels, n);
 }

@@ -238,3 +238,11 @@ lm_status lm_views_set_mesh_from(lm_views *v, const lm_mesh *m)
     free(tris);
     return st;
 }
+
+lm_status lm_views_retarget(lm_views *v)
+{
+    if (!v->ops->retarget)
+        return lm_fail(LM_E_UNSUPPORTED, "these views cannot take their current images as "
+                                         "targets (in-process views can)");
+    return v->ops->retarget(v);
+}

@@ -11,6 +11,7 @@
 #define LM_VIEW_MARGIN 1.05   /* field-of-view margin around the sphere */
 #define LM_VIEW_DEPTH_PAD 1.1 /* near/far planes this many radii in front of/behind the centre */
 #define LM_HELDOUT_COUNT 24
+#define LM_DENSE_RINGS 3 /* the dense check: LM_DENSE_VIEWS / 3 directions at each distance */
 
 static void normalize3(double v[3])
 {
@@ -131,17 +132,19 @@ static void mat4_mul(const float a[16], const float b[16], float out[16])
         }
 }
 
-/* Camera on direction d (unit, from the centre towards the eye). */
-static void make_view(lm_view *v, const double d[3], int size, const float centre[3], float radius)
+/* Camera on direction d (unit, from the centre towards the eye), `distance` bounding-sphere radii
+ * from the centre (> 1), framing the whole sphere. */
+static void make_view(lm_view *v, const double d[3], int size, const float centre[3], float radius,
+                      double distance)
 {
-    double dist = LM_VIEW_DISTANCE * radius, eye[3], fwd[3];
+    double dist = distance * radius, eye[3], fwd[3];
     for (int i = 0; i < 3; i++) {
         eye[i] = centre[i] + dist * d[i];
         fwd[i] = -d[i];
         v->eye[i] = (float)eye[i];
         v->dir[i] = (float)fwd[i];
     }
-    double half_fov = asin(1.0 / LM_VIEW_DISTANCE) * LM_VIEW_MARGIN;
+    double half_fov = asin(1.0 / distance) * LM_VIEW_MARGIN;
     double n = dist - LM_VIEW_DEPTH_PAD * radius, f = dist + LM_VIEW_DEPTH_PAD * radius;
     look_at(eye, fwd, v->view);
     perspective(half_fov, 1.0, n, f, v->proj);
@@ -181,7 +184,7 @@ lm_status lm_view_set_make(lm_view_set *out, uint32_t n, int size, const float c
     out->count = n;
     for (uint32_t i = 0; i < n; i++) {
         normalize3(dirs[i]);
-        make_view(&out->views[i], dirs[i], size, centre, radius);
+        make_view(&out->views[i], dirs[i], size, centre, radius, LM_VIEW_DISTANCE);
     }
     return LM_OK;
 }
@@ -200,7 +203,35 @@ lm_status lm_view_set_make_heldout(lm_view_set *out, int size, const float centr
     for (uint32_t i = 0; i < LM_HELDOUT_COUNT; i++) {
         rotate3(dirs[i], axis, 0.61);
         normalize3(dirs[i]);
-        make_view(&out->views[i], dirs[i], size, centre, radius);
+        make_view(&out->views[i], dirs[i], size, centre, radius, LM_VIEW_DISTANCE);
+    }
+    return LM_OK;
+}
+
+lm_status lm_view_set_make_dense(lm_view_set *out, int size, const float centre[3], float radius)
+{
+    lm_status st = check_args(size, centre, radius);
+    if (st != LM_OK)
+        return st;
+    /* Per distance a Fibonacci set of 32 turned about its own axis by its own angle: none of these
+     * directions is one of the optimisation sets' (unturned Fibonacci, icosahedron, dodecahedron)
+     * or the held-out set's (axis (0.3, 0.8, 0.52), 0.61 rad). */
+    static const double distance[LM_DENSE_RINGS] = {2.0, 3.0, 5.0};
+    static const double axis[LM_DENSE_RINGS][3] = {
+        {0.7, -0.2, 0.45}, {-0.35, 0.6, 0.9}, {0.15, 0.95, -0.4}};
+    static const double angle[LM_DENSE_RINGS] = {0.83, 1.37, 0.29};
+    const uint32_t per = LM_DENSE_VIEWS / LM_DENSE_RINGS;
+    double dirs[LM_DENSE_VIEWS / LM_DENSE_RINGS][3];
+    out->count = 0;
+    for (int r = 0; r < LM_DENSE_RINGS; r++) {
+        double ax[3] = {axis[r][0], axis[r][1], axis[r][2]};
+        normalize3(ax);
+        fibonacci_dirs(dirs, per);
+        for (uint32_t i = 0; i < per; i++) {
+            rotate3(dirs[i], ax, angle[r]);
+            normalize3(dirs[i]);
+            make_view(&out->views[out->count++], dirs[i], size, centre, radius, distance[r]);
+        }
     }
     return LM_OK;
 }

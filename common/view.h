@@ -2,7 +2,8 @@
  * ORIGINAL model (icosahedron for 12, dodecahedron for 20, spherical Fibonacci otherwise), looking
  * at its bounding-sphere centre, framed so the whole sphere is visible; perspective projection.
  * Held-out views (the paper's evaluation protocol) are a fixed set of 24 directions that differ
- * from every optimisation set. Matrices are column-major, OpenGL conventions. */
+ * from every optimisation set; the dense check is a third set of 96 at three distances. Matrices
+ * are column-major, OpenGL conventions. */
 #ifndef LM_COMMON_VIEW_H
 #define LM_COMMON_VIEW_H
 
@@ -36,6 +37,20 @@ lm_status lm_view_set_make(lm_view_set *out, uint32_t n, int size, const float c
                            float radius);
 /* The 24 held-out views. */
 lm_status lm_view_set_make_heldout(lm_view_set *out, int size, const float centre[3], float radius);
+
+/* The dense check (`lumesh energy --dense`, scripts/fidelity.sh): LM_DENSE_VIEWS views, a third
+ * each at 2, 3 and 5 bounding-sphere radii, every one framing the whole sphere, in directions that
+ * are neither an optimisation set's nor the held-out set's. */
+#define LM_DENSE_VIEWS 96u
+lm_status lm_view_set_make_dense(lm_view_set *out, int size, const float centre[3], float radius);
+
+/* Which set a command measures on: the optimisation views (--views N), the 24 held-out views or
+ * the dense check. */
+typedef enum lm_view_set_kind {
+    LM_VIEWS_TRAINING,
+    LM_VIEWS_HELDOUT,
+    LM_VIEWS_DENSE
+} lm_view_set_kind;
 
 /* Project a world point: window coordinates in pixels (x right, y up from the bottom row as GL
  * does) and clip w. Returns 0 if w <= a small epsilon (behind or at the eye). */

@@ -85,6 +85,10 @@ typedef struct lm_views_ops {
     lm_status (*read_image)(lm_views *v, lm_image_kind kind, uint32_t view, uint8_t *out);
     void (*info)(lm_views *v, lm_views_info *out);
     void (*destroy)(lm_views *v);
+    /* Optional (NULL = not offered): make the current images the targets, so that E becomes 0 and
+     * the next evaluations price a change against the mesh as it is now (Pfeiffer's incremental
+     * difference; the shard simplifier). A change of state. In-process backends offer it. */
+    lm_status (*retarget)(lm_views *v);
 } lm_views_ops;
 
 struct lm_views {
@@ -96,6 +100,9 @@ static inline void lm_views_destroy(lm_views *v)
     if (v)
         v->ops->destroy(v);
 }
+
+/* The retarget op, or LM_E_UNSUPPORTED where the backend does not offer it. */
+lm_status lm_views_retarget(lm_views *v);
 
 /* Bytes per pixel of an image kind (1 or 4). */
 static inline size_t lm_image_kind_bpp(lm_image_kind kind)

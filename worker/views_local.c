@@ -325,6 +325,19 @@ static void vl_destroy(lm_views *base)
     free(v);
 }
 
+/* The current images become the targets (E = 0); cached evaluations priced the old targets. */
+static lm_status vl_retarget(lm_views *base)
+{
+    wk_views_local *v = (wk_views_local *)base;
+    if (!v->mesh_set)
+        return lm_fail(LM_E_INVALID, "retarget asked before a mesh was set");
+    for (uint32_t h = 0; h < v->views.count; h++)
+        wk_image_store_set_target(v->img, h, wk_image_store_current(v->img, h));
+    wk_vl_forget_cache(v);
+    v->seq++;
+    return LM_OK;
+}
+
 static lm_status vl_set_materials(lm_views *base, const lm_material *mats, uint32_t n);
 static lm_status vl_read_image(lm_views *base, lm_image_kind kind, uint32_t view, uint8_t *out);
 
@@ -338,6 +351,7 @@ static const lm_views_ops vl_ops = {
     .read_image = vl_read_image,
     .info = vl_info,
     .destroy = vl_destroy,
+    .retarget = vl_retarget,
 };
 
 /* ---- creation ---------------------------------------------------------------------------- */

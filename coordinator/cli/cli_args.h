@@ -45,6 +45,8 @@ int co_cli_devices(int argc, char **argv);
 int co_cli_gen_frog(int argc, char **argv);
 int co_cli_demo(int argc, char **argv);
 int co_cli_bench(int argc, char **argv);
+int co_cli_lod(int argc, char **argv);
+int co_cli_pm_extract(int argc, char **argv);
 int co_cli_workers(int argc, char **argv);
 int co_cli_keygen(int argc, char **argv);
 

@@ -373,7 +373,7 @@ static lm_status run(const bench_args *a, const char *model_path, bench_result *
     if (st == LM_OK)
         st = lm_mesh_build_adjacency(coarse);
     if (st == LM_OK)
-        st = co_view_set_around(orig, a->views, (int)a->size, 0, &vs);
+        st = co_view_set_around(orig, a->views, (int)a->size, LM_VIEWS_TRAINING, &vs);
     /* one result per worker count: 0 (in process), or 1, 2, 4, ... and a->workers */
     for (uint32_t i = 0, w = a->workers ? 1 : 0; st == LM_OK && i < BENCH_MAX_RUNS; i++) {
         st = measure_with(a, orig, coarse, vs, w, &r[i]);

@@ -167,7 +167,8 @@ int co_cli_compare(int argc, char **argv)
     for (uint32_t i = 0; st == LM_OK && i < a.n_models; i++)
         st = lm_mesh_load(a.models[i], NULL, &models[i]);
     if (st == LM_OK)
-        st = co_view_set_around(orig, a.views, (int)a.size, a.heldout, &vs);
+        st = co_view_set_around(orig, a.views, (int)a.size,
+                                a.heldout ? LM_VIEWS_HELDOUT : LM_VIEWS_TRAINING, &vs);
     if (st == LM_OK)
         st = run(&a, orig, (const lm_mesh *const *)models, vs);
     free(vs);

@@ -1,7 +1,8 @@
-/* coordinator/cli/cli_energy.c — `lumesh energy ORIGINAL MODEL [--views N] [--size S] [--heldout]
- * [--device D]`: the image energy E = Σ (Ŷ - Y)² of MODEL against ORIGINAL over views framed by
- * the original's bounding sphere, printed as JSON (total, per view, mean squared error, the
- * silhouette coverage, and the renderer that made every image). */
+/* coordinator/cli/cli_energy.c — `lumesh energy ORIGINAL MODEL... [--views N] [--size S]
+ * [--heldout | --dense] [--distance] [--device D]`: the image energy E = Σ (Ŷ - Y)² of each MODEL
+ * against ORIGINAL over views framed by the original's bounding sphere, printed as JSON (total,
+ * per view, mean squared error, the silhouette coverage, the renderer that made every image and,
+ * with --distance, the symmetric surface distance), one line per model. */
 #include <getopt.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -11,34 +12,46 @@
 #include "coordinator/cli/cli_args.h"
 #include "coordinator/job/progress.h"
 #include "coordinator/quality/compare.h"
+#include "coordinator/quality/surface_distance.h"
 #include "coordinator/quality/view_setup.h"
 
 #define CMD "energy"
+#define MAX_MODELS 64
 
 typedef struct energy_args {
-    const char *original, *model, *device;
+    const char *original, *device;
+    const char *model[MAX_MODELS];
+    uint32_t n_models;
     uint32_t views, size;
-    int heldout;
+    lm_view_set_kind kind;
+    int distance;
 } energy_args;
 
 static void usage(FILE *f)
 {
     fprintf(f,
-            "usage: lumesh energy ORIGINAL MODEL [--views N] [--size S] [--heldout] [--device D]\n"
-            "Prints as JSON the image energy of MODEL against ORIGINAL: the sum over views and\n"
-            "pixels of the squared difference of 8-bit luminance (total, per_view, mse), and\n"
-            "the silhouette coverage: pixels where the original shows a surface (original_px),\n"
-            "where MODEL shows background there instead (missing_px: holes, cracks) and where\n"
-            "MODEL covers the original's background (extra_px), and the missing pixels well\n"
-            "inside the original's silhouette (cracks_px: holes and cracks between parts, not a\n"
-            "thinner outline; 2 pixels from its background at 256, more for larger views).\n"
+            "usage: lumesh energy ORIGINAL MODEL... [--views N] [--size S] [--heldout | --dense]\n"
+            "                     [--distance] [--device D]\n"
+            "Prints as JSON, one line per MODEL, the image energy of MODEL against ORIGINAL: the\n"
+            "sum over views and pixels of the squared difference of 8-bit luminance (total,\n"
+            "per_view, mse), and the silhouette coverage: pixels where the original shows a\n"
+            "surface (original_px), where MODEL shows background there instead (missing_px:\n"
+            "holes, cracks) and where MODEL covers the original's background (extra_px), and the\n"
+            "missing pixels well inside the original's silhouette (cracks_px: holes and cracks\n"
+            "between parts, not a thinner outline; 2 pixels from its background at 256, more for\n"
+            "larger views). The original's images are rendered once for all models.\n"
             "  --views N     views around the original (default %u; 12 icosahedron, 20\n"
             "                dodecahedron, others a spherical Fibonacci set)\n"
             "  --size S      image side in pixels (default %d)\n"
             "  --heldout     the 24 held-out views instead (the paper's evaluation protocol)\n"
+            "  --dense       the dense check instead: %u views, a third each at 2, 3 and 5\n"
+            "                bounding-sphere radii, none of them an optimisation or held-out view\n"
+            "  --distance    also the symmetric surface distance to ORIGINAL (mean, rms, max and\n"
+            "                the original's bounding-box diagonal, in the models' units; %u\n"
+            "                samples a surface, from a fixed seed)\n"
             "  --device D    auto (default), egl:N or host\n"
             "  -h, --help    this text\n",
-            LM_DEFAULT_VIEWS, LM_DEFAULT_VIEW_SIZE);
+            LM_DEFAULT_VIEWS, LM_DEFAULT_VIEW_SIZE, LM_DENSE_VIEWS, CO_DISTANCE_SAMPLES);
 }
 
 static int parse_option(int c, char **argv, energy_args *a)
@@ -49,7 +62,13 @@ static int parse_option(int c, char **argv, energy_args *a)
     case 's':
         return co_arg_size(CMD, optarg, &a->size) ? 1 : -1;
     case 'H':
-        a->heldout = 1;
+    case 'D':
+        if (a->kind != LM_VIEWS_TRAINING)
+            return co_cli_usage_error(CMD, "--heldout and --dense exclude each other");
+        a->kind = c == 'H' ? LM_VIEWS_HELDOUT : LM_VIEWS_DENSE;
+        return -1;
+    case 'S':
+        a->distance = 1;
         return -1;
     case 'd':
         a->device = optarg;
@@ -66,7 +85,8 @@ static int parse(int argc, char **argv, energy_args *a)
 {
     static const struct option opts[] = {
         {"views", required_argument, NULL, 'v'}, {"size", required_argument, NULL, 's'},
-        {"heldout", no_argument, NULL, 'H'},     {"device", required_argument, NULL, 'd'},
+        {"heldout", no_argument, NULL, 'H'},     {"dense", no_argument, NULL, 'D'},
+        {"distance", no_argument, NULL, 'S'},    {"device", required_argument, NULL, 'd'},
         {"help", no_argument, NULL, 'h'},        {NULL, 0, NULL, 0}};
     int c, rc;
     opterr = 0;
@@ -75,27 +95,68 @@ static int parse(int argc, char **argv, energy_args *a)
             return rc;
     if (optind + 2 > argc)
         return co_cli_usage_error(CMD, "expects ORIGINAL and MODEL (see --help)");
-    if (optind + 2 < argc)
-        return co_cli_usage_error(CMD, "unexpected argument '%s' (see --help)", argv[optind + 2]);
+    if (argc - optind - 1 > MAX_MODELS)
+        return co_cli_usage_error(CMD, "at most %d models at once", MAX_MODELS);
     a->original = argv[optind];
-    a->model = argv[optind + 1];
+    for (int i = optind + 1; i < argc; i++)
+        a->model[a->n_models++] = argv[i];
     return -1;
 }
 
-static void print_json(const energy_args *a, const lm_view_set *vs, int64_t total,
-                       const int64_t *per, const co_coverage *cov, const char *renderer)
+static void print_distance(const co_surface_distance *d)
+{
+    printf(", \"distance\": {\"mean\": %.9g, \"rms\": %.9g, \"max\": %.9g, \"diagonal\": %.9g, "
+           "\"samples\": %u}",
+           d->mean, d->rms, d->max, d->diagonal, d->samples);
+}
+
+static void print_json(const energy_args *a, uint32_t i, const lm_view_set *vs, int64_t total,
+                       const int64_t *per, const co_coverage *cov, const char *renderer,
+                       const co_surface_distance *dist)
 {
     int size = vs->views[0].width;
     double pixels = (double)vs->count * size * size;
-    printf("{\"total\": %lld, \"per_view\": [", (long long)total);
+    printf("{\"model\": ");
+    co_json_string(stdout, a->model[i]);
+    printf(", \"total\": %lld, \"per_view\": [", (long long)total);
     for (uint32_t h = 0; h < vs->count; h++)
         printf("%s%lld", h ? ", " : "", (long long)per[h]);
-    printf("], \"mse\": %.6f, \"views\": %u, \"size\": %d, \"heldout\": %s, \"coverage\": ",
-           (double)total / pixels, vs->count, size, a->heldout ? "true" : "false");
+    printf("], \"mse\": %.6f, \"views\": %u, \"size\": %d, \"heldout\": %s, \"dense\": %s, "
+           "\"coverage\": ",
+           (double)total / pixels, vs->count, size, a->kind == LM_VIEWS_HELDOUT ? "true" : "false",
+           a->kind == LM_VIEWS_DENSE ? "true" : "false");
     co_coverage_print_json(stdout, cov);
+    if (dist)
+        print_distance(dist);
     printf(", \"renderer\": ");
     co_json_string(stdout, renderer);
     printf("}\n");
+}
+
+/* Energies (and distances) of every model, one JSON line each. */
+static lm_status measure(const energy_args *a, const lm_mesh *orig, const lm_mesh *const *models,
+                         const lm_view_set *vs)
+{
+    uint32_t n = a->n_models;
+    int64_t *total = calloc(n, sizeof *total);
+    int64_t *per = calloc((size_t)n * vs->count, sizeof *per);
+    co_coverage *cov = calloc(n, sizeof *cov);
+    char renderer[128] = "";
+    lm_status st = total && per && cov ? LM_OK : lm_fail(LM_E_NOMEM, "out of memory");
+    if (st == LM_OK)
+        st = co_compare_energies(orig, vs, a->device, models, n, total, per, cov, renderer);
+    for (uint32_t i = 0; i < n && st == LM_OK; i++) {
+        co_surface_distance d;
+        if (a->distance)
+            st = co_surface_distance_measure(orig, models[i], 0, &d);
+        if (st == LM_OK)
+            print_json(a, i, vs, total[i], per + (size_t)i * vs->count, &cov[i], renderer,
+                       a->distance ? &d : NULL);
+    }
+    free(total);
+    free(per);
+    free(cov);
+    return st;
 }
 
 int co_cli_energy(int argc, char **argv)
@@ -104,23 +165,18 @@ int co_cli_energy(int argc, char **argv)
     int rc = parse(argc, argv, &a);
     if (rc >= 0)
         return rc;
-    lm_mesh *orig = NULL, *model = NULL;
+    lm_mesh *orig = NULL, *models[MAX_MODELS] = {NULL};
     lm_view_set *vs = NULL;
-    int64_t total = 0, per[LM_MAX_VIEWS];
-    co_coverage cov;
-    char renderer[128] = "";
     lm_status st = lm_mesh_load(a.original, NULL, &orig);
+    for (uint32_t i = 0; i < a.n_models && st == LM_OK; i++)
+        st = lm_mesh_load(a.model[i], NULL, &models[i]);
     if (st == LM_OK)
-        st = lm_mesh_load(a.model, NULL, &model);
+        st = co_view_set_around(orig, a.views, (int)a.size, a.kind, &vs);
     if (st == LM_OK)
-        st = co_view_set_around(orig, a.views, (int)a.size, a.heldout, &vs);
-    const lm_mesh *const models[1] = {model};
-    if (st == LM_OK)
-        st = co_compare_energies(orig, vs, a.device, models, 1, &total, per, &cov, renderer);
-    if (st == LM_OK)
-        print_json(&a, vs, total, per, &cov, renderer);
+        st = measure(&a, orig, (const lm_mesh *const *)models, vs);
     free(vs);
     lm_mesh_destroy(orig);
-    lm_mesh_destroy(model);
+    for (uint32_t i = 0; i < a.n_models; i++)
+        lm_mesh_destroy(models[i]);
     return st ? co_cli_fail(CMD, st) : 0;
 }

@@ -18,7 +18,8 @@ static const char co_optimize_help[] =
     "                       [--checkpoint FILE [--checkpoint-every N|Ns]] [--resume FILE]\n"
     "                       [--attrs pos,normal,uv,color] [--device D] [--json] [--report DIR]\n"
     "                       [--workers N] [--listen tcp://ADDR:PORT] [--renderer ID]\n"
-    "                       [--edges-in-flight K] [--keys DIR]\n"
+    "                       [--edges-in-flight K] [--keys DIR] [--save-initial FILE]\n"
+    "                       [--surface-weight W]\n"
     "\n"
     "Improve a coarse mesh so that its rendered images match the original's from many viewpoints\n"
     "(Lindstrom & Turk 2001): vertex positions and attributes by downhill simplex, connectivity "
@@ -32,6 +33,8 @@ static const char co_optimize_help[] =
     ".glb);\n"
     "                          written atomically\n"
     "  --initial COARSE        start from this coarse mesh instead of simplifying the original\n"
+    "  --save-initial FILE     also write the coarse mesh the optimisation starts from (after\n"
+    "                          its preparation) to FILE\n"
     "  --target-verts N        vertices of the QEM coarse mesh (default: 1%% of the original's\n"
     "                          vertices, at least %u)\n"
     "  --views N               number of viewpoints around the original (default %u)\n"
@@ -50,6 +53,10 @@ static const char co_optimize_help[] =
     "  --attrs LIST            attributes to optimise besides positions, from pos,normal,uv,color\n"
     "                          (default: uv if the original has a texture, color if it has vertex\n"
     "                          colours); normals not listed are derived from the geometry\n"
+    "  --surface-weight W      weight of a geometric term that keeps the mesh on the original's\n"
+    "                          surface where the views cannot place it (default 0 = none; 30\n"
+    "                          helped scanned and CAD models, not textured ones: see\n"
+    "                          coordinator/OPTIMIZER.md). Part of the job, like the seed\n"
     "  --device D              rendering device: auto (GPU if any, else software), host, egl:N\n"
     "                          (default auto; see lumesh devices); local workers use it too\n"
     "  --workers N             render in N lumesh-worker processes on this machine, each owning\n"
@@ -105,6 +112,8 @@ enum {
     OPT_REPORT,
     OPT_IN_FLIGHT,
     OPT_KEYS,
+    OPT_SAVE_INITIAL,
+    OPT_SURFACE_WEIGHT,
 };
 
 static const struct option co_optimize_opts[] = {
@@ -128,6 +137,8 @@ static const struct option co_optimize_opts[] = {
     {"report", required_argument, NULL, OPT_REPORT},
     {"edges-in-flight", required_argument, NULL, OPT_IN_FLIGHT},
     {"keys", required_argument, NULL, OPT_KEYS},
+    {"save-initial", required_argument, NULL, OPT_SAVE_INITIAL},
+    {"surface-weight", required_argument, NULL, OPT_SURFACE_WEIGHT},
     {"help", no_argument, NULL, 'h'},
     {NULL, 0, NULL, 0},
 };
@@ -219,6 +230,14 @@ static lm_status parse_value(int c, const char *val, co_job_options *o)
     case OPT_KEYS:
         o->keys = val;
         break;
+    case OPT_SAVE_INITIAL:
+        o->initial_output_path = val;
+        break;
+    case OPT_SURFACE_WEIGHT:
+        st = co_arg_double(co_cmd, "--surface-weight", val, 0, 1e9, &o->surface_weight);
+        if (st == LM_OK && o->surface_weight == 0)
+            o->surface_weight = -1; /* 0 on the command line: no geometric term */
+        break;
     case OPT_IN_FLIGHT:
         return co_arg_u32(co_cmd, "--edges-in-flight", val, 1, CO_MAX_EDGES_IN_FLIGHT,
                           &o->edges_in_flight);
@@ -257,6 +276,9 @@ static int parse_args(int argc, char **argv, optimize_args *a)
         return co_cli_usage_error(co_cmd, "missing -o OUT");
     if (o->initial_path && o->target_verts)
         return co_cli_usage_error(co_cmd, "--initial and --target-verts exclude each other");
+    if (o->initial_output_path && a->report_dir)
+        return co_cli_usage_error(co_cmd, "--save-initial and --report exclude each other (the "
+                                          "report keeps the start as DIR/initial.obj)");
     return 0;
 }
 

@@ -168,7 +168,7 @@ int co_cli_render(int argc, char **argv)
     if (st == LM_OK && a.against)
         st = lm_mesh_load(a.against, NULL, &orig);
     if (st == LM_OK)
-        st = co_view_set_around(orig ? orig : model, a.views, (int)a.size, 0, &vs);
+        st = co_view_set_around(orig ? orig : model, a.views, (int)a.size, LM_VIEWS_TRAINING, &vs);
     if (st == LM_OK)
         st = lm_make_folders(a.dir);
     if (st == LM_OK)

@@ -1,6 +1,8 @@
 /* coordinator/cli/cli_simplify.c — `lumesh simplify ORIGINAL -o OUT --target-verts N
- * [--method qem|cluster]`: load a model, make the coarse mesh with QEM (meshoptimizer) or
- * Rossignac–Borrel vertex clustering, write it atomically, print a one-line summary. The target is
+ * [--method qem|cluster|image|shard]`: load a model, make the coarse mesh with QEM
+ * (meshoptimizer), Rossignac–Borrel vertex clustering, or image-driven edge collapses (priced by
+ * the exact image energy, or by shards: coordinator/simplify/), write it atomically, print a
+ * one-line summary. The target is
  * an upper bound: a model already small enough is written as it is (with a note), and where the
  * simplifier cannot reach the target the best mesh it reached is written with a warning (exit 0).
  * Exit 1 is kept for real errors (unreadable model, bad flag), which write nothing. */
@@ -8,11 +10,13 @@
 #include <stdio.h>
 #include <string.h>
 #include <time.h>
+#include <unistd.h>
 
 #include "common/folders.h"
 #include "common/mesh_io.h"
 #include "common/simplify.h"
 #include "coordinator/cli/cli_args.h"
+#include "coordinator/simplify/simplify_job.h"
 
 #define CMD "simplify"
 
@@ -21,36 +25,97 @@ typedef struct simplify_args {
     uint32_t target;
     int have_target;
     lm_simplify_method method;
+    int image; /* --method image or shard: coordinator/simplify */
+    co_simplify_options image_opts;
 } simplify_args;
 
 static void usage(FILE *f)
 {
-    fputs("usage: lumesh simplify ORIGINAL -o OUT --target-verts N [--method qem|cluster]\n"
-          "Makes a coarse version of ORIGINAL with at most N vertices (the search aims within 5%\n"
-          "of N; up to 5% above N counts as reached) and writes it to OUT (.obj with .mtl and PNG\n"
-          "textures, .ply or .glb, chosen by the extension). A model that already has N vertices\n"
-          "or fewer is written as it is, with a note; where the simplifier cannot get down to N\n"
-          "(QEM keeps closed small parts and seams) the best mesh it reached is written, with a\n"
-          "warning on stderr. Part names and materials are kept.\n"
-          "  -o, --output OUT       the file to write (atomically; missing folders are made)\n"
-          "  -n, --target-verts N   the most vertices wanted (below 4: as few as possible)\n"
-          "  -m, --method M         qem (default): quadric edge collapses (meshoptimizer), keeps\n"
-          "                         UV seams, materials and separate parts;\n"
-          "                         cluster: Rossignac-Borrel vertex clustering on a grid, with\n"
-          "                         double-sided faces removed (the paper's Figure 7a input)\n"
-          "  -h, --help             this text\n",
-          f);
+    fputs(
+        "usage: lumesh simplify ORIGINAL -o OUT --target-verts N [--method qem|cluster|image|"
+        "shard]\n"
+        "                       [--views N] [--size S] [--device D] [--workers N]\n"
+        "                       [--presimplify M] [--reference MODEL] [--pm FILE]\n"
+        "Makes a coarse version of ORIGINAL with at most N vertices (the search aims within 5%\n"
+        "of N; up to 5% above N counts as reached) and writes it to OUT (.obj with .mtl and PNG\n"
+        "textures, .ply or .glb, chosen by the extension). A model that already has N vertices\n"
+        "or fewer is written as it is, with a note; where the simplifier cannot get down to N\n"
+        "(QEM keeps closed small parts and seams) the best mesh it reached is written, with a\n"
+        "warning on stderr. Part names and materials are kept.\n"
+        "  -o, --output OUT       the file to write (atomically; missing folders are made)\n"
+        "  -n, --target-verts N   the most vertices wanted (below 4: as few as possible)\n"
+        "  -m, --method M         qem (default): quadric edge collapses (meshoptimizer), keeps\n"
+        "                         UV seams, materials and separate parts;\n"
+        "                         cluster: Rossignac-Borrel vertex clustering on a grid, with\n"
+        "                         double-sided faces removed (the paper's Figure 7a input);\n"
+        "                         image: greedy edge collapses, each priced by the exact change\n"
+        "                         of the image energy against the model's own images over the\n"
+        "                         views (Lindstrom & Turk); crosses seams and part borders when\n"
+        "                         the images allow; goes down to 4 vertices per closed part;\n"
+        "                         shard: the same collapses priced by Pfeiffer's shards (the\n"
+        "                         triangles a collapse changes, rendered alone, before against\n"
+        "                         after: no images of the model are kept; in process only)\n"
+        "image and shard:\n"
+        "  --views N, --size S    the views (default 20 of 256 pixels)\n"
+        "  --device D             auto (default), host or egl:N\n"
+        "  --workers N            image: price in N lumesh-worker processes (default 0: in\n"
+        "                         this process); the result is the same for any N\n"
+        "  --presimplify M        QEM brings a larger model to M vertices first (default: 10 x N,\n"
+        "                         when the model has more)\n"
+        "  --reference MODEL      match MODEL's images instead of ORIGINAL's (simplifying a\n"
+        "                         coarse mesh of MODEL further)\n"
+        "  --pm FILE              also write the collapses as a progressive mesh (vertex splits\n"
+        "                         from the result up to the start); lumesh pm-extract rebuilds\n"
+        "                         any vertex count in that range, byte for byte as simplify\n"
+        "                         stopped there would write it\n"
+        "  -h, --help             this text\n",
+        f);
 }
 
-static int parse_method(const char *val, lm_simplify_method *out)
+static int parse_method(const char *val, simplify_args *a)
 {
+    a->image = !strcmp(val, "image") || !strcmp(val, "shard");
+    a->image_opts.method = !strcmp(val, "shard") ? CO_PRICE_SHARD : CO_PRICE_IMAGE;
     if (!strcmp(val, "qem"))
-        *out = LM_SIMPLIFY_QEM;
+        a->method = LM_SIMPLIFY_QEM;
     else if (!strcmp(val, "cluster"))
-        *out = LM_SIMPLIFY_CLUSTER;
-    else
-        return co_cli_usage_error(CMD, "--method expects qem or cluster, got '%s'", val);
+        a->method = LM_SIMPLIFY_CLUSTER;
+    else if (!a->image)
+        return co_cli_usage_error(CMD, "--method expects qem, cluster, image or shard, got '%s'",
+                                  val);
     return -1;
+}
+
+/* The options of the image-driven methods; -2 when c is none of them. */
+static int parse_image_option(int c, simplify_args *a)
+{
+    co_simplify_options *o = &a->image_opts;
+    uint32_t x;
+    switch (c) {
+    case 'v':
+        return co_arg_views(CMD, optarg, &o->views) ? 1 : -1;
+    case 's':
+        if (co_arg_size(CMD, optarg, &x))
+            return 1;
+        o->size = (int)x;
+        return -1;
+    case 'd':
+        o->device = optarg;
+        return -1;
+    case 'w':
+        return co_arg_u32(CMD, "--workers", optarg, 0, 256, &o->workers) ? 1 : -1;
+    case 'P':
+        return co_arg_u32(CMD, "--presimplify", optarg, 4, LM_MESH_MAX_VERTS, &o->presimplify) ? 1
+                                                                                               : -1;
+    case 'r':
+        o->reference_path = optarg;
+        return -1;
+    case 'p':
+        o->pm_path = optarg;
+        return -1;
+    default:
+        return -2;
+    }
 }
 
 /* Returns -1 to go on, else the exit code. */
@@ -64,12 +129,14 @@ static int parse_option(int c, char **argv, simplify_args *a)
         a->have_target = 1;
         return co_arg_u32(CMD, "--target-verts", optarg, 1, LM_MESH_MAX_VERTS, &a->target) ? 1 : -1;
     case 'm':
-        return parse_method(optarg, &a->method);
+        return parse_method(optarg, a);
     case 'h':
         usage(stdout);
         return 0;
-    default:
-        return co_cli_bad_option(CMD, c, argv);
+    default: {
+        int rc = parse_image_option(c, a);
+        return rc != -2 ? rc : co_cli_bad_option(CMD, c, argv);
+    }
     }
 }
 
@@ -78,6 +145,13 @@ static int parse(int argc, char **argv, simplify_args *a)
     static const struct option opts[] = {{"output", required_argument, NULL, 'o'},
                                          {"target-verts", required_argument, NULL, 'n'},
                                          {"method", required_argument, NULL, 'm'},
+                                         {"views", required_argument, NULL, 'v'},
+                                         {"size", required_argument, NULL, 's'},
+                                         {"device", required_argument, NULL, 'd'},
+                                         {"workers", required_argument, NULL, 'w'},
+                                         {"presimplify", required_argument, NULL, 'P'},
+                                         {"reference", required_argument, NULL, 'r'},
+                                         {"pm", required_argument, NULL, 'p'},
                                          {"help", no_argument, NULL, 'h'},
                                          {NULL, 0, NULL, 0}};
     int c, rc;
@@ -94,6 +168,13 @@ static int parse(int argc, char **argv, simplify_args *a)
         return co_cli_usage_error(CMD, "missing -o OUT (see --help)");
     if (!a->have_target)
         return co_cli_usage_error(CMD, "missing --target-verts N (see --help)");
+    const co_simplify_options *o = &a->image_opts;
+    if (!a->image && (o->views || o->size || o->device || o->workers || o->presimplify ||
+                      o->reference_path || o->pm_path))
+        return co_cli_usage_error(CMD, "--views, --size, --device, --workers, --presimplify, "
+                                       "--reference and --pm go with --method image or shard");
+    if (o->method == CO_PRICE_SHARD && o->workers)
+        return co_cli_usage_error(CMD, "--method shard renders in this process: no --workers");
     return -1;
 }
 
@@ -126,12 +207,50 @@ static lm_status write_result(const simplify_args *a, const lm_mesh *out)
     return s ? s : lm_mesh_save(a->output, out);
 }
 
+/* --method image or shard. */
+static int run_image(simplify_args *a)
+{
+    co_simplify_options *o = &a->image_opts;
+    o->input_path = a->input;
+    o->output_path = a->output;
+    o->target_verts = a->target;
+    o->progress = isatty(2);
+    co_simplify_summary s;
+    lm_status st = co_simplify_job_run(o, &s);
+    if (st)
+        return co_cli_fail(CMD, st);
+    const char *method = o->method == CO_PRICE_SHARD ? "shard" : "image";
+    if (s.in_verts <= a->target)
+        fprintf(stderr,
+                "lumesh simplify: note: %s has %u vertices, at most the target %u: written as it "
+                "is\n",
+                a->input, s.in_verts, a->target);
+    else if (s.out_verts > a->target)
+        fprintf(stderr,
+                "lumesh simplify: warning: target not reached: no legal collapse is left at %u "
+                "vertices (closed parts stop at 4 vertices); wrote that mesh\n",
+                s.out_verts);
+    char qem[64] = "";
+    if (s.start_verts < s.in_verts)
+        snprintf(qem, sizeof qem, "QEM to %u first, ", s.start_verts);
+    printf("lumesh simplify: %s %u vertices / %u triangles -> %u vertices / %u triangles, %u "
+           "part%s (%s: %s%u collapses, %llu evaluations; load %.2f s, views %.2f s, simplify "
+           "%.2f s) -> %s%s%s\n",
+           a->input, s.in_verts, s.in_tris, s.out_verts, s.out_tris, s.out_parts,
+           s.out_parts == 1 ? "" : "s", method, qem, s.stats.collapses,
+           (unsigned long long)s.stats.evaluations, s.load_s, s.prepare_s, s.simplify_s, a->output,
+           o->pm_path ? ", " : "", o->pm_path ? o->pm_path : "");
+    return 0;
+}
+
 int co_cli_simplify(int argc, char **argv)
 {
     simplify_args a = {.method = LM_SIMPLIFY_QEM};
     int rc = parse(argc, argv, &a);
     if (rc >= 0)
         return rc;
+    if (a.image)
+        return run_image(&a);
     lm_mesh *in = NULL, *out = NULL;
     char why[512] = "";
     double t0 = now_s();

@@ -15,7 +15,10 @@ typedef struct command {
 
 static const command commands[] = {
     {"optimize", co_cli_optimize, "improve a coarse mesh so its images match the original's"},
-    {"simplify", co_cli_simplify, "make a coarse mesh (QEM or vertex clustering)"},
+    {"simplify", co_cli_simplify,
+     "make a coarse mesh (QEM, vertex clustering, image-driven or shard collapses)"},
+    {"lod", co_cli_lod, "a chain of levels of detail, each simplified and optimised"},
+    {"pm-extract", co_cli_pm_extract, "the mesh of any vertex count from a progressive mesh"},
     {"energy", co_cli_energy, "image energy of a model against the original (JSON)"},
     {"compare", co_cli_compare, "judge models against the original; picture grid, close-up"},
     {"report", co_cli_report, "a quality report as a self-contained HTML page"},

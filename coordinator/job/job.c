@@ -22,6 +22,7 @@
 #include "common/view.h"
 #include "coordinator/job/checkpoint.h"
 #include "coordinator/optimizer/optimizer.h"
+#include "coordinator/optimizer/optimizer_tuning.h"
 #include "coordinator/pool/pool.h"
 #include "coordinator/views/views.h"
 
@@ -379,11 +380,14 @@ static lm_status make_coarse_mesh(co_job *j)
 
 static lm_status make_optimizer(co_job *j)
 {
-    co_params params = {
-        .seed = j->o.seed, .attrs = j->attrs, .edges_in_flight = j->o.edges_in_flight};
+    co_params params = {.seed = j->o.seed,
+                        .attrs = j->attrs,
+                        .edges_in_flight = j->o.edges_in_flight,
+                        .surface = j->original};
+    co_tuning tuning = {.surface_weight = j->o.surface_weight};
     lm_mesh *coarse = j->coarse;
     j->coarse = NULL; /* the optimizer owns it from here on, even when its creation fails */
-    lm_status st = co_optimizer_create(coarse, j->views, &params, &j->opt);
+    lm_status st = co_optimizer_create_tuned(coarse, j->views, &params, &tuning, &j->opt);
     if (st != LM_OK || !j->o.resume_path)
         return st;
     st = co_checkpoint_read(j->o.resume_path, &j->key, load_payload, j->opt);

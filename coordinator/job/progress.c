@@ -291,7 +291,10 @@ static void json_summary(FILE *fp, const co_reporter *r, const co_job_summary *s
         fputs("null", fp);
     fputs(",\"renderer\":", fp);
     co_json_string(fp, s->renderer);
-    fprintf(fp, ",\"verts\":%" PRIu32 ",\"tris\":%" PRIu32 ",", p->live_verts, p->live_tris);
+    fprintf(fp,
+            ",\"geometric_start\":%" PRId64 ",\"geometric_end\":%" PRId64 ",\"verts\":%" PRIu32
+            ",\"tris\":%" PRIu32 ",",
+            p->geometric_start, p->geometric, p->live_verts, p->live_tris);
     json_counts(fp, "accepted", p->accepted);
     fputc(',', fp);
     json_counts(fp, "attempted", p->attempted);

@@ -12,6 +12,7 @@
 #include "coordinator/optimizer/edge.h"
 #include "coordinator/optimizer/lanes.h"
 #include "coordinator/optimizer/optimizer_internal.h"
+#include "coordinator/optimizer/surface_term.h"
 
 static lm_status prepare_mesh(co_optimizer *o)
 {
@@ -34,7 +35,8 @@ void co_tuning_defaults(co_tuning *t)
                    .oracle_share = 0.5,
                    .oracle_min_share = 0.125,
                    .oracle_max_share = 0.875,
-                   .oracle_max_age = 16};
+                   .oracle_max_age = 16,
+                   .surface_weight = CO_SURFACE_WEIGHT};
     co_moves_config_defaults(&d.moves);
     co_teleport_config_defaults(&d.teleport);
     *t = d;
@@ -54,6 +56,8 @@ static void resolve_tuning(co_tuning *t)
     DEF(oracle_min_share);
     DEF(oracle_max_share);
     DEF(oracle_max_age);
+    if (t->surface_weight == 0 || !isfinite(t->surface_weight))
+        t->surface_weight = d.surface_weight;
     DEF(moves.max_set_verts);
     DEF(moves.max_dim);
     DEF(moves.pos_step);
@@ -93,9 +97,25 @@ static lm_status alloc_iteration(co_optimizer *o)
     return LM_OK;
 }
 
+/* The geometric term between the moves and the caller's views, where there is a surface. */
+static lm_status wrap_views(co_optimizer *o)
+{
+    if (!o->params.surface || !(o->tuning.surface_weight > 0)) {
+        o->tuning.surface_weight = -1; /* none: a checkpoint says so */
+        return LM_OK;
+    }
+    lm_status st =
+        co_surface_views_create(o->views, o->params.surface, o->tuning.surface_weight, &o->surface);
+    if (st == LM_OK)
+        o->views = o->surface;
+    return st;
+}
+
 static lm_status create_parts(co_optimizer *o)
 {
-    lm_status st = prepare_mesh(o);
+    lm_status st = wrap_views(o);
+    if (!st)
+        st = prepare_mesh(o);
     if (!st)
         st = make_moves(o);
     if (!st)
@@ -105,6 +125,7 @@ static lm_status create_parts(co_optimizer *o)
     if (!st)
         st = o->views->ops->energy(o->views, &o->prog.energy_start, NULL);
     o->prog.energy = o->prog.energy_start;
+    o->prog.geometric_start = o->surface ? co_surface_views_energy(o->surface) : 0;
     return st;
 }
 
@@ -173,6 +194,7 @@ void co_optimizer_destroy(co_optimizer *opt)
     free(opt->it.plan);
     free(opt->it.no_progress);
     co_idset_free(&opt->it.touched);
+    lm_views_destroy(opt->surface);
     lm_mesh_destroy(opt->mesh);
     free(opt);
 }
@@ -185,6 +207,10 @@ const lm_mesh *co_optimizer_mesh(const co_optimizer *opt)
 void co_optimizer_progress(const co_optimizer *opt, co_progress *out)
 {
     *out = opt->prog;
+    /* prog counts the sum the moves minimise; callers see the image energy and the term apart */
+    out->geometric = opt->surface ? co_surface_views_energy(opt->surface) : 0;
+    out->energy = opt->prog.energy - out->geometric;
+    out->energy_start = opt->prog.energy_start - opt->prog.geometric_start;
     out->evals = co_moves_evals(opt->mv);
     out->live_verts = opt->mesh->live_verts;
     out->live_tris = opt->mesh->live_tris;

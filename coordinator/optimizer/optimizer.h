@@ -30,15 +30,20 @@ typedef struct co_params {
                                  0 = 1, the paper's order; at most CO_MAX_EDGES_IN_FLIGHT. A job
                                  parameter (kept in checkpoints), never the number of workers: the
                                  output depends on it and on nothing else of the machinery */
+    const lm_mesh *surface;   /* the original (borrowed, must outlive the optimizer): the surface of
+                                 the geometric term (surface_term.h, weight co_tuning.surface_weight);
+                                 NULL = no geometric term */
 } co_params;
 
 #define CO_MAX_EDGES_IN_FLIGHT 64u
 
 typedef struct co_progress {
-    uint64_t evals;                   /* ΔE evaluations so far */
-    uint64_t iterations;              /* edge iterations (64 edges each) */
-    int64_t energy_start, energy;     /* E at start and now */
-    uint64_t accepted[CO_MOVE_KINDS]; /* accepted moves by kind (teleports count as SPLIT) */
+    uint64_t evals;                     /* ΔE evaluations so far */
+    uint64_t iterations;                /* edge iterations (64 edges each) */
+    int64_t energy_start, energy;       /* image energy E at start and now */
+    int64_t geometric_start, geometric; /* the geometric term at start and now (0 without one); the
+                                           optimizer minimises energy + geometric */
+    uint64_t accepted[CO_MOVE_KINDS];   /* accepted moves by kind (teleports count as SPLIT) */
     uint64_t attempted[CO_MOVE_KINDS];
     uint32_t live_verts, live_tris;
 } co_progress;

@@ -26,7 +26,8 @@ typedef struct co_lanes co_lanes; /* lanes.h */
 
 struct co_optimizer {
     lm_mesh *mesh;
-    lm_views *views;
+    lm_views *views;   /* what the moves price against: the caller's, or surface over them */
+    lm_views *surface; /* the geometric term over the caller's views (owned); NULL = none */
     co_params params;
     co_moves_config moves_cfg; /* every move workspace's (the optimizer's, its lanes') */
     co_lanes *lanes;           /* edges in flight (NULL when one at a time) */

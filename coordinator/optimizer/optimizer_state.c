@@ -13,7 +13,7 @@
 #include "coordinator/optimizer/optimizer_internal.h"
 
 #define OPT_MAGIC "LMOPTST1"
-#define OPT_VERSION 2u      /* 2: triangles carry their part */
+#define OPT_VERSION 3u      /* 2: triangles carry their part; 3: the geometric term */
 #define OPT_END 0x444e4521u /* "!END" */
 
 /* ---- mesh --------------------------------------------------------------------------------------
@@ -227,6 +227,7 @@ static void save_counters(co_bin *b, const co_optimizer *o)
     co_put_u64(b, o->prog.iterations);
     co_put_i64(b, o->prog.energy_start);
     co_put_i64(b, o->prog.energy);
+    co_put_i64(b, o->prog.geometric_start);
     for (int k = 0; k < CO_MOVE_KINDS; k++) {
         co_put_u64(b, o->prog.accepted[k]);
         co_put_u64(b, o->prog.attempted[k]);
@@ -239,6 +240,7 @@ static void load_counters(co_bin *b, co_progress *p)
     p->iterations = co_get_u64(b);
     p->energy_start = co_get_i64(b);
     p->energy = co_get_i64(b);
+    p->geometric_start = co_get_i64(b);
     for (int k = 0; k < CO_MOVE_KINDS; k++) {
         p->accepted[k] = co_get_u64(b);
         p->attempted[k] = co_get_u64(b);
@@ -372,7 +374,7 @@ static uint32_t tuning_values(const co_tuning *t, double *v)
                   m->size_tol,         m->f_rtol,           p->threshold_half_life,
                   p->stats_half_life,  p->max_search_evals, t->stats_half_life,
                   t->stats_min_weight, t->oracle_share,     t->oracle_min_share,
-                  t->oracle_max_share, t->oracle_max_age};
+                  t->oracle_max_share, t->oracle_max_age,   t->surface_weight};
     uint32_t n = sizeof x / sizeof *x;
     if (v)
         memcpy(v, x, sizeof x);

@@ -1,13 +1,19 @@
 /* coordinator/optimizer/optimizer_tuning.h — the numbers the paper leaves open (step sizes,
  * tolerances, attenuation, oracle share bounds, collapse search limits), for benchmarks and
  * experiments. co_optimizer_create uses co_tuning_defaults(); a checkpoint records the tuning and
- * is only loaded by an optimizer with the same one. Zero means default for every field. */
+ * is only loaded by an optimizer with the same one. Zero means default for every field (for
+ * surface_weight the default is no geometric term; a negative one means none too). */
 #ifndef LM_COORDINATOR_OPTIMIZER_TUNING_H
 #define LM_COORDINATOR_OPTIMIZER_TUNING_H
 
 #include "coordinator/optimizer/moves.h"
 #include "coordinator/optimizer/optimizer.h"
 #include "coordinator/optimizer/teleport.h"
+
+/* The geometric term's weight where co_tuning leaves it 0: none. Measured with scripts/fidelity.sh
+ * (coordinator/OPTIMIZER.md) it helps scanned and CAD models and costs textured ones, so it is
+ * an option (`optimize --surface-weight W`, 30 measured best), not a default. */
+#define CO_SURFACE_WEIGHT 0.0
 
 typedef struct co_tuning {
     co_moves_config moves;       /* steps, set limits, simplex tolerances (attrs, bounds ignored) */
@@ -16,6 +22,8 @@ typedef struct co_tuning {
     double stats_min_weight;     /* operations with less attenuated weight are always tried */
     double oracle_share, oracle_min_share, oracle_max_share;
     uint32_t oracle_max_age; /* iterations an edge tried without progress is skipped at most */
+    double surface_weight;   /* weight of the geometric term (surface_term.h) where co_params has
+                                a surface; negative = none */
 } co_tuning;
 
 /* Fill every field with the value used when it is zero. */

@@ -17,10 +17,14 @@ static lm_status original_views(const lm_mesh *original, const lm_view_set *view
     return co_views_create(&d, out);
 }
 
-/* Make `m` (with its own materials) the current mesh of the views. */
+/* Make `m` (with its own materials) the current mesh of the views. The previous model goes first:
+ * its triangles may use materials that m has not. */
 static lm_status set_model(lm_views *views, const lm_mesh *m)
 {
-    lm_status st = views->ops->set_materials(views, m->materials, m->n_materials);
+    const lm_tri_data none = {0};
+    lm_status st = views->ops->set_mesh(views, &none, 0);
+    if (st == LM_OK)
+        st = views->ops->set_materials(views, m->materials, m->n_materials);
     return st == LM_OK ? lm_views_set_mesh_from(views, m) : st;
 }
 

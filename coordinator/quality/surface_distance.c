@@ -6,7 +6,7 @@
 #include <math.h>
 #include <stdlib.h>
 
-#include "coordinator/quality/bvh.h"
+#include "common/bvh.h"
 
 #define CO_DISTANCE_SEED 0x9e3779b97f4a7c15ull
 
@@ -101,11 +101,11 @@ typedef struct one_side {
 } one_side;
 
 /* Distances from n points of one surface to the other (its hierarchy). */
-static void measure_side(const co_bvh *other, const double *pts, uint32_t n, one_side *r)
+static void measure_side(const lm_bvh *other, const double *pts, uint32_t n, one_side *r)
 {
     *r = (one_side){0, 0, 0};
     for (uint32_t i = 0; i < n; i++) {
-        double d2 = co_bvh_closest_sq(other, pts + 3 * (size_t)i), d = sqrt(d2);
+        double d2 = lm_bvh_closest_sq(other, pts + 3 * (size_t)i), d = sqrt(d2);
         r->sum += d;
         r->sum_sq += d2;
         r->max = d > r->max ? d : r->max;
@@ -126,11 +126,11 @@ lm_status co_surface_distance_measure(const lm_mesh *original, const lm_mesh *mo
                                       uint32_t samples, co_surface_distance *out)
 {
     uint32_t n = samples ? samples : CO_DISTANCE_SAMPLES;
-    co_bvh *bo = NULL, *bm = NULL;
+    lm_bvh *bo = NULL, *bm = NULL;
     double *po = NULL, *pm = NULL;
-    lm_status s = co_bvh_create(original, &bo);
+    lm_status s = lm_bvh_create(original, &bo);
     if (!s)
-        s = co_bvh_create(model, &bm);
+        s = lm_bvh_create(model, &bm);
     if (!s)
         s = co_surface_sample(original, n, CO_DISTANCE_SEED, &po);
     if (!s)
@@ -147,7 +147,7 @@ lm_status co_surface_distance_measure(const lm_mesh *original, const lm_mesh *mo
     }
     free(po);
     free(pm);
-    co_bvh_destroy(bo);
-    co_bvh_destroy(bm);
+    lm_bvh_destroy(bo);
+    lm_bvh_destroy(bm);
     return s;
 }

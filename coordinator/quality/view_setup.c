@@ -7,7 +7,7 @@
 
 #include "coordinator/views/views.h"
 
-lm_status co_view_set_around(const lm_mesh *framing, uint32_t n, int size, int heldout,
+lm_status co_view_set_around(const lm_mesh *framing, uint32_t n, int size, lm_view_set_kind kind,
                              lm_view_set **out)
 {
     if (framing->live_tris == 0)
@@ -19,8 +19,9 @@ lm_status co_view_set_around(const lm_mesh *framing, uint32_t n, int size, int h
     lm_view_set *vs = malloc(sizeof *vs);
     if (!vs)
         return lm_fail(LM_E_NOMEM, "out of memory for a view set");
-    lm_status st =
-        heldout ? lm_view_set_make_heldout(vs, size, c, r) : lm_view_set_make(vs, n, size, c, r);
+    lm_status st = kind == LM_VIEWS_HELDOUT ? lm_view_set_make_heldout(vs, size, c, r)
+                   : kind == LM_VIEWS_DENSE ? lm_view_set_make_dense(vs, size, c, r)
+                                            : lm_view_set_make(vs, n, size, c, r);
     if (st != LM_OK) {
         free(vs);
         return st;

@@ -8,9 +8,9 @@
 #include "common/view.h"
 #include "common/views_api.h"
 
-/* n views of size x size around `framing` (heldout: the 24 held-out views, n ignored).
- * *out is allocated; free() it. */
-lm_status co_view_set_around(const lm_mesh *framing, uint32_t n, int size, int heldout,
+/* n views of size x size around `framing` (LM_VIEWS_HELDOUT: the 24 held-out views, LM_VIEWS_DENSE:
+ * the 96 of the dense check; n ignored for both). *out is allocated; free() it. */
+lm_status co_view_set_around(const lm_mesh *framing, uint32_t n, int size, lm_view_set_kind kind,
                              lm_view_set **out);
 
 /* In-process views of `original` on device `device` with `model` as the current mesh. When model

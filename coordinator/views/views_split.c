@@ -59,6 +59,15 @@ static lm_status sp_commit(lm_views *v, const lm_patch *patch)
     return changed(s, st);
 }
 
+static lm_status sp_retarget(lm_views *v)
+{
+    split *s = as_split(v);
+    lm_status st = LM_OK;
+    for (uint32_t k = 0; k < s->n_kids && st == LM_OK; k++)
+        st = lm_views_retarget(s->kids[k]);
+    return changed(s, st);
+}
+
 static lm_status scratch_reserve(split *s, size_t n)
 {
     if (n <= s->cap_scratch)
@@ -162,6 +171,7 @@ static const lm_views_ops split_ops = {
     .read_image = sp_read_image,
     .info = sp_info,
     .destroy = sp_destroy,
+    .retarget = sp_retarget,
 };
 
 /* Children agree on what a pixel is: same size and renderer. */

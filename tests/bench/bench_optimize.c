@@ -6,7 +6,7 @@
  * usage: bench_optimize ORIGINAL [--frac F (0.01)] [--verts N] [--views N (20)] [--size S (256)]
  *        [--evals N (300000)] [--every N (25000)] [--seed S (1)] [--device D (auto)]
  *        [--attrs normal,uv,color] [--cluster] [--out FILE] [--initial FILE] [--epd N]
- *        [--set NAME=VALUE ...] (tuning, see set_tuning) */
+ *        [--set NAME=VALUE ...] (tuning, see set_tuning; surface_weight=W: the geometric term) */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -58,7 +58,8 @@ static int set_tuning(co_tuning *t, const char *kv)
              {"min_weight", &t->stats_min_weight, NULL},
              {"share", &t->oracle_share, NULL},
              {"share_min", &t->oracle_min_share, NULL},
-             {"share_max", &t->oracle_max_share, NULL}};
+             {"share_max", &t->oracle_max_share, NULL},
+             {"surface_weight", &t->surface_weight, NULL}};
     for (size_t i = 0; i < sizeof f / sizeof *f; i++)
         if (strlen(f[i].name) == n && !strncmp(f[i].name, kv, n)) {
             if (f[i].d)
@@ -205,7 +206,10 @@ static lm_status bench(const opts *o)
         !(st = wk_views_local_create(orig, hs, 0, 0, o->device, &held)))
         st = energy_of(held, coarse, &held0);
     co_optimizer *opt = NULL;
-    co_params p = {.seed = o->seed, .attrs = o->attrs, .simplex_evals_per_dim = o->evals_per_dim};
+    co_params p = {.seed = o->seed,
+                   .attrs = o->attrs,
+                   .simplex_evals_per_dim = o->evals_per_dim,
+                   .surface = orig};
     if (!st)
         st = co_optimizer_create_tuned(coarse, v, &p, &o->tune, &opt);
     else

@@ -155,9 +155,17 @@ static void me_destroy(lm_views *v)
     (void)v;
 }
 
-static const lm_views_ops meter_ops = {me_set_mesh,   me_set_materials, me_evaluate,
-                                       me_commit,     me_energy,        me_potentials,
-                                       me_read_image, me_info,          me_destroy};
+static const lm_views_ops meter_ops = {
+    .set_mesh = me_set_mesh,
+    .set_materials = me_set_materials,
+    .evaluate = me_evaluate,
+    .commit = me_commit,
+    .energy = me_energy,
+    .potentials = me_potentials,
+    .read_image = me_read_image,
+    .info = me_info,
+    .destroy = me_destroy,
+};
 
 /* ---- runs ------------------------------------------------------------------------------------ */
 

@@ -2,7 +2,8 @@
 # Integration: `lumesh energy`, `lumesh render` and `lumesh bench eval` on the textured spider as a
 # user runs them: a model against itself has energy exactly 0; a coarse version has a positive
 # energy whose per-view values add up to the total, and holes in it show as missing coverage;
-# held-out views give another set of 24; compare writes grids and finds the holes; render
+# held-out views give another set of 24, the dense check 96 more (and surface distances, several
+# models a call); compare writes grids and finds the holes; render
 # writes one PNG per view (and targets and differences with --against); the benchmark's JSON has
 # its numbers; bad input gives one line on stderr and exit 1.
 set -u
@@ -53,6 +54,22 @@ checks=$((checks + 1))
   fail "held-out energy failed"
 grep -q '"views": 24' "$tmp/held.json" && grep -q '"heldout": true' "$tmp/held.json" ||
   fail "held-out energy does not use 24 views: $(cat "$tmp/held.json")"
+
+checks=$((checks + 1)) # the dense check: 96 other views; several models in one call, one line each
+"$LUMESH" energy "$spider" "$spider" "$tmp/coarse.obj" --dense --size 48 --distance > "$tmp/dense.json" ||
+  fail "dense energy failed"
+[ "$(wc -l < "$tmp/dense.json")" = 2 ] || fail "not one line per model: $(cat "$tmp/dense.json")"
+head -1 "$tmp/dense.json" > "$tmp/dense_self.json"
+tail -1 "$tmp/dense.json" > "$tmp/dense_coarse.json"
+grep -q '"views": 96, "size": 48, "heldout": false, "dense": true' "$tmp/dense_coarse.json" ||
+  fail "dense energy does not use 96 views: $(cat "$tmp/dense_coarse.json")"
+[ "$(json "$tmp/dense_self.json" total)" = 0 ] &&
+  awk -v d="$(json "$tmp/dense_self.json" mean)" 'BEGIN {exit !(d < 1e-9)}' ||
+  fail "the spider is not at distance ~0 from itself: $(cat "$tmp/dense_self.json")"
+[ "$(json "$tmp/dense_coarse.json" total)" -gt 0 ] &&
+  awk -v d="$(json "$tmp/dense_coarse.json" mean)" 'BEGIN {exit !(d > 0)}' ||
+  fail "the coarse spider has no dense energy or distance: $(cat "$tmp/dense_coarse.json")"
+expect_fail_line "$LUMESH" energy "$spider" "$spider" --dense --heldout
 
 checks=$((checks + 1))
 "$LUMESH" render "$tmp/coarse.obj" -o "$tmp/img" --views 3 --size 64 --against "$spider" 2>/dev/null ||

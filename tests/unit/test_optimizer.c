@@ -3,7 +3,9 @@
  * the views'; the vertex count stays; the same seed gives the same mesh; save -> load -> continue
  * ends in exactly the state of an uninterrupted run (mesh hash, counters, and the whole saved
  * state byte for byte), also when saved in the middle of an iteration; bad checkpoints are refused
- * and leave the optimizer as it was. */
+ * and leave the optimizer as it was. With the geometric term: the image energy is still the
+ * views', the term is what a fresh one says of the result and falls, runs are deterministic and
+ * resume exactly, and a checkpoint of one kind is refused by the other. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -12,11 +14,16 @@
 #include "common/mesh_topology.h"
 #include "common/view.h"
 #include "coordinator/optimizer/optimizer.h"
+#include "coordinator/optimizer/optimizer_tuning.h"
+#include "coordinator/optimizer/surface_term.h"
 #include "test_support.h"
 #include "worker/views_local.h"
 
 #define N_VIEWS 12
 #define SIZE 64
+
+static int g_surface; /* runs with the geometric term (surface_term.h) against the original */
+#define SURFACE_WEIGHT 1.0
 
 typedef struct run {
     lm_mesh *orig;
@@ -42,8 +49,9 @@ static void run_start(run *r, uint64_t seed)
     lm_mesh_bounding_sphere(r->orig, c, &rad);
     assert_int_equal(lm_view_set_make(&r->vs, N_VIEWS, SIZE, c, rad), LM_OK);
     assert_int_equal(wk_views_local_create(r->orig, &r->vs, 0, 0, "host", &r->v), LM_OK);
-    co_params p = {.seed = seed};
-    assert_int_equal(co_optimizer_create(noisy_sphere(), r->v, &p, &r->o), LM_OK);
+    co_params p = {.seed = seed, .surface = g_surface ? r->orig : NULL};
+    co_tuning t = {.surface_weight = g_surface ? SURFACE_WEIGHT : 0};
+    assert_int_equal(co_optimizer_create_tuned(noisy_sphere(), r->v, &p, &t, &r->o), LM_OK);
 }
 
 static void run_free(run *r)
@@ -219,6 +227,59 @@ static void test_bad_checkpoints(void **state)
     run_free(&c);
 }
 
+/* E_geo of a mesh as a fresh geometric term over fresh views computes it. */
+static int64_t fresh_geometric(run *r, const lm_mesh *m)
+{
+    lm_views *g;
+    assert_int_equal(co_surface_views_create(r->v, r->orig, SURFACE_WEIGHT, &g), LM_OK);
+    assert_int_equal(lm_views_set_mesh_from(g, m), LM_OK);
+    int64_t e = co_surface_views_energy(g);
+    lm_views_destroy(g);
+    return e;
+}
+
+static void test_geometric_term(void **state)
+{
+    (void)state;
+    g_surface = 1;
+    run a, b;
+    run_start(&a, 5);
+    run_start(&b, 5);
+    co_progress p0, p;
+    co_optimizer_progress(a.o, &p0);
+    assert_true(p0.geometric_start > 0 && p0.geometric == p0.geometric_start);
+    assert_true(p0.energy_start == views_energy(a.v));
+    run_to(&a, 2500);
+    run_to(&b, 2500);
+    co_optimizer_progress(a.o, &p);
+    assert_true(p.energy == views_energy(a.v));
+    assert_true(p.energy < p0.energy_start);
+    assert_true(p.geometric < p0.geometric_start); /* the noisy sphere moves towards the surface */
+    assert_true(p.geometric == fresh_geometric(&a, co_optimizer_mesh(a.o)));
+    assert_true(lm_mesh_hash(co_optimizer_mesh(a.o)) == lm_mesh_hash(co_optimizer_mesh(b.o)));
+    /* a checkpoint with the term is not for an optimizer without it, and the other way round */
+    size_t len, len2;
+    char *ck = save_bytes(a.o, &len);
+    g_surface = 0;
+    run c;
+    run_start(&c, 5);
+    assert_int_equal(load_bytes(c.o, ck, len), LM_E_FORMAT);
+    char *ck2 = save_bytes(c.o, &len2);
+    assert_int_equal(load_bytes(b.o, ck2, len2), LM_E_FORMAT);
+    free(ck);
+    free(ck2);
+    run_free(&a);
+    run_free(&b);
+    run_free(&c);
+}
+
+static void test_resume_with_geometric_term(void **state)
+{
+    g_surface = 1;
+    test_resume_equals_uninterrupted(state);
+    g_surface = 0;
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -226,6 +287,8 @@ int main(void)
         cmocka_unit_test(test_determinism),
         cmocka_unit_test(test_resume_equals_uninterrupted),
         cmocka_unit_test(test_bad_checkpoints),
+        cmocka_unit_test(test_geometric_term),
+        cmocka_unit_test(test_resume_with_geometric_term),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

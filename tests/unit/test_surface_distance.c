@@ -8,10 +8,10 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "common/bvh.h"
 #include "common/frog.h"
 #include "common/mesh_topology.h"
 #include "common/simplify.h"
-#include "coordinator/quality/bvh.h"
 #include "coordinator/quality/surface_distance.h"
 
 static void test_point_triangle(void **state)
@@ -31,10 +31,10 @@ static void test_point_triangle(void **state)
         {{0.25, 0.25, -0.5}, 0.25} /* below the face */
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++)
-        assert_float_equal(co_point_triangle_sq(cases[i].p, a, b, c), cases[i].want, 1e-12);
+        assert_float_equal(lm_point_triangle_sq(cases[i].p, a, b, c), cases[i].want, 1e-12);
     const double d[3] = {1, 1, 1}; /* a degenerate triangle (all corners at d) */
     const double p[3] = {1, 1, 3};
-    assert_float_equal(co_point_triangle_sq(p, d, d, d), 4, 1e-12);
+    assert_float_equal(lm_point_triangle_sq(p, d, d, d), 4, 1e-12);
 }
 
 static double brute_sq(const lm_mesh *m, const double p[3])
@@ -47,7 +47,7 @@ static double brute_sq(const lm_mesh *m, const double p[3])
         for (int k = 0; k < 3; k++)
             for (int j = 0; j < 3; j++)
                 v[k][j] = m->pos[lm_tri_vertex(m, t, k)][j];
-        double d = co_point_triangle_sq(p, v[0], v[1], v[2]);
+        double d = lm_point_triangle_sq(p, v[0], v[1], v[2]);
         best = d < best ? d : best;
     }
     return best;
@@ -60,16 +60,16 @@ static void test_bvh_equals_scan(void **state)
     (void)state;
     lm_mesh *m = NULL;
     assert_int_equal(lm_frog_generate(4000, 5, &m), LM_OK);
-    co_bvh *b = NULL;
-    assert_int_equal(co_bvh_create(m, &b), LM_OK);
+    lm_bvh *b = NULL;
+    assert_int_equal(lm_bvh_create(m, &b), LM_OK);
     uint64_t rng = 42;
     for (int i = 0; i < 1500; i++) {
         double p[3];
         for (int k = 0; k < 3; k++)
             p[k] = (lmt_urand(&rng) - 0.5) * (i < 1000 ? 3.0 : 30.0);
-        assert_true(co_bvh_closest_sq(b, p) == brute_sq(m, p));
+        assert_true(lm_bvh_closest_sq(b, p) == brute_sq(m, p));
     }
-    co_bvh_destroy(b);
+    lm_bvh_destroy(b);
     lm_mesh_destroy(m);
 }
 

@@ -1,7 +1,7 @@
-/* coordinator/quality/bvh.c — closest-point queries over a triangle mesh: build (median split of
+/* common/bvh.c — closest-point queries over a triangle mesh: build (median split of
  * the centroids on the box's longest axis), point-to-triangle distance by Voronoi regions, and a
  * depth-first query that visits the nearer child first and skips boxes farther than the best. */
-#include "coordinator/quality/bvh.h"
+#include "common/bvh.h"
 
 #include <float.h>
 #include <math.h>
@@ -14,14 +14,14 @@ typedef struct bvh_node {
     uint32_t left, right;  /* inner: children */
 } bvh_node;
 
-struct co_bvh {
+struct lm_bvh {
     double (*tri)[3][3]; /* [n] corner positions, in leaf order */
     uint32_t n, n_nodes;
     bvh_node *nodes; /* [2n] at most */
 };
 
 typedef struct build_ctx {
-    co_bvh *b;
+    lm_bvh *b;
     double (*centre)[3];
     uint32_t *order; /* triangle of each slot */
     double (*src)[3][3];
@@ -81,7 +81,7 @@ static uint32_t build(build_ctx *c, uint32_t first, uint32_t count)
     nd->first = first;
     nd->count = count;
     node_bounds(c, nd);
-    if (count <= CO_BVH_LEAF)
+    if (count <= LM_BVH_LEAF)
         return id;
     int axis = 0;
     for (int k = 1; k < 3; k++)
@@ -122,13 +122,13 @@ static lm_status gather(const lm_mesh *m, build_ctx *c, uint32_t n)
     return LM_OK;
 }
 
-lm_status co_bvh_create(const lm_mesh *m, co_bvh **out)
+lm_status lm_bvh_create(const lm_mesh *m, lm_bvh **out)
 {
     *out = NULL;
     uint32_t n = m->live_tris;
     if (n == 0)
         return lm_fail(LM_E_INVALID, "a distance hierarchy needs at least one triangle");
-    co_bvh *b = calloc(1, sizeof *b);
+    lm_bvh *b = calloc(1, sizeof *b);
     build_ctx c = {.b = b};
     lm_status s = b ? gather(m, &c, n) : lm_fail(LM_E_NOMEM, "out of memory");
     if (!s) {
@@ -147,14 +147,14 @@ lm_status co_bvh_create(const lm_mesh *m, co_bvh **out)
     free(c.centre);
     free(c.order);
     if (s) {
-        co_bvh_destroy(b);
+        lm_bvh_destroy(b);
         return s;
     }
     *out = b;
     return LM_OK;
 }
 
-void co_bvh_destroy(co_bvh *b)
+void lm_bvh_destroy(lm_bvh *b)
 {
     if (!b)
         return;
@@ -184,7 +184,7 @@ static double at(const double p[3], const double a[3], const double ab[3], const
     return dist_sq(p, q);
 }
 
-double co_point_triangle_sq(const double p[3], const double a[3], const double b[3],
+double lm_point_triangle_sq(const double p[3], const double a[3], const double b[3],
                             const double c[3])
 {
     double ab[3], ac[3], ap[3], bp[3], cp[3];
@@ -230,7 +230,7 @@ static double box_sq(const bvh_node *nd, const double p[3])
 
 #define BVH_STACK 128 /* median splits: depth ~log2(n) + 1 */
 
-double co_bvh_closest_sq(const co_bvh *b, const double p[3])
+double lm_bvh_closest_sq(const lm_bvh *b, const double p[3])
 {
     double best = DBL_MAX;
     uint32_t stack[BVH_STACK];
@@ -242,7 +242,7 @@ double co_bvh_closest_sq(const co_bvh *b, const double p[3])
             continue;
         if (nd->count) {
             for (uint32_t i = nd->first; i < nd->first + nd->count; i++) {
-                double d = co_point_triangle_sq(p, b->tri[i][0], b->tri[i][1], b->tri[i][2]);
+                double d = lm_point_triangle_sq(p, b->tri[i][0], b->tri[i][1], b->tri[i][2]);
                 best = d < best ? d : best;
             }
             continue;

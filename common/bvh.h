@@ -1,0 +1,28 @@
+/* common/bvh.h — a bounding-volume hierarchy over a mesh's live triangles for
+ * closest-point queries (the surface distances of the quality report, the optimizer's geometric
+ * term). Built once (median splits on the longest axis, at most LM_BVH_LEAF triangles a leaf),
+ * read-only afterwards, so queries may run from several threads. Distances in double precision,
+ * compiled without contracted multiply-adds: the same point gives the same bits on every
+ * platform (the optimizer's decisions depend on them). */
+#ifndef LM_COMMON_BVH_H
+#define LM_COMMON_BVH_H
+
+#include "common/mesh.h"
+
+#define LM_BVH_LEAF 4
+
+typedef struct lm_bvh lm_bvh;
+
+/* A hierarchy over m's live triangles (at least one). Caller destroys *out. */
+lm_status lm_bvh_create(const lm_mesh *m, lm_bvh **out);
+void lm_bvh_destroy(lm_bvh *b);
+
+/* Squared distance from p to the closest point of the surface. */
+double lm_bvh_closest_sq(const lm_bvh *b, const double p[3]);
+
+/* Squared distance from p to triangle (a, b, c) (Ericson, Real-Time Collision Detection 5.1.5);
+ * exposed for tests, which compare the hierarchy against every triangle. */
+double lm_point_triangle_sq(const double p[3], const double a[3], const double b[3],
+                            const double c[3]);
+
+#endif

@@ -1,0 +1,164 @@
+/* coordinator/cli/cli_lod.c — `lumesh lod ORIGINAL -o OUT.glb --levels 50%,25%,10%`: a chain of
+ * levels of detail, each simplified from the level before it and then optimised against the
+ * original's images (coordinator/simplify/lod.h), written as one GLB with MSFT_lod or, with
+ * --per-level, one file per level. Prints one line per level. */
+#include <getopt.h>
+#include <stdio.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "common/view.h"
+#include "coordinator/cli/cli_args.h"
+#include "coordinator/simplify/lod.h"
+
+#define CMD "lod"
+
+static void usage(FILE *f)
+{
+    fprintf(f,
+            "usage: lumesh lod ORIGINAL -o OUT --levels 50%%,25%%,10%%[,...] [--method "
+            "image|shard|qem]\n"
+            "                  [--evals N] [--no-optimize] [--per-level] [--views N] [--size S]\n"
+            "                  [--device D] [--workers N] [--seed S]\n"
+            "Makes a chain of levels of detail of ORIGINAL: each level is simplified from the\n"
+            "level before it (the first from ORIGINAL) and then optimised so that its images\n"
+            "match ORIGINAL's (the levels nest: each is a simplification of the one before).\n"
+            "Part names and materials are kept in every level.\n"
+            "  -o, --output OUT     a .glb holding every level (LOD0 in the scene, the others\n"
+            "                       named by its MSFT_lod extension; viewers without it show\n"
+            "                       LOD0), or with --per-level one file per level, OUT's name\n"
+            "                       with .lod0, .lod1, ... before the extension (.obj/.ply/.glb)\n"
+            "  --levels LIST        vertex counts, as percentages of ORIGINAL's (100%% is\n"
+            "                       ORIGINAL as it is) or as numbers, strictly decreasing\n"
+            "  --method M           image (default): image-driven collapses; shard: Pfeiffer's\n"
+            "                       shards; qem: meshoptimizer's QEM\n"
+            "  --evals N            optimisation budget per level in evaluations (default 20000)\n"
+            "  --no-optimize        levels as simplified\n"
+            "  --views N, --size S  the views (default %u of %d pixels)\n"
+            "  --device D           auto (default), host or egl:N\n"
+            "  --workers N          render in N lumesh-worker processes (default 0: in process);\n"
+            "                       the result is the same for any N\n"
+            "  --seed S             the optimizer's seed (default 1)\n"
+            "  -h, --help           this text\n",
+            LM_DEFAULT_VIEWS, LM_DEFAULT_VIEW_SIZE);
+}
+
+static int parse_method(const char *v, co_lod_options *o)
+{
+    o->qem = !strcmp(v, "qem");
+    o->method = !strcmp(v, "shard") ? CO_PRICE_SHARD : CO_PRICE_IMAGE;
+    if (!o->qem && strcmp(v, "image") && strcmp(v, "shard"))
+        return co_cli_usage_error(CMD, "--method expects image, shard or qem, got '%s'", v);
+    return -1;
+}
+
+static int parse_option(int c, char **argv, co_lod_options *o)
+{
+    uint32_t x;
+    switch (c) {
+    case 'o':
+        o->output_path = optarg;
+        return -1;
+    case 'l':
+        if (co_lod_parse_levels(optarg, o) == LM_OK)
+            return -1;
+        return co_cli_usage_error(CMD, "%s", lm_last_error());
+    case 'm':
+        return parse_method(optarg, o);
+    case 'e':
+        return co_arg_u64(CMD, "--evals", optarg, 1, UINT64_MAX / 2, &o->evals) ? 1 : -1;
+    case 'N':
+        o->no_optimize = 1;
+        return -1;
+    case 'p':
+        o->per_level = 1;
+        return -1;
+    case 'v':
+        return co_arg_views(CMD, optarg, &o->views) ? 1 : -1;
+    case 's':
+        if (co_arg_size(CMD, optarg, &x))
+            return 1;
+        o->size = (int)x;
+        return -1;
+    case 'd':
+        o->device = optarg;
+        return -1;
+    case 'w':
+        return co_arg_u32(CMD, "--workers", optarg, 0, 256, &o->workers) ? 1 : -1;
+    case 'S':
+        return co_arg_u64(CMD, "--seed", optarg, 1, UINT64_MAX, &o->seed) ? 1 : -1;
+    case 'h':
+        usage(stdout);
+        return 0;
+    default:
+        return co_cli_bad_option(CMD, c, argv);
+    }
+}
+
+static int parse(int argc, char **argv, co_lod_options *o)
+{
+    static const struct option opts[] = {{"output", required_argument, NULL, 'o'},
+                                         {"levels", required_argument, NULL, 'l'},
+                                         {"method", required_argument, NULL, 'm'},
+                                         {"evals", required_argument, NULL, 'e'},
+                                         {"no-optimize", no_argument, NULL, 'N'},
+                                         {"per-level", no_argument, NULL, 'p'},
+                                         {"views", required_argument, NULL, 'v'},
+                                         {"size", required_argument, NULL, 's'},
+                                         {"device", required_argument, NULL, 'd'},
+                                         {"workers", required_argument, NULL, 'w'},
+                                         {"seed", required_argument, NULL, 'S'},
+                                         {"help", no_argument, NULL, 'h'},
+                                         {NULL, 0, NULL, 0}};
+    int c, rc;
+    opterr = 0;
+    while ((c = getopt_long(argc, argv, ":o:h", opts, NULL)) != -1)
+        if ((rc = parse_option(c, argv, o)) >= 0)
+            return rc;
+    if (optind >= argc)
+        return co_cli_usage_error(CMD, "missing ORIGINAL model (see --help)");
+    if (optind + 1 < argc)
+        return co_cli_usage_error(CMD, "unexpected argument '%s' (see --help)", argv[optind + 1]);
+    o->input_path = argv[optind];
+    if (!o->output_path)
+        return co_cli_usage_error(CMD, "missing -o OUT (see --help)");
+    if (!o->n_levels)
+        return co_cli_usage_error(CMD, "missing --levels LIST (see --help)");
+    const char *dot = strrchr(o->output_path, '.'), *slash = strrchr(o->output_path, '/');
+    dot = dot && (!slash || dot > slash) ? dot : "";
+    if (o->per_level && strcmp(dot, ".glb") && strcmp(dot, ".obj") && strcmp(dot, ".ply"))
+        return co_cli_usage_error(CMD, "-o %s: use a .obj, .ply or .glb name", o->output_path);
+    if (!o->per_level && strcmp(dot, ".glb"))
+        return co_cli_usage_error(CMD, "one file of levels is a .glb: use OUT.glb, or "
+                                       "--per-level for .obj or .ply files");
+    if (o->method == CO_PRICE_SHARD && o->workers)
+        return co_cli_usage_error(CMD, "--method shard renders in this process: no --workers");
+    return -1;
+}
+
+int co_cli_lod(int argc, char **argv)
+{
+    co_lod_options o = {0};
+    int rc = parse(argc, argv, &o);
+    if (rc >= 0)
+        return rc;
+    o.progress = isatty(2);
+    co_lod_summary s;
+    lm_status st = co_lod_run(&o, &s);
+    if (st)
+        return co_cli_fail(CMD, st);
+    printf("lumesh lod: %s %u vertices / %u triangles -> %u levels in %.1f s -> %s%s\n",
+           o.input_path, s.in_verts, s.in_tris, s.n_levels, s.seconds, o.output_path,
+           o.per_level ? " (one file per level)" : "");
+    for (uint32_t k = 0; k < s.n_levels; k++) {
+        const co_lod_level_result *r = &s.level[k];
+        printf("  LOD%u: %u vertices / %u triangles, %u parts; energy %lld simplified, %lld "
+               "%s (%llu + %llu evaluations, %.1f s)%s%s\n",
+               k, r->verts, r->tris, r->parts, (long long)r->energy_simplified,
+               (long long)r->energy_optimized,
+               r->kept_simplified ? "kept (optimising did not lower it)" : "optimised",
+               (unsigned long long)r->simplify_evals, (unsigned long long)r->optimize_evals,
+               r->seconds, r->path[0] ? " -> " : "", r->path);
+    }
+    return 0;
+}

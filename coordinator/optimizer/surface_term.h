@@ -1,0 +1,38 @@
+/* coordinator/optimizer/surface_term.h — the optimizer's geometric term: views that add to the
+ * image energy of the views they wrap a penalty on the coarse mesh drifting off the original's
+ * surface, so that vertices the images cannot place (hidden, grazing or seen by few views) stay on
+ * the surface instead of being painted for the views that see them.
+ *
+ *   E_geo = Σ_t e(t),  e(t) = round(k · area(t) · mean over q of dist(q, original)²)
+ *
+ * with q the three edge midpoints and the centroid of triangle t, and k = weight · views · (S/2r)²
+ * · (256/2r)²: area in pixels of the training views (S wide, framing the bounding sphere of radius
+ * r), distance in pixels of a 256-wide view, once per view, so that weight 1 costs a triangle what
+ * one squared unit of luminance per pixel and view would if every view saw it a pixel off.
+ *
+ * Every e(t) is an int64 computed here, in the coordinator, from the triangle's corner positions
+ * alone (double precision, no contracted multiply-adds: the same bits on every platform), so
+ * evaluate's ΔE stays an exact integer and E_geo does not depend on how views are split or on the
+ * order of anything. The wrapped views are borrowed; every op is passed on to them, evaluate adds
+ * each patch's ΔE_geo, energy adds E_geo to the total (per_view stays the image energies). */
+#ifndef LM_COORDINATOR_SURFACE_TERM_H
+#define LM_COORDINATOR_SURFACE_TERM_H
+
+#include <stdint.h>
+
+#include "common/mesh.h"
+#include "common/views_api.h"
+
+/* Views over `inner` (borrowed, must outlive them) with the geometric term against `surface`
+ * (borrowed likewise; its live triangles, at least one) of weight `weight` (> 0). */
+lm_status co_surface_views_create(lm_views *inner, const lm_mesh *surface, double weight,
+                                  lm_views **out);
+
+/* E_geo of the current mesh (0 before the first set_mesh). `v` must come from
+ * co_surface_views_create. */
+int64_t co_surface_views_energy(const lm_views *v);
+
+/* e(t) of one triangle (for tests and the scale above). */
+int64_t co_surface_views_tri(const lm_views *v, const float p[3][3]);
+
+#endif

@@ -1,0 +1,68 @@
+/* coordinator/simplify/lod.h — a chain of levels of detail: each level simplified from the one
+ * before it (the first from the original) by image-driven collapses (or shards, or QEM) against
+ * the ORIGINAL's images, then optimised by the Lindstrom–Turk optimizer against the same images
+ * (one set of views for the whole chain; of the two, the level with the lower energy is kept),
+ * then the next level starts from that mesh.
+ * Written as one GLB (MSFT_lod: LOD0 in the scene, the others named by its extension) or one file
+ * per level; part names kept in every level. */
+#ifndef LM_COORDINATOR_SIMPLIFY_LOD_H
+#define LM_COORDINATOR_SIMPLIFY_LOD_H
+
+#include <stdint.h>
+
+#include "common/mesh_io.h"
+#include "coordinator/simplify/pricer.h"
+
+/* A level asked for: a fraction of the original's vertices (percent given) or a count. */
+typedef struct co_lod_spec {
+    double fraction; /* > 0 when given as a percentage */
+    uint32_t verts;  /* otherwise */
+} co_lod_spec;
+
+/* Zero means default for every field but the paths and the levels. */
+typedef struct co_lod_options {
+    const char *input_path, *output_path;
+    co_lod_spec levels[LM_MESH_MAX_LODS];
+    uint32_t n_levels;
+    int qem;                /* simplify each level by QEM instead of image-driven collapses */
+    co_price_method method; /* image or shard */
+    uint64_t evals;         /* optimisation budget per level; 0 = 20000 */
+    int no_optimize;        /* levels as simplified (no optimisation) */
+    uint32_t views;         /* 0 = 20 */
+    int size;               /* 0 = 256 */
+    const char *device;
+    uint32_t workers; /* lumesh-worker processes for the views (0: in this process) */
+    uint64_t seed;    /* optimizer seed; 0 = 1 */
+    int per_level;    /* one file per level: STEM.lodK.EXT */
+    int progress;     /* a line per level on stderr */
+} co_lod_options;
+
+typedef struct co_lod_level_result {
+    uint32_t target, verts, tris, parts;
+    uint32_t collapses;
+    uint64_t simplify_evals, optimize_evals;
+    int64_t energy_simplified, energy_optimized; /* on the job's views */
+    int kept_simplified; /* the optimised level lost to the simplified one, which was kept */
+    double seconds;
+    char path[1024]; /* the file it went to (per_level), else "" */
+} co_lod_level_result;
+
+typedef struct co_lod_summary {
+    uint32_t in_verts, in_tris, n_levels;
+    co_lod_level_result level[LM_MESH_MAX_LODS];
+    double seconds;
+    char renderer[128];
+} co_lod_summary;
+
+/* Parse "50%,25%,10%" or "2000,500,100" (mixed allowed); LM_E_INVALID naming the bad item. */
+lm_status co_lod_parse_levels(const char *spec, co_lod_options *o);
+
+/* STEM.lodK.EXT for OUT = STEM.EXT (buf of cap bytes). */
+void co_lod_level_path(const char *out, uint32_t k, char *buf, size_t cap);
+
+/* The levels in memory (levels[0..n_levels), compact, owned by the caller), nothing written. */
+lm_status co_lod_build(const co_lod_options *o, co_lod_summary *sum, lm_mesh **levels);
+/* Build and write them. */
+lm_status co_lod_run(const co_lod_options *o, co_lod_summary *sum);
+
+#endif

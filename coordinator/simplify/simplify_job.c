@@ -1,0 +1,169 @@
+/* coordinator/simplify/simplify_job.c — load → QEM when large → working mesh → views → collapses
+ * (with the progressive mesh recorded) → output and progressive mesh written. */
+#include "coordinator/simplify/simplify_job.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "common/folders.h"
+#include "common/mesh_io.h"
+#include "common/simplify.h"
+#include "coordinator/pool/pool.h"
+#include "coordinator/quality/view_setup.h"
+#include "coordinator/simplify/work.h"
+
+#define CO_SIMPLIFY_WORKER_START_S 60.0
+
+typedef struct sjob {
+    const co_simplify_options *o;
+    co_simplify_summary *sum;
+    lm_mesh *in, *ref, *work;
+    lm_view_set *vs;
+    co_pool *pool;
+    lm_views *views;
+    co_pm_recorder *rec;
+    int derived;
+    double t_last;
+} sjob;
+
+static lm_status load(sjob *j)
+{
+    lm_status st = lm_mesh_load(j->o->input_path, NULL, &j->in);
+    if (st == LM_OK && j->o->reference_path)
+        st = lm_mesh_load(j->o->reference_path, NULL, &j->ref);
+    if (st == LM_OK) {
+        j->sum->in_verts = j->in->live_verts;
+        j->sum->in_tris = j->in->live_tris;
+    }
+    return st;
+}
+
+/* QEM to the start size when the model is larger (its best mesh when QEM stops short). */
+static lm_status start_mesh(sjob *j)
+{
+    uint32_t start =
+        co_simplify_start_verts(j->in->live_verts, j->o->target_verts, j->o->presimplify);
+    lm_status st;
+    if (start < j->in->live_verts) {
+        st = lm_simplify(j->in, LM_SIMPLIFY_QEM, start, &j->work);
+        if (st == LM_E_RANGE && j->work) {
+            lm_clear_error();
+            st = LM_OK;
+        }
+    } else {
+        st = lm_mesh_clone(j->in, &j->work);
+    }
+    if (st == LM_OK)
+        st = co_simplify_prepare(j->work, &j->derived);
+    if (st == LM_OK)
+        j->sum->start_verts = j->work->live_verts;
+    return st;
+}
+
+static lm_status make_views(sjob *j)
+{
+    const lm_mesh *ref = j->ref ? j->ref : j->in;
+    uint32_t n = j->o->views ? j->o->views : LM_DEFAULT_VIEWS;
+    int size = j->o->size ? j->o->size : LM_DEFAULT_VIEW_SIZE;
+    lm_status st = co_view_set_around(ref, n, size, 0, &j->vs);
+    if (st == LM_OK && j->o->workers && j->o->method == CO_PRICE_IMAGE) {
+        co_pool_options po = {.local_workers = j->o->workers, .device = j->o->device, .quiet = 1};
+        st = co_pool_create(&po, &j->pool);
+        if (st == LM_OK)
+            st = co_pool_wait(j->pool, j->o->workers, CO_SIMPLIFY_WORKER_START_S);
+    }
+    if (st == LM_OK)
+        st = co_simplify_make_views(j->o->method, ref, j->work, j->vs, j->o->device, j->pool,
+                                    &j->views);
+    if (st == LM_OK) {
+        lm_views_info info;
+        j->views->ops->info(j->views, &info);
+        snprintf(j->sum->renderer, sizeof j->sum->renderer, "%s", info.renderer);
+    }
+    return st;
+}
+
+static lm_status on_step(void *ctx, const lm_mesh *m, co_isimp_step *s)
+{
+    sjob *j = ctx;
+    if (j->o->progress) {
+        double t = co_now_s();
+        if (t - j->t_last > 0.5 || m->live_verts <= j->o->target_verts) {
+            fprintf(stderr, "\rlumesh simplify: %u vertices (%u collapses)   ", m->live_verts,
+                    s->index + 1);
+            j->t_last = t;
+        }
+    }
+    return j->rec && s->split ? co_pm_recorder_take(j->rec, s->split) : LM_OK;
+}
+
+static lm_status simplify(sjob *j)
+{
+    lm_status st = j->o->pm_path ? co_pm_recorder_create(&j->rec) : LM_OK;
+    co_isimp_config cfg = {.method = j->o->method,
+                           .target_verts = j->o->target_verts,
+                           .views = j->vs,
+                           .derived_normals = j->derived,
+                           .record_splits = j->rec != NULL,
+                           .on_step = on_step,
+                           .ctx = j};
+    if (st == LM_OK)
+        st = co_isimp_run(j->work, j->views, &cfg, &j->sum->stats);
+    if (j->o->progress)
+        fprintf(stderr, "\r%60s\r", "");
+    return st;
+}
+
+static lm_status write_outputs(sjob *j)
+{
+    lm_mesh *out = NULL;
+    lm_status st = lm_make_parent_folders(j->o->output_path);
+    if (st == LM_OK && j->o->pm_path)
+        st = lm_make_parent_folders(j->o->pm_path);
+    if (st == LM_OK)
+        st = co_simplify_output_copy(j->work, &out);
+    if (st == LM_OK)
+        st = lm_mesh_save(j->o->output_path, out);
+    if (st == LM_OK && j->o->pm_path)
+        st = co_pm_write(j->o->pm_path, j->work, j->rec, j->sum->start_verts);
+    if (st == LM_OK) {
+        j->sum->out_verts = out->live_verts;
+        j->sum->out_tris = out->live_tris;
+        j->sum->out_parts = lm_mesh_count_parts(out);
+    }
+    lm_mesh_destroy(out);
+    return st;
+}
+
+lm_status co_simplify_job_run(const co_simplify_options *o, co_simplify_summary *sum)
+{
+    memset(sum, 0, sizeof *sum);
+    sjob j = {.o = o, .sum = sum};
+    double t0 = co_now_s();
+    lm_status st = load(&j);
+    double t1 = co_now_s();
+    if (st == LM_OK)
+        st = start_mesh(&j);
+    if (st == LM_OK)
+        st = make_views(&j);
+    double t2 = co_now_s();
+    if (st == LM_OK)
+        st = simplify(&j);
+    double t3 = co_now_s();
+    if (st == LM_OK)
+        st = write_outputs(&j);
+    sum->load_s = t1 - t0;
+    sum->prepare_s = t2 - t1;
+    sum->simplify_s = t3 - t2;
+    sum->write_s = co_now_s() - t3;
+    co_pm_recorder_destroy(j.rec);
+    lm_views_destroy(j.views);
+    co_pool_destroy(j.pool);
+    free(j.vs);
+    lm_mesh_destroy(j.work);
+    lm_mesh_destroy(j.ref);
+    lm_mesh_destroy(j.in);
+    return st;
+}

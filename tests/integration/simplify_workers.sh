@@ -1,0 +1,75 @@
+#!/usr/bin/env bash
+# Integration: `lumesh simplify --method image --workers N` on the worker pool (heartbeats,
+# leases, replacements) writes the bytes of the in-process run for any N and through faults: the
+# spider (6 views of 48 pixels) to 600 vertices in process, then with 1, 2 and 3 local workers, with
+# a worker SIGKILLed mid-run, and with a worker SIGSTOPped past its lease and then continued.
+# LUMESH_TEST_LIGHT=1: 2 workers and the SIGKILL only.
+set -u
+. "$(dirname "$0")/lib.bash"
+: "${LUMESH_WORKER:?LUMESH_WORKER must point at lumesh-worker}"
+tmp=$(mktemp -d)
+coord=
+cleanup() {
+  [ -n "$coord" ] && kill -9 "$coord" 2>/dev/null
+  wait 2>/dev/null
+  rm -rf "$tmp"
+}
+trap cleanup EXIT
+spider=${LUMESH_TEST_DATA:-}/cache/root/usr/share/assimp/models/OBJ/spider.obj
+[ -r "$spider" ] || { echo "spider.obj missing: skipped"; exit 77; }
+export LP_NUM_THREADS=0
+job=(--target-verts 600 --method image --views 6 --size 48 --device host)
+
+"$LUMESH" simplify "$spider" -o "$tmp/ref/m.obj" "${job[@]}" >/dev/null 2>"$tmp/err" ||
+  fail "in-process run failed: $(tail -n 1 "$tmp/err")"
+same() { # same NAME DIR: DIR's files equal the in-process run's
+  for f in m.obj m.mtl; do
+    checks=$((checks + 1))
+    cmp -s "$tmp/ref/$f" "$2/$f" || fail "$1: $f differs from the in-process run's"
+  done
+}
+counts="1 2 3"
+[ "$light" = 1 ] && counts=2
+for n in $counts; do
+  "$LUMESH" simplify "$spider" -o "$tmp/w$n/m.obj" "${job[@]}" --workers "$n" >/dev/null \
+    2>"$tmp/err" || fail "--workers $n failed: $(tail -n 1 "$tmp/err")"
+  same "--workers $n" "$tmp/w$n"
+done
+
+# cpu_ticks PID: user + system clock ticks the process has used (0 once it is gone)
+cpu_ticks() { awk '{ print $14 + $15 }' "/proc/$1/stat" 2>/dev/null || echo 0; }
+# busy_worker COORD: sets victim to a worker of COORD that has done some work
+busy_worker() {
+  local w
+  for w in $(pgrep -P "$1" lumesh-worker); do
+    [ "$(cpu_ticks "$w")" -ge 30 ] && { victim=$w; return 0; }
+  done
+  return 1
+}
+# disturbed NAME ACTION...: a run with 2 workers, ACTION done to a busy one ($victim) mid-run
+disturbed() {
+  local name=$1
+  shift
+  "$LUMESH" simplify "$spider" -o "$tmp/$name/m.obj" "${job[@]}" --workers 2 >/dev/null \
+    2>"$tmp/$name.err" &
+  coord=$!
+  victim=
+  wait_for 120 busy_worker "$coord" || fail "$name: no worker got to work"
+  [ -n "$victim" ] && "$@"
+  wait "$coord" || fail "$name: the run failed: $(tail -n 1 "$tmp/$name.err")"
+  coord=
+  same "$name" "$tmp/$name"
+}
+kill_victim() { kill -9 "$victim"; }
+disturbed killed kill_victim
+if [ "$light" != 1 ]; then
+  # Past the pool's 3 s lease, polled: the worker is presumed dead, then comes back.
+  stop_victim() {
+    kill -STOP "$victim"
+    local t0=$SECONDS
+    while kill -0 "$coord" 2>/dev/null && [ $((SECONDS - t0)) -lt 5 ]; do sleep 0.1; done
+    kill -CONT "$victim" 2>/dev/null
+  }
+  disturbed stopped stop_victim
+fi
+finish

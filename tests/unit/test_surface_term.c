@@ -1,0 +1,239 @@
+/* tests/unit/test_surface_term.c — the optimizer's geometric term (surface_term.h) over a test
+ * double of views whose image energy is always 0: a triangle on the surface costs nothing and one
+ * lifted off a plane by h costs k · area · h²; evaluate's ΔE is exactly what a commit then changes
+ * in energy, and 0 for triangles whose corners did not move; the total does not depend on the
+ * order of the triangles; ops are passed on to the wrapped views. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "common/patch.h"
+#include "coordinator/optimizer/surface_term.h"
+#include "test_support.h"
+
+typedef struct zero_views {
+    lm_views base;
+    int set_mesh, evaluate, commit;
+} zero_views;
+
+static lm_status zv_set_mesh(lm_views *v, const lm_tri_data *t, size_t n)
+{
+    (void)t, (void)n;
+    ((zero_views *)v)->set_mesh++;
+    return LM_OK;
+}
+static lm_status zv_set_materials(lm_views *v, const lm_material *m, uint32_t n)
+{
+    (void)v, (void)m, (void)n;
+    return LM_OK;
+}
+static lm_status zv_evaluate(lm_views *v, const lm_patch *p, uint32_t n, int64_t *d)
+{
+    (void)p;
+    ((zero_views *)v)->evaluate++;
+    for (uint32_t i = 0; i < n; i++)
+        d[i] = 0;
+    return LM_OK;
+}
+static lm_status zv_commit(lm_views *v, const lm_patch *p)
+{
+    (void)p;
+    ((zero_views *)v)->commit++;
+    return LM_OK;
+}
+static lm_status zv_energy(lm_views *v, int64_t *t, int64_t *pv)
+{
+    (void)v, (void)pv;
+    *t = 0;
+    return LM_OK;
+}
+static lm_status zv_potentials(lm_views *v, const float (*p)[3], size_t n, int64_t *out)
+{
+    (void)v, (void)p, (void)n, (void)out;
+    return LM_E_UNSUPPORTED;
+}
+static lm_status zv_read_image(lm_views *v, lm_image_kind k, uint32_t view, uint8_t *out)
+{
+    (void)v, (void)k, (void)view, (void)out;
+    return LM_E_UNSUPPORTED;
+}
+static void zv_info(lm_views *v, lm_views_info *out)
+{
+    (void)v;
+    memset(out, 0, sizeof *out);
+    out->n_views = 10;
+    out->width = out->height = 128;
+}
+static void zv_destroy(lm_views *v)
+{
+    (void)v;
+}
+
+static const lm_views_ops zero_ops = {.set_mesh = zv_set_mesh,
+                                      .set_materials = zv_set_materials,
+                                      .evaluate = zv_evaluate,
+                                      .commit = zv_commit,
+                                      .energy = zv_energy,
+                                      .potentials = zv_potentials,
+                                      .read_image = zv_read_image,
+                                      .info = zv_info,
+                                      .destroy = zv_destroy};
+
+typedef struct fixture {
+    zero_views inner;
+    lm_mesh *plane; /* the surface: a flat grid in z = 0 */
+    lm_views *v;
+} fixture;
+
+static void setup(fixture *f)
+{
+    memset(f, 0, sizeof *f);
+    f->inner.base.ops = &zero_ops;
+    f->plane = lmt_make_grid(9);
+    assert_int_equal(co_surface_views_create(&f->inner.base, f->plane, 2.0, &f->v), LM_OK);
+}
+
+static void teardown(fixture *f)
+{
+    lm_views_destroy(f->v);
+    lm_mesh_destroy(f->plane);
+}
+
+static lm_tri_data tri(uint32_t id, float x, float y, float s, float z)
+{
+    lm_tri_data t;
+    memset(&t, 0, sizeof t);
+    t.id = id;
+    const float c[3][3] = {{x, y, z}, {x + s, y, z}, {x, y + s, z}};
+    for (int v = 0; v < 3; v++)
+        memcpy(t.c[v].pos, c[v], sizeof c[v]);
+    return t;
+}
+
+/* e(t) of one triangle's corners. */
+static int64_t corner_energy(const lm_views *v, const lm_tri_data *t)
+{
+    float p[3][3];
+    for (int c = 0; c < 3; c++)
+        memcpy(p[c], t->c[c].pos, sizeof p[c]);
+    return co_surface_views_tri(v, (const float(*)[3])p);
+}
+
+static int64_t energy(lm_views *v)
+{
+    int64_t e = -1;
+    assert_int_equal(v->ops->energy(v, &e, NULL), LM_OK);
+    return e;
+}
+
+static void test_scale(void **state)
+{
+    (void)state;
+    fixture f;
+    setup(&f);
+    float on[3][3] = {{0.2f, 0.2f, 0}, {0.5f, 0.2f, 0}, {0.2f, 0.5f, 0}};
+    assert_true(co_surface_views_tri(f.v, (const float(*)[3])on) == 0);
+    /* lifted by h everywhere (inside the plane's extent): k · area · h² */
+    const float h = 0.01f;
+    float up[3][3] = {{0.2f, 0.2f, h}, {0.5f, 0.2f, h}, {0.2f, 0.5f, h}};
+    float c[3], r;
+    lm_mesh_bounding_sphere(f.plane, c, &r);
+    double px = 128.0 / (2.0 * r), px256 = 256.0 / (2.0 * r);
+    double k = 2.0 * 10 * px * px * px256 * px256;
+    double want = k * 0.5 * 0.3 * 0.3 * (double)h * h;
+    int64_t got = co_surface_views_tri(f.v, (const float(*)[3])up);
+    assert_true(want > 100);
+    assert_true(fabs((double)got - want) <= 1e-3 * want + 1);
+    /* twice as far costs four times as much */
+    for (int v = 0; v < 3; v++)
+        up[v][2] = 2 * h;
+    assert_true(fabs((double)co_surface_views_tri(f.v, (const float(*)[3])up) - 4 * want) <=
+                4e-3 * want + 1);
+    teardown(&f);
+}
+
+static void test_delta_is_what_commit_changes(void **state)
+{
+    (void)state;
+    fixture f;
+    setup(&f);
+    lm_tri_data t[3] = {tri(0, 0.1f, 0.1f, 0.2f, 0.02f), tri(1, 0.5f, 0.1f, 0.2f, 0),
+                        tri(4, 0.1f, 0.5f, 0.3f, -0.03f)};
+    assert_int_equal(f.v->ops->set_mesh(f.v, t, 3), LM_OK);
+    assert_int_equal(f.inner.set_mesh, 1);
+    int64_t e0 = energy(f.v);
+    assert_true(e0 > 0 && e0 == co_surface_views_energy(f.v));
+    lm_patch p[2];
+    lm_patch_init(&p[0]);
+    lm_patch_init(&p[1]);
+    /* 0: triangle 0 put on the plane, triangle 7 added off it, triangle 4 gone */
+    lm_tri_data t0 = tri(0, 0.1f, 0.1f, 0.2f, 0), t7 = tri(7, 0.6f, 0.6f, 0.2f, 0.05f);
+    assert_int_equal(lm_patch_remove(&p[0], 0), LM_OK);
+    assert_int_equal(lm_patch_remove(&p[0], 4), LM_OK);
+    assert_int_equal(lm_patch_add(&p[0], &t0), LM_OK);
+    assert_int_equal(lm_patch_add(&p[0], &t7), LM_OK);
+    /* 1: triangle 1 re-sent unchanged */
+    assert_int_equal(lm_patch_remove(&p[1], 1), LM_OK);
+    assert_int_equal(lm_patch_add(&p[1], &t[1]), LM_OK);
+    int64_t d[2] = {1, 1};
+    assert_int_equal(f.v->ops->evaluate(f.v, p, 2, d), LM_OK);
+    assert_int_equal(f.inner.evaluate, 1);
+    assert_true(d[1] == 0);
+    assert_true(d[0] != 0);
+    assert_true(energy(f.v) == e0); /* evaluate changes nothing */
+    assert_int_equal(f.v->ops->commit(f.v, &p[0]), LM_OK);
+    assert_int_equal(f.inner.commit, 1);
+    assert_true(energy(f.v) == e0 + d[0]);
+    /* what is left: triangle 1 (on the plane) and triangle 7 */
+    assert_true(energy(f.v) == corner_energy(f.v, &t7));
+    lm_patch_free(&p[0]);
+    lm_patch_free(&p[1]);
+    teardown(&f);
+}
+
+static void test_order_free(void **state)
+{
+    (void)state;
+    fixture a, b;
+    setup(&a);
+    setup(&b);
+    lm_tri_data t[16], r[16];
+    uint64_t seed = 7;
+    for (int i = 0; i < 16; i++)
+        t[i] = tri((uint32_t)i, (float)lmt_urand(&seed) * 0.7f, (float)lmt_urand(&seed) * 0.7f,
+                   0.1f + 0.2f * (float)lmt_urand(&seed), 0.1f * (float)lmt_urand(&seed) - 0.05f);
+    for (int i = 0; i < 16; i++)
+        r[i] = t[15 - i];
+    assert_int_equal(a.v->ops->set_mesh(a.v, t, 16), LM_OK);
+    assert_int_equal(b.v->ops->set_mesh(b.v, r, 16), LM_OK);
+    assert_true(energy(a.v) == energy(b.v) && energy(a.v) > 0);
+    /* set_mesh again starts afresh */
+    assert_int_equal(a.v->ops->set_mesh(a.v, t, 1), LM_OK);
+    assert_true(energy(a.v) == corner_energy(a.v, &t[0]));
+    teardown(&a);
+    teardown(&b);
+}
+
+static void test_refuses_bad_arguments(void **state)
+{
+    (void)state;
+    fixture f;
+    setup(&f);
+    lm_views *v = NULL;
+    assert_int_equal(co_surface_views_create(&f.inner.base, f.plane, 0, &v), LM_E_INVALID);
+    assert_int_equal(co_surface_views_create(&f.inner.base, f.plane, NAN, &v), LM_E_INVALID);
+    assert_int_equal(co_surface_views_create(&f.inner.base, NULL, 1, &v), LM_E_INVALID);
+    assert_null(v);
+    teardown(&f);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_scale),
+        cmocka_unit_test(test_delta_is_what_commit_changes),
+        cmocka_unit_test(test_order_free),
+        cmocka_unit_test(test_refuses_bad_arguments),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
