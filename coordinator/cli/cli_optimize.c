@@ -85,8 +85,12 @@ static const char co_optimize_help[] =
     "  -h, --help              this help\n"
     "\n"
     "SIGINT or SIGTERM end the run at the next step: the last checkpoint and the output are\n"
-    "written, the workers stopped, and the exit status is 130.\n"
-    "Exit status: 0 success, 1 bad input or flag (one line on stderr), 2 internal failure.\n";
+    "written, the workers stopped, and the exit status is 130. SIGUSR1 (a batch scheduler's\n"
+    "warning before a time limit) ends it the same way but writes only the checkpoint, exit\n"
+    "status 75: the same command with --resume CHECKPOINT then finishes the run with the output\n"
+    "of an uninterrupted one (without --checkpoint or --resume, SIGUSR1 acts as SIGTERM).\n"
+    "Exit status: 0 success, 1 bad input or flag (one line on stderr), 2 internal failure,\n"
+    "75 suspended by SIGUSR1, 130 interrupted.\n";
 
 enum {
     OPT_INITIAL = 256,
@@ -140,6 +144,9 @@ static const struct option co_optimize_opts[] = {
 };
 
 static const char *co_cmd = "optimize";
+
+/* Exit status of a run suspended by SIGUSR1 (EX_TEMPFAIL: try again, here with --resume). */
+#define CO_EXIT_SUSPENDED 75
 
 typedef struct optimize_args {
     co_job_options o;
@@ -322,10 +329,13 @@ int co_cli_optimize(int argc, char **argv)
     lm_status st = a.report_dir ? prepare_report(&a, &log) : LM_OK;
     if (st == LM_OK)
         st = co_job_run(&a.o, &s);
-    if (st == LM_OK && a.report_dir)
+    int suspended = st == LM_OK && strcmp(s.stop_reason, "suspended") == 0;
+    if (st == LM_OK && a.report_dir && !suspended)
         st = write_report(&a, &s, &log);
     co_run_log_free(&log);
     if (st != LM_OK)
         return co_cli_fail(co_cmd, st);
+    if (suspended)
+        return CO_EXIT_SUSPENDED;
     return strcmp(s.stop_reason, "interrupted") ? 0 : 130;
 }

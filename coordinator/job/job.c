@@ -5,6 +5,7 @@
 
 #include <errno.h>
 #include <inttypes.h>
+#include <signal.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -459,8 +460,9 @@ static const char *stop_reason(const co_job *j, const co_progress *p, double t, 
         return "time";
     if (idle >= CO_JOB_MAX_IDLE_STEPS)
         return "converged";
-    if (co_pool_interrupted())
-        return "interrupted";
+    if (co_pool_interrupted()) /* SIGUSR1: suspended for a later --resume, when it has a file */
+        return co_pool_interrupt_signal() == SIGUSR1 && j->checkpoint_path ? "suspended"
+                                                                           : "interrupted";
     return NULL;
 }
 
@@ -550,16 +552,20 @@ static lm_status job_stages(co_job *j, co_job_summary *summary)
     }
     const char *reason = NULL;
     st = run_loop(j, &reason);
-    if (st == LM_OK)
+    int suspended = st == LM_OK && strcmp(reason, "suspended") == 0;
+    if (st == LM_OK && !suspended)
         st = write_output(j);
     if (st != LM_OK)
         return st;
+    if (co_pool_interrupt_signal() == SIGUSR1 && !j->checkpoint_path)
+        note(j, "warning", "SIGUSR1 without --checkpoint: stopped as for SIGTERM (output written)");
     memset(summary, 0, sizeof *summary);
     co_optimizer_progress(j->opt, &summary->progress);
     summary->wall_s = seconds_since(&j->t0);
     summary->optimize_s = summary->wall_s - j->loop_start_s;
     summary->stop_reason = reason;
-    summary->output_path = j->o.output_path;
+    summary->output_path = suspended ? NULL : j->o.output_path;
+    summary->checkpoint_path = j->checkpoint_path;
     summary->resumed_from_evals = j->resumed_from_evals;
     snprintf(summary->renderer, sizeof summary->renderer, "%s", j->renderer);
     report_workers(j);

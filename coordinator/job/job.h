@@ -70,7 +70,10 @@ uint32_t co_job_local_workers(const co_job_options *o);
 lm_status co_job_parse_attrs(const char *spec, uint32_t *out);
 
 /* Run the job. On success the output exists (written atomically) and *summary (may be NULL) holds
- * the final counters; output_path in it points into opts. */
+ * the final counters; output_path in it points into opts. SIGINT/SIGTERM stop it at the next step
+ * (stop_reason "interrupted": last checkpoint and output written); SIGUSR1 with a checkpoint file
+ * stops it the same way but writes only the checkpoint (stop_reason "suspended", output_path NULL):
+ * a later --resume with the same options finishes it with the bytes of an uninterrupted run. */
 lm_status co_job_run(const co_job_options *opts, co_job_summary *summary);
 
 #endif

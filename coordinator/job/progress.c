@@ -280,7 +280,15 @@ static void json_summary(FILE *fp, const co_reporter *r, const co_job_summary *s
             s->wall_s, s->optimize_s, s->optimize_s > 0 ? run_evals / s->optimize_s : 0.0);
     co_json_string(fp, s->stop_reason);
     fputs(",\"output\":", fp);
-    co_json_string(fp, s->output_path);
+    if (s->output_path)
+        co_json_string(fp, s->output_path);
+    else
+        fputs("null", fp);
+    fputs(",\"checkpoint\":", fp);
+    if (s->checkpoint_path)
+        co_json_string(fp, s->checkpoint_path);
+    else
+        fputs("null", fp);
     fputs(",\"renderer\":", fp);
     co_json_string(fp, s->renderer);
     fprintf(fp,
@@ -324,7 +332,11 @@ static void human_summary(FILE *fp, const co_reporter *r, const co_job_summary *
                 p->accepted[k], p->attempted[k], k + 1 < CO_MOVE_KINDS ? "," : "");
     fprintf(fp, "; %" PRIu32 " vertices, %" PRIu32 " triangles\n", p->live_verts, p->live_tris);
     human_workers(fp, r);
-    fprintf(fp, "wrote %s (renderer: %s)\n", s->output_path, s->renderer);
+    if (s->output_path)
+        fprintf(fp, "wrote %s (renderer: %s)\n", s->output_path, s->renderer);
+    else
+        fprintf(fp, "suspended: no output written; the run goes on with --resume %s\n",
+                s->checkpoint_path);
 }
 
 void co_reporter_summary(co_reporter *r, const co_job_summary *s)

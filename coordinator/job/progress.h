@@ -48,8 +48,9 @@ typedef struct co_job_summary {
     co_progress progress;    /* final counters (energy_start, energy, evals, accepted...) */
     double wall_s;           /* seconds the whole job took in this process (load to output) */
     double optimize_s;       /* of which the optimisation loop */
-    const char *stop_reason; /* "evals", "time" or "converged" */
-    const char *output_path;
+    const char *stop_reason; /* "evals", "time", "converged", "interrupted" or "suspended" */
+    const char *output_path; /* NULL when suspended (SIGUSR1): only the checkpoint was written */
+    const char *checkpoint_path; /* NULL = none */
     char renderer[128];
     uint64_t resumed_from_evals; /* evaluations done before this process started (0 = fresh) */
     uint32_t workers;            /* worker processes that served the job (0 = in process) */

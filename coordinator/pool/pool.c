@@ -15,7 +15,7 @@
 #include "common/log.h"
 #include "coordinator/pool/pool_internal.h"
 
-static volatile sig_atomic_t interrupted;
+static volatile sig_atomic_t interrupted; /* the last of SIGINT, SIGTERM, SIGUSR1 seen */
 
 static void on_signal(int sig)
 {
@@ -29,11 +29,17 @@ void co_pool_catch_signals(void)
     sa.sa_handler = on_signal;
     sigaction(SIGINT, &sa, NULL);
     sigaction(SIGTERM, &sa, NULL);
+    sigaction(SIGUSR1, &sa, NULL);
 }
 
 int co_pool_interrupted(void)
 {
     return interrupted != 0;
+}
+
+int co_pool_interrupt_signal(void)
+{
+    return (int)interrupted;
 }
 
 double co_pool_now(void)

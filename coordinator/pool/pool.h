@@ -88,7 +88,7 @@ co_worker *co_pool_worker(co_pool *p, uint32_t i);
 uint32_t co_pool_alive(const co_pool *p);
 
 /* Wait until `n` workers are alive: pumping, saying every few seconds that the job waits.
- * LM_E_IO after timeout_s (0 = forever), LM_E_INVALID when interrupted (SIGINT/SIGTERM). */
+ * LM_E_IO after timeout_s (0 = forever), LM_E_INVALID when interrupted (co_pool_interrupted). */
 lm_status co_pool_wait(co_pool *p, uint32_t n, double timeout_s);
 
 /* Send one message to w (a change of state when req is 0). A failed send marks w lost and
@@ -115,8 +115,10 @@ void co_pool_set_job_evals(co_pool *p, uint64_t evals);
 /* Seconds on the pool's clock (monotonic). */
 double co_pool_now(void);
 
-/* SIGINT/SIGTERM seen since the process started (set by co_pool_catch_signals's handler). */
+/* SIGINT, SIGTERM or SIGUSR1 seen since the process started (set by co_pool_catch_signals's
+ * handler); co_pool_interrupt_signal names the last one seen (0 = none). */
 void co_pool_catch_signals(void);
 int co_pool_interrupted(void);
+int co_pool_interrupt_signal(void);
 
 #endif
