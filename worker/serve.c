@@ -163,9 +163,11 @@ static lm_status dispatch(wk_server *s, const lm_msg *m, int *job_ended)
     case LUMESH__MSG__BODY_REFUSE:
         return lm_fail(LM_E_INVALID, "refused by the coordinator: %s", m->refuse->reason);
     case LUMESH__MSG__BODY_REJOIN:
-        if (s->welcomed)
-            lm_warn("the coordinator does not know this worker (%s): joining again",
-                    m->rejoin->reason);
+        /* Not welcomed yet: this join's Hello is on its way (the Rejoin answered a beat that
+         * overtook it), and a new join would only make the coordinator drop the one it welcomes. */
+        if (!s->welcomed)
+            return LM_OK;
+        lm_warn("the coordinator does not know this worker (%s): joining again", m->rejoin->reason);
         wk_serve_end_job(s);
         drop_welcome(s);
         return LM_OK;

@@ -117,7 +117,7 @@ static lm_status on_hello(co_pool *p, const lm_wire_frame *f, const Lumesh__Hell
         refuse(p, f, why);
         return LM_OK;
     }
-    if (w && h->join == w->join) {
+    if (w && !w->lost && h->join == w->join) {
         Lumesh__Welcome again = LUMESH__WELCOME__INIT;
         again.worker = w->id;
         again.join = w->join;
