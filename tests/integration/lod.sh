@@ -4,7 +4,7 @@
 # whose LOD0 names LOD1 and LOD2 through MSFT_lod, every level holding the 7 parts by name and
 # fewer vertices than the one before; --per-level files with the same levels; what readers load of
 # the GLB is LOD0; bad level lists are one-line errors. LUMESH_TEST_LIGHT=1 (the sanitizer stage;
-# the release stage runs it whole): a frog of 800 triangles, 4 views of 32 pixels, 200 evaluations
+# the release stage runs it whole): a frog of 500 triangles, 4 views of 32 pixels, 100 evaluations
 # per level; every check the same.
 set -u
 . "$(dirname "$0")/lib.bash"
@@ -13,8 +13,8 @@ trap 'rm -rf "$tmp"' EXIT
 tris=1500
 common=(--levels 50%,25%,60 --views 6 --size 48 --evals 400 --device host)
 if [ "$light" = 1 ]; then
-  tris=800
-  common=(--levels 50%,25%,60 --views 4 --size 32 --evals 200 --device host)
+  tris=500
+  common=(--levels 50%,25%,60 --views 4 --size 32 --evals 100 --device host)
 fi
 "$LUMESH" gen-frog -o "$tmp/frog.glb" --tris "$tris" >/dev/null 2>&1 || fail "gen-frog failed"
 
