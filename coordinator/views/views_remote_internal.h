@@ -14,6 +14,8 @@
 
 #define CO_REMOTE_TRIES 32  /* attempts of one operation (workers lost or stale in between) */
 #define CO_REMOTE_STRIKES 3 /* attempts whose workers died or failed on it: then it is poison */
+#define CO_REMOTE_INTERRUPT_GRACE_S                                                                \
+    5.0 /* an interrupted run waits this long for answers, then stops */
 
 typedef struct co_range {
     uint32_t first, count; /* job view indices */

@@ -31,12 +31,17 @@ lm_status co_remote_pack(co_remote *r, uint64_t req, uint64_t seq, Lumesh__Msg__
 
 lm_status co_remote_await(co_remote *r, co_worker **ws, uint32_t n)
 {
+    double t0 = co_pool_now();
     for (;;) {
         uint32_t waiting = 0;
         for (uint32_t i = 0; i < n; i++)
             waiting += ws[i] && !ws[i]->lost && ws[i]->want && !ws[i]->replied;
         if (!waiting)
             return LM_OK;
+        /* a signal ends the run at the optimizer's next step; a wait that outlasts that is
+         * given up (workers that never answer must not make SIGINT/SIGTERM useless) */
+        if (co_pool_interrupted() && co_pool_now() - t0 > CO_REMOTE_INTERRUPT_GRACE_S)
+            return lm_fail(LM_E_INVALID, "interrupted while waiting for workers");
         lm_status st = co_pool_pump(r->pool, 200);
         if (st != LM_OK)
             return st;
