@@ -10,38 +10,13 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "common/bytes.h"
 #include "common/mesh_io_internal.h"
 
 #define LM_GLB_MAX_LODS LM_MESH_MAX_LODS
 
-typedef struct bytes {
-    uint8_t *d;
-    size_t n, cap;
-    int failed;
-} bytes;
-
-static void b_put(bytes *b, const void *p, size_t n)
-{
-    if (b->failed)
-        return;
-    if (b->n + n > b->cap) {
-        size_t cap = b->cap ? b->cap : 4096;
-        while (cap < b->n + n)
-            cap *= 2;
-        uint8_t *d = realloc(b->d, cap);
-        if (!d) {
-            b->failed = 1;
-            return;
-        }
-        b->d = d;
-        b->cap = cap;
-    }
-    memcpy(b->d + b->n, p, n);
-    b->n += n;
-}
-
-static void b_printf(bytes *b, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
-static void b_printf(bytes *b, const char *fmt, ...)
+static void b_printf(lm_bytes *b, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+static void b_printf(lm_bytes *b, const char *fmt, ...)
 {
     char small[512];
     va_list ap, ap2;
@@ -50,13 +25,13 @@ static void b_printf(bytes *b, const char *fmt, ...)
     int n = vsnprintf(small, sizeof small, fmt, ap);
     va_end(ap);
     if (n >= 0 && (size_t)n < sizeof small) {
-        b_put(b, small, (size_t)n);
+        lm_bytes_put(b, small, (size_t)n);
     } else if (n >= 0) {
         char *big = malloc((size_t)n + 1);
         if (big)
             vsnprintf(big, (size_t)n + 1, fmt, ap2);
         if (big)
-            b_put(b, big, (size_t)n);
+            lm_bytes_put(b, big, (size_t)n);
         b->failed |= !big;
         free(big);
     } else {
@@ -65,16 +40,16 @@ static void b_printf(bytes *b, const char *fmt, ...)
     va_end(ap2);
 }
 
-static void b_align(bytes *b, uint8_t fill)
+static void b_align(lm_bytes *b, uint8_t fill)
 {
     while (b->n % 4)
-        b_put(b, &fill, 1);
+        lm_bytes_put(b, &fill, 1);
 }
 
 typedef struct glb {
     const lm_mesh *m;
     const lm_out_groups *groups;
-    bytes bin, views, accessors, meshes, nodes;
+    lm_bytes bin, views, accessors, meshes, nodes;
     uint32_t n_views, n_accessors, n_prims, n_meshes;
     uint32_t *local; /* [n_wedges] index in the current primitive, LM_NONE if absent */
     uint32_t *order; /* wedges of the current primitive */
@@ -93,7 +68,7 @@ static uint32_t add_view(glb *g, const void *data, size_t len, int target)
     if (target)
         b_printf(&g->views, ",\"target\":%d", target);
     b_printf(&g->views, "}");
-    b_put(&g->bin, data, len);
+    lm_bytes_put(&g->bin, data, len);
     return g->n_views++;
 }
 
@@ -209,9 +184,9 @@ static int utf8_length(const unsigned char *s)
 }
 
 /* A JSON string; bytes that are not UTF-8 become U+FFFD (a strict reader refuses them). */
-static void json_string(bytes *b, const char *s)
+static void json_string(lm_bytes *b, const char *s)
 {
-    b_put(b, "\"", 1);
+    lm_bytes_put(b, "\"", 1);
     for (const unsigned char *c = (const unsigned char *)s; *c;) {
         int n = utf8_length(c);
         if (*c == '"' || *c == '\\')
@@ -221,10 +196,10 @@ static void json_string(bytes *b, const char *s)
         else if (n == 0)
             b_printf(b, "\\ufffd");
         else
-            b_put(b, c, (size_t)n);
+            lm_bytes_put(b, c, (size_t)n);
         c += n ? n : 1;
     }
-    b_put(b, "\"", 1);
+    lm_bytes_put(b, "\"", 1);
 }
 
 /* One mesh and its node for the part of the groups [first, end), which share one part. */
@@ -233,7 +208,7 @@ static void add_part(glb *g, uint32_t first, uint32_t end)
     uint32_t part = g->groups->groups[first].part;
     const char *name = part < g->m->n_parts ? g->m->parts[part].name : "";
     for (int k = 0; k < 2; k++) {
-        bytes *b = k ? &g->nodes : &g->meshes;
+        lm_bytes *b = k ? &g->nodes : &g->meshes;
         b_printf(b, "%s{", g->n_meshes ? "," : "");
         if (name[0]) {
             b_printf(b, "\"name\":");
@@ -260,7 +235,7 @@ static void add_parts(glb *g)
     }
 }
 
-static void material_json(bytes *js, const lm_material *mat, uint32_t i, uint32_t tex)
+static void material_json(lm_bytes *js, const lm_material *mat, uint32_t i, uint32_t tex)
 {
     b_printf(js, "%s{\"name\":", i ? "," : "");
     json_string(js, mat->name);
@@ -272,7 +247,7 @@ static void material_json(bytes *js, const lm_material *mat, uint32_t i, uint32_
     b_printf(js, "}%s}", mat->diffuse[3] < 1.0f ? ",\"alphaMode\":\"BLEND\"" : "");
 }
 
-static void textures_json(bytes *js, const uint32_t *views, uint32_t n)
+static void textures_json(lm_bytes *js, const uint32_t *views, uint32_t n)
 {
     b_printf(js, ",\"samplers\":[{\"magFilter\":9729,\"minFilter\":9987,\"wrapS\":10497,"
                  "\"wrapT\":10497}],\"textures\":[");
@@ -285,7 +260,7 @@ static void textures_json(bytes *js, const uint32_t *views, uint32_t n)
 }
 
 /* Materials, and their textures as PNG images in the binary chunk. */
-static lm_status add_materials(glb *g, bytes *js)
+static lm_status add_materials(glb *g, lm_bytes *js)
 {
     const lm_mesh *m = g->m;
     uint32_t *views = malloc(((size_t)m->n_materials + 1) * sizeof *views), n_tex = 0;
@@ -336,7 +311,7 @@ static void lod_roots(glb *g)
     }
 }
 
-static void assemble_json(glb *g, bytes *js, const bytes *mats)
+static void assemble_json(glb *g, lm_bytes *js, const lm_bytes *mats)
 {
     b_printf(js, "{\"asset\":{\"version\":\"2.0\",\"generator\":\"lumesh\"},\"scene\":0,"
                  "\"scenes\":[{\"nodes\":[");
@@ -348,15 +323,15 @@ static void assemble_json(glb *g, bytes *js, const bytes *mats)
     if (g->n_levels > 1)
         b_printf(js, "\"extensionsUsed\":[\"MSFT_lod\"],");
     b_printf(js, "\"nodes\":[");
-    b_put(js, g->nodes.d, g->nodes.n);
+    lm_bytes_put(js, g->nodes.d, g->nodes.n);
     b_printf(js, "],\"meshes\":[");
-    b_put(js, g->meshes.d, g->meshes.n);
+    lm_bytes_put(js, g->meshes.d, g->meshes.n);
     b_printf(js, "]");
-    b_put(js, mats->d, mats->n);
+    lm_bytes_put(js, mats->d, mats->n);
     b_printf(js, ",\"accessors\":[");
-    b_put(js, g->accessors.d, g->accessors.n);
+    lm_bytes_put(js, g->accessors.d, g->accessors.n);
     b_printf(js, "],\"bufferViews\":[");
-    b_put(js, g->views.d, g->views.n);
+    lm_bytes_put(js, g->views.d, g->views.n);
     b_align(&g->bin, 0);
     b_printf(js, "],\"buffers\":[{\"byteLength\":%zu}]}", g->bin.n);
     b_align(js, ' ');
@@ -368,7 +343,7 @@ static void put_u32(uint8_t *p, uint32_t v)
     p[3] = (uint8_t)(v >> 24);
 }
 
-static lm_status write_container(const char *path, const bytes *js, const bytes *bin)
+static lm_status write_container(const char *path, const lm_bytes *js, const lm_bytes *bin)
 {
     uint8_t head[20];
     if ((uint64_t)js->n + bin->n + 28 > UINT32_MAX)
@@ -426,7 +401,7 @@ static lm_status begin_mesh(glb *g, const lm_mesh *m, lm_out_groups *groups)
 /* Every mesh's parts, the first mesh's materials, the JSON, the file. */
 static lm_status write_glb(glb *g, const char *path, const lm_mesh *const *meshes, uint32_t n)
 {
-    bytes mats = {0}, js = {0};
+    lm_bytes mats = {0}, js = {0};
     lm_status s = LM_OK;
     for (uint32_t k = 0; k < n && !s; k++) {
         lm_out_groups groups;

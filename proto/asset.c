@@ -2,6 +2,8 @@
  * texture, material-table and mesh formats of asset.h with checked decoding. */
 #include "proto/asset.h"
 
+#include "common/bytes.h"
+
 #include <math.h>
 #include <sodium.h>
 #include <stdio.h>
@@ -72,80 +74,54 @@ lm_status lm_asset_set_put(lm_asset_set *s, uint8_t *data, size_t size, lm_asset
 
 /* ---- writing --------------------------------------------------------------------------------- */
 
-typedef struct wbuf {
-    uint8_t *p;
-    size_t n, cap;
-    int failed;
-} wbuf;
-
-static void put(wbuf *b, const void *src, size_t n)
-{
-    if (b->failed)
-        return;
-    if (b->n + n > b->cap) {
-        size_t cap = b->cap ? b->cap : 4096;
-        while (cap < b->n + n)
-            cap *= 2;
-        uint8_t *p = realloc(b->p, cap);
-        if (!p) {
-            b->failed = 1;
-            return;
-        }
-        b->p = p;
-        b->cap = cap;
-    }
-    memcpy(b->p + b->n, src, n);
-    b->n += n;
-}
-
-static void put_u32(wbuf *b, uint32_t v)
+static void put_u32(lm_bytes *b, uint32_t v)
 {
     uint8_t x[4] = {(uint8_t)v, (uint8_t)(v >> 8), (uint8_t)(v >> 16), (uint8_t)(v >> 24)};
-    put(b, x, 4);
+    lm_bytes_put(b, x, 4);
 }
 
-static void put_f32(wbuf *b, float f)
+static void put_f32(lm_bytes *b, float f)
 {
     uint32_t v;
     memcpy(&v, &f, 4);
     put_u32(b, v);
 }
 
-static void put_f32s(wbuf *b, const float *f, int n)
+static void put_f32s(lm_bytes *b, const float *f, int n)
 {
     for (int i = 0; i < n; i++)
         put_f32(b, f[i]);
 }
 
 /* The finished buffer into the set (its hash in *out). */
-static lm_status finish(wbuf *b, lm_asset_set *s, lm_asset_hash *out)
+static lm_status finish(lm_bytes *b, lm_asset_set *s, lm_asset_hash *out)
 {
     if (b->failed) {
-        free(b->p);
+        free(b->d);
         return lm_fail(LM_E_NOMEM, "out of memory packing an asset");
     }
-    return lm_asset_set_put(s, b->p, b->n, out);
+    return lm_asset_set_put(s, b->d, b->n, out);
 }
 
 static lm_status pack_texture(const lm_image *img, lm_asset_set *s, lm_asset_hash *out)
 {
     if (img->channels != 4)
         return lm_fail(LM_E_INVALID, "texture is not RGBA8");
-    wbuf b = {0};
-    put(&b, MAGIC_TEX, 8);
+    lm_bytes b = {0};
+    lm_bytes_put(&b, MAGIC_TEX, 8);
     put_u32(&b, (uint32_t)img->width);
     put_u32(&b, (uint32_t)img->height);
-    put(&b, img->pixels, (size_t)img->width * (size_t)img->height * 4);
+    lm_bytes_put(&b, img->pixels, (size_t)img->width * (size_t)img->height * 4);
     return finish(&b, s, out);
 }
 
-static lm_status put_materials(wbuf *b, const lm_material *mats, uint32_t n, lm_asset_set *s)
+static lm_status put_materials(lm_bytes *b, const lm_material *mats, uint32_t n, lm_asset_set *s)
 {
     put_u32(b, n);
     for (uint32_t i = 0; i < n; i++) {
         char name[64] = {0};
         snprintf(name, sizeof name, "%s", mats[i].name);
-        put(b, name, sizeof name);
+        lm_bytes_put(b, name, sizeof name);
         put_f32s(b, mats[i].diffuse, 4);
         lm_asset_hash h = {{0}};
         uint8_t has = mats[i].texture != NULL;
@@ -154,8 +130,8 @@ static lm_status put_materials(wbuf *b, const lm_material *mats, uint32_t n, lm_
             if (st != LM_OK)
                 return st;
         }
-        put(b, &has, 1);
-        put(b, h.b, sizeof h.b);
+        lm_bytes_put(b, &has, 1);
+        lm_bytes_put(b, h.b, sizeof h.b);
     }
     return LM_OK;
 }
@@ -163,18 +139,18 @@ static lm_status put_materials(wbuf *b, const lm_material *mats, uint32_t n, lm_
 lm_status lm_asset_pack_materials(const lm_material *mats, uint32_t n, lm_asset_set *s,
                                   lm_asset_hash *out)
 {
-    wbuf b = {0};
-    put(&b, MAGIC_MAT, 8);
+    lm_bytes b = {0};
+    lm_bytes_put(&b, MAGIC_MAT, 8);
     lm_status st = put_materials(&b, mats, n, s);
     if (st != LM_OK) {
-        free(b.p);
+        free(b.d);
         return st;
     }
     return finish(&b, s, out);
 }
 
 /* Alive elements renumbered densely: vertex and wedge maps (LM_NONE where dead). */
-static void put_geometry(wbuf *b, const lm_mesh *m, uint32_t *vmap, uint32_t *wmap)
+static void put_geometry(lm_bytes *b, const lm_mesh *m, uint32_t *vmap, uint32_t *wmap)
 {
     uint32_t nv = 0, nw = 0, nt = 0;
     for (uint32_t v = 0; v < m->n_verts; v++)
@@ -212,17 +188,17 @@ lm_status lm_asset_pack_mesh(const lm_mesh *m, lm_asset_set *s, lm_asset_hash *o
 {
     uint32_t *vmap = malloc(((size_t)m->n_verts + 1) * sizeof *vmap);
     uint32_t *wmap = malloc(((size_t)m->n_wedges + 1) * sizeof *wmap);
-    wbuf b = {0};
+    lm_bytes b = {0};
     lm_status st = vmap && wmap ? LM_OK : lm_fail(LM_E_NOMEM, "out of memory packing a mesh");
     if (st == LM_OK) {
-        put(&b, MAGIC_MESH, 8);
+        lm_bytes_put(&b, MAGIC_MESH, 8);
         put_geometry(&b, m, vmap, wmap);
         st = put_materials(&b, m->materials, m->n_materials, s);
     }
     free(vmap);
     free(wmap);
     if (st != LM_OK) {
-        free(b.p);
+        free(b.d);
         return st;
     }
     return finish(&b, s, out);

@@ -1,0 +1,19 @@
+/* common/bytes.h — a growable byte buffer for writers that build a file or a message in memory
+ * (GLB files, wire assets). A failed allocation is remembered, not reported at once: the writer
+ * appends freely and checks `failed` once at the end. The caller owns `d` (free it). */
+#ifndef LUMESH_COMMON_BYTES_H
+#define LUMESH_COMMON_BYTES_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+typedef struct lm_bytes {
+    uint8_t *d;
+    size_t n, cap;
+    int failed; /* an allocation failed: d holds what came before, later puts do nothing */
+} lm_bytes;
+
+/* Append n bytes of src (doubling the capacity from 4 KiB as needed). */
+void lm_bytes_put(lm_bytes *b, const void *src, size_t n);
+
+#endif
