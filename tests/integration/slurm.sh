@@ -183,6 +183,9 @@ first_gone() {
 }
 checks=$((checks + 1))
 wait_for 60 first_gone || fail "the first allocation's processes still run 60 s after the requeue"
+# slurmd refuses a batch launch of a job it killed moments ago ("Job N already killed, do not
+# launch batch job"): a short stand-in for Slurm's own requeue delay, then start it
+sleep 5
 scontrol update JobId="$jid" StartTime=now || fail "scontrol update StartTime=now"
 t_requeue=$(now)
 for _ in $(seq 1 900); do
