@@ -56,10 +56,12 @@ worker() { # worker PORT LOG [ARGS...]: a long-lived cluster worker in the backg
   last_worker=$!
 }
 
-"$LUMESH" optimize "$bunny" -o "$tmp/ref1.glb" "${job[@]}" --workers 0 2>/dev/null || fail "reference run"
+"$LUMESH" optimize "$bunny" -o "$tmp/ref1.glb" "${job[@]}" --workers 0 2>"$tmp/ref.err" ||
+  fail "reference run: $(tail -3 "$tmp/ref.err")"
 "$LUMESH" optimize "$bunny" -o "$tmp/ref4.glb" "${job[@]}" --edges-in-flight 4 --workers 0 \
-  2>/dev/null || fail "reference run, 4 in flight"
-"$LUMESH" optimize "$bunny" -o "$tmp/ref9.glb" "${long[@]}" --workers 0 2>/dev/null || fail "reference run, 9000"
+  2>"$tmp/ref.err" || fail "reference run, 4 in flight: $(tail -3 "$tmp/ref.err")"
+"$LUMESH" optimize "$bunny" -o "$tmp/ref9.glb" "${long[@]}" --workers 0 2>"$tmp/ref.err" ||
+  fail "reference run, 9000: $(tail -3 "$tmp/ref.err")"
 
 # -- local workers SIGKILLed mid-run, batches of 4 edges in flight --
 "$LUMESH" optimize "$bunny" -o "$tmp/kill.glb" "${job[@]}" --edges-in-flight 4 --workers 3 \
@@ -179,6 +181,8 @@ port=$((base + 5))
   2>"$tmp/poked.err" &
 coord=$!
 worker "$port" "$tmp/p1.err" --once
+# the coordinator is listening once its worker joined (a poke before then would be lost)
+wait_for 120 grep -q " joined" "$tmp/poked.err" || fail "the poked run never got its worker"
 for mode in "garbage 200" "bodyless 20" "oversize 80" "hello"; do
   "$poke" "tcp://127.0.0.1:$port" $mode || fail "zmq_poke $mode"
 done

@@ -34,8 +34,8 @@ int main(int argc, char **argv)
     }
     unsigned n = argc > 3 ? (unsigned)atoi(argv[3]) : 10;
     void *ctx = zmq_ctx_new(), *s = zmq_socket(ctx, ZMQ_DEALER);
-    int zero = 0;
-    zmq_setsockopt(s, ZMQ_LINGER, &zero, sizeof zero);
+    int linger = 3000; /* frames queued before the connection is up are still delivered */
+    zmq_setsockopt(s, ZMQ_LINGER, &linger, sizeof linger);
     if (zmq_connect(s, argv[1]) != 0) {
         fprintf(stderr, "zmq_poke: %s\n", zmq_strerror(zmq_errno()));
         return 1;
