@@ -6,7 +6,10 @@
 # never stalled (no gap of a minute between progress records), left no worker behind, leaked
 # nothing (ASan's leak check at exit), and that the coordinator's memory after the first tenth of
 # the run grew by less than SOAK_GROWTH_MB (default 64). Prints the figures.
-#   SOAK_EVALS (default 10^6, 10^5 with build-asan), SOAK_WORKERS (8), SOAK_IN_FLIGHT (4).
+#   SOAK_EVALS (default 10^6, 10^5 with build-asan), SOAK_WORKERS (8), SOAK_IN_FLIGHT (4),
+#   SOAK_ASAN_OPTIONS (more ASan options; default quarantine_size_mb=0: ASan's quarantine of freed
+#   memory, 256 MB by default, fills during the run and reads as growth of the coordinator's
+#   memory; the sanitizer stage of the tests keeps it. SOAK_ASAN_OPTIONS= brings it back).
 set -uo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
 build=${SOAK_BUILD:-build}
@@ -19,7 +22,7 @@ export LUMESH_WORKER="$here/$build/worker/lumesh-worker" LP_NUM_THREADS=0
 [ -x "$lumesh" ] || { echo "soak: build $build first (scripts/build.sh)"; exit 1; }
 if [[ "$build" == *asan* ]]; then
   export LD_PRELOAD="$here/$build/tests/libno_dlclose.so" \
-    ASAN_OPTIONS=detect_leaks=1:verify_asan_link_order=0 \
+    ASAN_OPTIONS=detect_leaks=1:verify_asan_link_order=0:${SOAK_ASAN_OPTIONS-quarantine_size_mb=0} \
     LSAN_OPTIONS="suppressions=$here/tests/lsan.supp:print_suppressions=0"
 fi
 out=$(mktemp -d)
