@@ -19,7 +19,8 @@ static void usage(FILE *f)
             "usage: lumesh lod ORIGINAL -o OUT --levels 50%%,25%%,10%%[,...] [--method "
             "image|shard|qem]\n"
             "                  [--evals N] [--no-optimize] [--per-level] [--views N] [--size S]\n"
-            "                  [--device D] [--workers N] [--seed S]\n"
+            "                  [--device D] [--workers N] [--listen tcp://ADDR:PORT] [--keys DIR]\n"
+            "                  [--renderer ID] [--seed S]\n"
             "Makes a chain of levels of detail of ORIGINAL: each level is simplified from the\n"
             "level before it (the first from ORIGINAL) and then optimised so that its images\n"
             "match ORIGINAL's (the levels nest: each is a simplification of the one before).\n"
@@ -38,6 +39,13 @@ static void usage(FILE *f)
             "  --device D           auto (default), host or egl:N\n"
             "  --workers N          render in N lumesh-worker processes (default 0: in process);\n"
             "                       the result is the same for any N\n"
+            "  --listen ADDR        also take workers that connect to ADDR (tcp://HOST:PORT,\n"
+            "                       `lumesh-worker --connect ADDR`); alone, it starts no local\n"
+            "                       worker and waits, saying so, for one\n"
+            "  --keys DIR           CURVE keys (lumesh keygen), as for lumesh optimize: needed to\n"
+            "                       --listen beyond this machine\n"
+            "  --renderer ID        accept only workers of this renderer id (default: the first\n"
+            "                       worker's)\n"
             "  --seed S             the optimizer's seed (default 1)\n"
             "  -h, --help           this text\n",
             LM_DEFAULT_VIEWS, LM_DEFAULT_VIEW_SIZE);
@@ -84,7 +92,16 @@ static int parse_option(int c, char **argv, co_lod_options *o)
         o->device = optarg;
         return -1;
     case 'w':
-        return co_arg_u32(CMD, "--workers", optarg, 0, 256, &o->workers) ? 1 : -1;
+        return co_arg_u32(CMD, "--workers", optarg, 0, 256, &o->workers.local) ? 1 : -1;
+    case 'L':
+        o->workers.listen = optarg;
+        return -1;
+    case 'K':
+        o->workers.keys = optarg;
+        return -1;
+    case 'I':
+        o->workers.renderer = optarg;
+        return -1;
     case 'S':
         return co_arg_u64(CMD, "--seed", optarg, 1, UINT64_MAX, &o->seed) ? 1 : -1;
     case 'h':
@@ -97,19 +114,15 @@ static int parse_option(int c, char **argv, co_lod_options *o)
 
 static int parse(int argc, char **argv, co_lod_options *o)
 {
-    static const struct option opts[] = {{"output", required_argument, NULL, 'o'},
-                                         {"levels", required_argument, NULL, 'l'},
-                                         {"method", required_argument, NULL, 'm'},
-                                         {"evals", required_argument, NULL, 'e'},
-                                         {"no-optimize", no_argument, NULL, 'N'},
-                                         {"per-level", no_argument, NULL, 'p'},
-                                         {"views", required_argument, NULL, 'v'},
-                                         {"size", required_argument, NULL, 's'},
-                                         {"device", required_argument, NULL, 'd'},
-                                         {"workers", required_argument, NULL, 'w'},
-                                         {"seed", required_argument, NULL, 'S'},
-                                         {"help", no_argument, NULL, 'h'},
-                                         {NULL, 0, NULL, 0}};
+    static const struct option opts[] = {
+        {"output", required_argument, NULL, 'o'},   {"levels", required_argument, NULL, 'l'},
+        {"method", required_argument, NULL, 'm'},   {"evals", required_argument, NULL, 'e'},
+        {"no-optimize", no_argument, NULL, 'N'},    {"per-level", no_argument, NULL, 'p'},
+        {"views", required_argument, NULL, 'v'},    {"size", required_argument, NULL, 's'},
+        {"device", required_argument, NULL, 'd'},   {"workers", required_argument, NULL, 'w'},
+        {"listen", required_argument, NULL, 'L'},   {"keys", required_argument, NULL, 'K'},
+        {"renderer", required_argument, NULL, 'I'}, {"seed", required_argument, NULL, 'S'},
+        {"help", no_argument, NULL, 'h'},           {NULL, 0, NULL, 0}};
     int c, rc;
     opterr = 0;
     while ((c = getopt_long(argc, argv, ":o:h", opts, NULL)) != -1)
@@ -131,8 +144,10 @@ static int parse(int argc, char **argv, co_lod_options *o)
     if (!o->per_level && strcmp(dot, ".glb"))
         return co_cli_usage_error(CMD, "one file of levels is a .glb: use OUT.glb, or "
                                        "--per-level for .obj or .ply files");
-    if (o->method == CO_PRICE_SHARD && o->workers)
-        return co_cli_usage_error(CMD, "--method shard renders in this process: no --workers");
+    const co_simplify_workers *w = &o->workers;
+    if (o->method == CO_PRICE_SHARD && (w->local || w->listen || w->keys || w->renderer))
+        return co_cli_usage_error(CMD, "--method shard renders in this process: no --workers, "
+                                       "--listen, --keys or --renderer");
     return -1;
 }
 

@@ -35,6 +35,7 @@ static void usage(FILE *f)
         "usage: lumesh simplify ORIGINAL -o OUT --target-verts N [--method qem|cluster|image|"
         "shard]\n"
         "                       [--views N] [--size S] [--device D] [--workers N]\n"
+        "                       [--listen tcp://ADDR:PORT] [--keys DIR] [--renderer ID]\n"
         "                       [--presimplify M] [--reference MODEL] [--pm FILE]\n"
         "Makes a coarse version of ORIGINAL with at most N vertices (the search aims within 5%\n"
         "of N; up to 5% above N counts as reached) and writes it to OUT (.obj with .mtl and PNG\n"
@@ -60,6 +61,13 @@ static void usage(FILE *f)
         "  --device D             auto (default), host or egl:N\n"
         "  --workers N            image: price in N lumesh-worker processes (default 0: in\n"
         "                         this process); the result is the same for any N\n"
+        "  --listen ADDR          image: also take workers that connect to ADDR\n"
+        "                         (tcp://HOST:PORT, `lumesh-worker --connect ADDR`); alone, it\n"
+        "                         starts no local worker and waits, saying so, for one\n"
+        "  --keys DIR             CURVE keys (lumesh keygen), as for lumesh optimize: needed to\n"
+        "                         --listen beyond this machine\n"
+        "  --renderer ID          accept only workers of this renderer id (default: the first\n"
+        "                         worker's)\n"
         "  --presimplify M        QEM brings a larger model to M vertices first (default: 10 x N,\n"
         "                         when the model has more)\n"
         "  --reference MODEL      match MODEL's images instead of ORIGINAL's (simplifying a\n"
@@ -103,7 +111,16 @@ static int parse_image_option(int c, simplify_args *a)
         o->device = optarg;
         return -1;
     case 'w':
-        return co_arg_u32(CMD, "--workers", optarg, 0, 256, &o->workers) ? 1 : -1;
+        return co_arg_u32(CMD, "--workers", optarg, 0, 256, &o->workers.local) ? 1 : -1;
+    case 'L':
+        o->workers.listen = optarg;
+        return -1;
+    case 'K':
+        o->workers.keys = optarg;
+        return -1;
+    case 'I':
+        o->workers.renderer = optarg;
+        return -1;
     case 'P':
         return co_arg_u32(CMD, "--presimplify", optarg, 4, LM_MESH_MAX_VERTS, &o->presimplify) ? 1
                                                                                                : -1;
@@ -149,6 +166,9 @@ static int parse(int argc, char **argv, simplify_args *a)
                                          {"size", required_argument, NULL, 's'},
                                          {"device", required_argument, NULL, 'd'},
                                          {"workers", required_argument, NULL, 'w'},
+                                         {"listen", required_argument, NULL, 'L'},
+                                         {"keys", required_argument, NULL, 'K'},
+                                         {"renderer", required_argument, NULL, 'I'},
                                          {"presimplify", required_argument, NULL, 'P'},
                                          {"reference", required_argument, NULL, 'r'},
                                          {"pm", required_argument, NULL, 'p'},
@@ -169,12 +189,16 @@ static int parse(int argc, char **argv, simplify_args *a)
     if (!a->have_target)
         return co_cli_usage_error(CMD, "missing --target-verts N (see --help)");
     const co_simplify_options *o = &a->image_opts;
-    if (!a->image && (o->views || o->size || o->device || o->workers || o->presimplify ||
+    const co_simplify_workers *w = &o->workers;
+    int workers = w->local || w->listen || w->keys || w->renderer;
+    if (!a->image && (o->views || o->size || o->device || workers || o->presimplify ||
                       o->reference_path || o->pm_path))
-        return co_cli_usage_error(CMD, "--views, --size, --device, --workers, --presimplify, "
-                                       "--reference and --pm go with --method image or shard");
-    if (o->method == CO_PRICE_SHARD && o->workers)
-        return co_cli_usage_error(CMD, "--method shard renders in this process: no --workers");
+        return co_cli_usage_error(CMD, "--views, --size, --device, --workers, --listen, --keys, "
+                                       "--renderer, --presimplify, --reference and --pm go with "
+                                       "--method image or shard");
+    if (o->method == CO_PRICE_SHARD && workers)
+        return co_cli_usage_error(CMD, "--method shard renders in this process: no --workers, "
+                                       "--listen, --keys or --renderer");
     return -1;
 }
 

@@ -92,12 +92,8 @@ static lm_status make_views(lod *L)
     const co_lod_options *o = L->o;
     lm_status st = co_view_set_around(L->orig, o->views ? o->views : LM_DEFAULT_VIEWS,
                                       o->size ? o->size : LM_DEFAULT_VIEW_SIZE, 0, &L->vs);
-    if (st == LM_OK && o->workers) {
-        co_pool_options po = {.local_workers = o->workers, .device = o->device, .quiet = 1};
-        st = co_pool_create(&po, &L->pool);
-        if (st == LM_OK)
-            st = co_pool_wait(L->pool, o->workers, 60);
-    }
+    if (st == LM_OK)
+        st = co_simplify_pool_start(&o->workers, o->device, &L->pool);
     if (st == LM_OK)
         st = co_simplify_make_views(CO_PRICE_IMAGE, L->orig, L->orig, L->vs, o->device, L->pool,
                                     &L->views);

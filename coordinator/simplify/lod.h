@@ -12,6 +12,7 @@
 
 #include "common/mesh_io.h"
 #include "coordinator/simplify/pricer.h"
+#include "coordinator/simplify/work.h"
 
 /* A level asked for: a fraction of the original's vertices (percent given) or a count. */
 typedef struct co_lod_spec {
@@ -31,10 +32,10 @@ typedef struct co_lod_options {
     uint32_t views;         /* 0 = 20 */
     int size;               /* 0 = 256 */
     const char *device;
-    uint32_t workers; /* lumesh-worker processes for the views (0: in this process) */
-    uint64_t seed;    /* optimizer seed; 0 = 1 */
-    int per_level;    /* one file per level: STEM.lodK.EXT */
-    int progress;     /* a line per level on stderr */
+    co_simplify_workers workers; /* lumesh-worker processes for the views (none: this process) */
+    uint64_t seed;               /* optimizer seed; 0 = 1 */
+    int per_level;               /* one file per level: STEM.lodK.EXT */
+    int progress;                /* a line per level on stderr */
 } co_lod_options;
 
 typedef struct co_lod_level_result {

@@ -14,8 +14,6 @@
 #include "coordinator/quality/view_setup.h"
 #include "coordinator/simplify/work.h"
 
-#define CO_SIMPLIFY_WORKER_START_S 60.0
-
 typedef struct sjob {
     const co_simplify_options *o;
     co_simplify_summary *sum;
@@ -68,12 +66,8 @@ static lm_status make_views(sjob *j)
     uint32_t n = j->o->views ? j->o->views : LM_DEFAULT_VIEWS;
     int size = j->o->size ? j->o->size : LM_DEFAULT_VIEW_SIZE;
     lm_status st = co_view_set_around(ref, n, size, 0, &j->vs);
-    if (st == LM_OK && j->o->workers && j->o->method == CO_PRICE_IMAGE) {
-        co_pool_options po = {.local_workers = j->o->workers, .device = j->o->device, .quiet = 1};
-        st = co_pool_create(&po, &j->pool);
-        if (st == LM_OK)
-            st = co_pool_wait(j->pool, j->o->workers, CO_SIMPLIFY_WORKER_START_S);
-    }
+    if (st == LM_OK && j->o->method == CO_PRICE_IMAGE)
+        st = co_simplify_pool_start(&j->o->workers, j->o->device, &j->pool);
     if (st == LM_OK)
         st = co_simplify_make_views(j->o->method, ref, j->work, j->vs, j->o->device, j->pool,
                                     &j->views);

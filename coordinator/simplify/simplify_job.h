@@ -9,6 +9,7 @@
 #include <stdint.h>
 
 #include "coordinator/simplify/isimp.h"
+#include "coordinator/simplify/work.h"
 
 /* Zero means default for every field but the paths and the target. */
 typedef struct co_simplify_options {
@@ -16,13 +17,13 @@ typedef struct co_simplify_options {
     const char *reference_path; /* the images to match; NULL = the input's */
     uint32_t target_verts;
     co_price_method method;
-    uint32_t views;       /* 0 = 20 */
-    int size;             /* 0 = 256 */
-    const char *device;   /* NULL = auto */
-    uint32_t workers;     /* image method: lumesh-worker processes; 0 = render in this process */
-    uint32_t presimplify; /* QEM to this many vertices first; 0 = 10 x target when larger */
-    const char *pm_path;  /* write the progressive mesh here; NULL = not */
-    int progress;         /* a progress line on stderr */
+    uint32_t views;              /* 0 = 20 */
+    int size;                    /* 0 = 256 */
+    const char *device;          /* NULL = auto */
+    co_simplify_workers workers; /* image method: lumesh-worker processes (none: this process) */
+    uint32_t presimplify;        /* QEM to this many vertices first; 0 = 10 x target when larger */
+    const char *pm_path;         /* write the progressive mesh here; NULL = not */
+    int progress;                /* a progress line on stderr */
 } co_simplify_options;
 
 typedef struct co_simplify_summary {

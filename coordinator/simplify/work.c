@@ -4,6 +4,7 @@
 #include <stdlib.h>
 
 #include "common/mesh_topology.h"
+#include "coordinator/pool/pool.h"
 #include "coordinator/views/views.h"
 
 uint32_t co_simplify_start_verts(uint32_t live, uint32_t target, uint32_t presimplify)
@@ -69,6 +70,27 @@ lm_status co_simplify_make_views(co_price_method method, const lm_mesh *original
     if (st == LM_OK)
         st = co_views_create(&d, out);
     lm_mesh_destroy(none);
+    return st;
+}
+
+lm_status co_simplify_pool_start(const co_simplify_workers *w, const char *device, co_pool **out)
+{
+    *out = NULL;
+    if (!w->local && !w->listen)
+        return LM_OK;
+    co_pool_options po = {.listen = w->listen,
+                          .local_workers = w->local,
+                          .device = device,
+                          .renderer_id = w->renderer,
+                          .keys = w->keys,
+                          .quiet = !w->listen};
+    lm_status st = co_pool_create(&po, out);
+    if (st == LM_OK && w->local)
+        st = co_pool_wait(*out, w->local, CO_SIMPLIFY_WORKER_START_S);
+    if (st != LM_OK) {
+        co_pool_destroy(*out);
+        *out = NULL;
+    }
     return st;
 }
 

@@ -32,6 +32,25 @@ lm_status co_simplify_make_views(co_price_method method, const lm_mesh *original
                                  const lm_mesh *work, const lm_view_set *vs, const char *device,
                                  co_pool *pool, lm_views **out);
 
+/* Where the image views render, as the user asked: lumesh-worker processes started here, and
+ * workers that connect to listen (tcp://HOST:PORT, with CURVE keys from the folder keys, the
+ * renderer pinned to renderer when given). */
+typedef struct co_simplify_workers {
+    uint32_t local;       /* processes started here; 0 = none */
+    const char *listen;   /* NULL = only local ones */
+    const char *keys;     /* NULL = no keys (loopback and ipc only) */
+    const char *renderer; /* NULL = the first worker's */
+} co_simplify_workers;
+
+/* Local workers a pool waits for at the start before it gives up. */
+#define CO_SIMPLIFY_WORKER_START_S 60.0
+
+/* The pool for w's workers (their --device: device), local ones started and waited for; *out is
+ * NULL (and nothing started) when w asks for none, the views then render in this process. With
+ * listen, the pool says on stderr who joins and leaves, and the first request waits (saying so)
+ * until a worker has joined. */
+lm_status co_simplify_pool_start(const co_simplify_workers *w, const char *device, co_pool **out);
+
 /* A compact copy of m (textures kept), the form every output is written in. */
 lm_status co_simplify_output_copy(const lm_mesh *m, lm_mesh **out);
 

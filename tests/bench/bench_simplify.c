@@ -80,12 +80,9 @@ static lm_status run(const opts *o, const lm_mesh *orig, const lm_mesh *start, u
         st = co_simplify_prepare(m, &derived);
     if (!st)
         st = co_view_set_around(orig, o->views, (int)o->size, 0, &vs);
-    if (!st && workers) {
-        co_pool_options po = {.local_workers = workers, .device = o->device, .quiet = 1};
-        st = co_pool_create(&po, &pool);
-        if (!st)
-            st = co_pool_wait(pool, workers, 60);
-    }
+    co_simplify_workers w = {.local = workers};
+    if (!st)
+        st = co_simplify_pool_start(&w, o->device, &pool);
     if (!st)
         st = co_simplify_make_views(o->method, orig, m, vs, o->device, pool, &v);
     co_isimp_config cfg = {.method = o->method,

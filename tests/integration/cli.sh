@@ -15,6 +15,12 @@ tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 expect_fail_line "$LUMESH" simplify "$tmp/missing.obj" -o "$tmp/out.obj" --target-verts 100
 expect_fail_line "$LUMESH" simplify --target-verts abc "$tmp/missing.obj" -o "$tmp/out.obj"
+expect_fail_line "$LUMESH" simplify "$tmp/missing.obj" -o "$tmp/out.obj" --target-verts 100 \
+  --listen tcp://127.0.0.1:1
+expect_fail_line "$LUMESH" simplify "$tmp/missing.obj" -o "$tmp/out.obj" --target-verts 100 \
+  --method shard --keys "$tmp"
+expect_fail_line "$LUMESH" lod "$tmp/missing.obj" -o "$tmp/out.glb" --levels 50% --method shard \
+  --listen tcp://127.0.0.1:1
 expect_fail_line "$LUMESH" gen-frog -o "$tmp/f.obj" --tris -5
 expect_fail_line "$LUMESH" gen-frog -o "$tmp/f.obj" --no-such-flag
 expect_fail_line "$LUMESH" energy "$tmp/missing.obj" "$tmp/missing2.obj"

@@ -2,7 +2,8 @@
 # Integration: `lumesh simplify --method image --workers N` on the worker pool (heartbeats,
 # leases, replacements) writes the bytes of the in-process run for any N and through faults: the
 # spider (6 views of 48 pixels) to 600 vertices in process, then with 1, 2 and 3 local workers, with
-# a worker SIGKILLed mid-run, and with a worker SIGSTOPped past its lease and then continued.
+# a worker SIGKILLed mid-run, and with a worker SIGSTOPped past its lease and then continued; in
+# cluster mode (`--listen` with CURVE keys, a worker started by hand) for simplify and lod.
 # LUMESH_TEST_LIGHT=1 (the sanitizer stage; the release stage runs it whole): to 640 vertices on 4
 # views of 32 pixels, and of the runs with workers only the one with 2 workers and a SIGKILL (it
 # checks the bytes of 2 workers against the in-process run's too).
@@ -74,5 +75,36 @@ if [ "$light" != 1 ]; then
     kill -CONT "$victim" 2>/dev/null
   }
   disturbed stopped stop_victim
+fi
+
+# -- cluster mode: --listen alone starts no worker and waits, saying so, for one started by hand
+free_port() { python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])'; }
+"$LUMESH" keygen -o "$tmp/keys" >/dev/null 2>&1 || fail "keygen failed"
+listened() { # listened NAME OUT_DIR CMD...: CMD (simplify or lod) with --listen, one worker by hand
+  local name=$1 port
+  port=$(free_port)
+  shift 2
+  "$@" --listen "tcp://127.0.0.1:$port" --keys "$tmp/keys" >/dev/null 2>"$tmp/$name.err" &
+  coord=$!
+  wait_for 120 grep -q "waiting for workers at tcp://127.0.0.1:$port" "$tmp/$name.err" ||
+    fail "$name: the listening run did not say it waits: $(tail -n 2 "$tmp/$name.err")"
+  timeout 300 "$LUMESH_WORKER" --connect "tcp://127.0.0.1:$port" --device host --keys "$tmp/keys" \
+    --once 2>"$tmp/$name.worker.err" &
+  local wpid=$!
+  wait "$coord" || fail "$name: the run failed: $(tail -n 2 "$tmp/$name.err")"
+  coord=
+  wait "$wpid" || fail "$name: the worker exited $?: $(tail -n 2 "$tmp/$name.worker.err")"
+  checks=$((checks + 1))
+  grep -q "worker 1 joined" "$tmp/$name.err" || fail "$name: the worker did not join: $(cat "$tmp/$name.err")"
+}
+listened simplify "$tmp/cluster" "$LUMESH" simplify "$spider" -o "$tmp/cluster/m.obj" "${job[@]}"
+same "simplify --listen, a worker started by hand" "$tmp/cluster"
+if [ "$light" != 1 ]; then
+  lod=(--levels 90%,80% --no-optimize --views 4 --size 32 --device host)
+  "$LUMESH" lod "$spider" -o "$tmp/lod.glb" "${lod[@]}" >/dev/null 2>"$tmp/err" ||
+    fail "lod in process failed: $(tail -n 1 "$tmp/err")"
+  listened lod "" "$LUMESH" lod "$spider" -o "$tmp/lod-cluster.glb" "${lod[@]}"
+  checks=$((checks + 1))
+  cmp -s "$tmp/lod.glb" "$tmp/lod-cluster.glb" || fail "lod --listen: the output differs from the in-process run's"
 fi
 finish

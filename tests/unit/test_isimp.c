@@ -296,9 +296,8 @@ static void same_result_for_any_views(void **state)
     uint64_t one = simplified_hash(CO_VIEWS_LOCAL, NULL, target);
     assert_true(one == simplified_hash(CO_VIEWS_SPLIT, NULL, target));
     co_pool *pool;
-    co_pool_options po = {.local_workers = 2, .device = "host", .quiet = 1};
-    assert_int_equal(co_pool_create(&po, &pool), LM_OK);
-    assert_int_equal(co_pool_wait(pool, 2, 60), LM_OK);
+    co_simplify_workers w = {.local = 2};
+    assert_int_equal(co_simplify_pool_start(&w, "host", &pool), LM_OK);
     assert_true(one == simplified_hash(CO_VIEWS_REMOTE, pool, target));
     co_pool_destroy(pool);
 }
