@@ -90,3 +90,27 @@ void co_cli_reset_getopt(void)
     optind = 0; /* glibc: 0 forces a full re-initialisation */
     opterr = 1;
 }
+
+int co_arg_simplify_workers(const char *cmd, int c, const char *val, co_simplify_workers *w)
+{
+    switch (c) {
+    case 'w':
+        return co_arg_u32(cmd, "--workers", val, 0, 256, &w->local) ? 1 : -1;
+    case 'L':
+        w->listen = val;
+        return -1;
+    case 'K':
+        w->keys = val;
+        return -1;
+    case 'I':
+        w->renderer = val;
+        return -1;
+    default:
+        return -2;
+    }
+}
+
+int co_simplify_workers_given(const co_simplify_workers *w)
+{
+    return w->local || w->listen || w->keys || w->renderer;
+}

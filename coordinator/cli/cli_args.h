@@ -7,6 +7,7 @@
 #include <stdint.h>
 
 #include "common/error.h"
+#include "coordinator/simplify/work.h"
 
 /* Parse a whole decimal string into [lo, hi]. On failure prints
  * "lumesh CMD: --FLAG expects an integer in [lo, hi], got 'VAL'" and returns LM_E_INVALID. */
@@ -20,6 +21,13 @@ lm_status co_arg_double(const char *cmd, const char *flag, const char *val, doub
 /* --views N and --size PIXELS, with the same ranges in every subcommand that renders views. */
 lm_status co_arg_views(const char *cmd, const char *val, uint32_t *out);
 lm_status co_arg_size(const char *cmd, const char *val, uint32_t *out);
+
+/* Where simplify and lod render: getopt code c with value val if it is one of their worker
+ * options ('w' --workers N, 'L' --listen, 'K' --keys, 'I' --renderer). Returns -1 when taken,
+ * 1 when val was wrong (said on stderr), -2 when c is none of them. */
+int co_arg_simplify_workers(const char *cmd, int c, const char *val, co_simplify_workers *w);
+/* Whether w asks for workers at all (any of those options given). */
+int co_simplify_workers_given(const co_simplify_workers *w);
 
 /* Print "lumesh CMD: message" (one line) to stderr; returns 1 (the user-error exit code). */
 int co_cli_usage_error(const char *cmd, const char *fmt, ...) __attribute__((format(printf, 2, 3)));

@@ -91,24 +91,15 @@ static int parse_option(int c, char **argv, co_lod_options *o)
     case 'd':
         o->device = optarg;
         return -1;
-    case 'w':
-        return co_arg_u32(CMD, "--workers", optarg, 0, 256, &o->workers.local) ? 1 : -1;
-    case 'L':
-        o->workers.listen = optarg;
-        return -1;
-    case 'K':
-        o->workers.keys = optarg;
-        return -1;
-    case 'I':
-        o->workers.renderer = optarg;
-        return -1;
     case 'S':
         return co_arg_u64(CMD, "--seed", optarg, 1, UINT64_MAX, &o->seed) ? 1 : -1;
     case 'h':
         usage(stdout);
         return 0;
-    default:
-        return co_cli_bad_option(CMD, c, argv);
+    default: {
+        int rc = co_arg_simplify_workers(CMD, c, optarg, &o->workers);
+        return rc != -2 ? rc : co_cli_bad_option(CMD, c, argv);
+    }
     }
 }
 
@@ -144,8 +135,7 @@ static int parse(int argc, char **argv, co_lod_options *o)
     if (!o->per_level && strcmp(dot, ".glb"))
         return co_cli_usage_error(CMD, "one file of levels is a .glb: use OUT.glb, or "
                                        "--per-level for .obj or .ply files");
-    const co_simplify_workers *w = &o->workers;
-    if (o->method == CO_PRICE_SHARD && (w->local || w->listen || w->keys || w->renderer))
+    if (o->method == CO_PRICE_SHARD && co_simplify_workers_given(&o->workers))
         return co_cli_usage_error(CMD, "--method shard renders in this process: no --workers, "
                                        "--listen, --keys or --renderer");
     return -1;
@@ -167,13 +157,19 @@ int co_cli_lod(int argc, char **argv)
            o.per_level ? " (one file per level)" : "");
     for (uint32_t k = 0; k < s.n_levels; k++) {
         const co_lod_level_result *r = &s.level[k];
-        printf("  LOD%u: %u vertices / %u triangles, %u parts; energy %lld simplified, %lld "
-               "%s (%llu + %llu evaluations, %.1f s)%s%s\n",
-               k, r->verts, r->tris, r->parts, (long long)r->energy_simplified,
-               (long long)r->energy_optimized,
-               r->kept_simplified ? "kept (optimising did not lower it)" : "optimised",
-               (unsigned long long)r->simplify_evals, (unsigned long long)r->optimize_evals,
-               r->seconds, r->path[0] ? " -> " : "", r->path);
+        char energy[128];
+        if (o.no_optimize)
+            snprintf(energy, sizeof energy, "energy %lld (--no-optimize)",
+                     (long long)r->energy_simplified);
+        else
+            snprintf(energy, sizeof energy, "energy %lld simplified, %lld %s",
+                     (long long)r->energy_simplified, (long long)r->energy_optimized,
+                     r->kept_simplified ? "kept (optimising did not lower it)" : "optimised");
+        printf("  LOD%u: %u vertices / %u triangles, %u parts; %s (%llu + %llu evaluations, "
+               "%.1f s)%s%s\n",
+               k, r->verts, r->tris, r->parts, energy, (unsigned long long)r->simplify_evals,
+               (unsigned long long)r->optimize_evals, r->seconds, r->path[0] ? " -> " : "",
+               r->path);
     }
     return 0;
 }

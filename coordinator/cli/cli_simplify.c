@@ -110,17 +110,6 @@ static int parse_image_option(int c, simplify_args *a)
     case 'd':
         o->device = optarg;
         return -1;
-    case 'w':
-        return co_arg_u32(CMD, "--workers", optarg, 0, 256, &o->workers.local) ? 1 : -1;
-    case 'L':
-        o->workers.listen = optarg;
-        return -1;
-    case 'K':
-        o->workers.keys = optarg;
-        return -1;
-    case 'I':
-        o->workers.renderer = optarg;
-        return -1;
     case 'P':
         return co_arg_u32(CMD, "--presimplify", optarg, 4, LM_MESH_MAX_VERTS, &o->presimplify) ? 1
                                                                                                : -1;
@@ -131,7 +120,7 @@ static int parse_image_option(int c, simplify_args *a)
         o->pm_path = optarg;
         return -1;
     default:
-        return -2;
+        return co_arg_simplify_workers(CMD, c, optarg, &o->workers);
     }
 }
 
@@ -189,8 +178,7 @@ static int parse(int argc, char **argv, simplify_args *a)
     if (!a->have_target)
         return co_cli_usage_error(CMD, "missing --target-verts N (see --help)");
     const co_simplify_options *o = &a->image_opts;
-    const co_simplify_workers *w = &o->workers;
-    int workers = w->local || w->listen || w->keys || w->renderer;
+    int workers = co_simplify_workers_given(&o->workers);
     if (!a->image && (o->views || o->size || o->device || workers || o->presimplify ||
                       o->reference_path || o->pm_path))
         return co_cli_usage_error(CMD, "--views, --size, --device, --workers, --listen, --keys, "
