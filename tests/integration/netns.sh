@@ -79,8 +79,10 @@ for w in 1 2; do
   ip netns exec "${ns[$w]}" "$LUMESH_WORKER" --connect tcp://10.213.0.1:5871 --device host \
     --keys "$tmp/keys" 2>"$tmp/cw$w.err" &
 done
-# cut the link once the run is under way with both workers (a loaded machine starts late)
-wait_for 120 grep -q "evals [0-9]*/s .*2 workers" "$tmp/cut.err" ||
+# cut the link once both workers have joined and the run is under way (a loaded machine starts
+# late; the progress lines come every 5 s, too seldom to wait for one that names both workers)
+both_joined() { [ "$(grep -c ' joined' "$tmp/cut.err")" -ge 2 ]; }
+wait_for 120 both_joined && wait_for 120 grep -q "evals [0-9]*/s" "$tmp/cut.err" ||
   fail "the run with two workers never got going: $(tail -3 "$tmp/cut.err")"
 sleep 1
 ip -n "${ns[1]}" link set "v${tag}2" down
