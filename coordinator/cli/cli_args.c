@@ -1,4 +1,5 @@
-/* coordinator/cli/cli_args.c — number parsing and one-line errors shared by the subcommands. */
+/* coordinator/cli/cli_args.c — number parsing, one-line errors and the worker options shared by
+ * the subcommands. */
 #include "coordinator/cli/cli_args.h"
 
 #include <errno.h>
@@ -9,6 +10,7 @@
 #include <stdlib.h>
 
 #include "common/view.h"
+#include "coordinator/simplify/work.h"
 
 lm_status co_arg_u64(const char *cmd, const char *flag, const char *val, uint64_t lo, uint64_t hi,
                      uint64_t *out)
@@ -113,4 +115,11 @@ int co_arg_simplify_workers(const char *cmd, int c, const char *val, co_simplify
 int co_simplify_workers_given(const co_simplify_workers *w)
 {
     return w->local || w->listen || w->keys || w->renderer;
+}
+
+int co_cli_check_simplify_workers(const char *cmd, const co_simplify_workers *w)
+{
+    if ((w->keys || w->renderer) && !w->local && !w->listen)
+        return co_cli_usage_error(cmd, "--keys and --renderer go with --workers N or --listen");
+    return -1;
 }

@@ -7,7 +7,8 @@
 #include <stdint.h>
 
 #include "common/error.h"
-#include "coordinator/simplify/work.h"
+
+typedef struct co_simplify_workers co_simplify_workers; /* coordinator/simplify/work.h */
 
 /* Parse a whole decimal string into [lo, hi]. On failure prints
  * "lumesh CMD: --FLAG expects an integer in [lo, hi], got 'VAL'" and returns LM_E_INVALID. */
@@ -28,6 +29,9 @@ lm_status co_arg_size(const char *cmd, const char *val, uint32_t *out);
 int co_arg_simplify_workers(const char *cmd, int c, const char *val, co_simplify_workers *w);
 /* Whether w asks for workers at all (any of those options given). */
 int co_simplify_workers_given(const co_simplify_workers *w);
+/* -1 when w makes sense, else 1 with the one-line reason on stderr (--keys or --renderer with
+ * neither --workers nor --listen would be ignored). */
+int co_cli_check_simplify_workers(const char *cmd, const co_simplify_workers *w);
 
 /* Print "lumesh CMD: message" (one line) to stderr; returns 1 (the user-error exit code). */
 int co_cli_usage_error(const char *cmd, const char *fmt, ...) __attribute__((format(printf, 2, 3)));

@@ -138,7 +138,7 @@ static int parse(int argc, char **argv, co_lod_options *o)
     if (o->method == CO_PRICE_SHARD && co_simplify_workers_given(&o->workers))
         return co_cli_usage_error(CMD, "--method shard renders in this process: no --workers, "
                                        "--listen, --keys or --renderer");
-    return -1;
+    return co_cli_check_simplify_workers(CMD, &o->workers);
 }
 
 int co_cli_lod(int argc, char **argv)

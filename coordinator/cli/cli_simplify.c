@@ -187,7 +187,7 @@ static int parse(int argc, char **argv, simplify_args *a)
     if (o->method == CO_PRICE_SHARD && workers)
         return co_cli_usage_error(CMD, "--method shard renders in this process: no --workers, "
                                        "--listen, --keys or --renderer");
-    return -1;
+    return co_cli_check_simplify_workers(CMD, &o->workers);
 }
 
 static double now_s(void)

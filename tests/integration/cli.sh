@@ -21,6 +21,8 @@ expect_fail_line "$LUMESH" simplify "$tmp/missing.obj" -o "$tmp/out.obj" --targe
   --method shard --keys "$tmp"
 expect_fail_line "$LUMESH" lod "$tmp/missing.obj" -o "$tmp/out.glb" --levels 50% --method shard \
   --listen tcp://127.0.0.1:1
+expect_fail_line "$LUMESH" simplify "$tmp/missing.obj" -o "$tmp/out.obj" --target-verts 100 \
+  --method image --keys "$tmp"
 expect_fail_line "$LUMESH" gen-frog -o "$tmp/f.obj" --tris -5
 expect_fail_line "$LUMESH" gen-frog -o "$tmp/f.obj" --no-such-flag
 expect_fail_line "$LUMESH" energy "$tmp/missing.obj" "$tmp/missing2.obj"
