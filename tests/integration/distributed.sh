@@ -15,14 +15,8 @@ source "$here/lib.bash"
 : "${LUMESH_WORKER:?}" "${LUMESH_TEST_DATA:?}"
 bunny="$LUMESH_TEST_DATA/cache/meshes/bunny00.off"
 [ -f "$bunny" ] || { echo "distributed.sh: skipped (no bunny: run scripts/install-deps.sh)"; exit 0; }
-tmp=$(mktemp -d)
+scratch
 export TMPDIR="$tmp" # local workers' ipc endpoints live here: the checks see only this script's
-pids=()
-cleanup() {
-  for p in "${pids[@]}"; do kill -9 "$p" 2>/dev/null; done
-  rm -rf "$tmp"
-}
-trap cleanup EXIT
 export LP_NUM_THREADS=0
 job=(--evals 1500 --target-verts 300 --views 12 --size 96 --device host)
 

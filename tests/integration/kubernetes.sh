@@ -27,14 +27,7 @@ command -v node >/dev/null || skip "no node (Node.js: scripts/install-deps.sh)"
 [ -e "$npmdir/node_modules/kubernetes-models/package.json" ] ||
   skip "no kubernetes-models under $npmdir (scripts/install-deps.sh)"
 
-tmp=$(mktemp -d)
-pids=()
-cleanup() {
-  for p in "${pids[@]}"; do kill -9 "$p" 2>/dev/null; done
-  wait 2>/dev/null
-  rm -rf "$tmp"
-}
-trap cleanup EXIT
+scratch
 # check.mjs finds its packages beside it
 cp "$root/tests/support/k8s/check.mjs" "$tmp/check.mjs"
 ln -s "$npmdir/node_modules" "$tmp/node_modules"

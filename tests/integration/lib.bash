@@ -37,3 +37,15 @@ finish() {
   echo "$((checks - failures)) passed, $failures failed"
   [ "$failures" = 0 ]
 }
+# scratch — a fresh folder in $tmp and an empty $pids; at exit every process in $pids is killed
+# (and reaped) and the folder removed. Scripts add the background processes they start to pids.
+scratch() {
+  tmp=$(mktemp -d)
+  pids=()
+  trap scratch_cleanup EXIT
+}
+scratch_cleanup() {
+  for p in "${pids[@]}"; do kill -9 "$p" 2>/dev/null; done
+  [ "${#pids[@]}" = 0 ] || wait "${pids[@]}" 2>/dev/null
+  rm -rf "$tmp"
+}

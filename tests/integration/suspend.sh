@@ -8,13 +8,7 @@ set -uo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 source "$here/lib.bash"
 : "${LUMESH_WORKER:?}"
-tmp=$(mktemp -d)
-pids=()
-cleanup() {
-  for p in "${pids[@]}"; do kill -9 "$p" 2>/dev/null; done
-  rm -rf "$tmp"
-}
-trap cleanup EXIT
+scratch
 export LP_NUM_THREADS=0
 "$LUMESH" gen-frog -o "$tmp/frog.obj" --tris 8000 >/dev/null || fail "gen-frog"
 job=(--views 12 --size 96 --evals 9000 --target-verts 300 --device host)

@@ -20,14 +20,7 @@ command -v systemd-analyze >/dev/null || {
   echo "SKIP: systemd.sh: no systemd-analyze (Debian package systemd: scripts/install-deps.sh)"
   exit 77
 }
-tmp=$(mktemp -d)
-pids=()
-cleanup() {
-  for p in "${pids[@]}"; do kill -9 "$p" 2>/dev/null; done
-  wait 2>/dev/null
-  rm -rf "$tmp"
-}
-trap cleanup EXIT
+scratch
 
 # -- static checks: the units as shipped, their programs at this build's paths --
 mkdir -p "$tmp/units" "$tmp/bad"
