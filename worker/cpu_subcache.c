@@ -98,3 +98,20 @@ const wk_cpu_sub *wk_cpu_subcache_get(wk_cpu_subcache *c, const wk_cpu_view *v, 
         *slot = scratch[0];
     return slot;
 }
+
+const wk_cpu_sub *wk_cpu_subcache_peek(const wk_cpu_subcache *c, uint32_t h, uint32_t id)
+{
+    if (!c->enabled || id >= c->cap || !c->state[h] || c->state[h][id] != 1)
+        return NULL;
+    return &c->sub[h][id];
+}
+
+void wk_cpu_subcache_prefetch(const wk_cpu_subcache *c, uint32_t h, uint32_t id)
+{
+    if (!c->enabled || id >= c->cap || !c->state[h])
+        return;
+    __builtin_prefetch(&c->state[h][id]);
+    const char *s = (const char *)&c->sub[h][id];
+    for (size_t b = 0; b < sizeof(wk_cpu_sub); b += 64)
+        __builtin_prefetch(s + b);
+}

@@ -38,4 +38,10 @@ void wk_cpu_subcache_clear(wk_cpu_subcache *c);
 const wk_cpu_sub *wk_cpu_subcache_get(wk_cpu_subcache *c, const wk_cpu_view *v, uint32_t h,
                                       const lm_tri_data *t, wk_cpu_sub *scratch, int *n);
 
+/* Ask for the memory of triangle id's entry in view h (a hint). */
+void wk_cpu_subcache_prefetch(const wk_cpu_subcache *c, uint32_t h, uint32_t id);
+/* The kept sub of triangle id in view h when the table holds exactly one for it, else NULL (none,
+ * several or not set up yet); sets nothing up. */
+const wk_cpu_sub *wk_cpu_subcache_peek(const wk_cpu_subcache *c, uint32_t h, uint32_t id);
+
 #endif

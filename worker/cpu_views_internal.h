@@ -37,6 +37,7 @@ typedef struct wk_cpu_eval {
     uint32_t *loc_stamp, *loc_first; /* per id: its subs in `set` during this pass */
     uint8_t *loc_n;
     wk_idlist cand;
+    uint64_t gathered; /* sum of the loads that gather a view's memory (never used) */
 } wk_cpu_eval;
 
 typedef struct wk_cpu_views {
