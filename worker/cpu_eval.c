@@ -281,22 +281,10 @@ static lm_status punch(wk_cpu_views *v, const lm_patch *p, uint32_t h, uint32_t 
         subs = wk_cpu_subcache_get(&v->subcache, &v->cviews[h], h, &v->rep.tris[id], local, &kn);
         n = (uint32_t)kn;
     }
-    const wk_rect all = {0, 0, v->width, v->height};
-    wk_cpu_log *log = &e->log;
     for (uint32_t i = 0; i < n && found < limit; i++) {
         const wk_cpu_sub *si = reg ? reg[i] : &subs[i];
-        size_t m = wk_cpu_owned(si, k, &all, e->owned, limit - found);
-        for (size_t j = 0; j < m; j++) { /* new to the log: each pixel has one visible triangle */
-            uint32_t xy = e->owned[j];
-            uint32_t q = (uint32_t)WK_CPU_Y(xy) * (uint32_t)v->width + (uint32_t)WK_CPU_X(xy);
-            log->stamp[q] = log->now;
-            log->idx[log->n] = q;
-            log->xy[log->n] = xy;
-            log->old[log->n] = k->key[q];
-            log->flag[log->n++] = twin ? F_RESHADE : F_HOLE;
-            if (!twin)
-                k->key[q] = WK_CPU_KEY_BG;
-        }
+        size_t m =
+            wk_cpu_log_owned(si, k, &e->log, twin ? F_RESHADE : F_HOLE, !twin, limit - found);
         if (m && !twin)
             raise_tiles(v, k, si);
         found += m;

@@ -470,27 +470,62 @@ size_t wk_cpu_draw(const wk_cpu_sub *s, wk_cpu_keys *k, const wk_cpu_clip *clip,
     return changed;
 }
 
-size_t wk_cpu_owned(const wk_cpu_sub *s, const wk_cpu_keys *k, const wk_rect *clip, uint32_t *out,
-                    size_t limit)
+/* The pixels of clip where s is visible, up to `limit`: appended to out (log NULL) or logged as
+ * new with flag `flag`, and set to the background when `clear` (log not NULL). The callers pass
+ * constants, so each gets its own loop. */
+static inline size_t owned_walk(const wk_cpu_sub *s, const wk_cpu_keys *k, const wk_rect *clip,
+                                size_t limit, uint32_t *out, wk_cpu_log *log, uint8_t flag,
+                                int clear)
 {
     wk_rect r; /* a pixel whose key carries the tag is one the sub covers and wins */
     if (!box_in(s, clip, &r))
         return 0;
     span_walk w; /* along the covered columns only: fewer cache lines than the whole box */
     span_begin(s, &r, &w);
-    size_t n = 0;
+    size_t n = 0, n0 = log ? log->n : 0;
     for (int y = r.y0; y < r.y1; y++) {
         int x0, x1;
         span_row(&w, &x0, &x1);
-        const uint64_t *row = k->key + (size_t)y * k->width + s->x0;
-        for (int x = x0; x < x1; x++)
-            if ((uint32_t)row[x] == s->tag) {
-                out[n++] = WK_CPU_XY(s->x0 + x, y);
-                if (n == limit)
-                    return n;
+        uint64_t *row = k->key + (size_t)y * k->width + s->x0;
+        const uint32_t p0 = (uint32_t)y * (uint32_t)k->width + (uint32_t)s->x0;
+        for (int x = x0; x < x1; x++) {
+            if ((uint32_t)row[x] != s->tag)
+                continue;
+            uint32_t xy = WK_CPU_XY(s->x0 + x, y);
+            if (log) {
+                size_t j = n0 + n;
+                log->stamp[p0 + (uint32_t)x] = log->now;
+                log->idx[j] = p0 + (uint32_t)x;
+                log->xy[j] = xy;
+                log->old[j] = row[x];
+                log->flag[j] = flag;
+                if (clear)
+                    row[x] = WK_CPU_KEY_BG;
+            } else {
+                out[n] = xy;
             }
+            if (++n == limit)
+                goto done;
+        }
     }
+done:
+    if (log)
+        log->n = n0 + n;
     return n;
+}
+
+size_t wk_cpu_owned(const wk_cpu_sub *s, const wk_cpu_keys *k, const wk_rect *clip, uint32_t *out,
+                    size_t limit)
+{
+    return owned_walk(s, k, clip, limit, out, NULL, 0, 0);
+}
+
+size_t wk_cpu_log_owned(const wk_cpu_sub *s, wk_cpu_keys *k, wk_cpu_log *log, uint8_t flag,
+                        int clear, size_t limit)
+{
+    const wk_rect all = {0, 0, k->width, k->height};
+    return clear ? owned_walk(s, k, &all, limit, NULL, log, flag, 1)
+                 : owned_walk(s, k, &all, limit, NULL, log, flag, 0);
 }
 
 void wk_cpu_keys_update_tiles(wk_cpu_keys *k, const wk_rect *r)

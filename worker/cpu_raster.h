@@ -133,6 +133,12 @@ size_t wk_cpu_draw(const wk_cpu_sub *s, wk_cpu_keys *k, const wk_cpu_clip *clip,
 size_t wk_cpu_owned(const wk_cpu_sub *s, const wk_cpu_keys *k, const wk_rect *clip, uint32_t *out,
                     size_t limit);
 
+/* The pixels of the view where s is the visible surface (as wk_cpu_owned finds them), up to
+ * `limit`, logged with flag `flag` (each must be new to the log: a pixel has one visible sub) and,
+ * when `clear`, set to the background (WK_CPU_KEY_BG). Returns how many. */
+size_t wk_cpu_log_owned(const wk_cpu_sub *s, wk_cpu_keys *k, wk_cpu_log *log, uint8_t flag,
+                        int clear, size_t limit);
+
 /* Recompute the exact maxima of the tiles that rectangle r touches. */
 void wk_cpu_keys_update_tiles(wk_cpu_keys *k, const wk_rect *r);
 
