@@ -19,7 +19,7 @@ static const char co_optimize_help[] =
     "                       [--attrs pos,normal,uv,color] [--device D] [--json] [--report DIR]\n"
     "                       [--workers N] [--listen tcp://ADDR:PORT] [--renderer ID]\n"
     "                       [--edges-in-flight K] [--keys DIR] [--save-initial FILE]\n"
-    "                       [--surface-weight W]\n"
+    "                       [--surface-weight W | --surface-share S]\n"
     "\n"
     "Improve a coarse mesh so that its rendered images match the original's from many viewpoints\n"
     "(Lindstrom & Turk 2001): vertex positions and attributes by downhill simplex, connectivity "
@@ -57,6 +57,9 @@ static const char co_optimize_help[] =
     "                          surface where the views cannot place it (default 0 = none; 30\n"
     "                          helped scanned and CAD models, not textured ones: see\n"
     "                          coordinator/OPTIMIZER.md). Part of the job, like the seed\n"
+    "  --surface-share S       the geometric term with the weight that makes it S times the image\n"
+    "                          energy at the start (default 0 = none; ignored with\n"
+    "                          --surface-weight). Part of the job, like the seed\n"
     "  --device D              rendering device: auto (GPU if any, else cpu), cpu, host, egl:N\n"
     "                          (default auto; see lumesh devices); local workers use it too\n"
     "  --workers N             render in N lumesh-worker processes on this machine, each owning\n"
@@ -114,6 +117,7 @@ enum {
     OPT_KEYS,
     OPT_SAVE_INITIAL,
     OPT_SURFACE_WEIGHT,
+    OPT_SURFACE_SHARE,
 };
 
 static const struct option co_optimize_opts[] = {
@@ -139,6 +143,7 @@ static const struct option co_optimize_opts[] = {
     {"keys", required_argument, NULL, OPT_KEYS},
     {"save-initial", required_argument, NULL, OPT_SAVE_INITIAL},
     {"surface-weight", required_argument, NULL, OPT_SURFACE_WEIGHT},
+    {"surface-share", required_argument, NULL, OPT_SURFACE_SHARE},
     {"help", no_argument, NULL, 'h'},
     {NULL, 0, NULL, 0},
 };
@@ -237,6 +242,11 @@ static lm_status parse_value(int c, const char *val, co_job_options *o)
         st = co_arg_double(co_cmd, "--surface-weight", val, 0, 1e9, &o->surface_weight);
         if (st == LM_OK && o->surface_weight == 0)
             o->surface_weight = -1; /* 0 on the command line: no geometric term */
+        break;
+    case OPT_SURFACE_SHARE:
+        st = co_arg_double(co_cmd, "--surface-share", val, 0, 1e6, &o->surface_share);
+        if (st == LM_OK && o->surface_share == 0)
+            o->surface_share = -1; /* 0 on the command line: no relative term */
         break;
     case OPT_IN_FLIGHT:
         return co_arg_u32(co_cmd, "--edges-in-flight", val, 1, CO_MAX_EDGES_IN_FLIGHT,

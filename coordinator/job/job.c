@@ -384,7 +384,7 @@ static lm_status make_optimizer(co_job *j)
                         .attrs = j->attrs,
                         .edges_in_flight = j->o.edges_in_flight,
                         .surface = j->original};
-    co_tuning tuning = {.surface_weight = j->o.surface_weight};
+    co_tuning tuning = {.surface_weight = j->o.surface_weight, .surface_share = j->o.surface_share};
     lm_mesh *coarse = j->coarse;
     j->coarse = NULL; /* the optimizer owns it from here on, even when its creation fails */
     lm_status st = co_optimizer_create_tuned(coarse, j->views, &params, &tuning, &j->opt);

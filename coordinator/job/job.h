@@ -54,6 +54,8 @@ typedef struct co_job_options {
         edges_in_flight;   /* edges optimised at once (co_params); 0 = CO_JOB_DEFAULT_IN_FLIGHT */
     double surface_weight; /* the optimizer's geometric term (co_tuning.surface_weight): 0 =
                               default, negative = none */
+    double surface_share;  /* its weight relative to the start (co_tuning.surface_share): 0 =
+                              default, negative = none */
     const char *initial_output_path; /* write the coarse mesh the optimisation starts from (after
                                         its preparation) here; NULL = not */
     /* Called with the counters at the start, after every optimizer step and at the end (the

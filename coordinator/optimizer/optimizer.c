@@ -36,7 +36,8 @@ void co_tuning_defaults(co_tuning *t)
                    .oracle_min_share = 0.125,
                    .oracle_max_share = 0.875,
                    .oracle_max_age = 16,
-                   .surface_weight = CO_SURFACE_WEIGHT};
+                   .surface_weight = CO_SURFACE_WEIGHT,
+                   .surface_share = CO_SURFACE_SHARE};
     co_moves_config_defaults(&d.moves);
     co_teleport_config_defaults(&d.teleport);
     *t = d;
@@ -58,6 +59,8 @@ static void resolve_tuning(co_tuning *t)
     DEF(oracle_max_age);
     if (t->surface_weight == 0 || !isfinite(t->surface_weight))
         t->surface_weight = d.surface_weight;
+    if (t->surface_share == 0 || !isfinite(t->surface_share))
+        t->surface_share = d.surface_share;
     DEF(moves.max_set_verts);
     DEF(moves.max_dim);
     DEF(moves.pos_step);
@@ -97,18 +100,40 @@ static lm_status alloc_iteration(co_optimizer *o)
     return LM_OK;
 }
 
-/* The geometric term between the moves and the caller's views, where there is a surface. */
+/* The geometric term between the moves and the caller's views, where there is a surface: of the
+ * tuning's weight, or else of weight 1 until relative_weight sets it from the share. */
 static lm_status wrap_views(co_optimizer *o)
 {
-    if (!o->params.surface || !(o->tuning.surface_weight > 0)) {
-        o->tuning.surface_weight = -1; /* none: a checkpoint says so */
+    co_tuning *t = &o->tuning;
+    if (!o->params.surface || t->surface_weight < 0 ||
+        (!(t->surface_weight > 0) && !(t->surface_share > 0))) {
+        t->surface_weight = -1; /* none: a checkpoint says so */
         return LM_OK;
     }
-    lm_status st =
-        co_surface_views_create(o->views, o->params.surface, o->tuning.surface_weight, &o->surface);
+    double w = t->surface_weight > 0 ? t->surface_weight : 1.0;
+    lm_status st = co_surface_views_create(o->views, o->params.surface, w, &o->surface);
     if (st == LM_OK)
         o->views = o->surface;
     return st;
+}
+
+/* Without a weight of its own the term gets the one that makes E_geo at the start the tuning's
+ * share of the image energy there (weight 1 if either is 0). The weight is a function of the start
+ * mesh and the views alone, so a --resume finds the same one; the checkpoint records it. */
+static lm_status relative_weight(co_optimizer *o)
+{
+    if (!o->surface || o->tuning.surface_weight > 0)
+        return LM_OK;
+    int64_t total = 0;
+    lm_status st = o->views->ops->energy(o->views, &total, NULL);
+    if (st != LM_OK)
+        return st;
+    double image = (double)(total - co_surface_views_energy(o->surface));
+    double unit = co_surface_views_unit_energy(o->surface);
+    double w = image > 0 && unit > 0 ? o->tuning.surface_share * image / unit : 1.0;
+    o->tuning.surface_weight = w < CO_SURFACE_MAX_WEIGHT ? w : CO_SURFACE_MAX_WEIGHT;
+    co_surface_views_set_weight(o->surface, o->tuning.surface_weight);
+    return LM_OK;
 }
 
 static lm_status create_parts(co_optimizer *o)
@@ -116,6 +141,8 @@ static lm_status create_parts(co_optimizer *o)
     lm_status st = wrap_views(o);
     if (!st)
         st = prepare_mesh(o);
+    if (!st)
+        st = relative_weight(o);
     if (!st)
         st = make_moves(o);
     if (!st)

@@ -364,7 +364,8 @@ static lm_status load_iteration(co_bin *b, co_iteration *it, uint32_t cap)
 /* ---- whole optimizer --------------------------------------------------------------------------
  */
 
-/* Every tuning number, in a fixed order (they decide the run as much as the seed does). */
+/* Every tuning number, in a fixed order (they decide the run as much as the seed does); the
+ * geometric term's weight last (check_params names it). */
 static uint32_t tuning_values(const co_tuning *t, double *v)
 {
     const co_moves_config *m = &t->moves;
@@ -422,9 +423,16 @@ static lm_status check_params(co_bin *b, const co_optimizer *o)
     uint32_t n = tuning_values(&o->tuning, v), got = co_get_u32(b);
     if (!b->status && got != n)
         return co_bin_bad(b, "written with another set of tuning values");
-    for (uint32_t i = 0; i < n && !b->status; i++)
-        if (co_get_f64(b) != v[i])
+    for (uint32_t i = 0; i < n && !b->status; i++) {
+        double got_v = co_get_f64(b);
+        if (!b->status && got_v != v[i] && i == n - 1) /* the last: the geometric term's weight */
+            return co_bin_bad(b,
+                              "written with another geometric term (weight %g, here %g; -1 = "
+                              "none): give the run's --surface-weight or --surface-share",
+                              got_v, v[i]);
+        if (!b->status && got_v != v[i])
             return co_bin_bad(b, "written with other tuning values");
+    }
     return b->status;
 }
 

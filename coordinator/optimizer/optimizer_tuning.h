@@ -15,6 +15,13 @@
  * an option (`optimize --surface-weight W`, 30 measured best), not a default. */
 #define CO_SURFACE_WEIGHT 0.0
 
+/* Where co_tuning leaves the weight 0: the geometric term's share of the image energy at the start
+ * (the weight is chosen so that E_geo(start) = share · E_image(start)); 0 = none. */
+#define CO_SURFACE_SHARE 0.0
+
+/* The most a relative weight may be (a start almost on the surface). */
+#define CO_SURFACE_MAX_WEIGHT 1e9
+
 typedef struct co_tuning {
     co_moves_config moves;       /* steps, set limits, simplex tolerances (attrs, bounds ignored) */
     co_teleport_config teleport; /* threshold attenuation, collapse search limit */
@@ -23,7 +30,9 @@ typedef struct co_tuning {
     double oracle_share, oracle_min_share, oracle_max_share;
     uint32_t oracle_max_age; /* iterations an edge tried without progress is skipped at most */
     double surface_weight;   /* weight of the geometric term (surface_term.h) where co_params has
-                                a surface; negative = none */
+                                a surface; negative = none (and surface_share ignored) */
+    double surface_share;    /* without a surface_weight: E_geo(start) / E_image(start), from
+                                which the optimizer sets the weight; negative = none */
 } co_tuning;
 
 /* Fill every field with the value used when it is zero. */

@@ -20,7 +20,8 @@ typedef struct surface_views {
     lm_views base;
     lm_views *inner;
     lm_bvh *bvh;
-    double k; /* e(t) = round(k · area · mean d²) */
+    double k;                  /* e(t) = round(k · area · mean d²) */
+    double n_views, px, px256; /* k = weight · views · px² · px256² */
     tri_entry *tri;
     uint32_t cap;
     int64_t total;
@@ -46,8 +47,14 @@ static double tri_area(const double p[3][3])
     return 0.5 * sqrt(c0 * c0 + c1 * c1 + c2 * c2);
 }
 
-/* e(t): area times the mean squared distance of the edge midpoints and the centroid, scaled. */
-static int64_t tri_energy(const surface_views *s, const float pf[3][3])
+/* k for a weight (this order of products: the same bits as ever for a given weight). */
+static double scale(const surface_views *s, double weight)
+{
+    return weight * s->n_views * s->px * s->px * s->px256 * s->px256;
+}
+
+/* area(t) and the mean squared distance of the edge midpoints and the centroid. */
+static void tri_parts(const surface_views *s, const float pf[3][3], double *area, double *mean)
 {
     double p[3][3], q[4][3], sum = 0;
     for (int v = 0; v < 3; v++)
@@ -61,7 +68,16 @@ static int64_t tri_energy(const surface_views *s, const float pf[3][3])
     }
     for (int j = 0; j < 4; j++)
         sum += lm_bvh_closest_sq(s->bvh, q[j]);
-    double e = s->k * tri_area(p) * (sum / 4.0);
+    *area = tri_area(p);
+    *mean = sum / 4.0;
+}
+
+/* e(t): k · area · mean d², rounded. */
+static int64_t tri_energy(const surface_views *s, const float pf[3][3])
+{
+    double area, mean;
+    tri_parts(s, pf, &area, &mean);
+    double e = s->k * area * mean;
     return e < 9e18 ? (int64_t)llround(e) : INT64_C(9000000000000000000);
 }
 
@@ -260,8 +276,10 @@ lm_status co_surface_views_create(lm_views *inner, const lm_mesh *surface, doubl
     float c[3], r;
     lm_mesh_bounding_sphere(surface, c, &r);
     double two_r = r > 0 ? 2.0 * (double)r : 2.0;
-    double px = (double)info.width / two_r, px256 = 256.0 / two_r;
-    s->k = weight * (double)info.n_views * px * px * px256 * px256;
+    s->n_views = (double)info.n_views;
+    s->px = (double)info.width / two_r;
+    s->px256 = 256.0 / two_r;
+    s->k = scale(s, weight);
     *out = &s->base;
     return LM_OK;
 }
@@ -274,4 +292,30 @@ int64_t co_surface_views_energy(const lm_views *v)
 int64_t co_surface_views_tri(const lm_views *v, const float p[3][3])
 {
     return tri_energy((const surface_views *)v, p);
+}
+
+double co_surface_views_unit_energy(const lm_views *v)
+{
+    const surface_views *s = (const surface_views *)v;
+    double sum = 0, k = scale(s, 1.0), area, mean;
+    for (uint32_t i = 0; i < s->cap; i++) {
+        if (!s->tri[i].alive)
+            continue;
+        tri_parts(s, (const float(*)[3])s->tri[i].p, &area, &mean);
+        sum += k * area * mean;
+    }
+    return sum;
+}
+
+void co_surface_views_set_weight(lm_views *v, double weight)
+{
+    surface_views *s = as_sv(v);
+    s->k = scale(s, weight);
+    s->total = 0;
+    for (uint32_t i = 0; i < s->cap; i++) {
+        if (!s->tri[i].alive)
+            continue;
+        s->tri[i].e = tri_energy(s, (const float(*)[3])s->tri[i].p);
+        s->total += s->tri[i].e;
+    }
 }

@@ -32,6 +32,13 @@ lm_status co_surface_views_create(lm_views *inner, const lm_mesh *surface, doubl
  * co_surface_views_create. */
 int64_t co_surface_views_energy(const lm_views *v);
 
+/* E_geo of the current mesh at weight 1, unrounded (Σ over triangle ids in increasing order, so
+ * the same bits for the same mesh): what co_optimizer scales a relative weight by. */
+double co_surface_views_unit_energy(const lm_views *v);
+
+/* Change the weight (> 0) and recompute every e(t) of the current mesh with it. */
+void co_surface_views_set_weight(lm_views *v, double weight);
+
 /* e(t) of one triangle (for tests and the scale above). */
 int64_t co_surface_views_tri(const lm_views *v, const float p[3][3]);
 

@@ -1,13 +1,13 @@
 #!/usr/bin/env bash
 # tests/integration/distributed.sh — the job runner with real lumesh-worker processes: the output
 # is byte-identical in process and with 1, 2, 4 and 8 local workers (one edge at a time and 4 in
-# flight, and with the geometric term --surface-weight on 3), after a resume on another number
-# of workers, and in cluster mode (--listen) with a worker that joins late, one that joins
-# mid-run, and a long-lived worker serving two jobs in a row. One renderer per job: llvmpipe at
-# 128 bits is the same renderer and is accepted; softpipe draws other pixels and is refused with
-# the reason. --device cpu (lumesh's CPU rasteriser) gives the same bytes in process, in local
-# workers and in a worker started by hand, and a job pinned to its renderer id refuses an llvmpipe
-# worker. SIGINT ends a run with its output written, exit 130 and no worker left behind.
+# flight, and with the geometric term, --surface-weight or --surface-share, on 3), after a resume
+# on another number of workers, and in cluster mode (--listen) with a worker that joins late, one
+# that joins mid-run, and a long-lived worker serving two jobs in a row. One renderer per job:
+# llvmpipe at 128 bits is the same renderer and is accepted; softpipe draws other pixels and is
+# refused with the reason. --device cpu (lumesh's CPU rasteriser) gives the same bytes in process,
+# in local workers and in a worker started by hand, and a job pinned to its renderer id refuses an
+# llvmpipe worker. SIGINT ends a run with its output written, exit 130 and no worker left behind.
 # Progress JSON lists the workers.
 set -uo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
@@ -51,6 +51,12 @@ for w in 0 3; do
     --surface-weight 30 2>"$tmp/err" || fail "geometric term, $w workers: $(tail -1 "$tmp/err")"
 done
 same "geometric term, 3 workers" "$tmp/g-w0.glb" "$tmp/g-w3.glb"
+# -- its weight relative to the start's image energy (--surface-share): the same bytes too --
+for w in 0 3; do
+  "$LUMESH" optimize "$bunny" -o "$tmp/s-w$w.glb" "${job[@]}" --edges-in-flight 4 --workers "$w" \
+    --surface-share 0.1 2>"$tmp/err" || fail "relative geometric term, $w workers: $(tail -1 "$tmp/err")"
+done
+same "relative geometric term, 3 workers" "$tmp/s-w0.glb" "$tmp/s-w3.glb"
 checks=$((checks + 1))
 cmp -s "$tmp/g-w0.glb" "$tmp/k4-w0.glb" && fail "--surface-weight 30 changed nothing"
 [ "$light" = 1 ] && "$LUMESH" optimize "$bunny" -o "$tmp/k1-w0.glb" "${job[@]}" --workers 0 2>/dev/null

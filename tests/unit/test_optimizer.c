@@ -22,8 +22,11 @@
 #define N_VIEWS 12
 #define SIZE 64
 
-static int g_surface; /* runs with the geometric term (surface_term.h) against the original */
+/* runs with the geometric term (surface_term.h) against the original: 1 of weight SURFACE_WEIGHT,
+ * 2 of SURFACE_SHARE of the start's image energy */
+static int g_surface;
 #define SURFACE_WEIGHT 1.0
+#define SURFACE_SHARE 0.25
 
 typedef struct run {
     lm_mesh *orig;
@@ -50,7 +53,8 @@ static void run_start(run *r, uint64_t seed)
     assert_int_equal(lm_view_set_make(&r->vs, N_VIEWS, SIZE, c, rad), LM_OK);
     assert_int_equal(wk_views_local_create(r->orig, &r->vs, 0, 0, "host", &r->v), LM_OK);
     co_params p = {.seed = seed, .surface = g_surface ? r->orig : NULL};
-    co_tuning t = {.surface_weight = g_surface ? SURFACE_WEIGHT : 0};
+    co_tuning t = {.surface_weight = g_surface == 1 ? SURFACE_WEIGHT : 0,
+                   .surface_share = g_surface == 2 ? SURFACE_SHARE : 0};
     assert_int_equal(co_optimizer_create_tuned(noisy_sphere(), r->v, &p, &t, &r->o), LM_OK);
 }
 
@@ -280,6 +284,22 @@ static void test_resume_with_geometric_term(void **state)
     g_surface = 0;
 }
 
+/* A relative weight: E_geo at the start is the share of the image energy there, and the run
+ * resumes to the uninterrupted one's bytes (the weight comes back the same). */
+static void test_relative_weight(void **state)
+{
+    g_surface = 2;
+    run a;
+    run_start(&a, 5);
+    co_progress p0;
+    co_optimizer_progress(a.o, &p0);
+    double want = SURFACE_SHARE * (double)p0.energy_start;
+    assert_true(p0.geometric_start > 0 && fabs((double)p0.geometric_start - want) <= 1e-3 * want);
+    run_free(&a);
+    test_resume_equals_uninterrupted(state);
+    g_surface = 0;
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -289,6 +309,7 @@ int main(void)
         cmocka_unit_test(test_bad_checkpoints),
         cmocka_unit_test(test_geometric_term),
         cmocka_unit_test(test_resume_with_geometric_term),
+        cmocka_unit_test(test_relative_weight),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -214,6 +214,34 @@ static void test_order_free(void **state)
     teardown(&b);
 }
 
+/* A new weight rescales every e(t) as a fresh term of that weight computes it, and the unit energy
+ * is the unrounded E_geo at weight 1. */
+static void test_set_weight(void **state)
+{
+    (void)state;
+    fixture a, b;
+    setup(&a);
+    setup(&b);
+    lm_tri_data t[8];
+    uint64_t seed = 11;
+    for (int i = 0; i < 8; i++)
+        t[i] = tri((uint32_t)i, (float)lmt_urand(&seed) * 0.7f, (float)lmt_urand(&seed) * 0.7f,
+                   0.1f + 0.2f * (float)lmt_urand(&seed), 0.1f * (float)lmt_urand(&seed) - 0.05f);
+    assert_int_equal(a.v->ops->set_mesh(a.v, t, 8), LM_OK);
+    double unit = co_surface_views_unit_energy(a.v);
+    assert_true(unit > 0 && fabs(2.0 * unit - (double)energy(a.v)) <= 8);
+    lm_views_destroy(b.v);
+    assert_int_equal(co_surface_views_create(&b.inner.base, b.plane, 7.5, &b.v), LM_OK);
+    assert_int_equal(b.v->ops->set_mesh(b.v, t, 8), LM_OK);
+    co_surface_views_set_weight(a.v, 7.5);
+    assert_true(energy(a.v) == energy(b.v));
+    for (int i = 0; i < 8; i++)
+        assert_true(corner_energy(a.v, &t[i]) == corner_energy(b.v, &t[i]));
+    assert_true(co_surface_views_unit_energy(a.v) == unit);
+    teardown(&a);
+    teardown(&b);
+}
+
 static void test_refuses_bad_arguments(void **state)
 {
     (void)state;
@@ -233,6 +261,7 @@ int main(void)
         cmocka_unit_test(test_scale),
         cmocka_unit_test(test_delta_is_what_commit_changes),
         cmocka_unit_test(test_order_free),
+        cmocka_unit_test(test_set_weight),
         cmocka_unit_test(test_refuses_bad_arguments),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
