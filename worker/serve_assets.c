@@ -37,9 +37,22 @@ static lm_status add_upload(wk_server *s, const lm_asset_hash *h)
     return LM_OK;
 }
 
+/* Forget the uploads in progress (their chunks so far are freed). */
+static void drop_uploads(wk_server *s)
+{
+    for (uint32_t i = 0; i < s->n_up; i++)
+        free(s->up[i].data);
+    s->n_up = 0;
+    s->offer_req = 0;
+}
+
 lm_status wk_serve_offer(wk_server *s, const lm_msg *m)
 {
     const Lumesh__Offer *o = m->offer;
+    /* An offer starts the exchange over. An upload of an earlier offer that never completed (the
+     * coordinator gave this worker up mid-transfer, then took it back as a new worker) would
+     * otherwise be neither asked for nor sent again, and Ready would never go out. */
+    drop_uploads(s);
     lm_asset_hash *missing = malloc((o->n_assets + 1) * sizeof *missing);
     if (!missing)
         return wk_serve_fail(s, m->req, LM_E_NOMEM, "out of memory for an offer");
@@ -145,8 +158,7 @@ lm_status wk_serve_asset(wk_server *s, const lm_msg *m)
 
 void wk_serve_assets_free(wk_server *s)
 {
-    for (uint32_t i = 0; i < s->n_up; i++)
-        free(s->up[i].data);
+    drop_uploads(s);
     free(s->up);
     s->up = NULL;
     s->n_up = s->cap_up = 0;
