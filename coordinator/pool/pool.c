@@ -132,12 +132,17 @@ lm_status co_pool_create(const co_pool_options *o, co_pool **out)
     return LM_OK;
 }
 
+/* EndJob to every worker. The socket lingers for up to CO_POOL_END_LINGER_MS on close so that
+ * the messages go out: with no linger (the sockets' setting) a close could drop them before a
+ * slow connection took them, and a --once worker would wait for its job's end forever. */
 static void end_jobs(co_pool *p)
 {
     Lumesh__EndJob e = LUMESH__END_JOB__INIT;
     for (uint32_t i = 0; i < p->n; i++)
         if (!p->w[i]->lost)
             co_pool_send(p, p->w[i], 0, 0, LUMESH__MSG__BODY_END_JOB, &e);
+    int linger = CO_POOL_END_LINGER_MS;
+    zmq_setsockopt(p->sock, ZMQ_LINGER, &linger, sizeof linger); /* on failure: as before */
 }
 
 void co_pool_destroy(co_pool *p)

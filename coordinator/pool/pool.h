@@ -32,7 +32,8 @@
 #include "proto/wire.h"
 #include "worker/probe.h"
 
-#define CO_POOL_SILENCE_S 3.0   /* a worker silent this long is presumed dead */
+#define CO_POOL_SILENCE_S 3.0      /* a worker silent this long is presumed dead */
+#define CO_POOL_END_LINGER_MS 2000 /* how long EndJob messages may take to go out on close */
 #define CO_POOL_REQUEST_S 120.0 /* a worker that leaves a request unanswered this long is stuck */
 
 typedef struct co_worker {
