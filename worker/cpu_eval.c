@@ -528,16 +528,12 @@ static void prefetch_subs(const wk_cpu_views *v, const lm_patch *p, uint32_t h)
 /* The box of the subs of the patch's removed triangles that show in view h (kept subs only). */
 static wk_rect removed_box(const wk_cpu_views *v, const lm_patch *p, uint32_t h)
 {
-    wk_rect box = {v->width, v->height, 0, 0};
+    wk_rect box = {0, 0, 0, 0};
     for (uint32_t i = 0; i < p->n_removed; i++) {
         const wk_cpu_sub *s;
-        if (!v->count[h][p->removed[i]] ||
-            !(s = wk_cpu_subcache_peek(&v->subcache, h, p->removed[i])))
-            continue;
-        box.x0 = s->x0 < box.x0 ? s->x0 : box.x0;
-        box.y0 = s->y0 < box.y0 ? s->y0 : box.y0;
-        box.x1 = s->x1 > box.x1 ? s->x1 : box.x1;
-        box.y1 = s->y1 > box.y1 ? s->y1 : box.y1;
+        if (v->count[h][p->removed[i]] &&
+            (s = wk_cpu_subcache_peek(&v->subcache, h, p->removed[i])))
+            wk_rect_union(&box, &(wk_rect){s->x0, s->y0, s->x1, s->y1});
     }
     return box;
 }
