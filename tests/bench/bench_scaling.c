@@ -6,21 +6,28 @@
  * wrapper records its patches, the bytes of the Evaluate message a worker would receive (encoded
  * exactly as the remote backend encodes it) and the time the views took; the process CPU outside
  * the views is the coordinator's own work. One worker process then answers small requests over the
- * pool's ipc socket to measure this machine's round trip.
+ * pool's ipc socket to measure this machine's round trip, and two processes bounce 8 bytes over a
+ * plain Unix socket: the least round trip any transport between processes has here (the floor).
  *
  * The model for W workers over V views, per batch i of n_i patches (perfect balance, a (patch,
  * view) pair the smallest piece of work):
  *     T_i(W) = RTT + coord_i + bytes_i * min(W, V) / bandwidth + n_i * V * c / min(W, n_i * V)
  * against the in-process T_i = coord_i + n_i * V * c; speed-up = sum T_i / sum T_i(W), efficiency
  * = speed-up / W. Printed for W = 1, 2, 4, 8, 16, 128 at --rtt-us (default 100) and --gbps
- * (default 10), both orders of edges.
+ * (default 10), both orders of edges; and for 2 workers at the round trips measured here (ZeroMQ,
+ * and the floor): what local multi-process mode can reach on this machine at best (the model
+ * gives the coordinator a core of its own, so on a machine with as many cores as workers the
+ * real figure is lower).
  *
  * usage: bench_scaling [MODEL] [--evals N] [--in-flight K] [--views N] [--size S] [--rtt-us U]
  *                      [--gbps G] [--device D] [--json] */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/socket.h>
+#include <sys/wait.h>
 #include <time.h>
+#include <unistd.h>
 
 #include "common/mesh_io.h"
 #include "common/mesh_topology.h"
@@ -223,10 +230,10 @@ static lm_status run_once(const opts *o, const lm_mesh *orig, const lm_mesh *coa
     return LM_OK;
 }
 
-/* Predicted speed-up over in process for w workers. */
-static double speedup(const opts *o, const costs *c, uint32_t views, uint32_t w)
+/* Predicted speed-up over in process for w workers at a round trip of rtt_us. */
+static double speedup_at(const opts *o, const costs *c, uint32_t views, uint32_t w, double rtt_us)
 {
-    double t1 = 0, tw = 0, rtt = o->rtt_us * 1e-6, bw = o->gbps * 1e9 / 8.0;
+    double t1 = 0, tw = 0, rtt = rtt_us * 1e-6, bw = o->gbps * 1e9 / 8.0;
     double cost = c->per_patch_view_us * 1e-6, coord = c->coord_us_per_eval * 1e-6;
     for (size_t i = 0; i < c->m->batches; i++) {
         double n = c->m->n[i], work = n * views * cost;
@@ -236,6 +243,11 @@ static double speedup(const opts *o, const costs *c, uint32_t views, uint32_t w)
         tw += rtt + coord * n + c->m->bytes[i] * ranges / bw + work / pieces;
     }
     return t1 / tw;
+}
+
+static double speedup(const opts *o, const costs *c, uint32_t views, uint32_t w)
+{
+    return speedup_at(o, c, views, w, o->rtt_us);
 }
 
 /* Round trip of a small request to one worker process over the pool's ipc socket, in µs. */
@@ -268,16 +280,51 @@ static lm_status measure_rtt(const opts *o, const lm_mesh *orig, const lm_mesh *
     return st;
 }
 
+/* Round trip of 8 bytes between this process and a child over a Unix socket pair, in µs: no
+ * library, no I/O thread, two wake-ups per trip. */
+static lm_status measure_floor_rtt(double *us)
+{
+    int sv[2];
+    if (socketpair(AF_UNIX, SOCK_STREAM, 0, sv) != 0)
+        return lm_fail(LM_E_IO, "cannot make a socket pair");
+    const int reps = 2000;
+    char b[8] = {0};
+    pid_t pid = fork();
+    if (pid == 0) {
+        close(sv[0]);
+        for (int i = 0; i < reps; i++)
+            if (read(sv[1], b, sizeof b) != (ssize_t)sizeof b ||
+                write(sv[1], b, sizeof b) != (ssize_t)sizeof b)
+                _exit(1);
+        _exit(0);
+    }
+    close(sv[1]);
+    int ok = pid > 0;
+    double t0 = wall();
+    for (int i = 0; i < reps && ok; i++)
+        ok = write(sv[0], b, sizeof b) == (ssize_t)sizeof b &&
+             read(sv[0], b, sizeof b) == (ssize_t)sizeof b;
+    *us = 1e6 * (wall() - t0) / reps;
+    close(sv[0]);
+    int status = 0;
+    if (pid > 0)
+        waitpid(pid, &status, 0);
+    return ok && WIFEXITED(status) && WEXITSTATUS(status) == 0
+               ? LM_OK
+               : lm_fail(LM_E_IO, "the socket-pair round trip failed");
+}
+
 /* ---- report ---------------------------------------------------------------------------------- */
 
 static const uint32_t workers[] = {1, 2, 4, 8, 16, 128};
 #define N_W (sizeof workers / sizeof *workers)
 
-static void print_human(const opts *o, const costs *c, uint32_t views, double rtt_here)
+static void print_human(const opts *o, const costs *c, uint32_t views, double rtt_here,
+                        double floor)
 {
     printf("bench scaling: %s, %u views of %u px, %llu evaluations per run; round trip here %.0f "
-           "us (ipc, small request)\n",
-           o->model, views, o->size, (unsigned long long)o->evals, rtt_here);
+           "us (ipc, small request), %.0f us over a plain Unix socket (the floor)\n",
+           o->model, views, o->size, (unsigned long long)o->evals, rtt_here, floor);
     for (int r = 0; r < 2; r++) {
         const costs *x = &c[r];
         printf("  %u in flight: %.1f us per (patch, view); coordinator %.1f us per evaluation; "
@@ -289,23 +336,28 @@ static void print_human(const opts *o, const costs *c, uint32_t views, double rt
             double s = speedup(o, x, views, workers[i]);
             printf(" %u: x%.1f (%.0f%%)", workers[i], s, 100.0 * s / workers[i]);
         }
-        printf("\n");
+        printf("\n    2 workers at best on this machine: x%.2f at its ZeroMQ round trip, x%.2f at "
+               "the floor\n",
+               speedup_at(o, x, views, 2, rtt_here), speedup_at(o, x, views, 2, floor));
     }
 }
 
-static void print_json(const opts *o, const costs *c, uint32_t views, double rtt_here)
+static void print_json(const opts *o, const costs *c, uint32_t views, double rtt_here, double floor)
 {
     printf("{\"bench\": \"scaling\", \"model\": \"%s\", \"views\": %u, \"size\": %u, "
-           "\"evals\": %llu, \"rtt_here_us\": %.1f, \"model_rtt_us\": %.1f, \"model_gbps\": "
-           "%.1f, \"runs\": [",
-           o->model, views, o->size, (unsigned long long)o->evals, rtt_here, o->rtt_us, o->gbps);
+           "\"evals\": %llu, \"rtt_here_us\": %.1f, \"floor_rtt_us\": %.1f, \"model_rtt_us\": "
+           "%.1f, \"model_gbps\": %.1f, \"runs\": [",
+           o->model, views, o->size, (unsigned long long)o->evals, rtt_here, floor, o->rtt_us,
+           o->gbps);
     for (int r = 0; r < 2; r++) {
         const costs *x = &c[r];
         printf("%s{\"edges_in_flight\": %u, \"us_per_patch_view\": %.3f, "
                "\"coordinator_us_per_eval\": %.3f, \"patches_per_batch\": %.3f, "
-               "\"bytes_per_batch\": %.1f, \"bytes_per_commit\": %.1f, \"predicted\": [",
+               "\"bytes_per_batch\": %.1f, \"bytes_per_commit\": %.1f, "
+               "\"two_workers_here\": %.3f, \"two_workers_floor\": %.3f, \"predicted\": [",
                r ? ", " : "", x->k, x->per_patch_view_us, x->coord_us_per_eval,
-               x->patches_per_batch, x->bytes_per_batch, x->commit_bytes);
+               x->patches_per_batch, x->bytes_per_batch, x->commit_bytes,
+               speedup_at(o, x, views, 2, rtt_here), speedup_at(o, x, views, 2, floor));
         for (size_t i = 0; i < N_W; i++) {
             double s = speedup(o, x, views, workers[i]);
             printf("%s{\"workers\": %u, \"speedup\": %.3f, \"efficiency\": %.3f}", i ? ", " : "",
@@ -391,21 +443,23 @@ int main(int argc, char **argv)
     static lm_view_set vs;
     static meter m[2];
     costs c[2];
-    double rtt = 0;
+    double rtt = 0, floor = 0;
     lm_status st = setup(&o, &orig, &coarse, &vs);
     uint32_t ks[2] = {1, o.in_flight};
     for (int r = 0; r < 2 && st == LM_OK; r++)
         st = run_once(&o, orig, coarse, &vs, ks[r], &m[r], &c[r]);
     if (st == LM_OK)
         st = measure_rtt(&o, orig, coarse, &vs, &rtt);
+    if (st == LM_OK)
+        st = measure_floor_rtt(&floor);
     if (st != LM_OK) {
         fprintf(stderr, "bench_scaling: %s\n", lm_last_error());
         return 2;
     }
     if (o.json)
-        print_json(&o, c, vs.count, rtt);
+        print_json(&o, c, vs.count, rtt, floor);
     else
-        print_human(&o, c, vs.count, rtt);
+        print_human(&o, c, vs.count, rtt, floor);
     for (int r = 0; r < 2; r++) {
         free(m[r].n);
         free(m[r].bytes);
