@@ -327,7 +327,7 @@ static void update_tile(const wk_cpu_views *v, wk_cpu_keys *k, uint32_t t)
 static int unresolved(wk_cpu_views *v, uint32_t h, const wk_cpu_keys *k, wk_rect *box)
 {
     wk_cpu_eval *e = &v->eval;
-    const uint64_t *bound = v->occlusion ? v->second + h * v->plane : NULL;
+    const uint32_t *bound = v->occlusion ? v->second + h * v->plane : NULL;
     *box = (wk_rect){v->width, v->height, 0, 0};
     e->n_mask = 0;
     for (size_t j = 0; j < e->log.n; j++) {
@@ -335,7 +335,7 @@ static int unresolved(wk_cpu_views *v, uint32_t h, const wk_cpu_keys *k, wk_rect
         /* filled for certain: at or in front of the old key, or of the second key's bound
          * (the old key first: it is at hand, the bound is a load from a large table) */
         if (e->log.flag[j] != F_HOLE || k->key[q] <= e->log.old[j] ||
-            (bound && k->key[q] <= bound[q]))
+            (bound && k->key[q] <= wk_cpu_second_key(bound[q])))
             continue;
         int x = WK_CPU_X(e->log.xy[j]), y = WK_CPU_Y(e->log.xy[j]);
         box->x0 = x < box->x0 ? x : box->x0;
@@ -508,7 +508,7 @@ static lm_status shade_log(wk_cpu_views *v, uint32_t h, const wk_cpu_keys *k, in
 
 /* ---- gathering a view's memory ----------------------------------------------------------- */
 
-/* The per-pixel tables of all views (keys, second-key bounds, luminance: ~1.2 MB a view of 256²)
+/* The per-pixel tables of all views (keys, second-key bounds, luminance: ~0.9 MB a view of 256²)
  * and the kept subs are far larger than the caches. Inside a pass their loads sit behind branches
  * that depend on them, so they miss one after another: measured, an evaluation of a patch whose
  * memory is cold took 1.75 times as long as the same evaluation again. So before view h's pass
@@ -541,13 +541,16 @@ static wk_rect removed_box(const wk_cpu_views *v, const lm_patch *p, uint32_t h)
 /* One load per cache line of the box's rows in each table; the sum only keeps the loads. */
 static uint64_t touch_rows(const wk_cpu_views *v, uint32_t h, const wk_rect *box)
 {
-    const uint64_t *keys = v->keys + h * v->plane, *second = v->second + h * v->plane;
+    const uint64_t *keys = v->keys + h * v->plane;
+    const uint32_t *second = v->second + h * v->plane;
     const uint8_t *tgt = wk_image_store_target(v->img, h), *cur = wk_image_store_current(v->img, h);
     uint64_t sum = 0;
     for (int y = box->y0; y < box->y1; y++) {
         size_t row = (size_t)y * (size_t)v->width;
         for (int x = box->x0 & ~7; x < box->x1; x += 8)
-            sum += keys[row + x] + second[row + x];
+            sum += keys[row + x];
+        for (int x = box->x0 & ~15; x < box->x1; x += 16)
+            sum += second[row + x];
         for (int x = box->x0 & ~63; x < box->x1; x += 64)
             sum += tgt[row + x] + cur[row + x];
     }
@@ -620,7 +623,7 @@ static void keep_second(wk_cpu_views *v, uint32_t h, const lm_patch *p)
             continue;
         uint32_t id = WK_CPU_KEY_ID(old);
         if (e->removed_stamp[id] != e->patch_now || is_twin(e, id))
-            k.second[q] = old < k.second[q] ? old : k.second[q];
+            k.second[q] = wk_cpu_second_of(old) < k.second[q] ? wk_cpu_second_of(old) : k.second[q];
     }
     const wk_cpu_clip all = {{0, 0, v->width, v->height}, NULL};
     for (uint32_t i = 0; i < p->n_added; i++) {

@@ -426,16 +426,17 @@ static size_t draw_span_second(const wk_cpu_sub *s, wk_cpu_keys *k, int y, int x
                                int64_t zrow)
 {
     size_t changed = 0;
-    uint64_t *row = k->key + (size_t)y * k->width, *second = k->second + (size_t)y * k->width;
+    uint64_t *row = k->key + (size_t)y * k->width;
+    uint32_t *second = k->second + (size_t)y * k->width;
     int64_t z = zrow + s->za * (x0 - s->x0);
     for (int x = x0; x < x1; x++, z += s->za) {
         uint64_t key = depth_key(z) | s->tag;
         if (key < row[x]) {
-            second[x] = row[x];
+            second[x] = wk_cpu_second_of(row[x]);
             row[x] = key;
             changed++;
-        } else if (key < second[x] && key != row[x]) {
-            second[x] = key;
+        } else if (wk_cpu_second_of(key) < second[x] && key != row[x]) {
+            second[x] = wk_cpu_second_of(key);
         }
     }
     return changed;

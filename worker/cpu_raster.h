@@ -80,13 +80,29 @@ int wk_cpu_sub_key_at(const wk_cpu_sub *s, int x, int y, uint64_t *key);
 
 /* A view's keys with the depth maxima of its 8x8 tiles (an upper bound of every key of the tile:
  * a sub whose zmin_key exceeds it has no fragment in front there) and a lower bound of the second
- * least key of each pixel (of every triangle but the visible one; WK_CPU_KEY_BG if none). */
+ * least key of each pixel (of every triangle but the visible one), kept as its depth half: key >>
+ * 32 (WK_CPU_SECOND_NONE if none). Half the bytes of a key, and as good a bound: two keys of one
+ * depth differ only in their triangle's tag. */
 typedef struct wk_cpu_keys {
     uint64_t *key;    /* [width * height] */
     uint64_t *tmax;   /* [tiles_w * tiles_h], may be NULL (no depth rejection) */
-    uint64_t *second; /* [width * height], NULL: draws leave it alone */
+    uint32_t *second; /* [width * height], NULL: draws leave it alone */
     int width, height, tiles_w;
 } wk_cpu_keys;
+
+#define WK_CPU_SECOND_NONE UINT32_MAX /* no second surface: the background's depth half */
+
+/* The depth half of a key, as the second-key bounds keep it. */
+static inline uint32_t wk_cpu_second_of(uint64_t key)
+{
+    return (uint32_t)(key >> 32);
+}
+
+/* The least key a second-key bound allows (every key whose depth half is at least b is >= it). */
+static inline uint64_t wk_cpu_second_key(uint32_t b)
+{
+    return (uint64_t)b << 32;
+}
 
 /* Pixels whose key changed during one evaluation pass, each once (the first old key kept). */
 typedef struct wk_cpu_log {

@@ -48,8 +48,10 @@ static void draw_all(wk_cpu_views *v, uint32_t h, const wk_cpu_source *src)
     wk_cpu_keys k = wk_cpu_view_keys(v, h);
     k.tmax = NULL; /* maxima are made at the end */
     k.second = v->second + h * v->plane;
-    for (size_t p = 0; p < v->plane; p++)
-        k.key[p] = k.second[p] = WK_CPU_KEY_BG;
+    for (size_t p = 0; p < v->plane; p++) {
+        k.key[p] = WK_CPU_KEY_BG;
+        k.second[p] = WK_CPU_SECOND_NONE;
+    }
     const wk_cpu_clip all = {{0, 0, v->width, v->height}, NULL};
     wk_cpu_sub subs[WK_CPU_MAX_SUBS];
     lm_tri_data tmp;

@@ -54,7 +54,7 @@ typedef struct wk_cpu_views {
     int mesh_set, buckets_ready, occlusion;
     uint64_t *keys; /* [n_views * plane] keys of the current mesh (of the target while creating) */
     uint64_t *tmax; /* [n_views * tiles] */
-    uint64_t *second;              /* [n_views * plane] lower bounds of the second least keys */
+    uint32_t *second; /* [n_views * plane] lower bounds of the second least keys (wk_cpu_keys) */
     uint32_t *count[LM_MAX_VIEWS]; /* visible pixels of each current triangle id [cap_count] */
     size_t cap_count;
     uint8_t *rgba; /* [n_views * plane * 4] colours of the last full render */
