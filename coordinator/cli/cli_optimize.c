@@ -13,8 +13,8 @@
 #include "coordinator/quality/report.h"
 
 static const char co_optimize_help[] =
-    "usage: lumesh optimize ORIGINAL -o OUT [--initial COARSE | --target-verts N] [--views 20]\n"
-    "                       [--size 256] [--evals N] [--time SECONDS] [--seed S]\n"
+    "usage: lumesh optimize ORIGINAL -o OUT [--initial COARSE | --target-verts N] [--views 30]\n"
+    "                       [--size 208] [--evals N] [--time SECONDS] [--seed S]\n"
     "                       [--checkpoint FILE [--checkpoint-every N|Ns]] [--resume FILE]\n"
     "                       [--attrs pos,normal,uv,color] [--device D] [--json] [--report DIR]\n"
     "                       [--workers N] [--listen tcp://ADDR:PORT] [--renderer ID]\n"
@@ -58,8 +58,8 @@ static const char co_optimize_help[] =
     "                          helped scanned and CAD models, not textured ones: see\n"
     "                          coordinator/OPTIMIZER.md). Part of the job, like the seed\n"
     "  --surface-share S       the geometric term with the weight that makes it S times the image\n"
-    "                          energy at the start (default 0 = none; ignored with\n"
-    "                          --surface-weight). Part of the job, like the seed\n"
+    "                          energy at the start (default 0.1; 0 = none, the paper's energy;\n"
+    "                          ignored with --surface-weight). Part of the job, like the seed\n"
     "  --device D              rendering device: auto (GPU if any, else cpu), cpu, host, egl:N\n"
     "                          (default auto; see lumesh devices); local workers use it too\n"
     "  --workers N             render in N lumesh-worker processes on this machine, each owning\n"

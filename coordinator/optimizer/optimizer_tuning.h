@@ -16,8 +16,9 @@
 #define CO_SURFACE_WEIGHT 0.0
 
 /* Where co_tuning leaves the weight 0: the geometric term's share of the image energy at the start
- * (the weight is chosen so that E_geo(start) = share · E_image(start)); 0 = none. */
-#define CO_SURFACE_SHARE 0.0
+ * (the weight is chosen so that E_geo(start) = share · E_image(start)); 0 = none. 0.1 with the
+ * job's default views (CO_JOB_DEFAULT_VIEWS): measured in coordinator/OPTIMIZER.md, third round. */
+#define CO_SURFACE_SHARE 0.1
 
 /* The most a relative weight may be (a start almost on the surface). */
 #define CO_SURFACE_MAX_WEIGHT 1e9
