@@ -18,9 +18,9 @@
 
 /* The optimizer's own views: 30 of 208² (about the pixels of 20 of 256²). Measured with
  * scripts/fidelity.sh on five models at 100,000 evaluations, with the geometric term's share
- * CO_SURFACE_SHARE: lower unseen-view energy than 20 of 256² on every model and far less drift off
- * the surface (coordinator/OPTIMIZER.md, third round). `energy`, `render` and the others keep
- * LM_DEFAULT_VIEWS of LM_DEFAULT_VIEW_SIZE. */
+ * CO_SURFACE_SHARE: lower unseen-view energy than 20 of 256² on four models, even on the frog, and
+ * far less drift off the surface (coordinator/OPTIMIZER.md, third round). `energy`, `render` and
+ * the others keep LM_DEFAULT_VIEWS of LM_DEFAULT_VIEW_SIZE. */
 #define CO_JOB_DEFAULT_VIEWS 30u
 #define CO_JOB_DEFAULT_SIZE 208
 #define CO_JOB_DEFAULT_EVALS 100000ull
