@@ -1,5 +1,6 @@
 /* common/patch.c — building patches (removed ids + added triangle records) from a mesh, and the
- * one way a whole mesh is sent to the views (lm_views_set_mesh_from). */
+ * one way a whole mesh is sent to the views (lm_views_set_mesh_from), and the views' optional ops
+ * with their stand-ins (lm_views_retarget, lm_views_evaluate_overlapped). */
 #include "common/patch.h"
 
 #include <stdlib.h>
@@ -245,4 +246,13 @@ lm_status lm_views_retarget(lm_views *v)
         return lm_fail(LM_E_UNSUPPORTED, "these views cannot take their current images as "
                                          "targets (in-process views can)");
     return v->ops->retarget(v);
+}
+
+lm_status lm_views_evaluate_overlapped(lm_views *v, const lm_patch *patches, uint32_t n,
+                                       int64_t *delta, void (*overlap)(void *ctx), void *ctx)
+{
+    if (v->ops->evaluate_overlapped)
+        return v->ops->evaluate_overlapped(v, patches, n, delta, overlap, ctx);
+    overlap(ctx);
+    return v->ops->evaluate(v, patches, n, delta);
 }

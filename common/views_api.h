@@ -73,6 +73,13 @@ typedef struct lm_views_ops {
     /* For each patch i: delta[i] = E(mesh with patch i applied) - E(current mesh), exactly.
      * Patches are independent alternatives (each against the current mesh). Nothing changes. */
     lm_status (*evaluate)(lm_views *v, const lm_patch *patches, uint32_t n, int64_t *delta);
+    /* Optional (NULL = not offered; lm_views_evaluate_overlapped stands in): evaluate as above,
+     * calling overlap(ctx) once meanwhile, while other processes compute the answer (a remote
+     * backend calls it after its requests are out and before it waits for the replies, once
+     * however often it has to redo them). overlap is the caller's own work: it must not call
+     * into v. It has been called when the op returns LM_OK; after a failure it may not have. */
+    lm_status (*evaluate_overlapped)(lm_views *v, const lm_patch *patches, uint32_t n,
+                                     int64_t *delta, void (*overlap)(void *ctx), void *ctx);
     /* Apply a patch to the current mesh and images (incrementally). */
     lm_status (*commit)(lm_views *v, const lm_patch *patch);
     /* Total energy and optionally per-view energies (per_view has n_views entries). */
@@ -103,6 +110,11 @@ static inline void lm_views_destroy(lm_views *v)
 
 /* The retarget op, or LM_E_UNSUPPORTED where the backend does not offer it. */
 lm_status lm_views_retarget(lm_views *v);
+
+/* The evaluate_overlapped op, or where the backend does not offer it, overlap(ctx) then
+ * evaluate: the caller's own work done while a remote backend waits, and in turn elsewhere. */
+lm_status lm_views_evaluate_overlapped(lm_views *v, const lm_patch *patches, uint32_t n,
+                                       int64_t *delta, void (*overlap)(void *ctx), void *ctx);
 
 /* Bytes per pixel of an image kind (1 or 4). */
 static inline size_t lm_image_kind_bpp(lm_image_kind kind)

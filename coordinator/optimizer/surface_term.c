@@ -25,7 +25,7 @@ typedef struct surface_views {
     tri_entry *tri;
     uint32_t cap;
     int64_t total;
-    int64_t *scratch; /* commit: the added triangles' e(t) */
+    int64_t *scratch; /* evaluate: each patch's change; commit: the added triangles' e(t) */
     uint32_t cap_scratch;
 } surface_views;
 
@@ -173,12 +173,42 @@ static lm_status sv_set_materials(lm_views *base, const lm_material *m, uint32_t
     return s->inner->ops->set_materials(s->inner, m, n);
 }
 
+static lm_status scratch_reserve(surface_views *s, uint32_t n)
+{
+    if (n <= s->cap_scratch)
+        return LM_OK;
+    int64_t *x = realloc(s->scratch, (size_t)n * sizeof *x);
+    if (!x)
+        return lm_fail(LM_E_NOMEM, "out of memory for the geometric term of %u moves", n);
+    s->scratch = x;
+    s->cap_scratch = n;
+    return LM_OK;
+}
+
+/* The geometric term's changes of a batch (into scratch), worked out while the inner views
+ * render it where they can (workers in other processes). */
+typedef struct batch_geo {
+    const surface_views *s;
+    const lm_patch *patches;
+    uint32_t n;
+} batch_geo;
+
+static void geo_of_batch(void *ctx)
+{
+    const batch_geo *b = ctx;
+    for (uint32_t i = 0; i < b->n; i++)
+        b->s->scratch[i] = patch_delta(b->s, &b->patches[i]);
+}
+
 static lm_status sv_evaluate(lm_views *base, const lm_patch *patches, uint32_t n, int64_t *delta)
 {
     surface_views *s = as_sv(base);
-    lm_status st = s->inner->ops->evaluate(s->inner, patches, n, delta);
+    lm_status st = scratch_reserve(s, n);
+    batch_geo b = {s, patches, n};
+    if (st == LM_OK)
+        st = lm_views_evaluate_overlapped(s->inner, patches, n, delta, geo_of_batch, &b);
     for (uint32_t i = 0; i < n && st == LM_OK; i++)
-        delta[i] += patch_delta(s, &patches[i]);
+        delta[i] += s->scratch[i];
     return st;
 }
 
@@ -188,13 +218,9 @@ static lm_status sv_commit(lm_views *base, const lm_patch *patch)
     lm_status st = s->inner->ops->commit(s->inner, patch);
     if (st != LM_OK)
         return st;
-    if (patch->n_added > s->cap_scratch) {
-        int64_t *x = realloc(s->scratch, (size_t)patch->n_added * sizeof *x);
-        if (!x)
-            return lm_fail(LM_E_NOMEM, "out of memory for the geometric term of a move");
-        s->scratch = x;
-        s->cap_scratch = patch->n_added;
-    }
+    st = scratch_reserve(s, patch->n_added);
+    if (st != LM_OK)
+        return st;
     for (uint32_t i = 0; i < patch->n_added; i++)
         s->scratch[i] = added_energy(s, &patch->added[i]);
     for (uint32_t i = 0; i < patch->n_removed; i++)

@@ -122,6 +122,8 @@ typedef struct round {
     void *ctx;
     co_worker **ws;
     uint32_t n;
+    void (*overlap)(void *ctx); /* the caller's work while the first try is out (then NULL) */
+    void *overlap_ctx;
 } round;
 
 /* How a round went: done, to redo (a worker lost or stale: the state was sent again), or struck
@@ -167,6 +169,10 @@ static lm_status run_round(round *rd, int *outcome, int *strikes)
             co_pool_arm_req(rd->ws[i], req);
             st = rd->send(rd, i, req);
         }
+    if (st == LM_OK && rd->overlap) {
+        rd->overlap(rd->overlap_ctx);
+        rd->overlap = NULL;
+    }
     if (st == LM_OK)
         st = co_remote_await(r, rd->ws, rd->n);
     for (uint32_t i = 0; i < rd->n && st == LM_OK; i++)
@@ -298,25 +304,36 @@ static lm_status take_deltas(round *rd, uint32_t i)
     return LM_OK;
 }
 
-static lm_status rm_evaluate(lm_views *v, const lm_patch *patches, uint32_t n, int64_t *delta)
+static lm_status rm_evaluate_overlapped(lm_views *v, const lm_patch *patches, uint32_t n,
+                                        int64_t *delta, void (*overlap)(void *ctx), void *ctx)
 {
     co_remote *r = as_remote(v);
     if (!r->mesh_set)
         return lm_fail(LM_E_INVALID, "no mesh set: call set_mesh before evaluate");
-    if (n == 0)
+    if (n == 0) {
+        if (overlap)
+            overlap(ctx);
         return LM_OK;
+    }
     eval_ctx e = {.patches = patches, .n = n, .delta = delta};
     round rd = {.r = r,
                 .want = LUMESH__MSG__BODY_DELTAS,
                 .send = send_evaluate,
                 .take = take_deltas,
-                .ctx = &e};
+                .ctx = &e,
+                .overlap = overlap,
+                .overlap_ctx = ctx};
     lm_status st = with_retries(r, plan_evaluate, &rd);
     free(e.lo);
     free(e.hi);
     r->evaluations += st == LM_OK ? n : 0;
     co_pool_set_job_evals(r->pool, r->evaluations);
     return st;
+}
+
+static lm_status rm_evaluate(lm_views *v, const lm_patch *patches, uint32_t n, int64_t *delta)
+{
+    return rm_evaluate_overlapped(v, patches, n, delta, NULL, NULL);
 }
 
 /* -- energy -- */
@@ -496,6 +513,7 @@ static const lm_views_ops remote_ops = {
     .set_mesh = rm_set_mesh,
     .set_materials = rm_set_materials,
     .evaluate = rm_evaluate,
+    .evaluate_overlapped = rm_evaluate_overlapped,
     .commit = rm_commit,
     .energy = rm_energy,
     .potentials = rm_potentials,
