@@ -124,6 +124,8 @@ lm_status lm_wire_recv(void *sock, int is_router, int timeout_ms, lm_wire_frame 
 
 void lm_wire_frame_release(lm_wire_frame *f)
 {
+    if (f->release_)
+        f->release_(f->owner_, f);
     if (f->zmsg_) {
         zmq_msg_close(f->zmsg_);
         free(f->zmsg_);

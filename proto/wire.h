@@ -1,4 +1,5 @@
-/* proto/wire.h — messages on the wire: one ZeroMQ message is one Msg of proto/lumesh.proto.
+/* proto/wire.h — messages on the wire: one ZeroMQ message is one Msg of proto/lumesh.proto (a
+ * local worker's link carries the same frames: proto/stream.h).
  *
  * Limits come first: sockets refuse frames above LM_WIRE_MAX_FRAME before any byte is decoded
  * (ZMQ_MAXMSGSIZE), and decoding allocates at most LM_WIRE_DECODE_BUDGET(frame) bytes (protobuf-c
@@ -44,7 +45,9 @@ typedef struct lm_wire_frame {
     size_t id_len;
     const uint8_t *data;
     size_t size;
-    void *zmsg_; /* zmq_msg_t storage (internal) */
+    void *zmsg_;                                                  /* zmq_msg_t storage (internal) */
+    void (*release_)(void *owner, const struct lm_wire_frame *f); /* a frame of another source */
+    void *owner_;
 } lm_wire_frame;
 
 /* Wait up to timeout_ms (-1 = forever, 0 = poll) for a frame. LM_OK with f->size > 0 when one

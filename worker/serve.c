@@ -1,7 +1,10 @@
-/* worker/serve.c — the worker's connection: DEALER socket, Hello until welcomed (again after a job
- * ends or the coordinator falls silent), heartbeats, signals, and the dispatch of every message. */
+/* worker/serve.c — the worker's connection: a DEALER socket, or the socketpair a coordinator that
+ * started the worker gave it (proto/stream.h); Hello until welcomed (again after a job ends or the
+ * coordinator falls silent), heartbeats, signals, and the dispatch of every message. */
 #include "worker/serve.h"
 
+#include <errno.h>
+#include <poll.h>
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -38,13 +41,76 @@ double wk_serve_now(void)
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
+/* Until everything queued on the link is written (the coordinator always reads); LM_E_IO when
+ * the link has closed. */
+static lm_status link_drain(wk_server *s)
+{
+    lm_status st = LM_OK;
+    while (st == LM_OK && lm_stream_pending(&s->link)) {
+        struct pollfd pf = {.fd = s->link.fd, .events = POLLOUT};
+        if (poll(&pf, 1, 1000) < 0 && errno != EINTR)
+            st = lm_fail(LM_E_IO, "waiting to write to the coordinator: %s", strerror(errno));
+        if (st == LM_OK)
+            st = lm_stream_flush(&s->link);
+    }
+    return st;
+}
+
+static lm_status link_send(wk_server *s, const lm_msg *m)
+{
+    size_t n = lumesh__msg__get_packed_size(m);
+    if (n > LM_WIRE_MAX_FRAME)
+        return lm_fail(LM_E_RANGE, "a %s message of %zu bytes exceeds the frame limit of %u",
+                       lm_wire_body_name(m), n, LM_WIRE_MAX_FRAME);
+    if (n > s->cap_packed) {
+        uint8_t *b = realloc(s->packed, n);
+        if (!b)
+            return lm_fail(LM_E_NOMEM, "out of memory for a %zu-byte message", n);
+        s->packed = b;
+        s->cap_packed = n;
+    }
+    lumesh__msg__pack(m, s->packed);
+    lm_status st = lm_stream_put(&s->link, s->packed, n);
+    if (st == LM_OK)
+        st = link_drain(s);
+    if (st == LM_E_IO)
+        s->link_closed = 1;
+    return st;
+}
+
 lm_status wk_serve_send(wk_server *s, uint64_t req, Lumesh__Msg__BodyCase c, void *body)
 {
     lm_msg m;
     lm_wire_msg_init(&m, req, s->seq, c, body);
-    lm_status st = lm_wire_send(s->sock, NULL, 0, &m);
+    lm_status st = s->linked ? link_send(s, &m) : lm_wire_send(s->sock, NULL, 0, &m);
     lm_wire_arena_reset(&s->arena);
     return st;
+}
+
+/* A frame from the link within timeout_ms (as lm_wire_recv); at its end, link_closed. */
+static lm_status link_recv(wk_server *s, int timeout_ms, lm_wire_frame *f)
+{
+    lm_status st = lm_stream_next(&s->link, f);
+    if (st != LM_OK || f->data)
+        return st;
+    struct pollfd pf = {.fd = s->link.fd, .events = POLLIN};
+    int rc = poll(&pf, 1, timeout_ms);
+    if (rc < 0)
+        return errno == EINTR ? LM_OK : lm_fail(LM_E_IO, "waiting: %s", strerror(errno));
+    if (rc == 0)
+        return LM_OK;
+    if (lm_stream_fill(&s->link) != LM_OK) { /* the frames before the end are still taken */
+        lm_clear_error();
+        s->link_closed = 1;
+    }
+    return lm_stream_next(&s->link, f);
+}
+
+static lm_status serve_recv(wk_server *s, int timeout_ms, lm_wire_frame *f)
+{
+    if (s->linked)
+        return link_recv(s, timeout_ms, f);
+    return lm_wire_recv(s->sock, 0, timeout_ms, f);
 }
 
 lm_status wk_serve_fail(wk_server *s, uint64_t req, lm_status code, const char *message)
@@ -79,9 +145,22 @@ lm_status wk_serve_secure(wk_server *s, void *sock)
     return s->o.keys ? lm_keys_client(sock, s->o.keys) : LM_OK;
 }
 
+/* A link given by the coordinator that started us: its routing id is the link's. */
+static lm_status open_link(wk_server *s)
+{
+    s->zctx = zmq_ctx_new(); /* for the heartbeat and health sockets */
+    if (!s->zctx)
+        return lm_fail(LM_E_INTERNAL, "creating a ZeroMQ context: %s", zmq_strerror(zmq_errno()));
+    snprintf(s->id, sizeof s->id, "%s", s->o.link_id);
+    s->linked = 1;
+    return lm_stream_open(&s->link, s->o.link_fd);
+}
+
 /* A stable routing id: host, pid and a random tag (a restarted worker is a new peer). */
 static lm_status connect_socket(wk_server *s)
 {
+    if (s->o.link_id)
+        return open_link(s);
     s->zctx = zmq_ctx_new();
     s->sock = s->zctx ? zmq_socket(s->zctx, ZMQ_DEALER) : NULL;
     if (!s->sock)
@@ -111,6 +190,7 @@ static void drop_welcome(wk_server *s)
 static lm_status server_init(wk_server *s, const wk_serve_options *o)
 {
     memset(s, 0, sizeof *s);
+    s->link.fd = -1;
     s->o = *o;
     if (!s->o.device)
         s->o.device = "auto";
@@ -143,6 +223,9 @@ static void server_free(wk_server *s)
     free(s->patches);
     free(s->deltas);
     lm_wire_arena_free(&s->arena);
+    if (s->linked)
+        lm_stream_close(&s->link);
+    free(s->packed);
     if (s->sock)
         zmq_close(s->sock);
     if (s->zctx)
@@ -240,14 +323,14 @@ static lm_status serve_loop(wk_server *s)
 {
     lm_status st = say_hello(s);
     s->last_heard = wk_serve_now();
-    while (st == LM_OK && !stop_signal) {
+    while (st == LM_OK && !stop_signal && !s->link_closed) {
         lm_wire_frame f;
         if (s->health) {
             zmq_pollitem_t hp = {.socket = s->health, .events = ZMQ_POLLIN};
             if (zmq_poll(&hp, 1, 0) > 0)
                 wk_health_answer(s);
         }
-        st = lm_wire_recv(s->sock, 0, s->health ? 100 : 250, &f);
+        st = serve_recv(s, s->health ? 100 : 250, &f);
         int ended = 0;
         if (st == LM_OK && f.data) {
             s->last_heard = wk_serve_now();
@@ -263,6 +346,8 @@ static lm_status serve_loop(wk_server *s)
             st = LM_OK;
         }
     }
+    if (s->link_closed)
+        lm_info("the coordinator that started this worker closed its connection: exiting");
     return st;
 }
 

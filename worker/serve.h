@@ -29,6 +29,10 @@ typedef struct wk_serve_options {
     double silence_s;     /* coordinator presumed gone after this long without a word; 0 = 30 */
     const char *keys;     /* CURVE key folder (proto/keys.h): worker.key, coordinator.pub */
     const char *health;   /* answer health queries on this endpoint (e.g. ipc://PATH); NULL = no */
+    int link_fd;          /* >= 0: messages over this socketpair (proto/stream.h), heartbeats to
+                             endpoint; the worker ends when it closes. -1 (or 0 with no link_id):
+                             everything over endpoint */
+    const char *link_id;  /* the routing id the coordinator gave the link (with link_fd) */
 } wk_serve_options;
 
 /* Ask the worker whose health endpoint is `endpoint` how it stands: its answer (one JSON

@@ -11,6 +11,7 @@
 #include "common/view.h"
 #include "common/views_api.h"
 #include "proto/asset.h"
+#include "proto/stream.h"
 #include "proto/wire.h"
 #include "proto/wire_records.h"
 #include "worker/probe.h"
@@ -27,7 +28,11 @@ typedef struct wk_beat wk_beat; /* serve_beat.c */
 
 typedef struct wk_server {
     wk_serve_options o;
-    void *zctx, *sock;
+    void *zctx, *sock; /* sock: the DEALER socket (NULL with a link) */
+    lm_stream link;    /* with o.link_id: the socketpair to the coordinator that started us */
+    int linked, link_closed;
+    uint8_t *packed; /* a message packed for the link */
+    size_t cap_packed;
     void *health; /* REP socket answering health queries (NULL = none) */
     wk_beat *beat;
     char id[320]; /* routing id */

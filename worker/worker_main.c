@@ -26,6 +26,8 @@ typedef struct worker_args {
     const char *keys; /* CURVE key folder */
     const char *health_socket; /* answer health queries here */
     const char *health;        /* ask the worker answering here, and exit */
+    int link_fd;               /* messages over this descriptor (-1: over --connect) */
+    const char *link_id;       /* the routing id the coordinator knows the link by */
     int ready;                 /* with health: exit 0 only when it is welcomed by a coordinator */
     int help;
 } worker_args;
@@ -53,6 +55,9 @@ static void usage(FILE *f)
           "  --ready          with --health: exit 0 only when a coordinator has welcomed it\n"
           "  --parent PID     exit when process PID (the coordinator that started this worker)\n"
           "                   does\n"
+          "  --link-fd N --link-id ID  (given by a coordinator that starts its own workers)\n"
+          "                   exchange messages over descriptor N, a socketpair, as ID; only\n"
+          "                   heartbeats go to --connect\n"
           "  --device SPEC    rendering device: auto (first working GPU, else cpu), cpu\n"
           "                   (lumesh's exact CPU rasteriser), host (Mesa llvmpipe), egl:N\n"
           "                   (device N as listed by `lumesh devices`); default auto\n"
@@ -72,11 +77,12 @@ static lm_status parse_args(int argc, char **argv, worker_args *a)
         {"once", no_argument, NULL, 'o'},          {"parent", required_argument, NULL, 'p'},
         {"keys", required_argument, NULL, 'k'},    {"health-socket", required_argument, NULL, 'H'},
         {"health", required_argument, NULL, 'q'},  {"ready", no_argument, NULL, 'r'},
+        {"link-fd", required_argument, NULL, 'L'}, {"link-id", required_argument, NULL, 'I'},
         {"help", no_argument, NULL, 'h'},          {NULL, 0, NULL, 0}};
     int c;
     opterr = 0;
     optind = 1;
-    while ((c = getopt_long(argc, argv, ":c:d:svohp:k:H:q:r", opts, NULL)) != -1) {
+    while ((c = getopt_long(argc, argv, ":c:d:svohp:k:H:q:rL:I:", opts, NULL)) != -1) {
         switch (c) {
         case 'c':
             a->connect = optarg;
@@ -102,6 +108,17 @@ static lm_status parse_args(int argc, char **argv, worker_args *a)
         case 'r':
             a->ready = 1;
             break;
+        case 'L': {
+            char *end;
+            long fd = strtol(optarg, &end, 10);
+            if (*end || fd < 0 || fd > 1023)
+                return lm_fail(LM_E_INVALID, "--link-fd expects a descriptor, got '%s'", optarg);
+            a->link_fd = (int)fd;
+            break;
+        }
+        case 'I':
+            a->link_id = optarg;
+            break;
         case 'p': {
             char *end;
             a->parent = strtol(optarg, &end, 10);
@@ -123,6 +140,10 @@ static lm_status parse_args(int argc, char **argv, worker_args *a)
     }
     if (optind < argc)
         return lm_fail(LM_E_INVALID, "unexpected argument '%s' (see --help)", argv[optind]);
+    if ((a->link_fd >= 0) != (a->link_id != NULL))
+        return lm_fail(LM_E_INVALID, "--link-fd and --link-id go together");
+    if (a->link_id && (!*a->link_id || strlen(a->link_id) > 200))
+        return lm_fail(LM_E_INVALID, "--link-id expects 1 to 200 characters");
     if (!a->help && !a->connect && !a->self_test && !a->health)
         return lm_fail(LM_E_INVALID, "nothing to do: give --connect ADDR, --health ADDR or "
                                      "--self-test");
@@ -162,7 +183,7 @@ static void log_level_from_env(void)
 
 int main(int argc, char **argv)
 {
-    worker_args a = {.device = "auto"};
+    worker_args a = {.device = "auto", .link_fd = -1};
     log_level_from_env();
     lm_status st = parse_args(argc, argv, &a);
     if (st != LM_OK) {
@@ -201,7 +222,9 @@ int main(int argc, char **argv)
                               .device = a.device,
                               .once = a.once,
                               .keys = a.keys,
-                              .health = a.health_socket};
+                              .health = a.health_socket,
+                              .link_fd = a.link_fd,
+                              .link_id = a.link_id};
         st = wk_serve(&o);
         if (st != LM_OK) {
             fprintf(stderr, "lumesh-worker: %s\n", lm_last_error());

@@ -1,7 +1,7 @@
-/* coordinator/pool/pool.c — the ROUTER socket (with CURVE when keys are given), local worker
- * processes (replaced when they die, within a budget), sending, reply slots, pumping and waiting.
- * The handshake, heartbeats and losses are in pool_peers.c; keys and the ZAP handler in
- * pool_security.c. */
+/* coordinator/pool/pool.c — the ROUTER socket (with CURVE when keys are given), sending to a
+ * worker, reply slots, pumping and waiting. The handshake, heartbeats and losses (and replacing
+ * local workers that die, within a budget) are in pool_peers.c; the local workers' socketpairs and
+ * the frames' way in and out in pool_links.c; keys and the ZAP handler in pool_security.c. */
 #include <errno.h>
 #include <signal.h>
 #include <stdarg.h>
@@ -105,13 +105,6 @@ static lm_status bind_socket(co_pool *p)
     return LM_OK;
 }
 
-lm_status co_pool_spawn(co_pool *p, uint32_t n)
-{
-    char buf[4096];
-    const char *program = co_spawn_find_worker(p->o.worker_path, buf);
-    return co_spawn_workers(&p->spawned, program, p->endpoint, p->o.device, p->o.keys, n);
-}
-
 lm_status co_pool_create(const co_pool_options *o, co_pool **out)
 {
     *out = NULL;
@@ -143,6 +136,7 @@ static void end_jobs(co_pool *p)
             co_pool_send(p, p->w[i], 0, 0, LUMESH__MSG__BODY_END_JOB, &e);
     int linger = CO_POOL_END_LINGER_MS;
     zmq_setsockopt(p->sock, ZMQ_LINGER, &linger, sizeof linger); /* on failure: as before */
+    co_pool_links_flush(p, CO_POOL_END_LINGER_MS);
 }
 
 void co_pool_destroy(co_pool *p)
@@ -151,7 +145,9 @@ void co_pool_destroy(co_pool *p)
         return;
     if (p->sock)
         end_jobs(p);
+    co_pool_links_close(p); /* a --once worker that missed its EndJob ends with its link */
     co_spawn_stop_all(&p->spawned);
+    free(p->packed);
     for (uint32_t i = 0; i < p->n; i++) {
         co_pool_disarm(p->w[i]);
         free(p->w[i]);
@@ -216,7 +212,7 @@ lm_status co_pool_send(co_pool *p, co_worker *w, uint64_t req, uint64_t seq,
         return LM_OK;
     lm_msg m;
     lm_wire_msg_init(&m, req, seq, body_case, body);
-    lm_status st = lm_wire_send(p->sock, w->rid, w->rid_len, &m);
+    lm_status st = co_pool_send_msg(p, w->rid, w->rid_len, &m);
     if (st == LM_E_IO) {
         co_pool_lose(p, w, lm_last_error());
         lm_clear_error();
@@ -229,15 +225,13 @@ lm_status co_pool_send_packed(co_pool *p, co_worker *w, const uint8_t *data, siz
 {
     if (w->lost)
         return LM_OK;
-    if (zmq_send(p->sock, w->rid, w->rid_len, ZMQ_SNDMORE | ZMQ_DONTWAIT) < 0 ||
-        zmq_send(p->sock, data, size, ZMQ_DONTWAIT) < 0) {
-        if (errno == EHOSTUNREACH || errno == EAGAIN) {
-            co_pool_lose(p, w, "it disconnected");
-            return LM_OK;
-        }
-        return lm_fail(LM_E_IO, "sending to worker %u: %s", w->id, zmq_strerror(errno));
+    lm_status st = co_pool_send_frame(p, w->rid, w->rid_len, data, size);
+    if (st == LM_E_IO) {
+        lm_clear_error();
+        co_pool_lose(p, w, "it disconnected");
+        return LM_OK;
     }
-    return LM_OK;
+    return st;
 }
 
 uint64_t co_pool_next_req(co_pool *p)
@@ -287,7 +281,7 @@ lm_status co_pool_pump(co_pool *p, int timeout_ms)
     int wait = timeout_ms;
     for (;;) {
         lm_wire_frame f;
-        st = lm_wire_recv(p->sock, 1, wait, &f);
+        st = co_pool_recv(p, wait, &f);
         if (st == LM_OK && f.data)
             st = co_pool_on_frame(p, &f);
         int got = f.data != NULL;
@@ -296,8 +290,11 @@ lm_status co_pool_pump(co_pool *p, int timeout_ms)
             break;
         wait = 0; /* take in everything that is there, then return */
     }
-    co_pool_watch_handshakes(p);
     double now = co_pool_now();
+    if (now - p->last_check < CO_POOL_CHECK_S)
+        return st;
+    p->last_check = now;
+    co_pool_watch_handshakes(p);
     co_pool_notice_losses(p, now);
     return st == LM_OK ? beat(p, now) : st;
 }

@@ -1,13 +1,16 @@
 /* coordinator/pool/pool.h — the coordinator's workers: one ROUTER socket that lumesh-worker
- * processes connect to (local ones the pool spawns itself, remote ones that join by --connect at
- * any time), the handshake (protocol version and renderer identity: a job never mixes renderers),
- * heartbeats both ways, and one reply slot per worker for the request in flight.
+ * processes connect to by address (remote ones join by --connect at any time), and for the local
+ * ones the pool spawns itself a socketpair each that carries their messages (proto/stream.h:
+ * heartbeats still go to the socket); the handshake (protocol version and renderer identity: a job
+ * never mixes renderers), heartbeats both ways, and one reply slot per worker for the request in
+ * flight.
  *
  * Contract (for the remote views backend, coordinator/views/views_remote.c, its only user):
  *   - Every call is made from one thread. co_pool_pump blocks up to its timeout; everything else
- *     returns at once (a send is queued by ZeroMQ, never waits for a peer).
+ *     returns at once (a send is queued, by ZeroMQ or the link, never waits for a peer).
  *   - Workers come and go: co_pool_pump welcomes or refuses new ones (a refused worker is told
- *     why), and marks a worker lost when its process exits (local: a replacement is started,
+ *     why), and marks a worker lost when its process exits or its link closes (local: a
+ *     replacement is started,
  *     within a budget), a send to it fails, it has been silent for CO_POOL_SILENCE_S (its
  *     heartbeat thread beats every second even while it works), it left a request unanswered for
  *     CO_POOL_REQUEST_S, or it failed CO_POOL_MAX_FAILURES requests (blocklisted for the job). A
@@ -32,7 +35,10 @@
 #include "proto/wire.h"
 #include "worker/probe.h"
 
-#define CO_POOL_SILENCE_S 3.0      /* a worker silent this long is presumed dead */
+#define CO_POOL_SILENCE_S 3.0 /* a worker silent this long is presumed dead */
+/* losses (exited processes, silence, stuck requests) are looked for at most this often: their
+ * limits are seconds, and a local worker's end shows at once on its link */
+#define CO_POOL_CHECK_S 0.02
 #define CO_POOL_END_LINGER_MS 2000 /* how long EndJob messages may take to go out on close */
 #define CO_POOL_REQUEST_S 120.0 /* a worker that leaves a request unanswered this long is stuck */
 
@@ -69,6 +75,8 @@ typedef struct co_pool_options {
     const char *keys;        /* CURVE key folder (proto/keys.h); required to listen beyond this
                                 machine; local workers are given it too */
     int quiet;               /* no notes on stderr about workers joining and leaving */
+    int socket_only;         /* local workers talk over the socket too, not a socketpair of
+                                their own (proto/stream.h): for measuring the difference */
 } co_pool_options;
 
 lm_status co_pool_create(const co_pool_options *o, co_pool **out);
@@ -79,7 +87,8 @@ const char *co_pool_endpoint(const co_pool *p);
 /* The renderer identity the pool accepts ("" until the first worker pins it). */
 const char *co_pool_renderer_id(const co_pool *p);
 
-/* Take in messages for up to timeout_ms (0 = what is there), send heartbeats, notice losses. */
+/* Take in messages for up to timeout_ms (0 = what is there); every CO_POOL_CHECK_S at most, also
+ * send heartbeats and notice losses. */
 lm_status co_pool_pump(co_pool *p, int timeout_ms);
 
 /* Workers welcomed so far (lost ones included: check w->lost). */

@@ -1,7 +1,8 @@
 /* coordinator/pool/pool_internal.h — the pool's state, shared by pool.c (socket, sending,
  * reply slots, pumping, waiting), pool_peers.c (handshake, heartbeats, losses, blocklist, Rejoin,
- * status queries) and pool_security.c (CURVE, the ZAP handler, handshake failures, which
- * addresses need keys). Not for other files. */
+ * status queries), pool_links.c (the local workers' socketpairs, sending and receiving) and
+ * pool_security.c (CURVE, the ZAP handler, handshake failures, which addresses need keys). Not for
+ * other files. */
 #ifndef LM_COORDINATOR_POOL_POOL_INTERNAL_H
 #define LM_COORDINATOR_POOL_POOL_INTERNAL_H
 
@@ -10,6 +11,7 @@
 #include "coordinator/pool/pool.h"
 #include "coordinator/pool/spawn.h"
 #include "proto/keys.h"
+#include "proto/stream.h"
 
 #define CO_POOL_BEAT_S 1.0
 #define CO_POOL_WAIT_NOTE_S 5.0
@@ -26,6 +28,14 @@ typedef struct co_zap {
     int started;
 } co_zap;
 
+/* A socketpair to a worker process the pool started (pool_links.c). */
+typedef struct co_link {
+    lm_stream s;
+    char rid[64]; /* the routing id the worker is known by ("local:<our pid>:<n>") */
+    size_t rid_len;
+    int ended; /* closed or failed: dropped once its frames are taken */
+} co_link;
+
 struct co_pool {
     co_pool_options o;
     void *zctx, *sock;
@@ -36,7 +46,7 @@ struct co_pool {
     co_worker **w;
     uint32_t n, cap;
     uint64_t next_req;
-    double last_beat, last_refusal_note;
+    double last_beat, last_refusal_note, last_check;
     co_spawned spawned;
     double *respawns; /* when recent replacements of lost local workers were started */
     uint32_t n_respawns, cap_respawns;
@@ -44,6 +54,10 @@ struct co_pool {
     uint32_t n_blocked;
     co_zap zap;
     uint64_t job_evals; /* for status queries: evaluations of the job so far (views backend) */
+    co_link *links;     /* of the local workers */
+    uint32_t n_links, cap_links, links_made;
+    uint8_t *packed; /* a message packed for a link */
+    size_t cap_packed;
 };
 
 void co_pool_note(const co_pool *p, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
@@ -53,8 +67,22 @@ lm_status co_pool_on_frame(co_pool *p, const lm_wire_frame *f);
 void co_pool_notice_losses(co_pool *p, double now);
 void co_pool_lose(co_pool *p, co_worker *w, const char *why);
 
-/* pool.c */
+/* pool_links.c: the one way frames go out and come in */
+/* Start n local workers, each with a link of its own. */
 lm_status co_pool_spawn(co_pool *p, uint32_t n);
+/* To the peer with routing id `id`: over its link, else the ROUTER socket, never blocking.
+ * LM_E_IO when a socket peer is gone (a link that fails is dropped by co_pool_recv). */
+lm_status co_pool_send_frame(co_pool *p, const uint8_t *id, size_t id_len, const void *data,
+                             size_t size);
+lm_status co_pool_send_msg(co_pool *p, const uint8_t *id, size_t id_len, const lm_msg *m);
+/* Wait up to timeout_ms for a frame from a link or the socket (as lm_wire_recv), moving what
+ * links have queued meanwhile. */
+lm_status co_pool_recv(co_pool *p, int timeout_ms, lm_wire_frame *f);
+/* Write what links have queued, for up to timeout_ms (the end of a job); then close them. */
+void co_pool_links_flush(co_pool *p, int timeout_ms);
+void co_pool_links_close(co_pool *p);
+
+/* pool.c */
 /* Replacements of lost local workers still allowed now (pool_peers.c). */
 uint32_t co_pool_respawns_left(co_pool *p, double now);
 

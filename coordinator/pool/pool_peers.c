@@ -42,7 +42,7 @@ static void reply_to(co_pool *p, const lm_wire_frame *f, Lumesh__Msg__BodyCase c
 {
     lm_msg m;
     lm_wire_msg_init(&m, 0, 0, c, body);
-    if (lm_wire_send(p->sock, f->id, f->id_len, &m) != LM_OK)
+    if (co_pool_send_msg(p, f->id, f->id_len, &m) != LM_OK)
         lm_clear_error();
 }
 

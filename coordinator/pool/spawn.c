@@ -66,35 +66,52 @@ static char **worker_env(void)
     return env;
 }
 
-lm_status co_spawn_workers(co_spawned *s, const char *program, const char *endpoint,
-                           const char *device, const char *keys, uint32_t n)
+#define WORKER_LINK_FD 3 /* the descriptor a worker finds its link on */
+
+/* The link's end as descriptor WORKER_LINK_FD in the child (every other descriptor of ours is
+ * close-on-exec or not the child's business). */
+static lm_status link_actions(posix_spawn_file_actions_t *fa, int fd)
 {
-    char parent[32];
+    int rc = posix_spawn_file_actions_init(fa);
+    if (rc == 0 && fd >= 0 && fd != WORKER_LINK_FD)
+        rc = posix_spawn_file_actions_adddup2(fa, fd, WORKER_LINK_FD);
+    return rc == 0 ? LM_OK : lm_fail(LM_E_NOMEM, "preparing a worker's start: %s", strerror(rc));
+}
+
+lm_status co_spawn_worker(co_spawned *s, const char *program, const co_spawn_args *a, pid_t *pid)
+{
+    char parent[32], link_fd[16];
     snprintf(parent, sizeof parent, "%d", (int)getpid());
-    char *argv[] = {(char *)program,
-                    "--connect",
-                    (char *)endpoint,
-                    "--device",
-                    (char *)(device ? device : "auto"),
-                    "--once",
-                    "--parent",
-                    parent,
-                    keys ? "--keys" : NULL,
-                    (char *)keys,
-                    NULL};
+    snprintf(link_fd, sizeof link_fd, "%d", WORKER_LINK_FD);
+    LM_ASSERT(a->link_fd != WORKER_LINK_FD); /* dup2 onto itself would keep close-on-exec */
+    char *argv[16] = {(char *)program,
+                      "--connect",
+                      (char *)a->endpoint,
+                      "--device",
+                      (char *)(a->device ? a->device : "auto"),
+                      "--once",
+                      "--parent",
+                      parent};
+    int k = 8;
+    if (a->link_fd >= 0) {
+        argv[k++] = "--link-fd", argv[k++] = link_fd;
+        argv[k++] = "--link-id", argv[k++] = (char *)a->link_id;
+    }
+    if (a->keys)
+        argv[k++] = "--keys", argv[k++] = (char *)a->keys;
+    argv[k] = NULL;
     char **env = worker_env();
     if (!env)
         return lm_fail(LM_E_NOMEM, "out of memory starting workers");
-    lm_status st = LM_OK;
-    fflush(NULL);
-    for (uint32_t i = 0; i < n && st == LM_OK; i++) {
-        pid_t pid;
-        int rc = posix_spawnp(&pid, program, NULL, NULL, argv, env);
-        if (rc != 0)
-            st = lm_fail(LM_E_INVALID, "cannot start the worker program '%s': %s", program,
-                         strerror(rc));
-        else
-            st = remember(s, pid);
+    posix_spawn_file_actions_t fa;
+    lm_status st = link_actions(&fa, a->link_fd);
+    if (st == LM_OK) {
+        fflush(NULL);
+        int rc = posix_spawnp(pid, program, &fa, NULL, argv, env);
+        st = rc == 0 ? remember(s, *pid)
+                     : lm_fail(LM_E_INVALID, "cannot start the worker program '%s': %s", program,
+                               strerror(rc));
+        posix_spawn_file_actions_destroy(&fa);
     }
     free(env);
     return st;

@@ -1,6 +1,7 @@
 /* coordinator/pool/spawn.h — lumesh-worker processes started by the coordinator (local mode):
  * found beside the lumesh program (or by LUMESH_WORKER, or on PATH), connected to the pool's
- * endpoint, told to exit when their job ends (--once) and to die with the coordinator
+ * endpoint (their messages over a socketpair of their own, proto/stream.h), told to exit when
+ * their job ends (--once) and to die with the coordinator
  * (--parent PID: the worker sets PR_SET_PDEATHSIG and checks its parent), rendering single-threaded
  * (LP_NUM_THREADS=0 unless the user set it). Ownership: co_spawn_stop_all signals, waits for and
  * forgets every process it started. */
@@ -21,10 +22,17 @@ typedef struct co_spawned {
  * program (or in ../worker/ of a build tree), else "lumesh-worker" from PATH. buf >= 4096. */
 const char *co_spawn_find_worker(const char *path, char *buf);
 
-/* Start n workers connecting to endpoint with --device device (NULL: auto) and --keys keys (NULL:
- * none). */
-lm_status co_spawn_workers(co_spawned *s, const char *program, const char *endpoint,
-                           const char *device, const char *keys, uint32_t n);
+/* What a worker is started with: the pool's endpoint (its heartbeats go there), --device
+ * (NULL: auto), --keys (NULL: none) and, when link_fd >= 0, the socketpair end that carries its
+ * messages (proto/stream.h), given to it as descriptor 3 with the routing id link_id. */
+typedef struct co_spawn_args {
+    const char *endpoint, *device, *keys;
+    int link_fd;
+    const char *link_id;
+} co_spawn_args;
+
+/* Start one worker; its pid in *pid. The caller keeps (and closes) link_fd. */
+lm_status co_spawn_worker(co_spawned *s, const char *program, const co_spawn_args *a, pid_t *pid);
 
 /* Reap the ones that exited: returns how many, their pids in exited[] (up to cap). */
 uint32_t co_spawn_reap(co_spawned *s, pid_t *exited, uint32_t cap);

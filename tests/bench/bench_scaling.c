@@ -5,9 +5,11 @@
  * wrapper) is run twice, one edge at a time and K edges in flight. For every evaluation batch the
  * wrapper records its patches, the bytes of the Evaluate message a worker would receive (encoded
  * exactly as the remote backend encodes it) and the time the views took; the process CPU outside
- * the views is the coordinator's own work. One worker process then answers small requests over the
- * pool's ipc socket to measure this machine's round trip, and two processes bounce 8 bytes over a
- * plain Unix socket: the least round trip any transport between processes has here (the floor).
+ * the views is the coordinator's own work. One worker process then answers small requests over its
+ * link (the socketpair local mode uses) and again over the pool's ZeroMQ ipc socket (as workers
+ * that connect by address talk), to measure this machine's round trips, and two processes bounce 8
+ * bytes over a plain Unix socket: the least round trip any transport between processes has here
+ * (the floor).
  *
  * The model for W workers over V views, per batch i of n_i patches (perfect balance, a (patch,
  * view) pair the smallest piece of work):
@@ -250,13 +252,16 @@ static double speedup(const opts *o, const costs *c, uint32_t views, uint32_t w)
     return speedup_at(o, c, views, w, o->rtt_us);
 }
 
-/* Round trip of a small request to one worker process over the pool's ipc socket, in µs. */
+/* Round trip of a small request to one local worker process, in µs: over its link (a socketpair,
+ * proto/stream.h) as local mode runs, or with socket_only over the pool's ZeroMQ ipc socket, as
+ * a worker that connects by address talks. */
 static lm_status measure_rtt(const opts *o, const lm_mesh *orig, const lm_mesh *coarse,
-                             const lm_view_set *vs, double *us)
+                             const lm_view_set *vs, int socket_only, double *us)
 {
     co_pool *pool = NULL;
     lm_views *v = NULL;
-    co_pool_options po = {.local_workers = 1, .device = o->device, .quiet = 1};
+    co_pool_options po = {
+        .local_workers = 1, .device = o->device, .quiet = 1, .socket_only = socket_only};
     lm_status st = co_pool_create(&po, &pool);
     if (st == LM_OK)
         st = co_pool_wait(pool, 1, 60);
@@ -269,12 +274,17 @@ static lm_status measure_rtt(const opts *o, const lm_mesh *orig, const lm_mesh *
                        .pool = pool};
     if (st == LM_OK)
         st = co_views_create(&d, &v);
-    int64_t e;
+    lm_patch none; /* an empty patch: a whole Evaluate round trip, next to no rendering */
+    lm_patch_init(&none);
+    int64_t delta;
+    if (st == LM_OK) /* warm */
+        st = v->ops->evaluate(v, &none, 1, &delta);
     double t0 = wall();
-    const int reps = 500;
+    const int reps = 1000;
     for (int i = 0; i < reps && st == LM_OK; i++)
-        st = v->ops->energy(v, &e, NULL);
+        st = v->ops->evaluate(v, &none, 1, &delta);
     *us = 1e6 * (wall() - t0) / reps;
+    lm_patch_free(&none);
     lm_views_destroy(v);
     co_pool_destroy(pool);
     return st;
@@ -319,12 +329,17 @@ static lm_status measure_floor_rtt(double *us)
 static const uint32_t workers[] = {1, 2, 4, 8, 16, 128};
 #define N_W (sizeof workers / sizeof *workers)
 
-static void print_human(const opts *o, const costs *c, uint32_t views, double rtt_here,
-                        double floor)
+/* Round trips measured here, in µs. */
+typedef struct rtts {
+    double link, zmq, floor; /* a local worker's link, the ZeroMQ ipc socket, a bare socketpair */
+} rtts;
+
+static void print_human(const opts *o, const costs *c, uint32_t views, const rtts *t)
 {
-    printf("bench scaling: %s, %u views of %u px, %llu evaluations per run; round trip here %.0f "
-           "us (ipc, small request), %.0f us over a plain Unix socket (the floor)\n",
-           o->model, views, o->size, (unsigned long long)o->evals, rtt_here, floor);
+    printf("bench scaling: %s, %u views of %u px, %llu evaluations per run; round trip here "
+           "(small request) %.0f us over a local worker's link, %.0f us over ZeroMQ ipc, %.0f us "
+           "over a plain Unix socket (the floor)\n",
+           o->model, views, o->size, (unsigned long long)o->evals, t->link, t->zmq, t->floor);
     for (int r = 0; r < 2; r++) {
         const costs *x = &c[r];
         printf("  %u in flight: %.1f us per (patch, view); coordinator %.1f us per evaluation; "
@@ -336,28 +351,31 @@ static void print_human(const opts *o, const costs *c, uint32_t views, double rt
             double s = speedup(o, x, views, workers[i]);
             printf(" %u: x%.1f (%.0f%%)", workers[i], s, 100.0 * s / workers[i]);
         }
-        printf("\n    2 workers at best on this machine: x%.2f at its ZeroMQ round trip, x%.2f at "
-               "the floor\n",
-               speedup_at(o, x, views, 2, rtt_here), speedup_at(o, x, views, 2, floor));
+        printf("\n    2 workers at best on this machine: x%.2f over links, x%.2f over ZeroMQ, "
+               "x%.2f at the floor\n",
+               speedup_at(o, x, views, 2, t->link), speedup_at(o, x, views, 2, t->zmq),
+               speedup_at(o, x, views, 2, t->floor));
     }
 }
 
-static void print_json(const opts *o, const costs *c, uint32_t views, double rtt_here, double floor)
+static void print_json(const opts *o, const costs *c, uint32_t views, const rtts *t)
 {
     printf("{\"bench\": \"scaling\", \"model\": \"%s\", \"views\": %u, \"size\": %u, "
-           "\"evals\": %llu, \"rtt_here_us\": %.1f, \"floor_rtt_us\": %.1f, \"model_rtt_us\": "
-           "%.1f, \"model_gbps\": %.1f, \"runs\": [",
-           o->model, views, o->size, (unsigned long long)o->evals, rtt_here, floor, o->rtt_us,
-           o->gbps);
+           "\"evals\": %llu, \"rtt_here_us\": %.1f, \"zmq_rtt_us\": %.1f, \"floor_rtt_us\": "
+           "%.1f, \"model_rtt_us\": %.1f, \"model_gbps\": %.1f, \"runs\": [",
+           o->model, views, o->size, (unsigned long long)o->evals, t->link, t->zmq, t->floor,
+           o->rtt_us, o->gbps);
     for (int r = 0; r < 2; r++) {
         const costs *x = &c[r];
         printf("%s{\"edges_in_flight\": %u, \"us_per_patch_view\": %.3f, "
                "\"coordinator_us_per_eval\": %.3f, \"patches_per_batch\": %.3f, "
                "\"bytes_per_batch\": %.1f, \"bytes_per_commit\": %.1f, "
-               "\"two_workers_here\": %.3f, \"two_workers_floor\": %.3f, \"predicted\": [",
+               "\"two_workers_here\": %.3f, \"two_workers_zmq\": %.3f, "
+               "\"two_workers_floor\": %.3f, \"predicted\": [",
                r ? ", " : "", x->k, x->per_patch_view_us, x->coord_us_per_eval,
                x->patches_per_batch, x->bytes_per_batch, x->commit_bytes,
-               speedup_at(o, x, views, 2, rtt_here), speedup_at(o, x, views, 2, floor));
+               speedup_at(o, x, views, 2, t->link), speedup_at(o, x, views, 2, t->zmq),
+               speedup_at(o, x, views, 2, t->floor));
         for (size_t i = 0; i < N_W; i++) {
             double s = speedup(o, x, views, workers[i]);
             printf("%s{\"workers\": %u, \"speedup\": %.3f, \"efficiency\": %.3f}", i ? ", " : "",
@@ -443,23 +461,25 @@ int main(int argc, char **argv)
     static lm_view_set vs;
     static meter m[2];
     costs c[2];
-    double rtt = 0, floor = 0;
+    rtts t = {0, 0, 0};
     lm_status st = setup(&o, &orig, &coarse, &vs);
     uint32_t ks[2] = {1, o.in_flight};
     for (int r = 0; r < 2 && st == LM_OK; r++)
         st = run_once(&o, orig, coarse, &vs, ks[r], &m[r], &c[r]);
     if (st == LM_OK)
-        st = measure_rtt(&o, orig, coarse, &vs, &rtt);
+        st = measure_rtt(&o, orig, coarse, &vs, 0, &t.link);
     if (st == LM_OK)
-        st = measure_floor_rtt(&floor);
+        st = measure_rtt(&o, orig, coarse, &vs, 1, &t.zmq);
+    if (st == LM_OK)
+        st = measure_floor_rtt(&t.floor);
     if (st != LM_OK) {
         fprintf(stderr, "bench_scaling: %s\n", lm_last_error());
         return 2;
     }
     if (o.json)
-        print_json(&o, c, vs.count, rtt, floor);
+        print_json(&o, c, vs.count, &t);
     else
-        print_human(&o, c, vs.count, rtt, floor);
+        print_human(&o, c, vs.count, &t);
     for (int r = 0; r < 2; r++) {
         free(m[r].n);
         free(m[r].bytes);

@@ -1,7 +1,8 @@
 /* tests/fuzz/make_wire_seeds.c — writes seed inputs for fuzz_wire_msg and fuzz_wire_asset into
  * two folders: one valid frame of every message kind the protocol has, and valid mesh, material
- * and texture assets (with the two prefix bytes fuzz_wire_asset reads). Made from the schema as it
- * is, so the seeds never fall behind it.  usage: make_wire_seeds MSG_DIR ASSET_DIR */
+ * and texture assets (with the two prefix bytes fuzz_wire_asset reads); and for fuzz_stream, into
+ * a third, every message as two frames of a local worker's link. Made from the schema as it is, so
+ * the seeds never fall behind it.  usage: make_wire_seeds MSG_DIR ASSET_DIR [STREAM_DIR] */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -25,6 +26,22 @@ static void write_file(const char *dir, const char *name, const void *data, size
     fclose(f);
 }
 
+static const char *stream_dir; /* also each message as two frames of a local link */
+
+/* The message as it crosses a local worker's link (proto/stream.h), twice in a row. */
+static void write_stream(const char *name, const uint8_t *msg, size_t n)
+{
+    uint8_t *buf = malloc(2 * (n + 4));
+    for (int k = 0; k < 2; k++) {
+        uint8_t *h = buf + (size_t)k * (n + 4);
+        for (int i = 0; i < 4; i++)
+            h[i] = (uint8_t)(n >> (8 * i));
+        memcpy(h + 4, msg, n);
+    }
+    write_file(stream_dir, name, buf, 2 * (n + 4));
+    free(buf);
+}
+
 static void write_msg(const char *dir, const char *name, Lumesh__Msg__BodyCase c, void *body)
 {
     lm_msg m;
@@ -33,6 +50,8 @@ static void write_msg(const char *dir, const char *name, Lumesh__Msg__BodyCase c
     uint8_t *buf = malloc(n + 1);
     lumesh__msg__pack(&m, buf);
     write_file(dir, name, buf, n);
+    if (stream_dir)
+        write_stream(name, buf, n);
     free(buf);
 }
 
@@ -177,10 +196,11 @@ static void asset_seeds(const char *dir)
 
 int main(int argc, char **argv)
 {
-    if (argc != 3) {
-        fprintf(stderr, "usage: make_wire_seeds MSG_DIR ASSET_DIR\n");
+    if (argc != 3 && argc != 4) {
+        fprintf(stderr, "usage: make_wire_seeds MSG_DIR ASSET_DIR [STREAM_DIR]\n");
         return 1;
     }
+    stream_dir = argc == 4 ? argv[3] : NULL;
     msg_seeds(argv[1]);
     asset_seeds(argv[2]);
     return 0;

@@ -1,0 +1,250 @@
+/* coordinator/pool/pool_links.c — the socketpairs to the worker processes this coordinator
+ * starts (proto/stream.h says why not ZeroMQ there), and the one way the pool sends and receives:
+ * a peer whose routing id is a link's goes over its link, every other one over the ROUTER socket.
+ * A link's worker still beats over the socket ("<id>#hb"); a frame at the socket that claims a
+ * link's routing id is dropped. A link that closes (the process ended) or breaks the framing loses
+ * its worker. */
+#include <errno.h>
+#include <fcntl.h>
+#include <poll.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/socket.h>
+#include <unistd.h>
+#include <zmq.h>
+
+#include "common/log.h"
+#include "coordinator/pool/pool_internal.h"
+
+static co_link *link_of(co_pool *p, const uint8_t *id, size_t len)
+{
+    for (uint32_t i = 0; i < p->n_links; i++)
+        if (p->links[i].rid_len == len && !memcmp(p->links[i].rid, id, len))
+            return &p->links[i];
+    return NULL;
+}
+
+static lm_status add_link(co_pool *p, co_link **out)
+{
+    if (p->n_links == p->cap_links) {
+        uint32_t cap = p->cap_links ? 2 * p->cap_links : 8;
+        co_link *l = realloc(p->links, cap * sizeof *l);
+        if (!l)
+            return lm_fail(LM_E_NOMEM, "out of memory for workers' connections");
+        p->links = l;
+        p->cap_links = cap;
+    }
+    *out = &p->links[p->n_links];
+    memset(*out, 0, sizeof **out);
+    (*out)->s.fd = -1;
+    return LM_OK;
+}
+
+/* A socketpair, both ends close-on-exec, the child's end never descriptor 3 (spawn.c). */
+static lm_status make_pair(int fd[2])
+{
+    if (socketpair(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0, fd) != 0)
+        return lm_fail(LM_E_IO, "cannot make a connection for a worker: %s", strerror(errno));
+    if (fd[1] == 3) {
+        int moved = fcntl(fd[1], F_DUPFD_CLOEXEC, 4);
+        close(fd[1]);
+        fd[1] = moved;
+        if (moved < 0) {
+            close(fd[0]);
+            return lm_fail(LM_E_IO, "cannot make a connection for a worker: %s", strerror(errno));
+        }
+    }
+    return LM_OK;
+}
+
+lm_status co_pool_spawn(co_pool *p, uint32_t n)
+{
+    char buf[4096];
+    const char *program = co_spawn_find_worker(p->o.worker_path, buf);
+    lm_status st = LM_OK;
+    for (uint32_t i = 0; i < n && st == LM_OK && p->o.socket_only; i++) {
+        co_spawn_args a = {p->endpoint, p->o.device, p->o.keys, -1, NULL};
+        pid_t pid;
+        st = co_spawn_worker(&p->spawned, program, &a, &pid);
+    }
+    for (uint32_t i = 0; i < n && st == LM_OK && !p->o.socket_only; i++) {
+        co_link *l = NULL;
+        int fd[2] = {-1, -1};
+        st = add_link(p, &l);
+        if (st == LM_OK)
+            st = make_pair(fd);
+        if (st != LM_OK)
+            break;
+        l->rid_len =
+            (size_t)snprintf(l->rid, sizeof l->rid, "local:%d:%u", (int)getpid(), ++p->links_made);
+        co_spawn_args a = {p->endpoint, p->o.device, p->o.keys, fd[1], l->rid};
+        pid_t pid;
+        st = co_spawn_worker(&p->spawned, program, &a, &pid);
+        close(fd[1]);
+        if (st == LM_OK)
+            st = lm_stream_open(&l->s, fd[0]);
+        if (st == LM_OK)
+            p->n_links++;
+        else
+            close(fd[0]);
+    }
+    return st;
+}
+
+/* Close link l (taken out of the table) and lose its worker, saying why. */
+static void drop_link(co_pool *p, co_link *l, const char *why)
+{
+    for (uint32_t i = p->n; i-- > 0;)
+        if (p->w[i]->rid_len == l->rid_len && !memcmp(p->w[i]->rid, l->rid, l->rid_len)) {
+            co_pool_lose(p, p->w[i], why);
+            break;
+        }
+    lm_stream_close(&l->s);
+    *l = p->links[--p->n_links];
+}
+
+void co_pool_links_close(co_pool *p)
+{
+    for (uint32_t i = 0; i < p->n_links; i++)
+        lm_stream_close(&p->links[i].s);
+    free(p->links);
+    p->links = NULL;
+    p->n_links = p->cap_links = 0;
+}
+
+void co_pool_links_flush(co_pool *p, int timeout_ms)
+{
+    double until = co_pool_now() + 1e-3 * timeout_ms;
+    for (uint32_t i = 0; i < p->n_links; i++) {
+        lm_stream *s = &p->links[i].s;
+        while (lm_stream_pending(s) && lm_stream_flush(s) == LM_OK && lm_stream_pending(s)) {
+            int left = (int)(1e3 * (until - co_pool_now()));
+            struct pollfd pf = {.fd = s->fd, .events = POLLOUT};
+            if (left <= 0 || poll(&pf, 1, left) <= 0)
+                break;
+        }
+        lm_clear_error();
+    }
+}
+
+/* ---- sending --------------------------------------------------------------------------------- */
+
+lm_status co_pool_send_frame(co_pool *p, const uint8_t *id, size_t id_len, const void *data,
+                             size_t size)
+{
+    co_link *l = link_of(p, id, id_len);
+    if (l) { /* a link that fails is dropped where it is polled: its frames before count */
+        lm_status st = l->ended ? LM_OK : lm_stream_put(&l->s, data, size);
+        if (st == LM_E_IO) {
+            l->ended = 1;
+            lm_clear_error();
+            st = LM_OK;
+        }
+        return st;
+    }
+    if (zmq_send(p->sock, id, id_len, ZMQ_SNDMORE | ZMQ_DONTWAIT) < 0 ||
+        zmq_send(p->sock, data, size, ZMQ_DONTWAIT) < 0) {
+        int e = errno;
+        return lm_fail(e == EHOSTUNREACH || e == EAGAIN ? LM_E_IO : LM_E_INTERNAL,
+                       "sending to a worker: %s", zmq_strerror(e));
+    }
+    return LM_OK;
+}
+
+lm_status co_pool_send_msg(co_pool *p, const uint8_t *id, size_t id_len, const lm_msg *m)
+{
+    if (!link_of(p, id, id_len))
+        return lm_wire_send(p->sock, id, id_len, m);
+    size_t n = lumesh__msg__get_packed_size(m);
+    if (n > LM_WIRE_MAX_FRAME)
+        return lm_fail(LM_E_RANGE, "a %s message of %zu bytes exceeds the frame limit of %u",
+                       lm_wire_body_name(m), n, LM_WIRE_MAX_FRAME);
+    if (n > p->cap_packed) {
+        uint8_t *b = realloc(p->packed, n);
+        if (!b)
+            return lm_fail(LM_E_NOMEM, "out of memory for a %zu-byte message", n);
+        p->packed = b;
+        p->cap_packed = n;
+    }
+    lumesh__msg__pack(m, p->packed);
+    return co_pool_send_frame(p, id, id_len, p->packed, n);
+}
+
+/* ---- receiving ------------------------------------------------------------------------------- */
+
+/* A whole frame some link holds, under its routing id; links that ended with nothing more to
+ * give, or broke the framing, are dropped. */
+static lm_status link_frame(co_pool *p, lm_wire_frame *f)
+{
+    for (uint32_t i = 0; i < p->n_links;) {
+        co_link *l = &p->links[i];
+        lm_status st = lm_stream_next(&l->s, f);
+        if (st != LM_OK) {
+            char why[300];
+            snprintf(why, sizeof why, "its connection broke the framing (%.200s)", lm_last_error());
+            lm_clear_error();
+            drop_link(p, l, why);
+            continue;
+        }
+        if (f->data) {
+            memcpy(f->id, l->rid, l->rid_len);
+            f->id_len = l->rid_len;
+            return LM_OK;
+        }
+        if (l->ended) {
+            drop_link(p, l, "its connection closed (the process ended)");
+            continue;
+        }
+        i++;
+    }
+    return LM_OK;
+}
+
+/* Read and write what the links' poll results allow. */
+static void serve_links(co_pool *p, const zmq_pollitem_t *items)
+{
+    for (uint32_t i = 0; i < p->n_links; i++) {
+        co_link *l = &p->links[i];
+        short ev = items[i].revents;
+        if ((ev & ZMQ_POLLOUT) && lm_stream_flush(&l->s) != LM_OK)
+            l->ended = 1;
+        if ((ev & (ZMQ_POLLIN | ZMQ_POLLERR)) && !l->ended && lm_stream_fill(&l->s) != LM_OK)
+            l->ended = 1; /* frames read before the end are still taken */
+        lm_clear_error();
+    }
+}
+
+lm_status co_pool_recv(co_pool *p, int timeout_ms, lm_wire_frame *f)
+{
+    memset(f, 0, sizeof *f);
+    lm_status st = link_frame(p, f);
+    if (st != LM_OK || f->data)
+        return st;
+    zmq_pollitem_t stack[17], *items = stack;
+    if (p->n_links + 1 > sizeof stack / sizeof *stack &&
+        !(items = malloc((p->n_links + 1) * sizeof *items)))
+        return lm_fail(LM_E_NOMEM, "out of memory waiting for workers");
+    for (uint32_t i = 0; i < p->n_links; i++) {
+        short out = lm_stream_pending(&p->links[i].s) ? ZMQ_POLLOUT : 0;
+        items[i] = (zmq_pollitem_t){.fd = p->links[i].s.fd, .events = (short)(ZMQ_POLLIN | out)};
+    }
+    items[p->n_links] = (zmq_pollitem_t){.socket = p->sock, .events = ZMQ_POLLIN};
+    int rc = zmq_poll(items, (int)p->n_links + 1, timeout_ms);
+    int sock_ready = rc > 0 && (items[p->n_links].revents & ZMQ_POLLIN);
+    if (rc > 0)
+        serve_links(p, items);
+    if (items != stack)
+        free(items);
+    if (rc < 0)
+        return errno == EINTR ? LM_OK : lm_fail(LM_E_IO, "waiting: %s", zmq_strerror(errno));
+    st = link_frame(p, f);
+    if (st != LM_OK || f->data || !sock_ready)
+        return st;
+    st = lm_wire_recv(p->sock, 1, 0, f);
+    if (st == LM_OK && f->data && link_of(p, f->id, f->id_len)) {
+        lm_warn("dropped a message at %s that claimed a local worker's id", p->endpoint);
+        lm_wire_frame_release(f);
+    }
+    return st;
+}

@@ -1,0 +1,156 @@
+/* proto/stream.c — length-prefixed frames over a non-blocking byte stream (see stream.h). */
+#include "proto/stream.h"
+
+#include <errno.h>
+#include <fcntl.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#define STREAM_READ_CHUNK (64u << 10)
+
+lm_status lm_stream_open(lm_stream *s, int fd)
+{
+    memset(s, 0, sizeof *s);
+    s->fd = fd;
+    int flags = fcntl(fd, F_GETFL);
+    if (flags < 0 || fcntl(fd, F_SETFL, flags | O_NONBLOCK) < 0)
+        return lm_fail(LM_E_IO, "a worker's connection (descriptor %d) cannot be used: %s", fd,
+                       strerror(errno));
+    return LM_OK;
+}
+
+void lm_stream_close(lm_stream *s)
+{
+    if (s->fd >= 0)
+        close(s->fd);
+    free(s->in);
+    free(s->out);
+    memset(s, 0, sizeof *s);
+    s->fd = -1;
+}
+
+static lm_status reserve(uint8_t **buf, size_t *cap, size_t need)
+{
+    if (need <= *cap)
+        return LM_OK;
+    size_t c = *cap ? *cap : 4096;
+    while (c < need)
+        c *= 2;
+    uint8_t *b = realloc(*buf, c);
+    if (!b)
+        return lm_fail(LM_E_NOMEM, "out of memory for %zu bytes of a connection's buffer", need);
+    *buf = b;
+    *cap = c;
+    return LM_OK;
+}
+
+lm_status lm_stream_flush(lm_stream *s)
+{
+    while (s->out_off < s->out_len) {
+        ssize_t k = send(s->fd, s->out + s->out_off, s->out_len - s->out_off, MSG_NOSIGNAL);
+        if (k < 0 && errno == EINTR)
+            continue;
+        if (k < 0 && (errno == EAGAIN || errno == EWOULDBLOCK))
+            return LM_OK;
+        if (k <= 0)
+            return lm_fail(LM_E_IO, "the connection closed: %s", k < 0 ? strerror(errno) : "");
+        s->out_off += (size_t)k;
+    }
+    s->out_off = s->out_len = 0;
+    return LM_OK;
+}
+
+lm_status lm_stream_put(lm_stream *s, const void *data, size_t n)
+{
+    if (n == 0 || n > LM_WIRE_MAX_FRAME)
+        return lm_fail(LM_E_RANGE, "a frame of %zu bytes (the limit is %u)", n, LM_WIRE_MAX_FRAME);
+    if (s->out_off > 0 && s->out_off == s->out_len)
+        s->out_off = s->out_len = 0;
+    lm_status st = reserve(&s->out, &s->out_cap, s->out_len + LM_STREAM_HEADER + n);
+    if (st != LM_OK)
+        return st;
+    uint8_t *h = s->out + s->out_len;
+    for (unsigned i = 0; i < LM_STREAM_HEADER; i++)
+        h[i] = (uint8_t)(n >> (8 * i));
+    memcpy(h + LM_STREAM_HEADER, data, n);
+    s->out_len += LM_STREAM_HEADER + n;
+    return lm_stream_flush(s);
+}
+
+size_t lm_stream_pending(const lm_stream *s)
+{
+    return s->out_len - s->out_off;
+}
+
+static uint32_t frame_length(const uint8_t *h)
+{
+    uint32_t n = 0;
+    for (unsigned i = 0; i < LM_STREAM_HEADER; i++)
+        n |= (uint32_t)h[i] << (8 * i);
+    return n;
+}
+
+/* Whether a whole frame (or a bad length, for lm_stream_next to refuse) is buffered. */
+static int frame_ready(const lm_stream *s)
+{
+    size_t have = s->in_len - s->in_off;
+    if (have < LM_STREAM_HEADER)
+        return 0;
+    uint32_t n = frame_length(s->in + s->in_off);
+    return n == 0 || n > LM_WIRE_MAX_FRAME || have - LM_STREAM_HEADER >= n;
+}
+
+lm_status lm_stream_fill(lm_stream *s)
+{
+    LM_ASSERT(!s->frame_out);
+    if (s->in_off > 0) { /* move the unread bytes to the front */
+        memmove(s->in, s->in + s->in_off, s->in_len - s->in_off);
+        s->in_len -= s->in_off;
+        s->in_off = 0;
+    }
+    while (!frame_ready(s)) { /* never more than one frame ahead: the buffer stays bounded */
+        lm_status st = reserve(&s->in, &s->in_cap, s->in_len + STREAM_READ_CHUNK);
+        if (st != LM_OK)
+            return st;
+        ssize_t k = recv(s->fd, s->in + s->in_len, s->in_cap - s->in_len, 0);
+        if (k < 0 && errno == EINTR)
+            continue;
+        if (k < 0 && (errno == EAGAIN || errno == EWOULDBLOCK))
+            return LM_OK;
+        if (k <= 0)
+            return lm_fail(LM_E_IO, "the connection closed%s%s", k < 0 ? ": " : "",
+                           k < 0 ? strerror(errno) : "");
+        s->in_len += (size_t)k;
+    }
+    return LM_OK;
+}
+
+static void release_frame(void *owner, const lm_wire_frame *f)
+{
+    lm_stream *s = owner;
+    s->in_off += LM_STREAM_HEADER + f->size;
+    s->frame_out = 0;
+}
+
+lm_status lm_stream_next(lm_stream *s, lm_wire_frame *f)
+{
+    memset(f, 0, sizeof *f);
+    LM_ASSERT(!s->frame_out);
+    size_t have = s->in_len - s->in_off;
+    if (have < LM_STREAM_HEADER)
+        return LM_OK;
+    uint32_t n = frame_length(s->in + s->in_off);
+    if (n == 0 || n > LM_WIRE_MAX_FRAME)
+        return lm_fail(LM_E_FORMAT, "a frame of %u bytes announced (the limit is %u)", n,
+                       LM_WIRE_MAX_FRAME);
+    if (have - LM_STREAM_HEADER < n)
+        return LM_OK;
+    f->data = s->in + s->in_off + LM_STREAM_HEADER;
+    f->size = n;
+    f->release_ = release_frame;
+    f->owner_ = s;
+    s->frame_out = 1;
+    return LM_OK;
+}
