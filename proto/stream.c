@@ -62,7 +62,8 @@ lm_status lm_stream_flush(lm_stream *s)
     return LM_OK;
 }
 
-lm_status lm_stream_put(lm_stream *s, const void *data, size_t n)
+/* Room for a frame of n bytes at the end of the queue, its length written: where its bytes go. */
+static lm_status frame_room(lm_stream *s, size_t n, uint8_t **at)
 {
     if (n == 0 || n > LM_WIRE_MAX_FRAME)
         return lm_fail(LM_E_RANGE, "a frame of %zu bytes (the limit is %u)", n, LM_WIRE_MAX_FRAME);
@@ -74,8 +75,32 @@ lm_status lm_stream_put(lm_stream *s, const void *data, size_t n)
     uint8_t *h = s->out + s->out_len;
     for (unsigned i = 0; i < LM_STREAM_HEADER; i++)
         h[i] = (uint8_t)(n >> (8 * i));
-    memcpy(h + LM_STREAM_HEADER, data, n);
     s->out_len += LM_STREAM_HEADER + n;
+    *at = h + LM_STREAM_HEADER;
+    return LM_OK;
+}
+
+lm_status lm_stream_put(lm_stream *s, const void *data, size_t n)
+{
+    uint8_t *at;
+    lm_status st = frame_room(s, n, &at);
+    if (st != LM_OK)
+        return st;
+    memcpy(at, data, n);
+    return lm_stream_flush(s);
+}
+
+lm_status lm_stream_put_msg(lm_stream *s, const lm_msg *m)
+{
+    size_t n = lumesh__msg__get_packed_size(m);
+    uint8_t *at;
+    lm_status st = frame_room(s, n, &at);
+    if (st == LM_E_RANGE)
+        return lm_fail(LM_E_RANGE, "a %s message of %zu bytes exceeds the frame limit of %u",
+                       lm_wire_body_name(m), n, LM_WIRE_MAX_FRAME);
+    if (st != LM_OK)
+        return st;
+    lumesh__msg__pack(m, at);
     return lm_stream_flush(s);
 }
 

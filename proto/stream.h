@@ -46,6 +46,8 @@ void lm_stream_close(lm_stream *s);
 
 /* Queue one frame of n bytes (1..LM_WIRE_MAX_FRAME, else LM_E_RANGE) and write what goes now. */
 lm_status lm_stream_put(lm_stream *s, const void *data, size_t n);
+/* Queue message m packed as one frame (no copy of its own), and write what goes now. */
+lm_status lm_stream_put_msg(lm_stream *s, const lm_msg *m);
 /* Write what the socket takes now of what is queued. */
 lm_status lm_stream_flush(lm_stream *s);
 /* Bytes queued and not yet written. */

@@ -58,19 +58,7 @@ static lm_status link_drain(wk_server *s)
 
 static lm_status link_send(wk_server *s, const lm_msg *m)
 {
-    size_t n = lumesh__msg__get_packed_size(m);
-    if (n > LM_WIRE_MAX_FRAME)
-        return lm_fail(LM_E_RANGE, "a %s message of %zu bytes exceeds the frame limit of %u",
-                       lm_wire_body_name(m), n, LM_WIRE_MAX_FRAME);
-    if (n > s->cap_packed) {
-        uint8_t *b = realloc(s->packed, n);
-        if (!b)
-            return lm_fail(LM_E_NOMEM, "out of memory for a %zu-byte message", n);
-        s->packed = b;
-        s->cap_packed = n;
-    }
-    lumesh__msg__pack(m, s->packed);
-    lm_status st = lm_stream_put(&s->link, s->packed, n);
+    lm_status st = lm_stream_put_msg(&s->link, m);
     if (st == LM_OK)
         st = link_drain(s);
     if (st == LM_E_IO)
@@ -225,7 +213,6 @@ static void server_free(wk_server *s)
     lm_wire_arena_free(&s->arena);
     if (s->linked)
         lm_stream_close(&s->link);
-    free(s->packed);
     if (s->sock)
         zmq_close(s->sock);
     if (s->zctx)

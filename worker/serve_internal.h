@@ -31,8 +31,6 @@ typedef struct wk_server {
     void *zctx, *sock; /* sock: the DEALER socket (NULL with a link) */
     lm_stream link;    /* with o.link_id: the socketpair to the coordinator that started us */
     int linked, link_closed;
-    uint8_t *packed; /* a message packed for the link */
-    size_t cap_packed;
     void *health; /* REP socket answering health queries (NULL = none) */
     wk_beat *beat;
     char id[320]; /* routing id */

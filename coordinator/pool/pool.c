@@ -147,7 +147,6 @@ void co_pool_destroy(co_pool *p)
         end_jobs(p);
     co_pool_links_close(p); /* a --once worker that missed its EndJob ends with its link */
     co_spawn_stop_all(&p->spawned);
-    free(p->packed);
     for (uint32_t i = 0; i < p->n; i++) {
         co_pool_disarm(p->w[i]);
         free(p->w[i]);

@@ -56,8 +56,6 @@ struct co_pool {
     uint64_t job_evals; /* for status queries: evaluations of the job so far (views backend) */
     co_link *links;     /* of the local workers */
     uint32_t n_links, cap_links, links_made;
-    uint8_t *packed; /* a message packed for a link */
-    size_t cap_packed;
 };
 
 void co_pool_note(const co_pool *p, const char *fmt, ...) __attribute__((format(printf, 2, 3)));

@@ -154,21 +154,16 @@ lm_status co_pool_send_frame(co_pool *p, const uint8_t *id, size_t id_len, const
 
 lm_status co_pool_send_msg(co_pool *p, const uint8_t *id, size_t id_len, const lm_msg *m)
 {
-    if (!link_of(p, id, id_len))
+    co_link *l = link_of(p, id, id_len);
+    if (!l)
         return lm_wire_send(p->sock, id, id_len, m);
-    size_t n = lumesh__msg__get_packed_size(m);
-    if (n > LM_WIRE_MAX_FRAME)
-        return lm_fail(LM_E_RANGE, "a %s message of %zu bytes exceeds the frame limit of %u",
-                       lm_wire_body_name(m), n, LM_WIRE_MAX_FRAME);
-    if (n > p->cap_packed) {
-        uint8_t *b = realloc(p->packed, n);
-        if (!b)
-            return lm_fail(LM_E_NOMEM, "out of memory for a %zu-byte message", n);
-        p->packed = b;
-        p->cap_packed = n;
+    lm_status st = l->ended ? LM_OK : lm_stream_put_msg(&l->s, m);
+    if (st == LM_E_IO) { /* dropped where it is polled, as in co_pool_send_frame */
+        l->ended = 1;
+        lm_clear_error();
+        st = LM_OK;
     }
-    lumesh__msg__pack(m, p->packed);
-    return co_pool_send_frame(p, id, id_len, p->packed, n);
+    return st;
 }
 
 /* ---- receiving ------------------------------------------------------------------------------- */

@@ -1,8 +1,8 @@
 /* tests/unit/test_stream.c — frames over a local worker's socketpair (proto/stream.h): they arrive
  * whole and in order, also a frame far larger than the socket's buffers, written and read in
  * pieces by two processes; a length of 0 or above the frame limit is refused before anything is
- * read for it; the frames sent before the peer closed are still delivered, then the end; nothing
- * blocks. */
+ * read for it; the frames sent before the peer closed are still delivered, then the end; a
+ * message packed straight into the queue decodes; nothing blocks. */
 #include <poll.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -17,6 +17,15 @@
 static void pair(int fd[2])
 {
     assert_int_equal(socketpair(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0, fd), 0);
+}
+
+/* Two streams, the ends of one socketpair. */
+static void open_pair(lm_stream *a, lm_stream *b)
+{
+    int fd[2];
+    pair(fd);
+    assert_int_equal(lm_stream_open(a, fd[0]), LM_OK);
+    assert_int_equal(lm_stream_open(b, fd[1]), LM_OK);
 }
 
 /* The next frame, waiting for it (at most ~10 s); NULL data at the end of the stream. */
@@ -40,11 +49,8 @@ static lm_status next_frame(lm_stream *s, lm_wire_frame *f)
 static void test_frames_in_order(void **state)
 {
     (void)state;
-    int fd[2];
-    pair(fd);
     lm_stream a, b;
-    assert_int_equal(lm_stream_open(&a, fd[0]), LM_OK);
-    assert_int_equal(lm_stream_open(&b, fd[1]), LM_OK);
+    open_pair(&a, &b);
     for (int i = 1; i <= 50; i++) {
         char msg[64];
         int n = snprintf(msg, sizeof msg, "frame %d", i);
@@ -118,11 +124,8 @@ static void test_large_frame_in_pieces(void **state)
 static void test_frames_before_the_end(void **state)
 {
     (void)state;
-    int fd[2];
-    pair(fd);
     lm_stream a, b;
-    assert_int_equal(lm_stream_open(&a, fd[0]), LM_OK);
-    assert_int_equal(lm_stream_open(&b, fd[1]), LM_OK);
+    open_pair(&a, &b);
     assert_int_equal(lm_stream_put(&a, "last words", 10), LM_OK);
     lm_stream_close(&a);
     lm_wire_frame f;
@@ -192,12 +195,35 @@ static void test_truncated_frame_waits(void **state)
     lm_stream_close(&r);
 }
 
+static void test_message_frames(void **state)
+{
+    (void)state;
+    lm_stream a, b;
+    open_pair(&a, &b);
+    Lumesh__Heartbeat h = LUMESH__HEARTBEAT__INIT;
+    h.busy = 1;
+    lm_msg m;
+    lm_wire_msg_init(&m, 5, 9, LUMESH__MSG__BODY_HEARTBEAT, &h);
+    assert_int_equal(lm_stream_put_msg(&a, &m), LM_OK);
+    lm_wire_frame f;
+    assert_int_equal(next_frame(&b, &f), LM_OK);
+    lm_wire_in in;
+    assert_int_equal(lm_wire_decode(f.data, f.size, &in), LM_OK);
+    assert_true(in.msg->req == 5 && in.msg->seq == 9);
+    assert_int_equal(in.msg->body_case, LUMESH__MSG__BODY_HEARTBEAT);
+    assert_true(in.msg->heartbeat->busy);
+    lm_wire_in_free(&in);
+    lm_wire_frame_release(&f);
+    lm_stream_close(&a);
+    lm_stream_close(&b);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_frames_in_order),       cmocka_unit_test(test_large_frame_in_pieces),
         cmocka_unit_test(test_frames_before_the_end), cmocka_unit_test(test_bad_lengths_refused),
-        cmocka_unit_test(test_truncated_frame_waits),
+        cmocka_unit_test(test_truncated_frame_waits), cmocka_unit_test(test_message_frames),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
