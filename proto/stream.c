@@ -9,6 +9,7 @@
 #include <unistd.h>
 
 #define STREAM_READ_CHUNK (64u << 10)
+#define STREAM_KEEP_BYTES (1u << 20) /* a larger read buffer is given back once it is empty */
 
 lm_status lm_stream_open(lm_stream *s, int fd)
 {
@@ -55,7 +56,8 @@ lm_status lm_stream_flush(lm_stream *s)
         if (k < 0 && (errno == EAGAIN || errno == EWOULDBLOCK))
             return LM_OK;
         if (k <= 0)
-            return lm_fail(LM_E_IO, "the connection closed: %s", k < 0 ? strerror(errno) : "");
+            return lm_fail(LM_E_IO, "the connection closed%s%s", k < 0 ? ": " : "",
+                           k < 0 ? strerror(errno) : "");
         s->out_off += (size_t)k;
     }
     s->out_off = s->out_len = 0;
@@ -67,8 +69,11 @@ static lm_status frame_room(lm_stream *s, size_t n, uint8_t **at)
 {
     if (n == 0 || n > LM_WIRE_MAX_FRAME)
         return lm_fail(LM_E_RANGE, "a frame of %zu bytes (the limit is %u)", n, LM_WIRE_MAX_FRAME);
-    if (s->out_off > 0 && s->out_off == s->out_len)
-        s->out_off = s->out_len = 0;
+    if (s->out_off > 0 && s->out_off >= s->out_len / 2) { /* the unsent rest to the front */
+        memmove(s->out, s->out + s->out_off, s->out_len - s->out_off);
+        s->out_len -= s->out_off;
+        s->out_off = 0;
+    }
     lm_status st = reserve(&s->out, &s->out_cap, s->out_len + LM_STREAM_HEADER + n);
     if (st != LM_OK)
         return st;
@@ -130,6 +135,11 @@ static int frame_ready(const lm_stream *s)
 lm_status lm_stream_fill(lm_stream *s)
 {
     LM_ASSERT(!s->frame_out);
+    if (s->in_off == s->in_len && s->in_cap > STREAM_KEEP_BYTES) { /* after a large frame */
+        free(s->in);
+        s->in = NULL;
+        s->in_off = s->in_len = s->in_cap = 0;
+    }
     if (s->in_off > 0) { /* move the unread bytes to the front */
         memmove(s->in, s->in + s->in_off, s->in_len - s->in_off);
         s->in_len -= s->in_off;

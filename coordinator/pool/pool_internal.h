@@ -7,6 +7,7 @@
 #define LM_COORDINATOR_POOL_POOL_INTERNAL_H
 
 #include <pthread.h>
+#include <zmq.h>
 
 #include "coordinator/pool/pool.h"
 #include "coordinator/pool/spawn.h"
@@ -56,6 +57,7 @@ struct co_pool {
     uint64_t job_evals; /* for status queries: evaluations of the job so far (views backend) */
     co_link *links;     /* of the local workers */
     uint32_t n_links, cap_links, links_made;
+    zmq_pollitem_t *poll_items; /* [cap_links + 1]: the links, then the socket */
 };
 
 void co_pool_note(const co_pool *p, const char *fmt, ...) __attribute__((format(printf, 2, 3)));

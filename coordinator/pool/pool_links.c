@@ -30,9 +30,13 @@ static lm_status add_link(co_pool *p, co_link **out)
     if (p->n_links == p->cap_links) {
         uint32_t cap = p->cap_links ? 2 * p->cap_links : 8;
         co_link *l = realloc(p->links, cap * sizeof *l);
-        if (!l)
+        if (l)
+            p->links = l;
+        zmq_pollitem_t *it = realloc(p->poll_items, (cap + 1) * sizeof *it);
+        if (it)
+            p->poll_items = it;
+        if (!l || !it)
             return lm_fail(LM_E_NOMEM, "out of memory for workers' connections");
-        p->links = l;
         p->cap_links = cap;
     }
     *out = &p->links[p->n_links];
@@ -63,12 +67,13 @@ lm_status co_pool_spawn(co_pool *p, uint32_t n)
     char buf[4096];
     const char *program = co_spawn_find_worker(p->o.worker_path, buf);
     lm_status st = LM_OK;
-    for (uint32_t i = 0; i < n && st == LM_OK && p->o.socket_only; i++) {
-        co_spawn_args a = {p->endpoint, p->o.device, p->o.keys, -1, NULL};
+    for (uint32_t i = 0; i < n && st == LM_OK; i++) {
         pid_t pid;
-        st = co_spawn_worker(&p->spawned, program, &a, &pid);
-    }
-    for (uint32_t i = 0; i < n && st == LM_OK && !p->o.socket_only; i++) {
+        if (p->o.socket_only) {
+            co_spawn_args a = {p->endpoint, p->o.device, p->o.keys, -1, NULL};
+            st = co_spawn_worker(&p->spawned, program, &a, &pid);
+            continue;
+        }
         co_link *l = NULL;
         int fd[2] = {-1, -1};
         st = add_link(p, &l);
@@ -79,7 +84,6 @@ lm_status co_pool_spawn(co_pool *p, uint32_t n)
         l->rid_len =
             (size_t)snprintf(l->rid, sizeof l->rid, "local:%d:%u", (int)getpid(), ++p->links_made);
         co_spawn_args a = {p->endpoint, p->o.device, p->o.keys, fd[1], l->rid};
-        pid_t pid;
         st = co_spawn_worker(&p->spawned, program, &a, &pid);
         close(fd[1]);
         if (st == LM_OK)
@@ -109,7 +113,9 @@ void co_pool_links_close(co_pool *p)
     for (uint32_t i = 0; i < p->n_links; i++)
         lm_stream_close(&p->links[i].s);
     free(p->links);
+    free(p->poll_items);
     p->links = NULL;
+    p->poll_items = NULL;
     p->n_links = p->cap_links = 0;
 }
 
@@ -130,19 +136,23 @@ void co_pool_links_flush(co_pool *p, int timeout_ms)
 
 /* ---- sending --------------------------------------------------------------------------------- */
 
+/* A put on link l that failed for good ends it: it is dropped where it is polled (its frames
+ * before count), so the send itself succeeds. */
+static lm_status link_put_result(co_link *l, lm_status st)
+{
+    if (st != LM_E_IO)
+        return st;
+    l->ended = 1;
+    lm_clear_error();
+    return LM_OK;
+}
+
 lm_status co_pool_send_frame(co_pool *p, const uint8_t *id, size_t id_len, const void *data,
                              size_t size)
 {
     co_link *l = link_of(p, id, id_len);
-    if (l) { /* a link that fails is dropped where it is polled: its frames before count */
-        lm_status st = l->ended ? LM_OK : lm_stream_put(&l->s, data, size);
-        if (st == LM_E_IO) {
-            l->ended = 1;
-            lm_clear_error();
-            st = LM_OK;
-        }
-        return st;
-    }
+    if (l)
+        return l->ended ? LM_OK : link_put_result(l, lm_stream_put(&l->s, data, size));
     if (zmq_send(p->sock, id, id_len, ZMQ_SNDMORE | ZMQ_DONTWAIT) < 0 ||
         zmq_send(p->sock, data, size, ZMQ_DONTWAIT) < 0) {
         int e = errno;
@@ -157,13 +167,7 @@ lm_status co_pool_send_msg(co_pool *p, const uint8_t *id, size_t id_len, const l
     co_link *l = link_of(p, id, id_len);
     if (!l)
         return lm_wire_send(p->sock, id, id_len, m);
-    lm_status st = l->ended ? LM_OK : lm_stream_put_msg(&l->s, m);
-    if (st == LM_E_IO) { /* dropped where it is polled, as in co_pool_send_frame */
-        l->ended = 1;
-        lm_clear_error();
-        st = LM_OK;
-    }
-    return st;
+    return l->ended ? LM_OK : link_put_result(l, lm_stream_put_msg(&l->s, m));
 }
 
 /* ---- receiving ------------------------------------------------------------------------------- */
@@ -216,10 +220,7 @@ lm_status co_pool_recv(co_pool *p, int timeout_ms, lm_wire_frame *f)
     lm_status st = link_frame(p, f);
     if (st != LM_OK || f->data)
         return st;
-    zmq_pollitem_t stack[17], *items = stack;
-    if (p->n_links + 1 > sizeof stack / sizeof *stack &&
-        !(items = malloc((p->n_links + 1) * sizeof *items)))
-        return lm_fail(LM_E_NOMEM, "out of memory waiting for workers");
+    zmq_pollitem_t one, *items = p->poll_items ? p->poll_items : &one; /* links + the socket */
     for (uint32_t i = 0; i < p->n_links; i++) {
         short out = lm_stream_pending(&p->links[i].s) ? ZMQ_POLLOUT : 0;
         items[i] = (zmq_pollitem_t){.fd = p->links[i].s.fd, .events = (short)(ZMQ_POLLIN | out)};
@@ -229,8 +230,6 @@ lm_status co_pool_recv(co_pool *p, int timeout_ms, lm_wire_frame *f)
     int sock_ready = rc > 0 && (items[p->n_links].revents & ZMQ_POLLIN);
     if (rc > 0)
         serve_links(p, items);
-    if (items != stack)
-        free(items);
     if (rc < 0)
         return errno == EINTR ? LM_OK : lm_fail(LM_E_IO, "waiting: %s", zmq_strerror(errno));
     st = link_frame(p, f);
