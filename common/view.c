@@ -5,6 +5,7 @@
 #include "common/view.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <string.h>
 
 #define LM_VIEW_DISTANCE 3.0  /* eye distance from the centre, in bounding-sphere radii */
@@ -164,6 +165,39 @@ static lm_status check_args(int size, const float centre[3], float radius)
         if (!isfinite(centre[i]))
             return lm_fail(LM_E_RANGE, "bounding-sphere centre is not finite");
     return LM_OK;
+}
+
+int lm_view_deal_fits(lm_view_deal d, uint32_t n)
+{
+    uint64_t stride = d.stride ? d.stride : 1;
+    return d.count >= 1 && d.first < n && d.first + (uint64_t)(d.count - 1) * stride < n;
+}
+
+uint32_t lm_view_deal_view(lm_view_deal d, uint32_t i)
+{
+    return d.first + i * (d.stride ? d.stride : 1);
+}
+
+int lm_view_deal_place(lm_view_deal d, uint32_t h, uint32_t *i)
+{
+    uint32_t stride = d.stride ? d.stride : 1;
+    if (h < d.first || (h - d.first) % stride || (h - d.first) / stride >= d.count)
+        return 0;
+    *i = (h - d.first) / stride;
+    return 1;
+}
+
+void lm_view_deal_text(lm_view_deal d, char *buf, size_t cap)
+{
+    uint32_t last = d.count ? lm_view_deal_view(d, d.count - 1) : 0;
+    if (!d.count)
+        snprintf(buf, cap, "-");
+    else if (d.count == 1)
+        snprintf(buf, cap, "%u", d.first);
+    else if (d.stride <= 1)
+        snprintf(buf, cap, "%u-%u", d.first, last);
+    else
+        snprintf(buf, cap, "%u,%u..%u", d.first, d.first + d.stride, last);
 }
 
 lm_status lm_view_set_make(lm_view_set *out, uint32_t n, int size, const float centre[3],

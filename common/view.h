@@ -7,6 +7,7 @@
 #ifndef LM_COMMON_VIEW_H
 #define LM_COMMON_VIEW_H
 
+#include <stddef.h>
 #include <stdint.h>
 
 #include "common/error.h"
@@ -31,6 +32,23 @@ typedef struct lm_view_set {
     uint32_t count;
     lm_view views[LM_MAX_VIEWS];
 } lm_view_set;
+
+/* Views first, first + stride, ... (count of them) of a set: the share one worker serves.
+ * Neighbours in a set's order look from one side of the model, so a contiguous share (stride 1)
+ * gets all or nothing of a patch there; dealt with a stride, every share sees all sides and a
+ * patch's work splits evenly. A stride of 0 counts as 1. */
+typedef struct lm_view_deal {
+    uint32_t first, count, stride;
+} lm_view_deal;
+
+/* Whether d names 1 or more views, all among a set of n. */
+int lm_view_deal_fits(lm_view_deal d, uint32_t n);
+/* The set's index of d's i-th view. */
+uint32_t lm_view_deal_view(lm_view_deal d, uint32_t i);
+/* Whether view h is one of d's; if so, *i is its place among them. */
+int lm_view_deal_place(lm_view_deal d, uint32_t h, uint32_t *i);
+/* d for people: "4-9" (stride 1), "1,3..29" (dealt), "5" (one view), "-" (none). */
+void lm_view_deal_text(lm_view_deal d, char *buf, size_t cap);
 
 /* n in 1..LM_MAX_VIEWS, size in 16..LM_MAX_VIEW_SIZE, radius > 0 and finite. */
 lm_status lm_view_set_make(lm_view_set *out, uint32_t n, int size, const float centre[3],

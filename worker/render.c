@@ -50,11 +50,11 @@ struct wk_renderer {
 };
 
 /* Tiles in a grid close to square for all `total` views of the job; pages when the grid exceeds
- * the framebuffer size limit. This object's views are views first..first+count-1 of the job and
- * sit in exactly the tiles they have in the job's layout: a view's pixels depend on where its tile
- * lies (the viewport offset enters the rasteriser's arithmetic), so every split of the views
- * renders every view alike. Pages are cut to the tiles used. */
-static lm_status layout_tiles(wk_renderer *r, uint32_t first, uint32_t total)
+ * the framebuffer size limit. This object's views are the job's views of `deal` and sit in
+ * exactly the tiles they have in the job's layout: a view's pixels depend on where its tile lies
+ * (the viewport offset enters the rasteriser's arithmetic), so every split of the views renders
+ * every view alike. Pages are cut to the tiles used. */
+static lm_status layout_tiles(wk_renderer *r, lm_view_deal deal, uint32_t total)
 {
     GLint max_rb = 0, max_vp[2] = {0, 0};
     glGetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &max_rb);
@@ -74,11 +74,11 @@ static lm_status layout_tiles(wk_renderer *r, uint32_t first, uint32_t total)
     if (rows > rows_per_page)
         rows = rows_per_page;
     uint32_t per_page = cols * rows, n = r->views.count;
-    uint32_t page0 = first / per_page;
+    uint32_t page0 = deal.first / per_page;
     r->page_w = (int)cols * r->width;
     r->page_h = 0;
     for (uint32_t i = 0; i < n; i++) {
-        uint32_t g = first + i, k = g % per_page;
+        uint32_t g = lm_view_deal_view(deal, i), k = g % per_page;
         r->tiles[i] = (wk_tile){(int)(g / per_page - page0), (int)(k % cols) * r->width,
                                 (int)(k / cols) * r->height};
         if (r->tiles[i].y + r->height > r->page_h)
@@ -159,13 +159,13 @@ static void setup_state(wk_renderer *r)
     r->read_buffer = GL_COLOR_ATTACHMENT0;
 }
 
-lm_status wk_renderer_create(const lm_view_set *views, uint32_t first, uint32_t total,
+lm_status wk_renderer_create(const lm_view_set *views, lm_view_deal deal, uint32_t total,
                              wk_renderer **out)
 {
     if (views->count < 1 || views->count > LM_MAX_VIEWS || total > LM_MAX_VIEWS ||
-        first > total - views->count)
-        return lm_fail(LM_E_RANGE, "views %u..%u of %u are out of range", first,
-                       first + views->count, total);
+        deal.count != views->count || !lm_view_deal_fits(deal, total))
+        return lm_fail(LM_E_RANGE, "views %u, %u views apart, %u of them, of %u are out of range",
+                       deal.first, deal.stride, views->count, total);
     wk_renderer *r = calloc(1, sizeof *r);
     if (!r)
         return lm_fail(LM_E_NOMEM, "out of memory creating the renderer");
@@ -177,7 +177,7 @@ lm_status wk_renderer_create(const lm_view_set *views, uint32_t first, uint32_t 
             free(r);
             return lm_fail(LM_E_INVALID, "views of one set must share one size");
         }
-    lm_status st = layout_tiles(r, first, total);
+    lm_status st = layout_tiles(r, deal, total);
     if (st == LM_OK)
         st = wk_render_programs_create(&r->progs, WK_BACKGROUND);
     if (st == LM_OK)

@@ -34,10 +34,11 @@
 
 typedef struct wk_renderer wk_renderer;
 
-/* The renderer of `views`, which are views first..first+views->count-1 of a job of `total` views:
- * each is drawn in the tile it has in the job's atlas layout (see layout_tiles in render.c), so
- * its pixels do not depend on how the job's views are split. */
-lm_status wk_renderer_create(const lm_view_set *views, uint32_t first, uint32_t total,
+/* The renderer of `views`, which are the job's views deal.first, deal.first + deal.stride, ...
+ * (deal.count = views->count) of a job of `total` views: each is drawn in the tile it has in the
+ * job's atlas layout (see layout_tiles in render.c), so its pixels do not depend on how the
+ * job's views are shared out. */
+lm_status wk_renderer_create(const lm_view_set *views, lm_view_deal deal, uint32_t total,
                              wk_renderer **out);
 void wk_renderer_destroy(wk_renderer *r);
 

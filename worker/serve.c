@@ -5,6 +5,7 @@
 
 #include <errno.h>
 #include <poll.h>
+#include <sched.h>
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -61,6 +62,7 @@ static lm_status link_send(wk_server *s, const lm_msg *m)
     lm_status st = lm_stream_put_msg(&s->link, m);
     if (st == LM_OK)
         st = link_drain(s);
+    s->spin_until = s->o.spin_s > 0 ? wk_serve_now() + s->o.spin_s : 0;
     if (st == LM_E_IO)
         s->link_closed = 1;
     return st;
@@ -75,14 +77,24 @@ lm_status wk_serve_send(wk_server *s, uint64_t req, Lumesh__Msg__BodyCase c, voi
     return st;
 }
 
+/* Whether the link has something to read within timeout_ms: looked for without sleeping until
+ * spin_until (sched_yield lets anything else runnable here go first), then slept on. */
+static int link_wait(wk_server *s, int timeout_ms)
+{
+    struct pollfd pf = {.fd = s->link.fd, .events = POLLIN};
+    int rc;
+    while ((rc = poll(&pf, 1, 0)) == 0 && timeout_ms != 0 && wk_serve_now() < s->spin_until)
+        sched_yield();
+    return rc == 0 && timeout_ms != 0 ? poll(&pf, 1, timeout_ms) : rc;
+}
+
 /* A frame from the link within timeout_ms (as lm_wire_recv); at its end, link_closed. */
 static lm_status link_recv(wk_server *s, int timeout_ms, lm_wire_frame *f)
 {
     lm_status st = lm_stream_next(&s->link, f);
     if (st != LM_OK || f->data)
         return st;
-    struct pollfd pf = {.fd = s->link.fd, .events = POLLIN};
-    int rc = poll(&pf, 1, timeout_ms);
+    int rc = link_wait(s, timeout_ms);
     if (rc < 0)
         return errno == EINTR ? LM_OK : lm_fail(LM_E_IO, "waiting: %s", strerror(errno));
     if (rc == 0)

@@ -33,7 +33,15 @@ typedef struct wk_serve_options {
                              endpoint; the worker ends when it closes. -1 (or 0 with no link_id):
                              everything over endpoint */
     const char *link_id;  /* the routing id the coordinator gave the link (with link_fd) */
+    double spin_s;        /* with link_fd: after each reply, look for the next request this long
+                             (yielding the processor to anyone else who wants it) before sleeping;
+                             0 = sleep at once. The coordinator's next request usually comes
+                             sooner, and a processor woken from sleep can cost more than that
+                             (tens of µs on a virtual machine). */
 } wk_serve_options;
+
+/* The most --spin-us takes. */
+#define WK_SERVE_MAX_SPIN_US 10000
 
 /* Ask the worker whose health endpoint is `endpoint` how it stands: its answer (one JSON
  * object) into buf; LM_E_IO when it does not answer within timeout_s. *ready = 1 when it is

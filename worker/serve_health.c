@@ -35,14 +35,16 @@ void wk_health_answer(wk_server *s)
     char req[64], out[1024];
     if (zmq_recv(s->health, req, sizeof req, ZMQ_DONTWAIT) < 0)
         return;
-    int n = snprintf(
-        out, sizeof out,
-        "{\"state\": \"%s\", \"welcomed\": %s, \"coordinator\": \"%s\", \"job\": %llu, "
-        "\"views\": [%u, %u], \"seq\": %llu, \"device\": \"%s\", \"renderer\": \"%s\", "
-        "\"renderer_id\": \"%s\", \"assets\": %u, \"pid\": %d}",
-        state_of(s), s->welcomed ? "true" : "false", s->o.endpoint, (unsigned long long)s->job,
-        s->v ? s->first : 0, s->v ? s->count : 0, (unsigned long long)s->seq, s->o.device,
-        s->renderer, s->renderer_id, s->cache.n, (int)getpid());
+    int n =
+        snprintf(out, sizeof out,
+                 "{\"state\": \"%s\", \"welcomed\": %s, \"coordinator\": \"%s\", \"job\": %llu, "
+                 "\"views\": [%u, %u], \"views_stride\": %u, \"seq\": %llu, \"device\": \"%s\", "
+                 "\"renderer\": \"%s\", "
+                 "\"renderer_id\": \"%s\", \"assets\": %u, \"pid\": %d}",
+                 state_of(s), s->welcomed ? "true" : "false", s->o.endpoint,
+                 (unsigned long long)s->job, s->v ? s->deal.first : 0, s->v ? s->deal.count : 0,
+                 s->v ? s->deal.stride : 1, (unsigned long long)s->seq, s->o.device, s->renderer,
+                 s->renderer_id, s->cache.n, (int)getpid());
     zmq_send(s->health, out, n > 0 && (size_t)n < sizeof out ? (size_t)n : 0, 0);
 }
 

@@ -31,7 +31,8 @@ typedef struct wk_server {
     void *zctx, *sock; /* sock: the DEALER socket (NULL with a link) */
     lm_stream link;    /* with o.link_id: the socketpair to the coordinator that started us */
     int linked, link_closed;
-    void *health; /* REP socket answering health queries (NULL = none) */
+    double spin_until; /* look for requests without sleeping until then (o.spin_s) */
+    void *health;      /* REP socket answering health queries (NULL = none) */
     wk_beat *beat;
     char id[320]; /* routing id */
     char host[256], renderer[128], renderer_id[WK_RENDERER_ID_CHARS + 1];
@@ -48,8 +49,8 @@ typedef struct wk_server {
     uint64_t job;
     lm_mesh *original;
     lm_view_set *views; /* the job's whole view set */
-    uint32_t first, count;
-    lm_views *v; /* the assigned views (NULL until Assign) */
+    lm_view_deal deal;  /* the views assigned */
+    lm_views *v;        /* the assigned views (NULL until Assign) */
     uint32_t n_materials;
     uint64_t seq; /* of the replica (the coordinator's count of changes) */
     int stale;    /* a change failed or was missed: no request is answered until the state is

@@ -93,19 +93,21 @@ lm_status wk_serve_assign(wk_server *s, const lm_msg *m)
     if (!s->original || a->job != s->job)
         st = lm_fail(LM_E_INVALID, "views of job %llu assigned, but the job is %llu",
                      (unsigned long long)a->job, (unsigned long long)s->job);
-    else if (a->count < 1 || a->first >= s->views->count || a->count > s->views->count - a->first)
-        st = lm_fail(LM_E_RANGE, "views %u+%u of %u assigned", a->first, a->count, s->views->count);
+    lm_view_deal deal = {a->first, a->count, a->stride ? a->stride : 1};
+    if (st == LM_OK && !lm_view_deal_fits(deal, s->views->count))
+        st = lm_fail(LM_E_RANGE, "%u views from view %u, %u apart, assigned of %u", a->count,
+                     a->first, deal.stride, s->views->count);
     if (st == LM_OK)
-        st = wk_views_local_create(s->original, s->views, a->first, a->count, s->o.device, &s->v);
+        st = wk_views_local_create_dealt(s->original, s->views, deal, s->o.device, &s->v);
     if (st != LM_OK)
         return wk_serve_fail(s, m->req, st, lm_last_error());
-    s->first = a->first;
-    s->count = a->count;
+    s->deal = deal;
     s->n_materials = s->original->n_materials;
     Lumesh__Assigned r = LUMESH__ASSIGNED__INIT;
     r.job = s->job;
-    r.first = s->first;
-    r.count = s->count;
+    r.first = deal.first;
+    r.count = deal.count;
+    r.stride = deal.stride;
     return wk_serve_send(s, m->req, LUMESH__MSG__BODY_ASSIGNED, &r);
 }
 
@@ -258,7 +260,7 @@ static lm_status energy(wk_server *s, const lm_msg *m)
     if (st != LM_OK)
         return wk_serve_fail(s, m->req, st, lm_last_error());
     Lumesh__EnergyResult r = LUMESH__ENERGY_RESULT__INIT;
-    r.n_per_view = s->count;
+    r.n_per_view = s->deal.count;
     r.per_view = per;
     return wk_serve_send(s, m->req, LUMESH__MSG__BODY_ENERGY_RESULT, &r);
 }
@@ -292,15 +294,16 @@ static lm_status read_image(wk_server *s, const lm_msg *m)
     lm_views_info info;
     s->v->ops->info(s->v, &info);
     lm_status st = LM_OK;
-    if (q->kind > LM_IMAGE_COVERAGE || q->view < s->first || q->view - s->first >= s->count)
-        st = lm_fail(LM_E_RANGE, "image %u of view %u asked of views %u+%u", q->kind, q->view,
-                     s->first, s->count);
+    uint32_t place = 0;
+    if (q->kind > LM_IMAGE_COVERAGE || !lm_view_deal_place(s->deal, q->view, &place))
+        st = lm_fail(LM_E_RANGE, "image %u of view %u asked of %u views from view %u, %u apart",
+                     q->kind, q->view, s->deal.count, s->deal.first, s->deal.stride);
     size_t bytes = (size_t)info.width * info.height * lm_image_kind_bpp((lm_image_kind)q->kind);
     uint8_t *px = st == LM_OK ? malloc(bytes) : NULL;
     if (st == LM_OK && !px)
         st = lm_fail(LM_E_NOMEM, "out of memory for an image");
     if (st == LM_OK)
-        st = s->v->ops->read_image(s->v, (lm_image_kind)q->kind, q->view - s->first, px);
+        st = s->v->ops->read_image(s->v, (lm_image_kind)q->kind, place, px);
     if (st == LM_OK) {
         Lumesh__Image r = LUMESH__IMAGE__INIT;
         r.pixels = (ProtobufCBinaryData){bytes, px};

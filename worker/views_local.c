@@ -324,13 +324,13 @@ static const lm_views_ops vl_ops = {
 
 /* ---- creation ---------------------------------------------------------------------------- */
 
-static lm_status check_views(const lm_view_set *views, uint32_t first, uint32_t count)
+static lm_status check_views(const lm_view_set *views, lm_view_deal deal)
 {
     if (views->count < 1 || views->count > LM_MAX_VIEWS)
         return lm_fail(LM_E_RANGE, "view count %u is outside 1..%d", views->count, LM_MAX_VIEWS);
-    if (first >= views->count || count < 1 || count > views->count - first)
-        return lm_fail(LM_E_RANGE, "views %u..%u are not among the %u views", first,
-                       first + count - 1, views->count);
+    if (!lm_view_deal_fits(deal, views->count))
+        return lm_fail(LM_E_RANGE, "%u views from view %u, %u apart, are not among the %u views",
+                       deal.count, deal.first, deal.stride ? deal.stride : 1, views->count);
     for (uint32_t h = 0; h < views->count; h++)
         if (views->views[h].width != views->views[0].width ||
             views->views[h].height != views->views[0].height)
@@ -338,12 +338,12 @@ static lm_status check_views(const lm_view_set *views, uint32_t first, uint32_t 
     return LM_OK;
 }
 
-static lm_status create_parts(wk_views_local *v, const lm_mesh *original, uint32_t first,
+static lm_status create_parts(wk_views_local *v, const lm_mesh *original, lm_view_deal deal,
                               uint32_t total)
 {
     lm_status st = wk_vl_make_current(v);
     if (st == LM_OK)
-        st = wk_renderer_create(&v->views, first, total, &v->r);
+        st = wk_renderer_create(&v->views, deal, total, &v->r);
     if (st == LM_OK)
         st = wk_renderer_set_materials(v->r, 0, original->materials, original->n_materials);
     if (st == LM_OK)
@@ -357,12 +357,43 @@ static lm_status create_parts(wk_views_local *v, const lm_mesh *original, uint32
     return st;
 }
 
+/* The views of `deal`, in their order. */
+static void deal_views(const lm_view_set *views, lm_view_deal deal, lm_view_set *out)
+{
+    out->count = deal.count;
+    for (uint32_t i = 0; i < deal.count; i++)
+        out->views[i] = views->views[lm_view_deal_view(deal, i)];
+}
+
+/* The CPU backend of the views of `deal` (it has no atlas: a view's pixels never depend on which
+ * others a backend holds). */
+static lm_status create_cpu(const lm_mesh *original, const lm_view_set *views, lm_view_deal deal,
+                            lm_views **out)
+{
+    if (deal.stride <= 1)
+        return wk_cpu_views_create(original, views, deal.first, deal.count, out);
+    lm_view_set *mine = malloc(sizeof *mine);
+    if (!mine)
+        return lm_fail(LM_E_NOMEM, "out of memory creating the views");
+    deal_views(views, deal, mine);
+    lm_status st = wk_cpu_views_create(original, mine, 0, deal.count, out);
+    free(mine);
+    return st;
+}
+
 lm_status wk_views_local_create(const lm_mesh *original, const lm_view_set *views, uint32_t first,
                                 uint32_t count, const char *device_spec, lm_views **out)
 {
     if (!count && first < views->count)
         count = views->count - first;
-    lm_status st = check_views(views, first, count);
+    return wk_views_local_create_dealt(original, views, (lm_view_deal){first, count, 1},
+                                       device_spec, out);
+}
+
+lm_status wk_views_local_create_dealt(const lm_mesh *original, const lm_view_set *views,
+                                      lm_view_deal deal, const char *device_spec, lm_views **out)
+{
+    lm_status st = check_views(views, deal);
     if (st != LM_OK)
         return st;
     for (uint32_t t = 0; t < original->n_tris; t++)
@@ -373,7 +404,7 @@ lm_status wk_views_local_create(const lm_mesh *original, const lm_view_set *view
     if ((st = wk_device_open(device_spec, &ctx)) != LM_OK)
         return st;
     if (!ctx) /* "cpu", or "auto" without a GPU */
-        return wk_cpu_views_create(original, views, first, count, out);
+        return create_cpu(original, views, deal, out);
     wk_views_local *v = calloc(1, sizeof *v);
     if (!v) {
         wk_gl_context_destroy(ctx);
@@ -381,12 +412,11 @@ lm_status wk_views_local_create(const lm_mesh *original, const lm_view_set *view
     }
     v->base.ops = &vl_ops;
     v->ctx = ctx;
-    v->views.count = count;
-    memcpy(v->views.views, views->views + first, (size_t)count * sizeof *v->views.views);
+    deal_views(views, deal, &v->views);
     v->width = views->views[0].width;
     v->height = views->views[0].height;
     wk_replica_init(&v->rep);
-    st = create_parts(v, original, first, views->count);
+    st = create_parts(v, original, deal, views->count);
     if (st == LM_OK) {
         tri_source src = {.mesh = original};
         st = render_full(v, 0, &src, 1);

@@ -19,6 +19,9 @@
  * through co_views_create (coordinator/views/views.h); the worker process calls this directly. */
 lm_status wk_views_local_create(const lm_mesh *original, const lm_view_set *views, uint32_t first,
                                 uint32_t count, const char *device_spec, lm_views **out);
+/* The same for the views of `deal` (view.h), e.g. every G-th: what a worker serves. */
+lm_status wk_views_local_create_dealt(const lm_mesh *original, const lm_view_set *views,
+                                      lm_view_deal deal, const char *device_spec, lm_views **out);
 
 /* 1 if views was made by wk_views_local_create, on any device (the two calls below need such an
  * object). */

@@ -29,6 +29,7 @@ typedef struct worker_args {
     int link_fd;               /* messages over this descriptor (-1: over --connect) */
     const char *link_id;       /* the routing id the coordinator knows the link by */
     int ready;                 /* with health: exit 0 only when it is welcomed by a coordinator */
+    long spin_us;              /* with link_fd: wait awake this long for the next request */
     int help;
 } worker_args;
 
@@ -58,6 +59,10 @@ static void usage(FILE *f)
           "  --link-fd N --link-id ID  (given by a coordinator that starts its own workers)\n"
           "                   exchange messages over descriptor N, a socketpair, as ID; only\n"
           "                   heartbeats go to --connect\n"
+          "  --spin-us N      with --link-fd: after each reply, look for the next request for up\n"
+          "                   to N µs (yielding the processor to anything else that wants it)\n"
+          "                   before sleeping; a wake-up can cost more than that (default 0;\n"
+          "                   a coordinator gives its workers 150 when they fit on its cores)\n"
           "  --device SPEC    rendering device: auto (first working GPU, else cpu), cpu\n"
           "                   (lumesh's exact CPU rasteriser), host (Mesa llvmpipe), egl:N\n"
           "                   (device N as listed by `lumesh devices`); default auto\n"
@@ -71,18 +76,25 @@ static void usage(FILE *f)
 
 static lm_status parse_args(int argc, char **argv, worker_args *a)
 {
-    static const struct option opts[] = {
-        {"connect", required_argument, NULL, 'c'}, {"device", required_argument, NULL, 'd'},
-        {"self-test", no_argument, NULL, 's'},     {"verbose", no_argument, NULL, 'v'},
-        {"once", no_argument, NULL, 'o'},          {"parent", required_argument, NULL, 'p'},
-        {"keys", required_argument, NULL, 'k'},    {"health-socket", required_argument, NULL, 'H'},
-        {"health", required_argument, NULL, 'q'},  {"ready", no_argument, NULL, 'r'},
-        {"link-fd", required_argument, NULL, 'L'}, {"link-id", required_argument, NULL, 'I'},
-        {"help", no_argument, NULL, 'h'},          {NULL, 0, NULL, 0}};
+    static const struct option opts[] = {{"connect", required_argument, NULL, 'c'},
+                                         {"device", required_argument, NULL, 'd'},
+                                         {"self-test", no_argument, NULL, 's'},
+                                         {"verbose", no_argument, NULL, 'v'},
+                                         {"once", no_argument, NULL, 'o'},
+                                         {"parent", required_argument, NULL, 'p'},
+                                         {"keys", required_argument, NULL, 'k'},
+                                         {"health-socket", required_argument, NULL, 'H'},
+                                         {"health", required_argument, NULL, 'q'},
+                                         {"ready", no_argument, NULL, 'r'},
+                                         {"link-fd", required_argument, NULL, 'L'},
+                                         {"link-id", required_argument, NULL, 'I'},
+                                         {"spin-us", required_argument, NULL, 'S'},
+                                         {"help", no_argument, NULL, 'h'},
+                                         {NULL, 0, NULL, 0}};
     int c;
     opterr = 0;
     optind = 1;
-    while ((c = getopt_long(argc, argv, ":c:d:svohp:k:H:q:rL:I:", opts, NULL)) != -1) {
+    while ((c = getopt_long(argc, argv, ":c:d:svohp:k:H:q:rL:I:S:", opts, NULL)) != -1) {
         switch (c) {
         case 'c':
             a->connect = optarg;
@@ -119,6 +131,14 @@ static lm_status parse_args(int argc, char **argv, worker_args *a)
         case 'I':
             a->link_id = optarg;
             break;
+        case 'S': {
+            char *end;
+            a->spin_us = strtol(optarg, &end, 10);
+            if (!*optarg || *end || a->spin_us < 0 || a->spin_us > WK_SERVE_MAX_SPIN_US)
+                return lm_fail(LM_E_INVALID, "--spin-us expects 0 to %d, got '%s'",
+                               WK_SERVE_MAX_SPIN_US, optarg);
+            break;
+        }
         case 'p': {
             char *end;
             a->parent = strtol(optarg, &end, 10);
@@ -224,7 +244,8 @@ int main(int argc, char **argv)
                               .keys = a.keys,
                               .health = a.health_socket,
                               .link_fd = a.link_fd,
-                              .link_id = a.link_id};
+                              .link_id = a.link_id,
+                              .spin_s = 1e-6 * (double)a.spin_us};
         st = wk_serve(&o);
         if (st != LM_OK) {
             fprintf(stderr, "lumesh-worker: %s\n", lm_last_error());

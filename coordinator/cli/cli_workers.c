@@ -3,6 +3,7 @@
 #include <getopt.h>
 #include <stdio.h>
 
+#include "common/view.h"
 #include "coordinator/cli/cli_args.h"
 #include "coordinator/job/progress.h"
 #include "coordinator/pool/status.h"
@@ -32,10 +33,11 @@ static void print_json(const Lumesh__StatusResult *r)
         co_json_string(stdout, w->host);
         printf(", \"pid\": %u, \"device\": ", w->pid);
         co_json_string(stdout, w->device);
-        printf(", \"views\": [%u, %u], \"evals\": %llu, \"busy_s\": %.3f, \"joined_s\": %.1f, "
-               "\"last_heard_s\": %.2f, \"lost\": %s, \"in_job\": %s}",
-               w->first, w->count, (unsigned long long)w->evals, w->busy_s, w->joined_s,
-               w->last_heard_s, w->lost ? "true" : "false", w->in_job ? "true" : "false");
+        printf(", \"views\": [%u, %u], \"views_stride\": %u, \"evals\": %llu, \"busy_s\": %.3f, "
+               "\"joined_s\": %.1f, \"last_heard_s\": %.2f, \"lost\": %s, \"in_job\": %s}",
+               w->first, w->count, w->stride ? w->stride : 1, (unsigned long long)w->evals,
+               w->busy_s, w->joined_s, w->last_heard_s, w->lost ? "true" : "false",
+               w->in_job ? "true" : "false");
     }
     printf("]}\n");
 }
@@ -48,12 +50,11 @@ static void print_table(const Lumesh__StatusResult *r)
            "EVALS", "BUSY", "HEARD", "STATE");
     for (size_t i = 0; i < r->n_workers; i++) {
         const Lumesh__WorkerStatus *w = r->workers[i];
-        char views[32];
-        snprintf(views, sizeof views, "%u-%u", w->first, w->first + w->count - (w->count > 0));
+        char views[48];
+        lm_view_deal_text((lm_view_deal){w->first, w->count, w->stride}, views, sizeof views);
         double busy = w->joined_s > 0 ? 100.0 * w->busy_s / w->joined_s : 0.0;
         printf("  %3u  %-20.20s %7u  %-8.8s %-9s %9llu %5.0f%% %6.1fs  %s\n", w->id, w->host,
-               w->pid, w->device, w->count ? views : "-", (unsigned long long)w->evals, busy,
-               w->last_heard_s,
+               w->pid, w->device, views, (unsigned long long)w->evals, busy, w->last_heard_s,
                w->lost     ? "lost"
                : w->in_job ? "serving"
                            : "idle");

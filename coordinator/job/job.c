@@ -431,6 +431,7 @@ static void report_workers(co_job *j)
                                 .pid = w->pid,
                                 .first = w->first,
                                 .count = w->count,
+                                .stride = w->stride,
                                 .evals = w->evals,
                                 .evals_per_s = (double)w->evals / age,
                                 .busy = w->busy_s / age,

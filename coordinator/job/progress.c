@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include "common/log.h"
+#include "common/view.h"
 
 static const double co_report_period[] = {
     [CO_REPORT_QUIET] = 1e30,
@@ -124,10 +125,11 @@ static void json_workers(FILE *fp, const co_reporter *r)
         fprintf(fp, ",\"pid\":%" PRIu32 ",\"device\":", w->pid);
         co_json_string(fp, w->device);
         fprintf(fp,
-                ",\"views\":[%" PRIu32 ",%" PRIu32 "],\"evals\":%" PRIu64
+                ",\"views\":[%" PRIu32 ",%" PRIu32 "],\"views_stride\":%" PRIu32
+                ",\"evals\":%" PRIu64
                 ",\"evals_per_s\":%.1f,\"busy\":%.3f,\"last_heard_s\":%.2f,\"lost\":%s}",
-                w->first, w->count, w->evals, w->evals_per_s, w->busy, w->heard_s,
-                w->lost ? "true" : "false");
+                w->first, w->count, w->stride ? w->stride : 1, w->evals, w->evals_per_s, w->busy,
+                w->heard_s, w->lost ? "true" : "false");
     }
     fputc(']', fp);
 }
@@ -307,11 +309,12 @@ static void human_workers(FILE *fp, const co_reporter *r)
 {
     for (uint32_t i = 0; i < r->n_workers; i++) {
         const co_worker_report *w = &r->workers[i];
+        char views[48];
+        lm_view_deal_text((lm_view_deal){w->first, w->count, w->stride}, views, sizeof views);
         fprintf(fp,
-                "worker %" PRIu32 ": %s pid %" PRIu32 ", views %" PRIu32 "-%" PRIu32 ", %" PRIu64
+                "worker %" PRIu32 ": %s pid %" PRIu32 ", views %s, %" PRIu64
                 " evaluations, %.0f%% busy%s\n",
-                w->id, w->host, w->pid, w->first, w->first + w->count - (w->count > 0), w->evals,
-                100.0 * w->busy, w->lost ? " (lost)" : "");
+                w->id, w->host, w->pid, views, w->evals, 100.0 * w->busy, w->lost ? " (lost)" : "");
     }
 }
 

@@ -21,11 +21,11 @@ typedef enum co_report_style {
 typedef struct co_worker_report {
     uint32_t id, pid;
     char host[64], device[32];
-    uint32_t first, count; /* its views */
-    uint64_t evals;        /* patches it evaluated for the job */
-    double evals_per_s;    /* since it joined */
-    double busy;           /* fraction of that time spent evaluating */
-    double heard_s;        /* seconds since it was last heard */
+    uint32_t first, count, stride; /* its views (an lm_view_deal) */
+    uint64_t evals;                /* patches it evaluated for the job */
+    double evals_per_s;            /* since it joined */
+    double busy;                   /* fraction of that time spent evaluating */
+    double heard_s;                /* seconds since it was last heard */
     int lost;
 } co_worker_report;
 

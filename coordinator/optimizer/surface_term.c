@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "common/bvh.h"
+#include "coordinator/optimizer/distance_memo.h"
 
 typedef struct tri_entry {
     float p[3][3];
@@ -20,6 +21,7 @@ typedef struct surface_views {
     lm_views base;
     lm_views *inner;
     lm_bvh *bvh;
+    co_distance_memo *memo;    /* filled through const pointers too: it never changes a result */
     double k;                  /* e(t) = round(k · area · mean d²) */
     double n_views, px, px256; /* k = weight · views · px² · px256² */
     tri_entry *tri;
@@ -67,7 +69,7 @@ static void tri_parts(const surface_views *s, const float pf[3][3], double *area
         q[3][i] = (p[0][i] + p[1][i] + p[2][i]) / 3.0;
     }
     for (int j = 0; j < 4; j++)
-        sum += lm_bvh_closest_sq(s->bvh, q[j]);
+        sum += co_distance_memo_sq(s->memo, q[j]);
     *area = tri_area(p);
     *mean = sum / 4.0;
 }
@@ -263,6 +265,7 @@ static void sv_info(lm_views *base, lm_views_info *out)
 static void sv_destroy(lm_views *base)
 {
     surface_views *s = as_sv(base);
+    co_distance_memo_destroy(s->memo);
     lm_bvh_destroy(s->bvh);
     free(s->tri);
     free(s->scratch);
@@ -293,7 +296,10 @@ lm_status co_surface_views_create(lm_views *inner, const lm_mesh *surface, doubl
     s->base.ops = &surface_ops;
     s->inner = inner;
     lm_status st = lm_bvh_create(surface, &s->bvh);
+    if (st == LM_OK)
+        st = co_distance_memo_create(s->bvh, CO_SURFACE_MEMO_LOG2, &s->memo);
     if (st != LM_OK) {
+        lm_bvh_destroy(s->bvh);
         free(s);
         return st;
     }

@@ -23,6 +23,10 @@
 #include "common/mesh.h"
 #include "common/views_api.h"
 
+/* Distances remembered by point (distance_memo.h): 2^14 slots, 512 KiB. On the bunny at 378
+ * vertices about half of an evaluation's queries are answered from it. */
+#define CO_SURFACE_MEMO_LOG2 14u
+
 /* Views over `inner` (borrowed, must outlive them) with the geometric term against `surface`
  * (borrowed likewise; its live triangles, at least one) of weight `weight` (> 0). */
 lm_status co_surface_views_create(lm_views *inner, const lm_mesh *surface, double weight,

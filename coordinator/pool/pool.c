@@ -102,6 +102,10 @@ static lm_status bind_socket(co_pool *p)
     /* a tcp port of 0 or "*": the one the system chose */
     size_t len = sizeof p->endpoint;
     zmq_getsockopt(p->sock, ZMQ_LAST_ENDPOINT, p->endpoint, &len);
+    len = sizeof p->sock_fd;
+    if (zmq_getsockopt(p->sock, ZMQ_FD, &p->sock_fd, &len) != 0)
+        return lm_fail(LM_E_INTERNAL, "the socket's descriptor: %s", zmq_strerror(zmq_errno()));
+    p->sock_unsure = 1;
     return LM_OK;
 }
 
@@ -112,6 +116,10 @@ lm_status co_pool_create(const co_pool_options *o, co_pool **out)
     if (!p)
         return lm_fail(LM_E_NOMEM, "out of memory creating the worker pool");
     p->o = *o;
+    if (p->o.spin_us == 0) {
+        long cpus = sysconf(_SC_NPROCESSORS_ONLN);
+        p->o.spin_us = cpus > 0 && o->local_workers <= (uint32_t)cpus ? (int)CO_POOL_SPIN_US : -1;
+    }
     if (o->renderer_id)
         snprintf(p->renderer_id, sizeof p->renderer_id, "%s", o->renderer_id);
     lm_status st = bind_socket(p);

@@ -6,6 +6,7 @@
 #ifndef LM_COORDINATOR_POOL_POOL_INTERNAL_H
 #define LM_COORDINATOR_POOL_POOL_INTERNAL_H
 
+#include <poll.h>
 #include <pthread.h>
 #include <zmq.h>
 
@@ -57,7 +58,11 @@ struct co_pool {
     uint64_t job_evals; /* for status queries: evaluations of the job so far (views backend) */
     co_link *links;     /* of the local workers */
     uint32_t n_links, cap_links, links_made;
-    zmq_pollitem_t *poll_items; /* [cap_links + 1]: the links, then the socket */
+    struct pollfd *poll_fds; /* [cap_links + 1]: the links, then the socket's ZMQ_FD */
+    /* The socket's descriptor signals only changes (ZeroMQ's ZMQ_FD): it can be slept on only
+     * once ZMQ_EVENTS has said "nothing to read" since the socket was last used. sock_unsure is
+     * set by every send or receive on the socket and cleared by that answer (pool_links.c). */
+    int sock_fd, sock_unsure;
 };
 
 void co_pool_note(const co_pool *p, const char *fmt, ...) __attribute__((format(printf, 2, 3)));

@@ -32,9 +32,9 @@ static lm_status add_link(co_pool *p, co_link **out)
         co_link *l = realloc(p->links, cap * sizeof *l);
         if (l)
             p->links = l;
-        zmq_pollitem_t *it = realloc(p->poll_items, (cap + 1) * sizeof *it);
+        struct pollfd *it = realloc(p->poll_fds, (cap + 1) * sizeof *it);
         if (it)
-            p->poll_items = it;
+            p->poll_fds = it;
         if (!l || !it)
             return lm_fail(LM_E_NOMEM, "out of memory for workers' connections");
         p->cap_links = cap;
@@ -70,7 +70,7 @@ lm_status co_pool_spawn(co_pool *p, uint32_t n)
     for (uint32_t i = 0; i < n && st == LM_OK; i++) {
         pid_t pid;
         if (p->o.socket_only) {
-            co_spawn_args a = {p->endpoint, p->o.device, p->o.keys, -1, NULL};
+            co_spawn_args a = {p->endpoint, p->o.device, p->o.keys, -1, NULL, 0};
             st = co_spawn_worker(&p->spawned, program, &a, &pid);
             continue;
         }
@@ -83,7 +83,7 @@ lm_status co_pool_spawn(co_pool *p, uint32_t n)
             break;
         l->rid_len =
             (size_t)snprintf(l->rid, sizeof l->rid, "local:%d:%u", (int)getpid(), ++p->links_made);
-        co_spawn_args a = {p->endpoint, p->o.device, p->o.keys, fd[1], l->rid};
+        co_spawn_args a = {p->endpoint, p->o.device, p->o.keys, fd[1], l->rid, p->o.spin_us};
         st = co_spawn_worker(&p->spawned, program, &a, &pid);
         close(fd[1]);
         if (st == LM_OK)
@@ -113,9 +113,9 @@ void co_pool_links_close(co_pool *p)
     for (uint32_t i = 0; i < p->n_links; i++)
         lm_stream_close(&p->links[i].s);
     free(p->links);
-    free(p->poll_items);
+    free(p->poll_fds);
     p->links = NULL;
-    p->poll_items = NULL;
+    p->poll_fds = NULL;
     p->n_links = p->cap_links = 0;
 }
 
@@ -153,6 +153,7 @@ lm_status co_pool_send_frame(co_pool *p, const uint8_t *id, size_t id_len, const
     co_link *l = link_of(p, id, id_len);
     if (l)
         return l->ended ? LM_OK : link_put_result(l, lm_stream_put(&l->s, data, size));
+    p->sock_unsure = 1;
     if (zmq_send(p->sock, id, id_len, ZMQ_SNDMORE | ZMQ_DONTWAIT) < 0 ||
         zmq_send(p->sock, data, size, ZMQ_DONTWAIT) < 0) {
         int e = errno;
@@ -165,8 +166,10 @@ lm_status co_pool_send_frame(co_pool *p, const uint8_t *id, size_t id_len, const
 lm_status co_pool_send_msg(co_pool *p, const uint8_t *id, size_t id_len, const lm_msg *m)
 {
     co_link *l = link_of(p, id, id_len);
-    if (!l)
+    if (!l) {
+        p->sock_unsure = 1;
         return lm_wire_send(p->sock, id, id_len, m);
+    }
     return l->ended ? LM_OK : link_put_result(l, lm_stream_put_msg(&l->s, m));
 }
 
@@ -201,17 +204,51 @@ static lm_status link_frame(co_pool *p, lm_wire_frame *f)
 }
 
 /* Read and write what the links' poll results allow. */
-static void serve_links(co_pool *p, const zmq_pollitem_t *items)
+static void serve_links(co_pool *p, const struct pollfd *fds)
 {
     for (uint32_t i = 0; i < p->n_links; i++) {
         co_link *l = &p->links[i];
-        short ev = items[i].revents;
-        if ((ev & ZMQ_POLLOUT) && lm_stream_flush(&l->s) != LM_OK)
+        short ev = fds[i].revents;
+        if ((ev & POLLOUT) && lm_stream_flush(&l->s) != LM_OK)
             l->ended = 1;
-        if ((ev & (ZMQ_POLLIN | ZMQ_POLLERR)) && !l->ended && lm_stream_fill(&l->s) != LM_OK)
+        if ((ev & (POLLIN | POLLHUP | POLLERR)) && !l->ended && lm_stream_fill(&l->s) != LM_OK)
             l->ended = 1; /* frames read before the end are still taken */
         lm_clear_error();
     }
+}
+
+/* Whether the socket holds a message now (ZMQ_EVENTS, which also takes in ZeroMQ's pending
+ * commands); "no" makes its descriptor safe to sleep on again. */
+static int sock_readable(co_pool *p)
+{
+    int ev = 0;
+    size_t len = sizeof ev;
+    if (zmq_getsockopt(p->sock, ZMQ_EVENTS, &ev, &len) != 0)
+        ev = 0; /* a socket that cannot answer has nothing to give */
+    p->sock_unsure = (ev & ZMQ_POLLIN) != 0;
+    return p->sock_unsure;
+}
+
+/* One poll(2) over the links and the socket's descriptor: zmq_poll would ask the socket for its
+ * events (and getpid) on every call, twice when it sleeps, and a round trip over a link makes
+ * several waits. Returns whether the socket has a message to take, or -1 (errno) on failure. */
+static int wait_all(co_pool *p, int timeout_ms)
+{
+    int sock_ready = p->sock_unsure && sock_readable(p);
+    struct pollfd one, *fds = p->poll_fds ? p->poll_fds : &one; /* links + the socket */
+    for (uint32_t i = 0; i < p->n_links; i++) {
+        short out = lm_stream_pending(&p->links[i].s) ? POLLOUT : 0;
+        fds[i] = (struct pollfd){.fd = p->links[i].s.fd, .events = (short)(POLLIN | out)};
+    }
+    fds[p->n_links] = (struct pollfd){.fd = p->sock_fd, .events = POLLIN};
+    int rc = poll(fds, p->n_links + 1, sock_ready || p->sock_unsure ? 0 : timeout_ms);
+    if (rc < 0)
+        return -1;
+    if (rc > 0)
+        serve_links(p, fds);
+    if (!sock_ready && (fds[p->n_links].revents & POLLIN))
+        sock_ready = sock_readable(p);
+    return sock_ready;
 }
 
 lm_status co_pool_recv(co_pool *p, int timeout_ms, lm_wire_frame *f)
@@ -220,21 +257,13 @@ lm_status co_pool_recv(co_pool *p, int timeout_ms, lm_wire_frame *f)
     lm_status st = link_frame(p, f);
     if (st != LM_OK || f->data)
         return st;
-    zmq_pollitem_t one, *items = p->poll_items ? p->poll_items : &one; /* links + the socket */
-    for (uint32_t i = 0; i < p->n_links; i++) {
-        short out = lm_stream_pending(&p->links[i].s) ? ZMQ_POLLOUT : 0;
-        items[i] = (zmq_pollitem_t){.fd = p->links[i].s.fd, .events = (short)(ZMQ_POLLIN | out)};
-    }
-    items[p->n_links] = (zmq_pollitem_t){.socket = p->sock, .events = ZMQ_POLLIN};
-    int rc = zmq_poll(items, (int)p->n_links + 1, timeout_ms);
-    int sock_ready = rc > 0 && (items[p->n_links].revents & ZMQ_POLLIN);
-    if (rc > 0)
-        serve_links(p, items);
-    if (rc < 0)
-        return errno == EINTR ? LM_OK : lm_fail(LM_E_IO, "waiting: %s", zmq_strerror(errno));
+    int sock_ready = wait_all(p, timeout_ms);
+    if (sock_ready < 0)
+        return errno == EINTR ? LM_OK : lm_fail(LM_E_IO, "waiting: %s", strerror(errno));
     st = link_frame(p, f);
     if (st != LM_OK || f->data || !sock_ready)
         return st;
+    p->sock_unsure = 1;
     st = lm_wire_recv(p->sock, 1, 0, f);
     if (st == LM_OK && f->data && link_of(p, f->id, f->id_len)) {
         lm_warn("dropped a message at %s that claimed a local worker's id", p->endpoint);

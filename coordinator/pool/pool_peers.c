@@ -323,7 +323,8 @@ static void answer_status(co_pool *p, const lm_wire_frame *f)
         lumesh__worker_status__init(&ws[i]);
         ws[i].id = w->id, ws[i].host = (char *)w->host, ws[i].pid = w->pid;
         ws[i].device = (char *)w->device, ws[i].renderer_id = (char *)w->renderer_id;
-        ws[i].first = w->first, ws[i].count = w->count, ws[i].evals = w->evals;
+        ws[i].first = w->first, ws[i].count = w->count, ws[i].stride = w->stride;
+        ws[i].evals = w->evals;
         ws[i].busy_s = w->busy_s, ws[i].joined_s = now - w->joined;
         ws[i].last_heard_s = now - w->last_heard, ws[i].lost = w->lost != 0;
         ws[i].in_job = w->in_job != 0;

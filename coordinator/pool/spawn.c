@@ -80,11 +80,11 @@ static lm_status link_actions(posix_spawn_file_actions_t *fa, int fd)
 
 lm_status co_spawn_worker(co_spawned *s, const char *program, const co_spawn_args *a, pid_t *pid)
 {
-    char parent[32], link_fd[16];
+    char parent[32], link_fd[16], spin[16];
     snprintf(parent, sizeof parent, "%d", (int)getpid());
     snprintf(link_fd, sizeof link_fd, "%d", WORKER_LINK_FD);
     LM_ASSERT(a->link_fd != WORKER_LINK_FD); /* dup2 onto itself would keep close-on-exec */
-    char *argv[16] = {(char *)program,
+    char *argv[18] = {(char *)program,
                       "--connect",
                       (char *)a->endpoint,
                       "--device",
@@ -96,6 +96,10 @@ lm_status co_spawn_worker(co_spawned *s, const char *program, const co_spawn_arg
     if (a->link_fd >= 0) {
         argv[k++] = "--link-fd", argv[k++] = link_fd;
         argv[k++] = "--link-id", argv[k++] = (char *)a->link_id;
+        if (a->spin_us > 0) {
+            snprintf(spin, sizeof spin, "%d", a->spin_us);
+            argv[k++] = "--spin-us", argv[k++] = spin;
+        }
     }
     if (a->keys)
         argv[k++] = "--keys", argv[k++] = (char *)a->keys;

@@ -29,6 +29,7 @@ typedef struct co_spawn_args {
     const char *endpoint, *device, *keys;
     int link_fd;
     const char *link_id;
+    int spin_us; /* with link_fd: its --spin-us (0 = none given) */
 } co_spawn_args;
 
 /* Start one worker; its pid in *pid. The caller keeps (and closes) link_fd. */

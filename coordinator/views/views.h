@@ -6,7 +6,7 @@
  *   local   in this process, on an EGL device (worker/views_local.c);
  *   split   `split` in-process children, each owning a contiguous range of the views, their int64
  *           results summed (coordinator/views/views_split.c): bit-identical to one local backend;
- *   remote  lumesh-worker processes of a pool (coordinator/pool/pool.h), each serving a range of
+ *   remote  lumesh-worker processes of a pool (coordinator/pool/pool.h), each serving a share of
  *           the views (coordinator/views/views_remote.c): bit-identical again, for any number of
  *           workers.
  * Defaults are resolved here and nowhere else (co_views_desc_defaults). The coordinator makes

@@ -352,7 +352,8 @@ static lm_status take_energy(round *rd, uint32_t i)
     if (e->n_per_view != g->count)
         return lm_fail(LM_E_FORMAT, "worker %u answered %zu energies for %u views", rd->ws[i]->id,
                        e->n_per_view, g->count);
-    memcpy((int64_t *)rd->ctx + (g->first - r->first), e->per_view, g->count * sizeof(int64_t));
+    for (uint32_t j = 0; j < g->count; j++)
+        ((int64_t *)rd->ctx)[lm_view_deal_view(*g, j) - r->first] = e->per_view[j];
     return LM_OK;
 }
 
@@ -445,9 +446,12 @@ static lm_status plan_image(round *rd)
     rd->ws = calloc(1, sizeof *rd->ws);
     if (!rd->ws)
         return lm_fail(LM_E_NOMEM, "out of memory planning a request");
-    for (uint32_t i = 0; i < r->n_live && !rd->ws[0]; i++)
-        if (c->view >= r->live[i]->first && c->view < r->live[i]->first + r->live[i]->count)
+    uint32_t place;
+    for (uint32_t i = 0; i < r->n_live && !rd->ws[0]; i++) {
+        const co_worker *w = r->live[i];
+        if (lm_view_deal_place((lm_view_deal){w->first, w->count, w->stride}, c->view, &place))
             rd->ws[0] = r->live[i];
+    }
     return LM_OK;
 }
 

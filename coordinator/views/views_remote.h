@@ -1,12 +1,13 @@
 /* coordinator/views/views_remote.h — the views served by lumesh-worker processes of a pool
  * (coordinator/pool/pool.h), made by co_views_create for CO_VIEWS_REMOTE. Not for other callers.
  *
- * Layout: the views are cut into G = min(workers, views) contiguous ranges; worker i serves range
- * i mod G (workers beyond the first G are replicas: a batch of patches is divided between the
- * replicas of a range). Every worker receives every change of state, tagged with its sequence
- * number; the backend keeps the current state (materials, a replica of the mesh) to re-send it to
- * a worker that answers Stale or joins later. Results are exact int64 sums over the ranges, so
- * they are the same for any number of workers and any layout.
+ * Layout: the views are dealt into G = min(workers, views) shares, every G-th view from the k-th
+ * (common/view.h, lm_view_deal: each share sees the model from all sides, so a patch's work
+ * splits evenly); worker i serves share i mod G (workers beyond the first G are replicas: a batch
+ * of patches is divided between the replicas of a share). Every worker receives every change of
+ * state, tagged with its sequence number; the backend keeps the current state (materials, a replica
+ * of the mesh) to re-send it to a worker that answers Stale or joins later. Results are exact int64
+ * sums over the shares, so they are the same for any number of workers and any layout.
  *
  * Workers that join are brought in at the next operation (assets they lack, the job, their views,
  * the state); lost ones are left out and the operation is done again without them; with no worker

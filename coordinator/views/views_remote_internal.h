@@ -17,9 +17,7 @@
 #define CO_REMOTE_INTERRUPT_GRACE_S                                                                \
     5.0 /* an interrupted run waits this long for answers, then stops */
 
-typedef struct co_range {
-    uint32_t first, count; /* job view indices */
-} co_range;
+typedef lm_view_deal co_range; /* job view indices: a share of the views (common/view.h) */
 
 typedef struct co_remote {
     lm_views base;

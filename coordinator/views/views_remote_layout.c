@@ -196,6 +196,7 @@ static lm_status send_assign(co_remote *r, co_worker *w, uint64_t req)
     a.job = r->job;
     a.first = w->first;
     a.count = w->count;
+    a.stride = w->stride;
     return co_pool_send(r->pool, w, req, r->seq, LUMESH__MSG__BODY_ASSIGN, &a);
 }
 
@@ -260,16 +261,15 @@ static lm_status gather_live(co_remote *r)
     return LM_OK;
 }
 
-/* G near-equal contiguous ranges (the first ones a view longer); worker i serves i mod G. */
+/* G shares of near-equal size (the first ones a view longer), the views dealt out: share k holds
+ * every G-th view from the k-th, so each sees the model from all sides and a patch's work splits
+ * evenly (contiguous shares would each look from one side). Worker i serves share i mod G. */
 static void plan(co_remote *r)
 {
-    uint32_t g = r->n_live < r->count ? r->n_live : r->count, at = r->first;
+    uint32_t g = r->n_live < r->count ? r->n_live : r->count;
     r->n_ranges = g;
-    for (uint32_t k = 0; k < g; k++) {
-        uint32_t c = r->count / g + (k < r->count % g);
-        r->ranges[k] = (co_range){at, c};
-        at += c;
-    }
+    for (uint32_t k = 0; k < g; k++)
+        r->ranges[k] = (co_range){r->first + k, r->count / g + (k < r->count % g), g};
     for (uint32_t i = 0; i < r->n_live; i++)
         r->group[i] = i % g;
 }
@@ -286,9 +286,10 @@ static lm_status bring_up(co_remote *r)
         const co_range *g = &r->ranges[r->group[i]];
         if (!w->in_job)
             fresh[nf++] = w;
-        if (!w->in_job || w->first != g->first || w->count != g->count) {
+        if (!w->in_job || w->first != g->first || w->count != g->count || w->stride != g->stride) {
             w->first = g->first;
             w->count = g->count;
+            w->stride = g->stride;
             moved[nm++] = w;
         }
     }

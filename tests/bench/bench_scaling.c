@@ -9,7 +9,8 @@
  * link (the socketpair local mode uses) and again over the pool's ZeroMQ ipc socket (as workers
  * that connect by address talk), to measure this machine's round trips, and two processes bounce 8
  * bytes over a plain Unix socket: the least round trip any transport between processes has here
- * (the floor).
+ * (the floor). The link is timed a second time with coordinator and worker on one core: the
+ * difference is what waking a sleeping processor costs (on a VM, most of a round trip).
  *
  * The model for W workers over V views, per batch i of n_i patches (perfect balance, a (patch,
  * view) pair the smallest piece of work):
@@ -23,6 +24,8 @@
  *
  * usage: bench_scaling [MODEL] [--evals N] [--in-flight K] [--views N] [--size S] [--rtt-us U]
  *                      [--gbps G] [--device D] [--json] */
+#define _GNU_SOURCE
+#include <sched.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -290,6 +293,28 @@ static lm_status measure_rtt(const opts *o, const lm_mesh *orig, const lm_mesh *
     return st;
 }
 
+/* The link's round trip with this process, and so the worker it starts, on the first core it
+ * may use (then given back all of them); 0 where affinity cannot be set. */
+static lm_status measure_rtt_one_core(const opts *o, const lm_mesh *orig, const lm_mesh *coarse,
+                                      const lm_view_set *vs, double *us)
+{
+    cpu_set_t all, one;
+    *us = 0;
+    if (sched_getaffinity(0, sizeof all, &all) != 0)
+        return LM_OK;
+    CPU_ZERO(&one);
+    for (int c = 0; c < CPU_SETSIZE; c++)
+        if (CPU_ISSET(c, &all)) {
+            CPU_SET(c, &one);
+            break;
+        }
+    if (sched_setaffinity(0, sizeof one, &one) != 0)
+        return LM_OK;
+    lm_status st = measure_rtt(o, orig, coarse, vs, 0, us);
+    sched_setaffinity(0, sizeof all, &all);
+    return st;
+}
+
 /* Round trip of 8 bytes between this process and a child over a Unix socket pair, in µs: no
  * library, no I/O thread, two wake-ups per trip. */
 static lm_status measure_floor_rtt(double *us)
@@ -332,14 +357,16 @@ static const uint32_t workers[] = {1, 2, 4, 8, 16, 128};
 /* Round trips measured here, in µs. */
 typedef struct rtts {
     double link, zmq, floor; /* a local worker's link, the ZeroMQ ipc socket, a bare socketpair */
+    double link_one_core;    /* the link, coordinator and worker on one core (0: not measured) */
 } rtts;
 
 static void print_human(const opts *o, const costs *c, uint32_t views, const rtts *t)
 {
     printf("bench scaling: %s, %u views of %u px, %llu evaluations per run; round trip here "
-           "(small request) %.0f us over a local worker's link, %.0f us over ZeroMQ ipc, %.0f us "
-           "over a plain Unix socket (the floor)\n",
-           o->model, views, o->size, (unsigned long long)o->evals, t->link, t->zmq, t->floor);
+           "(small request) %.0f us over a local worker's link (%.0f us with both on one core), "
+           "%.0f us over ZeroMQ ipc, %.0f us over a plain Unix socket (the floor)\n",
+           o->model, views, o->size, (unsigned long long)o->evals, t->link, t->link_one_core,
+           t->zmq, t->floor);
     for (int r = 0; r < 2; r++) {
         const costs *x = &c[r];
         printf("  %u in flight: %.1f us per (patch, view); coordinator %.1f us per evaluation; "
@@ -361,10 +388,11 @@ static void print_human(const opts *o, const costs *c, uint32_t views, const rtt
 static void print_json(const opts *o, const costs *c, uint32_t views, const rtts *t)
 {
     printf("{\"bench\": \"scaling\", \"model\": \"%s\", \"views\": %u, \"size\": %u, "
-           "\"evals\": %llu, \"rtt_here_us\": %.1f, \"zmq_rtt_us\": %.1f, \"floor_rtt_us\": "
-           "%.1f, \"model_rtt_us\": %.1f, \"model_gbps\": %.1f, \"runs\": [",
-           o->model, views, o->size, (unsigned long long)o->evals, t->link, t->zmq, t->floor,
-           o->rtt_us, o->gbps);
+           "\"evals\": %llu, \"rtt_here_us\": %.1f, \"rtt_one_core_us\": %.1f, \"zmq_rtt_us\": "
+           "%.1f, \"floor_rtt_us\": %.1f, \"model_rtt_us\": %.1f, \"model_gbps\": %.1f, "
+           "\"runs\": [",
+           o->model, views, o->size, (unsigned long long)o->evals, t->link, t->link_one_core,
+           t->zmq, t->floor, o->rtt_us, o->gbps);
     for (int r = 0; r < 2; r++) {
         const costs *x = &c[r];
         printf("%s{\"edges_in_flight\": %u, \"us_per_patch_view\": %.3f, "
@@ -461,13 +489,15 @@ int main(int argc, char **argv)
     static lm_view_set vs;
     static meter m[2];
     costs c[2];
-    rtts t = {0, 0, 0};
+    rtts t = {0, 0, 0, 0};
     lm_status st = setup(&o, &orig, &coarse, &vs);
     uint32_t ks[2] = {1, o.in_flight};
     for (int r = 0; r < 2 && st == LM_OK; r++)
         st = run_once(&o, orig, coarse, &vs, ks[r], &m[r], &c[r]);
     if (st == LM_OK)
         st = measure_rtt(&o, orig, coarse, &vs, 0, &t.link);
+    if (st == LM_OK)
+        st = measure_rtt_one_core(&o, orig, coarse, &vs, &t.link_one_core);
     if (st == LM_OK)
         st = measure_rtt(&o, orig, coarse, &vs, 1, &t.zmq);
     if (st == LM_OK)

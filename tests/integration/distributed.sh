@@ -83,7 +83,9 @@ summary = recs[-1]
 assert summary["type"] == "summary", summary
 ws = summary["workers"]
 assert len(ws) == 2 and {w["id"] for w in ws} == {1, 2}, ws
-assert sorted(w["views"][0] for w in ws) == [0, 6] and all(w["views"][1] == 6 for w in ws), ws
+# the views dealt out: one worker every other view from 0, the other from 1
+assert sorted(w["views"][0] for w in ws) == [0, 1] and all(w["views"][1] == 6 for w in ws), ws
+assert all(w["views_stride"] == 2 for w in ws), ws
 assert all(w["evals"] == summary["evals"] and not w["lost"] for w in ws), ws
 assert any("workers" in r for r in recs if r["type"] == "progress"), "no workers in progress"
 PY
@@ -151,6 +153,8 @@ checks=$((checks + 1))
 wait_for 30 worker_serving || fail "health of a serving worker: $(cat "$tmp/health.json")"
 wait "$status_job" || fail "the job the status was asked of"
 expect_fail_line "$LUMESH" workers --connect "tcp://127.0.0.1:$(free_port)"
+expect_fail_line "$LUMESH_WORKER" --connect "tcp://127.0.0.1:1" --spin-us fast
+expect_fail_line "$LUMESH_WORKER" --connect "tcp://127.0.0.1:1" --spin-us 20000
 for n in 1 2; do
   "$LUMESH" optimize "$bunny" -o "$tmp/pool$n.glb" "${job[@]}" --listen "tcp://127.0.0.1:$port" \
     2>"$tmp/pool$n.coord" || fail "pool job $n: $(tail -1 "$tmp/pool$n.coord")"
