@@ -22,7 +22,8 @@ static void check_against_bvh(uint32_t log2_slots)
     for (int i = 0; i < N; i++)
         for (int k = 0; k < 3; k++)
             q[i][k] = 3.0 * lmt_urand(&seed) - 1.5;
-    q[1][0] = -0.0, q[2][0] = 0.0; /* points whose bits differ but whose values do not */
+    memcpy(q[2], q[1], sizeof q[1]); /* two points whose bits differ but whose values do not */
+    q[1][0] = -0.0, q[2][0] = 0.0;
     memcpy(q[3], q[0], sizeof q[0]);
     for (int round = 0; round < 3; round++)
         for (int i = 0; i < N; i++) {
