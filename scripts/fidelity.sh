@@ -6,9 +6,11 @@
 #   heldout   the 24 `--heldout` views (256²),
 #   dense     the 96 views of `lumesh energy --dense` (three distances, 256²): the unseen-view
 #             check, neither training nor held-out views,
-# the mean symmetric surface distance to the original relative to the start's, and the dense energy
-# of plain QEM with twice the vertices (relative to the same start). Writes OUT/fidelity.md (a
-# table) and OUT/fidelity.json (one record per model); every later change is judged by it.
+# the mean symmetric surface distance to the original relative to the start's (in the JSON also
+# its two sides: the result's points to the original, the original's points to the result), and
+# the dense energy of plain QEM with twice the vertices (relative to the same start). Writes
+# OUT/fidelity.md (a table) and OUT/fidelity.json (one record per model); every later change is
+# judged by it.
 #
 # usage: scripts/fidelity.sh [--evals N (100000)] [--seed S (1)] [--models a,b,...] [--jobs J (1)]
 #                            [--out DIR (fidelity-out)] [--no-2n] [-- EXTRA OPTIMIZE FLAGS...]
@@ -86,6 +88,10 @@ run_model() {
      evals: $opt[0].evals, optimize_s: $opt[0].optimize_s, views: $views[0].detail,
      training: $opt[0].energy_rel, heldout: rel($held; 1), dense: rel($dense; 1),
      distance: ($dense[1].distance.mean / $dense[0].distance.mean),
+     distance_to_original: ($dense[1].distance.mean_to_original /
+                            $dense[0].distance.mean_to_original),
+     distance_from_original: ($dense[1].distance.mean_from_original /
+                              $dense[0].distance.mean_from_original),
      distance_start: ($dense[0].distance.mean / $dense[0].distance.diagonal),
      distance_opt: ($dense[1].distance.mean / $dense[0].distance.diagonal),
      qem2n_dense: (if ($dense | length) > 2 then rel($dense; 2) else null end),

@@ -48,7 +48,9 @@ static void usage(FILE *f)
             "                bounding-sphere radii, none of them an optimisation or held-out view\n"
             "  --distance    also the symmetric surface distance to ORIGINAL (mean, rms, max and\n"
             "                the original's bounding-box diagonal, in the models' units; %u\n"
-            "                samples a surface, from a fixed seed)\n"
+            "                samples a surface, from a fixed seed), and its two sides' means:\n"
+            "                mean_to_original (the model's points to the original's surface)\n"
+            "                and mean_from_original (the original's points to the model's)\n"
             "  --device D    auto (default), cpu, egl:N or host\n"
             "  -h, --help    this text\n",
             LM_DEFAULT_VIEWS, LM_DEFAULT_VIEW_SIZE, LM_DENSE_VIEWS, CO_DISTANCE_SAMPLES);
@@ -106,8 +108,9 @@ static int parse(int argc, char **argv, energy_args *a)
 static void print_distance(const co_surface_distance *d)
 {
     printf(", \"distance\": {\"mean\": %.9g, \"rms\": %.9g, \"max\": %.9g, \"diagonal\": %.9g, "
-           "\"samples\": %u}",
-           d->mean, d->rms, d->max, d->diagonal, d->samples);
+           "\"samples\": %u, \"mean_to_original\": %.9g, \"mean_from_original\": %.9g}",
+           d->mean, d->rms, d->max, d->diagonal, d->samples, d->mean_to_original,
+           d->mean_from_original);
 }
 
 static void print_json(const energy_args *a, uint32_t i, const lm_view_set *vs, int64_t total,

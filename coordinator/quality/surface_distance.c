@@ -5,6 +5,7 @@
 
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "common/bvh.h"
 
@@ -126,6 +127,7 @@ lm_status co_surface_distance_measure(const lm_mesh *original, const lm_mesh *mo
                                       uint32_t samples, co_surface_distance *out)
 {
     uint32_t n = samples ? samples : CO_DISTANCE_SAMPLES;
+    memset(out, 0, sizeof *out); /* padding too: results compare as bytes */
     lm_bvh *bo = NULL, *bm = NULL;
     double *po = NULL, *pm = NULL;
     lm_status s = lm_bvh_create(original, &bo);
@@ -140,6 +142,8 @@ lm_status co_surface_distance_measure(const lm_mesh *original, const lm_mesh *mo
         measure_side(bm, po, n, &a);
         measure_side(bo, pm, n, &b);
         out->mean = (a.sum + b.sum) / (2.0 * n);
+        out->mean_from_original = a.sum / n;
+        out->mean_to_original = b.sum / n;
         out->rms = sqrt((a.sum_sq + b.sum_sq) / (2.0 * n));
         out->max = a.max > b.max ? a.max : b.max;
         out->diagonal = diagonal_of(original);

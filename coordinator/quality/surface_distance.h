@@ -13,9 +13,11 @@
 #define CO_DISTANCE_SAMPLES 50000u /* per surface, by default */
 
 typedef struct co_surface_distance {
-    double mean, rms, max; /* in the models' units */
-    double diagonal;       /* the original's bounding-box diagonal (the report's unit) */
-    uint32_t samples;      /* points per surface */
+    double mean, rms, max;     /* in the models' units */
+    double mean_to_original;   /* one side: the model's points to the original's surface */
+    double mean_from_original; /* the other: the original's points to the model's surface */
+    double diagonal;           /* the original's bounding-box diagonal (the report's unit) */
+    uint32_t samples;          /* points per surface */
 } co_surface_distance;
 
 /* Distances between the live triangles of `original` and `model` with `samples` points on each

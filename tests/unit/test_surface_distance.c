@@ -94,6 +94,25 @@ static void test_moved_sheet(void **state)
     lm_mesh_destroy(b);
 }
 
+/* The two sides apart: a sheet half the size of the original, lying on it, has its own points on
+ * the original (0 to it) while most of the original's points are off it; their mean is the mean. */
+static void test_sides(void **state)
+{
+    (void)state;
+    lm_mesh *a = lmt_make_grid(9), *b = NULL;
+    assert_int_equal(lm_mesh_clone(a, &b), LM_OK);
+    for (uint32_t v = 0; v < b->n_verts; v++)
+        for (int k = 0; k < 2; k++)
+            b->pos[v][k] *= 0.5f;
+    co_surface_distance d;
+    assert_int_equal(co_surface_distance_measure(a, b, 4000, &d), LM_OK);
+    assert_true(d.mean_to_original < 1e-6);
+    assert_true(d.mean_from_original > 0.01);
+    assert_float_equal(d.mean, 0.5 * (d.mean_to_original + d.mean_from_original), 1e-12);
+    lm_mesh_destroy(a);
+    lm_mesh_destroy(b);
+}
+
 /* Samples follow area: on two triangles of areas 1 and 3, a quarter of the points lie on the
  * small one (stratified, so within a point or two). */
 static void test_samples_follow_area(void **state)
@@ -147,7 +166,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_point_triangle), cmocka_unit_test(test_bvh_equals_scan),
         cmocka_unit_test(test_moved_sheet),    cmocka_unit_test(test_samples_follow_area),
-        cmocka_unit_test(test_deterministic),
+        cmocka_unit_test(test_deterministic),  cmocka_unit_test(test_sides),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
