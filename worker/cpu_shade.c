@@ -93,6 +93,30 @@ int wk_cpu_lod_q8(float r2)
     return l >= 0 ? l >> 3 : -((7 - l) >> 3);
 }
 
+static inline v4i lod_q8_4(v4f r2)
+{
+    const v4i b = (v4i)r2, e = ((b >> 23) & 0xFF) - 127, i = (b >> 15) & 0xFF, j = (b >> 7) & 0xFF;
+    v4i t0, t1;
+    for (int k = 0; k < 4; k++) {
+        t0[k] = (int32_t)log2_table[i[k]];
+        t1[k] = (int32_t)log2_table[i[k] + 1];
+    }
+    /* (t1 - t0) j is at most 369 * 255: exact in float, where SSE2 has a multiply */
+    v4f step = __builtin_convertvector(t1 - t0, v4f) * __builtin_convertvector(j, v4f);
+    v4i frac = t0 + (__builtin_convertvector(step, v4i) >> 8);
+    v4i l = (e * 1024 + (frac >> 6)) >> 3; /* >> of a negative lane rounds down, as the scalar's */
+    const v4f lo = {1.17549435e-38f, 1.17549435e-38f, 1.17549435e-38f, 1.17549435e-38f};
+    const v4f hi = {3.40282347e38f, 3.40282347e38f, 3.40282347e38f, 3.40282347e38f};
+    v4i tiny = ~(r2 >= lo), huge = ~(r2 <= hi) & ~tiny; /* NaN is tiny, as in the scalar */
+    l = (l & ~tiny & ~huge) | (-(1 << 20) & tiny) | ((1 << 20) & huge);
+    return l;
+}
+
+v4i wk_cpu_lod_q8_4(v4f r2)
+{
+    return lod_q8_4(r2);
+}
+
 /* round(clamp(c, 0, 1) * 255) per lane, NaN as 0. */
 static inline v4i unorm8v(v4f c)
 {
@@ -102,6 +126,15 @@ static inline v4i unorm8v(v4f c)
     v4i low = c < one;
     c = (v4f)(((v4i)c & low) | ((v4i)one & ~low));
     return __builtin_convertvector(c * 255.0f + 0.5f, v4i);
+}
+
+/* (77 r + 150 g + 29 b + 128) >> 8 per lane for r, g, b in 0..255: the sums (at most 65,408)
+ * are exact in float, where SSE2 has a multiply and 32-bit integers do not. */
+static inline v4i luma4(v4i r, v4i g, v4i b)
+{
+    v4f s = __builtin_convertvector(r, v4f) * 77.0f + __builtin_convertvector(g, v4f) * 150.0f +
+            __builtin_convertvector(b, v4f) * 29.0f + 128.0f;
+    return __builtin_convertvector(s, v4i) >> 8;
 }
 
 static inline v4f plane_at(const float p[3], v4f dx, v4f dy)
@@ -119,13 +152,37 @@ static void texture_factor(const wk_cpu_shade *sh, v4f dx, v4f dy, v4f inv, v4f 
     v4f uy = (sh->uv[0][2] - u * sh->den[2]) * inv * sh->tex_w;
     v4f vy = (sh->uv[1][2] - v * sh->den[2]) * inv * sh->tex_h;
     v4f rx = ux * ux + vx * vx, ry = uy * uy + vy * vy;
-    v4i xbig = rx > ry, lod;
+    v4i xbig = rx > ry;
     v4f r2 = (v4f)(((v4i)rx & xbig) | ((v4i)ry & ~xbig));
-    for (int k = 0; k < 4; k++)
-        lod[k] = wk_cpu_lod_q8(r2[k]);
-    wk_cpu_texture_sample4(sh->tex, u, v, lod, out);
+    wk_cpu_texture_sample4(sh->tex, u, v, lod_q8_4(r2), out);
     for (int ch = 0; ch < 3; ch++)
         out[ch] *= 1.0f / 255.0f;
+}
+
+/* Four pixels' factors stored by pixel (r0 g0 b0 r1 | g1 b1 r2 g2 | b2 r3 g3 b3) as three
+ * vectors by channel, and back: whole vectors and shuffles, not twelve lanes one by one. */
+static void factors_load(const float *at, v4f tf[3])
+{
+    v4f a, b, c;
+    memcpy(&a, at, sizeof a);
+    memcpy(&b, at + 4, sizeof b);
+    memcpy(&c, at + 8, sizeof c);
+    tf[0] = __builtin_shufflevector(__builtin_shufflevector(a, b, 0, 3, 6, 7), c, 0, 1, 2, 5);
+    tf[1] = __builtin_shufflevector(__builtin_shufflevector(a, b, 1, 4, 7, 7), c, 0, 1, 2, 6);
+    tf[2] = __builtin_shufflevector(__builtin_shufflevector(a, b, 2, 5, 5, 5), c, 0, 1, 4, 7);
+}
+
+static void factors_store(const v4f tf[3], float *at)
+{
+    v4f a = __builtin_shufflevector(__builtin_shufflevector(tf[0], tf[1], 0, 4, 1, 5), tf[2], 0, 1,
+                                    4, 2);
+    v4f b = __builtin_shufflevector(__builtin_shufflevector(tf[1], tf[2], 1, 5, 2, 6), tf[0], 0, 1,
+                                    6, 2);
+    v4f c = __builtin_shufflevector(__builtin_shufflevector(tf[0], tf[1], 3, 7, 3, 7), tf[2], 6, 0,
+                                    1, 7);
+    memcpy(at, &a, sizeof a);
+    memcpy(at + 4, &b, sizeof b);
+    memcpy(at + 8, &c, sizeof c);
 }
 
 /* The texture's factors of pixels i..i+3 (padded with the last of n), sampled or read from and
@@ -133,6 +190,10 @@ static void texture_factor(const wk_cpu_shade *sh, v4f dx, v4f dy, v4f inv, v4f 
 static void group_texture(const wk_cpu_shade *sh, v4f dx, v4f dy, v4f inv, float *texf, int reuse,
                           size_t i, size_t n, v4f tf[3])
 {
+    if (texf && reuse && i + 4 <= n) {
+        factors_load(texf + 3 * i, tf);
+        return;
+    }
     if (texf && reuse) {
         for (int k = 0; k < 4; k++) {
             size_t at = i + (size_t)k < n ? i + (size_t)k : n - 1;
@@ -142,6 +203,10 @@ static void group_texture(const wk_cpu_shade *sh, v4f dx, v4f dy, v4f inv, float
         return;
     }
     texture_factor(sh, dx, dy, inv, tf);
+    if (texf && i + 4 <= n) {
+        factors_store(tf, texf + 3 * i);
+        return;
+    }
     for (size_t k = 0; texf && k < 4 && i + k < n; k++)
         for (int ch = 0; ch < 3; ch++)
             texf[3 * (i + k) + (size_t)ch] = tf[ch][k];
@@ -170,7 +235,7 @@ static void shade_group(const wk_cpu_sub *s, const wk_cpu_shade *sh, const uint3
             col[ch] *= tf[ch];
     }
     v4i vr = unorm8v(col[0]), vg = unorm8v(col[1]), vb = unorm8v(col[2]);
-    v4i vl = (77 * vr + 150 * vg + 29 * vb + 128) >> 8;
+    v4i vl = luma4(vr, vg, vb);
     for (size_t k = 0; k < 4 && i + k < n; k++) {
         c[i + k] = (uint8_t)vr[k];
         c[n + i + k] = (uint8_t)vg[k];

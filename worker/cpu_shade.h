@@ -43,5 +43,7 @@ void wk_cpu_shade_pixels(const wk_cpu_sub *s, const wk_cpu_shade *sh, const uint
  * size is r2 texels²), from a table of log2 over the mantissa's top bits, interpolated in integers;
  * very negative for r2 <= 0, NaN and subnormals, large for infinite r2. */
 int wk_cpu_lod_q8(float r2);
+/* The same, four lanes at once (wk_cpu_lod_q8 of each lane, bit for bit). */
+v4i wk_cpu_lod_q8_4(v4f r2);
 
 #endif

@@ -121,6 +121,19 @@ static void axis4(v4f f, v4i size, v4i *i0, v4i *i1, v4f *w)
     *i1 = (fl + 1) & ~(fl + 1 == size); /* size -> 0 */
 }
 
+/* The bilinear mix of four texels a lane (texel[0], [1] along x, [2], [3] the row above) with the
+ * weights of the second of each pair, channels 0..255. */
+static void lerp_texels(const v4i texel[4], v4f wx, v4f wy, v4f out[3])
+{
+    for (int ch = 0; ch < 3; ch++) {
+        v4f v[4];
+        for (int c = 0; c < 4; c++)
+            v[c] = __builtin_convertvector((texel[c] >> (8 * ch)) & 255, v4f);
+        v4f lo = v[0] + (v[1] - v[0]) * wx, hi = v[2] + (v[3] - v[2]) * wx;
+        out[ch] = lo + (hi - lo) * wy; /* lerps: exact where the texels agree */
+    }
+}
+
 /* Bilinear samples of level lv[k] at lane k (fractions fu, fv), channels 0..255. */
 static void bilinear4(const wk_cpu_texture *t, v4i lv, v4f fu, v4f fv, v4f out[3])
 {
@@ -139,13 +152,35 @@ static void bilinear4(const wk_cpu_texture *t, v4i lv, v4f fu, v4f fv, v4f out[3
     for (int c = 0; c < 4; c++)
         for (int k = 0; k < 4; k++)
             texel[c][k] = (int32_t)t->data[at[c][k]];
-    for (int ch = 0; ch < 3; ch++) {
-        v4f v[4];
-        for (int c = 0; c < 4; c++)
-            v[c] = __builtin_convertvector((texel[c] >> (8 * ch)) & 255, v4f);
-        v4f lo = v[0] + (v[1] - v[0]) * wx, hi = v[2] + (v[3] - v[2]) * wx;
-        out[ch] = lo + (hi - lo) * wy; /* lerps: exact where the texels agree */
+    lerp_texels(texel, wx, wy, out);
+}
+
+/* bilinear4 where every lane reads level l (neighbouring pixels nearly always do): the level's
+ * size and place loaded once, the same bits. */
+static void bilinear4_at(const wk_cpu_texture *t, int l, v4f fu, v4f fv, v4f out[3])
+{
+    const int32_t w = t->width[l], h = t->height[l];
+    const v4i ws = {w, w, w, w}, hs = {h, h, h, h};
+    v4i x0, x1, y0, y1;
+    v4f wx, wy;
+    axis4(fu, ws, &x0, &x1, &wx);
+    axis4(fv, hs, &y0, &y1, &wy);
+    const uint32_t *data = t->data + t->offset[l];
+    v4i texel[4];
+    for (int k = 0; k < 4; k++) {
+        const uint32_t *r0 = data + (size_t)y0[k] * (size_t)w,
+                       *r1 = data + (size_t)y1[k] * (size_t)w;
+        texel[0][k] = (int32_t)r0[x0[k]];
+        texel[1][k] = (int32_t)r0[x1[k]];
+        texel[2][k] = (int32_t)r1[x0[k]];
+        texel[3][k] = (int32_t)r1[x1[k]];
     }
+    lerp_texels(texel, wx, wy, out);
+}
+
+static int same_lanes(v4i a)
+{
+    return a[0] == a[1] && a[0] == a[2] && a[0] == a[3];
 }
 
 void wk_cpu_texture_sample4(const wk_cpu_texture *t, v4f u, v4f v, v4i lod, v4f out[3])
@@ -158,8 +193,21 @@ void wk_cpu_texture_sample4(const wk_cpu_texture *t, v4f u, v4f v, v4i lod, v4f 
     d1 = (d1 & ~(d1 > last)) | (last & (d1 > last));
     v4f f = __builtin_convertvector(lod & 255 & ~mag & ~top, v4f) * (1.0f / 256.0f);
     v4f fu = fraction4(u), fv = fraction4(v), a[3], b[3];
-    bilinear4(t, d, fu, fv, a);
-    bilinear4(t, d1, fu, fv, b);
+    v4i flat = f == 0.0f; /* the finer level alone: a + (b - a) 0 is a, bit for bit */
+    int one_level = same_lanes(d), fine_only = flat[0] & flat[1] & flat[2] & flat[3];
+    if (one_level)
+        bilinear4_at(t, d[0], fu, fv, a);
+    else
+        bilinear4(t, d, fu, fv, a);
+    if (fine_only) {
+        for (int ch = 0; ch < 3; ch++)
+            out[ch] = a[ch];
+        return;
+    }
+    if (one_level)
+        bilinear4_at(t, d1[0], fu, fv, b);
+    else
+        bilinear4(t, d1, fu, fv, b);
     for (int ch = 0; ch < 3; ch++)
         out[ch] = a[ch] + (b[ch] - a[ch]) * f;
 }

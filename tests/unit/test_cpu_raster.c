@@ -4,6 +4,7 @@
  * exactly once), drawing order does not matter, near-plane clipping makes a watertight fan, the
  * integer level of detail, texture sampling, shading of runs against single pixels, and a golden
  * hash of rendered images that pins the arithmetic (bump WK_CPU_RASTERISER's version with it). */
+#include <float.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -269,6 +270,30 @@ static void test_lod(void **state)
     assert_true(wk_cpu_lod_q8(INFINITY) > 100000);
 }
 
+/* Four lanes at once give each lane's scalar level, over every exponent, the edge cases and
+ * random bit patterns. */
+static void test_lod_lanes(void **state)
+{
+    (void)state;
+    const float special[] = {0.0f,      -0.0f,    NAN,     -NAN,    INFINITY, -INFINITY, 1e-45f,
+                             1.17e-38f, 1.2e-38f, 3.4e38f, FLT_MAX, -1.0f,    1.0f,      0.5f};
+    uint64_t rng = 7;
+    for (int i = 0; i < 200000; i++) {
+        v4f r2;
+        for (int k = 0; k < 4; k++) {
+            rng = rng * 6364136223846793005ull + 1442695040888963407ull;
+            uint32_t bits = (uint32_t)(rng >> 32);
+            float f;
+            memcpy(&f, &bits, sizeof f);
+            size_t n = sizeof special / sizeof *special;
+            r2[k] = i < 1000 ? special[(size_t)(i * 4 + k) % n] : f;
+        }
+        v4i got = wk_cpu_lod_q8_4(r2);
+        for (int k = 0; k < 4; k++)
+            assert_int_equal(got[k], wk_cpu_lod_q8(r2[k]));
+    }
+}
+
 /* One point's sample (the four lanes alike). */
 static void sample1(const wk_cpu_texture *t, float u, float v, int lod, float out[3])
 {
@@ -427,6 +452,7 @@ int main(void)
         cmocka_unit_test(test_watertight),
         cmocka_unit_test(test_near_clipping),
         cmocka_unit_test(test_lod),
+        cmocka_unit_test(test_lod_lanes),
         cmocka_unit_test(test_texture),
         cmocka_unit_test(test_shade_runs),
         cmocka_unit_test(test_golden_images),
