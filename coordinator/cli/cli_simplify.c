@@ -37,6 +37,7 @@ static void usage(FILE *f)
         "                       [--views N] [--size S] [--device D] [--workers N]\n"
         "                       [--listen tcp://ADDR:PORT] [--keys DIR] [--renderer ID]\n"
         "                       [--presimplify M] [--reference MODEL] [--pm FILE]\n"
+        "                       [--surface-share S | --surface-weight W]\n"
         "Makes a coarse version of ORIGINAL with at most N vertices (the search aims within 5%\n"
         "of N; up to 5% above N counts as reached) and writes it to OUT (.obj with .mtl and PNG\n"
         "textures, .ply or .glb, chosen by the extension). A model that already has N vertices\n"
@@ -76,6 +77,13 @@ static void usage(FILE *f)
         "                         from the result up to the start); lumesh pm-extract rebuilds\n"
         "                         any vertex count in that range, byte for byte as simplify\n"
         "                         stopped there would write it\n"
+        "  --surface-share S      image: add to every collapse's price the geometric term of\n"
+        "                         lumesh optimize (squared distance to ORIGINAL's surface, see\n"
+        "                         coordinator/OPTIMIZER.md), weighted so that it is S times the\n"
+        "                         image energy of QEM's mesh of N vertices (default 0: none, the\n"
+        "                         paper's price); 0.1, what optimize --start image uses, keeps\n"
+        "                         CAD-like models on their surface\n"
+        "  --surface-weight W     the same term with this weight instead\n"
         "  -h, --help             this text\n",
         f);
 }
@@ -119,6 +127,10 @@ static int parse_image_option(int c, simplify_args *a)
     case 'p':
         o->pm_path = optarg;
         return -1;
+    case 'g':
+        return co_arg_double(CMD, "--surface-weight", optarg, 0, 1e9, &o->surface_weight) ? 1 : -1;
+    case 'G':
+        return co_arg_double(CMD, "--surface-share", optarg, 0, 1e9, &o->surface_share) ? 1 : -1;
     default:
         return co_arg_simplify_workers(CMD, c, optarg, &o->workers);
     }
@@ -161,6 +173,8 @@ static int parse(int argc, char **argv, simplify_args *a)
                                          {"presimplify", required_argument, NULL, 'P'},
                                          {"reference", required_argument, NULL, 'r'},
                                          {"pm", required_argument, NULL, 'p'},
+                                         {"surface-weight", required_argument, NULL, 'g'},
+                                         {"surface-share", required_argument, NULL, 'G'},
                                          {"help", no_argument, NULL, 'h'},
                                          {NULL, 0, NULL, 0}};
     int c, rc;
@@ -184,6 +198,10 @@ static int parse(int argc, char **argv, simplify_args *a)
         return co_cli_usage_error(CMD, "--views, --size, --device, --workers, --listen, --keys, "
                                        "--renderer, --presimplify, --reference and --pm go with "
                                        "--method image or shard");
+    if ((o->surface_share > 0 || o->surface_weight > 0) &&
+        (!a->image || o->method != CO_PRICE_IMAGE))
+        return co_cli_usage_error(CMD, "--surface-share and --surface-weight go with --method "
+                                       "image");
     if (o->method == CO_PRICE_SHARD && workers)
         return co_cli_usage_error(CMD, "--method shard renders in this process: no --workers, "
                                        "--listen, --keys or --renderer");
@@ -245,13 +263,16 @@ static int run_image(simplify_args *a)
     char qem[64] = "";
     if (s.start_verts < s.in_verts)
         snprintf(qem, sizeof qem, "QEM to %u first, ", s.start_verts);
+    char geo[64] = "";
+    if (s.surface_weight > 0)
+        snprintf(geo, sizeof geo, ", geometric term weight %.4g", s.surface_weight);
     printf("lumesh simplify: %s %u vertices / %u triangles -> %u vertices / %u triangles, %u "
-           "part%s (%s: %s%u collapses, %llu evaluations; load %.2f s, views %.2f s, simplify "
+           "part%s (%s: %s%u collapses, %llu evaluations%s; load %.2f s, views %.2f s, simplify "
            "%.2f s) -> %s%s%s\n",
            a->input, s.in_verts, s.in_tris, s.out_verts, s.out_tris, s.out_parts,
            s.out_parts == 1 ? "" : "s", method, qem, s.stats.collapses,
-           (unsigned long long)s.stats.evaluations, s.load_s, s.prepare_s, s.simplify_s, a->output,
-           o->pm_path ? ", " : "", o->pm_path ? o->pm_path : "");
+           (unsigned long long)s.stats.evaluations, geo, s.load_s, s.prepare_s, s.simplify_s,
+           a->output, o->pm_path ? ", " : "", o->pm_path ? o->pm_path : "");
     return 0;
 }
 

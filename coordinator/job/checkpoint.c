@@ -218,12 +218,24 @@ static lm_status verify_frame(const char *path, const uint8_t *d, size_t n, uint
     return LM_OK;
 }
 
+/* The flag that made a start (initial_hash). */
+static const char *start_flag(uint64_t initial_hash)
+{
+    return initial_hash == 0                           ? "--start qem"
+           : initial_hash == CO_CHECKPOINT_IMAGE_START ? "--start image"
+                                                       : "--initial";
+}
+
 static lm_status verify_key(const char *path, const co_checkpoint_key *got,
                             const co_checkpoint_key *want)
 {
     if (got->original_hash != want->original_hash)
         return lm_fail(LM_E_INVALID, "checkpoint '%s' was written for a different original model",
                        path);
+    const char *was = start_flag(got->initial_hash), *is = start_flag(want->initial_hash);
+    if (got->initial_hash != want->initial_hash && strcmp(was, is))
+        return lm_fail(LM_E_INVALID, "checkpoint '%s' was written with %s, this run uses %s", path,
+                       was, is);
     if (got->initial_hash != want->initial_hash)
         return lm_fail(LM_E_INVALID, "checkpoint '%s' was written for a different initial mesh",
                        path);

@@ -24,6 +24,7 @@
 #include "coordinator/optimizer/optimizer.h"
 #include "coordinator/optimizer/optimizer_tuning.h"
 #include "coordinator/pool/pool.h"
+#include "coordinator/simplify/simplify_job.h"
 #include "coordinator/views/views.h"
 
 /* Steps in a row that make no evaluation before the job calls the optimisation converged. */
@@ -48,6 +49,7 @@ typedef struct co_job {
     double loop_start_s; /* seconds from t0 to the start of the optimisation loop */
     double loop_limit_s; /* the loop's share of the time limit; 0 = none */
     uint64_t resumed_from_evals;
+    double start_weight; /* the geometric term's weight the image start used; 0 = none */
     char renderer[128];
 } co_job;
 
@@ -137,6 +139,10 @@ static lm_status resolve_options(co_job *j, const co_job_options *in)
         return lm_fail(LM_E_INVALID, "an original model and an output path are required");
     if (o->initial_path && o->target_verts)
         return lm_fail(LM_E_INVALID, "--initial and --target-verts exclude each other");
+    if (o->initial_path && o->start)
+        return lm_fail(LM_E_INVALID, "--initial and --start exclude each other");
+    if (!o->start)
+        o->start = CO_JOB_DEFAULT_START;
     if (!o->views)
         o->views = CO_JOB_DEFAULT_VIEWS;
     if (!o->size)
@@ -251,12 +257,42 @@ static lm_status load_original(co_job *j)
     return st;
 }
 
-/* QEM of the original, or the user's --initial mesh. */
+/* The image-driven simplification of the original, on the job's workers (or in this process),
+ * with the geometric term the optimizer gets: its weight, or its share (of QEM's mesh there). */
+static lm_status image_start(co_job *j, lm_mesh **out)
+{
+    const co_job_options *o = &j->o;
+    int none = o->surface_weight < 0 || o->surface_share < 0;
+    co_simplify_options so = {
+        .target_verts = o->target_verts,
+        .method = CO_PRICE_IMAGE,
+        .device = o->device_spec,
+        .surface_weight = o->surface_weight > 0 ? o->surface_weight : 0,
+        .surface_share = none                   ? 0
+                         : o->surface_share > 0 ? o->surface_share
+                                                : CO_SURFACE_SHARE,
+        .progress = j->rep.style == CO_REPORT_TTY,
+    };
+    co_simplify_summary sum;
+    lm_status st = co_simplify_mesh(j->original, &so, j->pool, out, &sum);
+    j->start_weight = sum.surface_weight;
+    if (st == LM_OK)
+        note(j, "start",
+             "image-driven simplification: QEM to %" PRIu32 ", then %" PRIu32
+             " collapses (%.1f s, geometric term weight %.4g)",
+             sum.start_verts, sum.stats.collapses, sum.prepare_s + sum.simplify_s,
+             sum.surface_weight);
+    return st;
+}
+
+/* QEM of the original, the image-driven simplification, or the user's --initial mesh. */
 static lm_status make_coarse(co_job *j, lm_mesh **out)
 {
     *out = NULL;
     if (j->o.initial_path)
         return lm_mesh_load(j->o.initial_path, NULL, out);
+    if (j->o.start == CO_JOB_START_IMAGE)
+        return image_start(j, out);
     lm_status st = lm_simplify(j->original, LM_SIMPLIFY_QEM, j->o.target_verts, out);
     if (st == LM_E_RANGE && *out) {
         note(j, "warning", "%s; going on with %" PRIu32 " vertices", lm_last_error(),
@@ -284,7 +320,10 @@ static lm_status prepare_coarse(co_job *j, lm_mesh *m)
         st = lm_mesh_validate(m);
     if (st == LM_OK)
         note(j, "coarse", "%s: %" PRIu32 " vertices, %" PRIu32 " triangles",
-             j->o.initial_path ? j->o.initial_path : "QEM", m->live_verts, m->live_tris);
+             j->o.initial_path                  ? j->o.initial_path
+             : j->o.start == CO_JOB_START_IMAGE ? "image-driven"
+                                                : "QEM",
+             m->live_verts, m->live_tris);
     return st;
 }
 
@@ -350,6 +389,8 @@ static lm_status make_key(co_job *j)
     lm_status st = co_checkpoint_hash_file(j->o.original_path, &k->original_hash);
     if (st == LM_OK && j->o.initial_path)
         st = co_checkpoint_hash_file(j->o.initial_path, &k->initial_hash);
+    else if (j->o.start == CO_JOB_START_IMAGE)
+        k->initial_hash = CO_CHECKPOINT_IMAGE_START;
     k->seed = j->o.seed;
     k->target_verts = j->o.initial_path ? 0 : j->o.target_verts;
     k->views = j->o.views;
@@ -384,7 +425,11 @@ static lm_status make_optimizer(co_job *j)
                         .attrs = j->attrs,
                         .edges_in_flight = j->o.edges_in_flight,
                         .surface = j->original};
-    co_tuning tuning = {.surface_weight = j->o.surface_weight, .surface_share = j->o.surface_share};
+    /* From an image start the term keeps the weight the collapses were priced with (the share of
+       QEM's mesh), as from a QEM start: one energy from the original to the result. */
+    co_tuning tuning = {.surface_weight =
+                            j->start_weight > 0 ? j->start_weight : j->o.surface_weight,
+                        .surface_share = j->o.surface_share};
     lm_mesh *coarse = j->coarse;
     j->coarse = NULL; /* the optimizer owns it from here on, even when its creation fails */
     lm_status st = co_optimizer_create_tuned(coarse, j->views, &params, &tuning, &j->opt);
@@ -536,9 +581,9 @@ static lm_status job_stages(co_job *j, co_job_summary *summary)
     if (st == LM_OK && j->o.resume_path)
         st = co_checkpoint_verify(j->o.resume_path, &j->key);
     if (st == LM_OK)
-        st = make_coarse_mesh(j);
-    if (st == LM_OK)
         st = make_pool(j);
+    if (st == LM_OK)
+        st = make_coarse_mesh(j);
     if (st == LM_OK)
         st = make_views(j);
     if (st == LM_OK)

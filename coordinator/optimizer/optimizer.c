@@ -124,16 +124,11 @@ static lm_status relative_weight(co_optimizer *o)
 {
     if (!o->surface || o->tuning.surface_weight > 0)
         return LM_OK;
-    int64_t total = 0;
-    lm_status st = o->views->ops->energy(o->views, &total, NULL);
-    if (st != LM_OK)
-        return st;
-    double image = (double)(total - co_surface_views_energy(o->surface));
-    double unit = co_surface_views_unit_energy(o->surface);
-    double w = image > 0 && unit > 0 ? o->tuning.surface_share * image / unit : 1.0;
-    o->tuning.surface_weight = w < CO_SURFACE_MAX_WEIGHT ? w : CO_SURFACE_MAX_WEIGHT;
-    co_surface_views_set_weight(o->surface, o->tuning.surface_weight);
-    return LM_OK;
+    lm_status st = co_surface_views_weight_for_share(o->surface, o->tuning.surface_share,
+                                                     &o->tuning.surface_weight);
+    if (st == LM_OK)
+        co_surface_views_set_weight(o->surface, o->tuning.surface_weight);
+    return st;
 }
 
 static lm_status create_parts(co_optimizer *o)

@@ -10,6 +10,7 @@
 
 #include "common/bvh.h"
 #include "coordinator/optimizer/distance_memo.h"
+#include "coordinator/optimizer/optimizer_tuning.h"
 
 typedef struct tri_entry {
     float p[3][3];
@@ -337,6 +338,22 @@ double co_surface_views_unit_energy(const lm_views *v)
         sum += k * area * mean;
     }
     return sum;
+}
+
+lm_status co_surface_views_weight_for_share(lm_views *v, double share, double *weight)
+{
+    surface_views *s = as_sv(v);
+    int64_t image = 0;
+    *weight = 1.0;
+    lm_status st = s->inner->ops->energy(s->inner, &image, NULL);
+    if (st != LM_OK)
+        return st;
+    double unit = co_surface_views_unit_energy(v);
+    if (image > 0 && unit > 0) {
+        double w = share * (double)image / unit;
+        *weight = w < CO_SURFACE_MAX_WEIGHT ? w : CO_SURFACE_MAX_WEIGHT;
+    }
+    return LM_OK;
 }
 
 void co_surface_views_set_weight(lm_views *v, double weight)

@@ -40,6 +40,12 @@ int64_t co_surface_views_energy(const lm_views *v);
  * the same bits for the same mesh): what co_optimizer scales a relative weight by. */
 double co_surface_views_unit_energy(const lm_views *v);
 
+/* The weight that makes E_geo of the current mesh `share` times its image energy (the energy of
+ * the wrapped views), at most CO_SURFACE_MAX_WEIGHT; 1 when either is 0. A function of the mesh and
+ * the views alone (E_geo at weight 1 summed in triangle-id order, the image energy exact), so the
+ * same for any split of the views. Fails only as the wrapped views' energy op does. */
+lm_status co_surface_views_weight_for_share(lm_views *v, double share, double *weight);
+
 /* Change the weight (> 0) and recompute every e(t) of the current mesh with it. */
 void co_surface_views_set_weight(lm_views *v, double weight);
 

@@ -1,5 +1,6 @@
-/* coordinator/simplify/simplify_job.c — load → QEM when large → working mesh → views → collapses
- * (with the progressive mesh recorded) → output and progressive mesh written. */
+/* coordinator/simplify/simplify_job.c — load → QEM when large → working mesh → views (with the
+ * geometric term when asked) → collapses (with the progressive mesh recorded) → output and
+ * progressive mesh written; and the same middle part on a model in memory (co_simplify_mesh). */
 #include "coordinator/simplify/simplify_job.h"
 
 #include <stdio.h>
@@ -10,6 +11,7 @@
 #include "common/folders.h"
 #include "common/mesh_io.h"
 #include "common/simplify.h"
+#include "coordinator/optimizer/surface_term.h"
 #include "coordinator/pool/pool.h"
 #include "coordinator/quality/view_setup.h"
 #include "coordinator/simplify/work.h"
@@ -17,10 +19,11 @@
 typedef struct sjob {
     const co_simplify_options *o;
     co_simplify_summary *sum;
-    lm_mesh *in, *ref, *work;
+    const lm_mesh *in;
+    lm_mesh *own_in, *ref, *work;
     lm_view_set *vs;
-    co_pool *pool;
-    lm_views *views;
+    co_pool *pool, *own_pool;      /* pool: own_pool, or the caller's */
+    lm_views *views, *image_views; /* views: image_views, or the geometric term over them */
     co_pm_recorder *rec;
     int derived;
     double t_last;
@@ -28,7 +31,8 @@ typedef struct sjob {
 
 static lm_status load(sjob *j)
 {
-    lm_status st = lm_mesh_load(j->o->input_path, NULL, &j->in);
+    lm_status st = lm_mesh_load(j->o->input_path, NULL, &j->own_in);
+    j->in = j->own_in;
     if (st == LM_OK && j->o->reference_path)
         st = lm_mesh_load(j->o->reference_path, NULL, &j->ref);
     if (st == LM_OK) {
@@ -60,17 +64,59 @@ static lm_status start_mesh(sjob *j)
     return st;
 }
 
+/* The weight surface_share gives: E_geo that share of the image energy of QEM's mesh at the
+ * target, with the term (at weight 1) over the views; the views are left on that mesh. */
+static lm_status share_weight(sjob *j, double *w)
+{
+    lm_mesh *qem = NULL;
+    int derived;
+    lm_status st = lm_simplify(j->in, LM_SIMPLIFY_QEM, j->o->target_verts, &qem);
+    if (st == LM_E_RANGE && qem) {
+        lm_clear_error();
+        st = LM_OK;
+    }
+    if (st == LM_OK)
+        st = co_simplify_prepare(qem, &derived);
+    if (st == LM_OK)
+        st = lm_views_set_mesh_from(j->views, qem);
+    if (st == LM_OK)
+        st = co_surface_views_weight_for_share(j->views, j->o->surface_share, w);
+    lm_mesh_destroy(qem);
+    return st;
+}
+
+/* The geometric term over the image views: every collapse is priced by ΔE_image + ΔE_geo. */
+static lm_status wrap_surface(sjob *j, const lm_mesh *ref)
+{
+    double w = j->o->surface_weight > 0 ? j->o->surface_weight : 1.0;
+    j->image_views = j->views;
+    j->views = NULL;
+    lm_status st = co_surface_views_create(j->image_views, ref, w, &j->views);
+    if (st == LM_OK && !(j->o->surface_weight > 0)) {
+        st = share_weight(j, &w);
+        if (st == LM_OK)
+            co_surface_views_set_weight(j->views, w);
+    }
+    j->sum->surface_weight = w;
+    return st == LM_OK ? lm_views_set_mesh_from(j->views, j->work) : st;
+}
+
 static lm_status make_views(sjob *j)
 {
     const lm_mesh *ref = j->ref ? j->ref : j->in;
     uint32_t n = j->o->views ? j->o->views : LM_DEFAULT_VIEWS;
     int size = j->o->size ? j->o->size : LM_DEFAULT_VIEW_SIZE;
     lm_status st = co_view_set_around(ref, n, size, 0, &j->vs);
-    if (st == LM_OK && j->o->method == CO_PRICE_IMAGE)
-        st = co_simplify_pool_start(&j->o->workers, j->o->device, &j->pool);
+    if (st == LM_OK && j->o->method == CO_PRICE_IMAGE && !j->pool) {
+        st = co_simplify_pool_start(&j->o->workers, j->o->device, &j->own_pool);
+        j->pool = j->own_pool;
+    }
     if (st == LM_OK)
         st = co_simplify_make_views(j->o->method, ref, j->work, j->vs, j->o->device, j->pool,
                                     &j->views);
+    if (st == LM_OK && j->o->method == CO_PRICE_IMAGE &&
+        (j->o->surface_weight > 0 || j->o->surface_share > 0))
+        st = wrap_surface(j, ref);
     if (st == LM_OK) {
         lm_views_info info;
         j->views->ops->info(j->views, &info);
@@ -82,6 +128,10 @@ static lm_status make_views(sjob *j)
 static lm_status on_step(void *ctx, const lm_mesh *m, co_isimp_step *s)
 {
     sjob *j = ctx;
+    if (co_pool_interrupted()) /* signals caught by a caller (the optimize job): stop here */
+        return lm_fail(LM_E_INVALID, "interrupted (signal %d) during the image-driven "
+                                     "simplification: nothing written",
+                       co_pool_interrupt_signal());
     if (j->o->progress) {
         double t = co_now_s();
         if (t - j->t_last > 0.5 || m->live_verts <= j->o->target_verts) {
@@ -131,33 +181,68 @@ static lm_status write_outputs(sjob *j)
     return st;
 }
 
+/* The stages between the loaded model and the result (j->work), timed into the summary. */
+static lm_status run_stages(sjob *j)
+{
+    double t1 = co_now_s();
+    lm_status st = start_mesh(j);
+    if (st == LM_OK)
+        st = make_views(j);
+    double t2 = co_now_s();
+    if (st == LM_OK)
+        st = simplify(j);
+    j->sum->prepare_s = t2 - t1;
+    j->sum->simplify_s = co_now_s() - t2;
+    return st;
+}
+
+static void sjob_free(sjob *j)
+{
+    co_pm_recorder_destroy(j->rec);
+    lm_views_destroy(j->views);
+    lm_views_destroy(j->image_views);
+    co_pool_destroy(j->own_pool);
+    free(j->vs);
+    lm_mesh_destroy(j->work);
+    lm_mesh_destroy(j->ref);
+    lm_mesh_destroy(j->own_in);
+}
+
 lm_status co_simplify_job_run(const co_simplify_options *o, co_simplify_summary *sum)
 {
     memset(sum, 0, sizeof *sum);
     sjob j = {.o = o, .sum = sum};
     double t0 = co_now_s();
     lm_status st = load(&j);
-    double t1 = co_now_s();
+    sum->load_s = co_now_s() - t0;
     if (st == LM_OK)
-        st = start_mesh(&j);
-    if (st == LM_OK)
-        st = make_views(&j);
-    double t2 = co_now_s();
-    if (st == LM_OK)
-        st = simplify(&j);
+        st = run_stages(&j);
     double t3 = co_now_s();
     if (st == LM_OK)
         st = write_outputs(&j);
-    sum->load_s = t1 - t0;
-    sum->prepare_s = t2 - t1;
-    sum->simplify_s = t3 - t2;
     sum->write_s = co_now_s() - t3;
-    co_pm_recorder_destroy(j.rec);
-    lm_views_destroy(j.views);
-    co_pool_destroy(j.pool);
-    free(j.vs);
-    lm_mesh_destroy(j.work);
-    lm_mesh_destroy(j.ref);
-    lm_mesh_destroy(j.in);
+    sjob_free(&j);
+    return st;
+}
+
+lm_status co_simplify_mesh(const lm_mesh *in, const co_simplify_options *o, co_pool *pool,
+                           lm_mesh **out, co_simplify_summary *sum)
+{
+    *out = NULL;
+    memset(sum, 0, sizeof *sum);
+    if (o->reference_path || o->pm_path || o->method != CO_PRICE_IMAGE)
+        return lm_fail(LM_E_INVALID, "co_simplify_mesh: the image method, no reference or pm");
+    sjob j = {.o = o, .sum = sum, .in = in, .pool = pool};
+    sum->in_verts = in->live_verts;
+    sum->in_tris = in->live_tris;
+    lm_status st = run_stages(&j);
+    if (st == LM_OK)
+        st = co_simplify_output_copy(j.work, out);
+    if (st == LM_OK) {
+        sum->out_verts = (*out)->live_verts;
+        sum->out_tris = (*out)->live_tris;
+        sum->out_parts = lm_mesh_count_parts(*out);
+    }
+    sjob_free(&j);
     return st;
 }

@@ -18,7 +18,7 @@ bunny="$LUMESH_TEST_DATA/cache/meshes/bunny00.off"
 scratch
 export TMPDIR="$tmp" # local workers' ipc endpoints live here: the checks see only this script's
 export LP_NUM_THREADS=0
-job=(--evals 1500 --target-verts 300 --views 12 --size 96 --device host)
+job=(--evals 1500 --target-verts 300 --views 12 --size 96 --device host --start qem)
 
 free_port() { python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])'; }
 same() { # same NAME FILE_A FILE_B
@@ -166,7 +166,7 @@ kill -TERM "$pool"
 
 # -- the CPU rasteriser in worker processes: 3 local workers and one started by hand give the bytes
 #    of in-process --device cpu; a job pinned to its renderer id refuses an llvmpipe worker --
-cpu_job=(--evals 1500 --target-verts 300 --views 12 --size 96 --device cpu)
+cpu_job=(--evals 1500 --target-verts 300 --views 12 --size 96 --device cpu --start qem)
 "$LUMESH" optimize "$bunny" -o "$tmp/cpu-w0.glb" "${cpu_job[@]}" --workers 0 2>"$tmp/err" ||
   fail "in-process cpu: $(tail -1 "$tmp/err")"
 for w in 3; do

@@ -27,11 +27,11 @@ cleanup() {
 trap cleanup EXIT
 export LP_NUM_THREADS=0
 base=$(python3 -c 'import random; print(random.randrange(20000, 40000, 10))')
-job=(--evals 3000 --target-verts 300 --views 12 --size 96 --device host)
-long=(--evals 9000 --target-verts 300 --views 12 --size 96 --device host)
+job=(--evals 3000 --target-verts 300 --views 12 --size 96 --device host --start qem)
+long=(--evals 9000 --target-verts 300 --views 12 --size 96 --device host --start qem)
 poison_job=("${job[@]}")
 if [ "$light" = 1 ]; then # the sanitizer stage: shorter runs (the release stage runs them whole)
-  job=(--evals 1500 --target-verts 300 --views 12 --size 96 --device host)
+  job=(--evals 1500 --target-verts 300 --views 12 --size 96 --device host --start qem)
   long=(--evals 4500 --target-verts 300 --views 12 --size 96 --device host)
 fi
 

@@ -134,8 +134,8 @@ PY
 source "$tmp/pods.sh"
 export PATH=$tmp/bin:$PATH LP_NUM_THREADS=0
 "$LUMESH" gen-frog -o "$tmp/data/model.obj" --tris 8000 >/dev/null || fail "gen-frog"
-flags="--views 12 --size 96 --evals 4500 --target-verts 300 --device auto" # as the workers
-[ "$light" = 1 ] && flags="--views 12 --size 96 --evals 3000 --target-verts 300 --device auto"
+flags="--views 12 --size 96 --evals 4500 --target-verts 300 --device auto --start qem" # as the workers
+[ "$light" = 1 ] && flags="--views 12 --size 96 --evals 3000 --target-verts 300 --device auto --start qem"
 # shellcheck disable=SC2086
 "$LUMESH" optimize "$tmp/data/model.obj" -o "$tmp/local.glb" $flags --workers 0 >/dev/null \
   2>"$tmp/local.err" || fail "the local run: $(tail -1 "$tmp/local.err")"

@@ -46,7 +46,7 @@ for n in "${ns[@]}"; do
   i=$((i + 1))
 done
 
-job=(--evals 1500 --target-verts 300 --views 12 --size 96 --device host)
+job=(--evals 1500 --target-verts 300 --views 12 --size 96 --device host --start qem)
 "$LUMESH" keygen -o "$tmp/keys" >/dev/null || fail "keygen" # beyond loopback, keys are required
 "$LUMESH" optimize "$bunny" -o "$tmp/local.glb" "${job[@]}" --workers 0 2>/dev/null ||
   fail "in-process run"
@@ -68,7 +68,7 @@ checks=$((checks + 1))
 wait
 
 # The same with worker 1's link cut for 6 s in the middle of a longer run.
-long=(--evals 9000 --target-verts 300 --views 12 --size 96 --device host)
+long=(--evals 9000 --target-verts 300 --views 12 --size 96 --device host --start qem)
 [ "$light" = 1 ] && long=(--evals 5000 --target-verts 300 --views 12 --size 96 --device host)
 "$LUMESH" optimize "$bunny" -o "$tmp/local9.glb" "${long[@]}" --workers 0 2>/dev/null ||
   fail "in-process run, 9000"

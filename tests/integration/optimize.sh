@@ -24,7 +24,7 @@ expect_same() {
 "$LUMESH" gen-frog -o "$tmp/frog.obj" --tris 3000 --seed 2 >/dev/null 2>"$tmp/gen.err" ||
   { fail "gen-frog: $(cat "$tmp/gen.err")"; finish; exit 1; }
 frog=$tmp/frog.obj
-opts=(--views 8 --size 64 --target-verts 120 --seed 5 --device host)
+opts=(--views 8 --size 64 --target-verts 120 --seed 5 --device host --start qem)
 # One edge iteration of this job takes ~24,000 evaluations; checkpoints come at iteration ends.
 budget=40000
 half=28000
@@ -104,6 +104,31 @@ else
   fail "simplify: $(cat "$tmp/s.err")"
 fi
 
+# 6b. The image-driven start (the default without --initial): the same bytes in this process and
+#     on 2 workers and after a --resume; not QEM's start; a checkpoint refused by another --start.
+img=(--views 8 --size 64 --target-verts 120 --seed 5 --device cpu --evals 3000)
+mkdir -p "$tmp/img0" "$tmp/img2" "$tmp/imgr" "$tmp/imgp"
+expect_exit 0 "$LUMESH" optimize "$frog" -o "$tmp/img0/out.obj" "${img[@]}" --workers 0 \
+  --save-initial "$tmp/img0/start.obj"
+expect_exit 0 "$LUMESH" optimize "$frog" -o "$tmp/img2/out.obj" "${img[@]}" --workers 2 \
+  --save-initial "$tmp/img2/start.obj"
+expect_same "$tmp/img0" "$tmp/img2" "image start, in process and on 2 workers"
+expect_exit 0 "$LUMESH" optimize "$frog" -o "$tmp/qs/out.obj" "${img[@]}" --workers 0 --evals 1 \
+  --start qem --save-initial "$tmp/qs/start.obj"
+checks=$((checks + 1))
+cmp -s "$tmp/img0/start.obj" "$tmp/qs/start.obj" && fail "--start image saved QEM's start"
+expect_exit 0 "$LUMESH" optimize "$frog" -o "$tmp/imgp/out.obj" "${img[@]}" --workers 0 \
+  --evals 1500 --checkpoint "$tmp/ck3" --checkpoint-every 1
+expect_exit 0 "$LUMESH" optimize "$frog" -o "$tmp/imgr/out.obj" "${img[@]}" --workers 0 \
+  --resume "$tmp/ck3" --save-initial "$tmp/imgr/start.obj"
+expect_same "$tmp/img0" "$tmp/imgr" "image start resumed"
+checks=$((checks + 1))
+"$LUMESH" optimize "$frog" -o "$tmp/bad.obj" "${img[@]}" --workers 0 --start qem \
+  --resume "$tmp/ck3" >/dev/null 2>"$tmp/start.err"
+rc=$?
+[ "$rc" = 1 ] && grep -q "written with --start image, this run uses --start qem" "$tmp/start.err" ||
+  fail "a checkpoint of another --start: exit $rc, $(cat "$tmp/start.err")"
+
 # 7. The demo, small: the three models, the before/after grid and a summary with held-out energies.
 checks=$((checks + 1))
 "$LUMESH" demo -o "$tmp/demo" --tris 2000 --target-verts 80 --evals 1500 --views 8 --size 64 \
@@ -131,6 +156,8 @@ expect_fail_line "$LUMESH" optimize "$frog" -o "$bad" --evals
 expect_fail_line "$LUMESH" optimize "$frog"
 expect_fail_line "$LUMESH" optimize -o "$bad"
 expect_fail_line "$LUMESH" optimize "$frog" -o "$bad" --initial "$frog" --target-verts 100
+expect_fail_line "$LUMESH" optimize "$frog" -o "$bad" --initial "$frog" --start qem
+expect_fail_line "$LUMESH" optimize "$frog" -o "$bad" --start bogus
 expect_fail_line "$LUMESH" optimize "$frog" -o "$bad" --attrs pos,bogus
 expect_fail_line "$LUMESH" optimize "$frog" -o "$tmp/bad/out.xyz"
 expect_fail_line "$LUMESH" optimize "$tmp/missing.obj" -o "$bad"

@@ -52,8 +52,8 @@ done
 # -- the units' commands, expanded as systemd expands them --
 port=$(python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])')
 "$LUMESH" keygen -o "$tmp/keys" >/dev/null || fail "keygen"
-flags="--views 12 --size 96 --evals 4500 --target-verts 300 --device host"
-[ "$light" = 1 ] && flags="--views 12 --size 96 --evals 3000 --target-verts 300 --device host"
+flags="--views 12 --size 96 --evals 4500 --target-verts 300 --device host --start qem"
+[ "$light" = 1 ] && flags="--views 12 --size 96 --evals 3000 --target-verts 300 --device host --start qem"
 # units.py writes units.sh: for the coordinator and two worker instances, bash arrays of the
 # ExecStart argv, its environment and the signals and exit statuses the unit declares. The
 # EnvironmentFiles are the shipped examples with this test's address, device and job flags.

@@ -231,7 +231,16 @@ static void test_other_options_refused(void **state)
     expect_key_refused(path, &k, "different original");
     k = key0;
     k.initial_hash = 42;
-    expect_key_refused(path, &k, "different initial");
+    expect_key_refused(path, &k, "written with --start qem, this run uses --initial");
+    k.initial_hash = CO_CHECKPOINT_IMAGE_START;
+    expect_key_refused(path, &k, "written with --start qem, this run uses --start image");
+    char *other = path_in(dir, "initial.ckpt");
+    k = key0;
+    k.initial_hash = 42;
+    assert_int_equal(co_checkpoint_write(other, &k, save_fn, &in), LM_OK);
+    k.initial_hash = 43;
+    expect_key_refused(other, &k, "different initial mesh");
+    free(other);
     k = key0;
     k.seed = 8;
     expect_key_refused(path, &k, "--seed");

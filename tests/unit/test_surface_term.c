@@ -1,8 +1,9 @@
 /* tests/unit/test_surface_term.c — the optimizer's geometric term (surface_term.h) over a test
- * double of views whose image energy is always 0: a triangle on the surface costs nothing and one
+ * double of views whose image energy is a set number (0 unless a test says): a triangle on the surface costs nothing and one
  * lifted off a plane by h costs k · area · h²; evaluate's ΔE is exactly what a commit then changes
  * in energy, and 0 for triangles whose corners did not move; the total does not depend on the
- * order of the triangles; ops are passed on to the wrapped views. */
+ * order of the triangles; ops are passed on to the wrapped views; a share gives the weight that
+ * makes E_geo that share of the image energy. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -14,6 +15,7 @@
 typedef struct zero_views {
     lm_views base;
     int set_mesh, evaluate, commit;
+    int64_t image; /* what energy reports */
 } zero_views;
 
 static lm_status zv_set_mesh(lm_views *v, const lm_tri_data *t, size_t n)
@@ -43,8 +45,8 @@ static lm_status zv_commit(lm_views *v, const lm_patch *p)
 }
 static lm_status zv_energy(lm_views *v, int64_t *t, int64_t *pv)
 {
-    (void)v, (void)pv;
-    *t = 0;
+    (void)pv;
+    *t = ((zero_views *)v)->image;
     return LM_OK;
 }
 static lm_status zv_potentials(lm_views *v, const float (*p)[3], size_t n, int64_t *out)
@@ -242,6 +244,31 @@ static void test_set_weight(void **state)
     teardown(&b);
 }
 
+static void test_share_weight(void **state)
+{
+    (void)state;
+    fixture f;
+    setup(&f);
+    lm_tri_data t[6];
+    uint64_t seed = 5;
+    for (int i = 0; i < 6; i++)
+        t[i] = tri((uint32_t)i, (float)lmt_urand(&seed) * 0.7f, (float)lmt_urand(&seed) * 0.7f,
+                   0.1f + 0.2f * (float)lmt_urand(&seed), 0.1f * (float)lmt_urand(&seed) - 0.05f);
+    assert_int_equal(f.v->ops->set_mesh(f.v, t, 6), LM_OK);
+    double w = 0;
+    assert_int_equal(co_surface_views_weight_for_share(f.v, 0.1, &w), LM_OK);
+    assert_true(w == 1.0); /* no image energy: weight 1 */
+    f.inner.image = 40000000;
+    assert_int_equal(co_surface_views_weight_for_share(f.v, 0.1, &w), LM_OK);
+    double unit = co_surface_views_unit_energy(f.v);
+    assert_true(w > 0 && fabs(w * unit - 4000000.0) <= 1e-6 * 4000000.0);
+    co_surface_views_set_weight(f.v, w);
+    int64_t geo = energy(f.v) - f.inner.image;
+    assert_true(geo == co_surface_views_energy(f.v));
+    assert_true(llabs(geo - 4000000) <= 6); /* one rounding per triangle */
+    teardown(&f);
+}
+
 static void test_refuses_bad_arguments(void **state)
 {
     (void)state;
@@ -262,6 +289,7 @@ int main(void)
         cmocka_unit_test(test_delta_is_what_commit_changes),
         cmocka_unit_test(test_order_free),
         cmocka_unit_test(test_set_weight),
+        cmocka_unit_test(test_share_weight),
         cmocka_unit_test(test_refuses_bad_arguments),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
