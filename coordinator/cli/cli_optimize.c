@@ -1,6 +1,7 @@
 /* coordinator/cli/cli_optimize.c — `lumesh optimize`: flags → co_job_options → co_job_run, and
  * with --report DIR the quality report of the result (the coarse start saved beside it). */
 #include <getopt.h>
+#include <signal.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -10,6 +11,7 @@
 #include "coordinator/job/job.h"
 #include "coordinator/job/job_log.h"
 #include "coordinator/job/progress.h"
+#include "coordinator/pool/pool.h"
 #include "coordinator/quality/report.h"
 
 static const char co_optimize_help[] =
@@ -364,8 +366,14 @@ int co_cli_optimize(int argc, char **argv)
     if (st == LM_OK && a.report_dir && !suspended)
         st = write_report(&a, &s, &log);
     co_run_log_free(&log);
-    if (st != LM_OK)
-        return co_cli_fail(co_cmd, st);
+    if (st != LM_OK) { /* a signal before the optimisation began (the start): nothing written */
+        int code = co_cli_fail(co_cmd, st);
+        if (!co_pool_interrupted())
+            return code;
+        int suspend =
+            co_pool_interrupt_signal() == SIGUSR1 && (a.o.checkpoint_path || a.o.resume_path);
+        return suspend ? CO_EXIT_SUSPENDED : 130; /* as a suspension or interruption would */
+    }
     if (suspended)
         return CO_EXIT_SUSPENDED;
     return strcmp(s.stop_reason, "interrupted") ? 0 : 130;

@@ -273,10 +273,21 @@ static lm_status image_start(co_job *j, lm_mesh **out)
                                                 : CO_SURFACE_SHARE,
         .progress = j->rep.style == CO_REPORT_TTY,
     };
+    int human = j->rep.style == CO_REPORT_TTY || j->rep.style == CO_REPORT_LINES;
+    uint32_t qem = co_simplify_start_verts(j->original->live_verts, o->target_verts, 0);
+    if (human)
+        fprintf(stderr,
+                "lumesh: the start: QEM to %" PRIu32 " vertices, then the image-driven collapses "
+                "to %" PRIu32 " (--start qem skips them)\n",
+                qem, o->target_verts);
     co_simplify_summary sum;
     lm_status st = co_simplify_mesh(j->original, &so, j->pool, out, &sum);
     j->start_weight = sum.surface_weight;
-    if (st == LM_OK)
+    if (st == LM_OK && human)
+        fprintf(stderr,
+                "lumesh: the start: %" PRIu32 " vertices, %" PRIu32 " collapses in %.1f s\n",
+                sum.out_verts, sum.stats.collapses, sum.prepare_s + sum.simplify_s);
+    if (st == LM_OK && !human)
         note(j, "start",
              "image-driven simplification: QEM to %" PRIu32 ", then %" PRIu32
              " collapses (%.1f s, geometric term weight %.4g)",
@@ -641,6 +652,9 @@ lm_status co_job_run(const co_job_options *opts, co_job_summary *summary)
         co_reporter_end_line(&j->rep);
     else
         co_reporter_abandon_line(&j->rep);
+    char why[512] = ""; /* stopping the workers below handles (and clears) errors of its own */
+    if (st != LM_OK)
+        snprintf(why, sizeof why, "%s", lm_last_error());
     if (j->opt)
         co_optimizer_destroy(j->opt);
     lm_views_destroy(j->views);
@@ -651,5 +665,7 @@ lm_status co_job_run(const co_job_options *opts, co_job_summary *summary)
     if (j->original)
         lm_mesh_destroy(j->original);
     free(j);
+    if (st != LM_OK && why[0])
+        lm_fail(st, "%s", why);
     return st;
 }

@@ -129,6 +129,30 @@ rc=$?
 [ "$rc" = 1 ] && grep -q "written with --start image, this run uses --start qem" "$tmp/start.err" ||
   fail "a checkpoint of another --start: exit $rc, $(cat "$tmp/start.err")"
 
+# 6c. SIGTERM while the image start is being made (fandisk: ~30 s of collapses on 2 workers):
+#     exit 130, one line naming the signal, no output, no worker left behind.
+fandisk=${LUMESH_TEST_DATA:-}/cache/data/meshes/fandisk.off
+if [ -r "$fandisk" ]; then
+  "$LUMESH" optimize "$fandisk" -o "$tmp/term/out.obj" --target-verts 200 --device cpu \
+    --workers 2 >/dev/null 2>"$tmp/term.err" &
+  bg=$!
+  checks=$((checks + 1))
+  wait_for 120 grep -q "the start: QEM to" "$tmp/term.err" || fail "no word of the image start"
+  workers=$(pgrep -P "$bg" lumesh-worker)
+  kill -TERM "$bg"
+  wait "$bg"
+  rc=$?
+  bg=
+  checks=$((checks + 1))
+  [ "$rc" = 130 ] && grep -q "interrupted (signal 15) during the image-driven" "$tmp/term.err" ||
+    fail "SIGTERM during the start: exit $rc, $(tail -n 2 "$tmp/term.err")"
+  checks=$((checks + 1))
+  [ ! -e "$tmp/term/out.obj" ] || fail "SIGTERM during the start wrote an output"
+  checks=$((checks + 1))
+  gone() { for w in $workers; do kill -0 "$w" 2>/dev/null && return 1; done; return 0; }
+  [ -n "$workers" ] && wait_for 10 gone || fail "workers ($workers) left after SIGTERM during the start"
+fi
+
 # 7. The demo, small: the three models, the before/after grid and a summary with held-out energies.
 checks=$((checks + 1))
 "$LUMESH" demo -o "$tmp/demo" --tris 2000 --target-verts 80 --evals 1500 --views 8 --size 64 \
