@@ -129,8 +129,9 @@ static lm_status on_step(void *ctx, const lm_mesh *m, co_isimp_step *s)
 {
     sjob *j = ctx;
     if (co_pool_interrupted()) /* signals caught by a caller (the optimize job): stop here */
-        return lm_fail(LM_E_INVALID, "interrupted (signal %d) during the image-driven "
-                                     "simplification: nothing written",
+        return lm_fail(LM_E_INVALID,
+                       "interrupted (signal %d) during the image-driven "
+                       "simplification: nothing written",
                        co_pool_interrupt_signal());
     if (j->o->progress) {
         double t = co_now_s();

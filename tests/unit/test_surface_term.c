@@ -1,9 +1,9 @@
 /* tests/unit/test_surface_term.c — the optimizer's geometric term (surface_term.h) over a test
- * double of views whose image energy is a set number (0 unless a test says): a triangle on the surface costs nothing and one
- * lifted off a plane by h costs k · area · h²; evaluate's ΔE is exactly what a commit then changes
- * in energy, and 0 for triangles whose corners did not move; the total does not depend on the
- * order of the triangles; ops are passed on to the wrapped views; a share gives the weight that
- * makes E_geo that share of the image energy. */
+ * double of views whose image energy is a set number (0 unless a test says): a triangle on the
+ * surface costs nothing and one lifted off a plane by h costs k · area · h²; evaluate's ΔE is
+ * exactly what a commit then changes in energy, and 0 for triangles whose corners did not move; the
+ * total does not depend on the order of the triangles; ops are passed on to the wrapped views; a
+ * share gives the weight that makes E_geo that share of the image energy. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -285,12 +285,9 @@ static void test_refuses_bad_arguments(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_scale),
-        cmocka_unit_test(test_delta_is_what_commit_changes),
-        cmocka_unit_test(test_order_free),
-        cmocka_unit_test(test_set_weight),
-        cmocka_unit_test(test_share_weight),
-        cmocka_unit_test(test_refuses_bad_arguments),
+        cmocka_unit_test(test_scale),        cmocka_unit_test(test_delta_is_what_commit_changes),
+        cmocka_unit_test(test_order_free),   cmocka_unit_test(test_set_weight),
+        cmocka_unit_test(test_share_weight), cmocka_unit_test(test_refuses_bad_arguments),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
