@@ -230,8 +230,8 @@ lm_status lm_patch_from_journal(lm_patch *p, const lm_mesh *m, const lm_journal 
 
 lm_status lm_views_set_mesh_from(lm_views *v, const lm_mesh *m)
 {
-    lm_tri_data *tris;
-    size_t n;
+    lm_tri_data *tris = NULL;
+    size_t n = 0;
     lm_status st = lm_mesh_export_tris(m, &tris, &n);
     if (st != LM_OK)
         return st;

@@ -87,7 +87,7 @@ static lm_status frame_room(lm_stream *s, size_t n, uint8_t **at)
 
 lm_status lm_stream_put(lm_stream *s, const void *data, size_t n)
 {
-    uint8_t *at;
+    uint8_t *at = NULL;
     lm_status st = frame_room(s, n, &at);
     if (st != LM_OK)
         return st;
@@ -98,7 +98,7 @@ lm_status lm_stream_put(lm_stream *s, const void *data, size_t n)
 lm_status lm_stream_put_msg(lm_stream *s, const lm_msg *m)
 {
     size_t n = lumesh__msg__get_packed_size(m);
-    uint8_t *at;
+    uint8_t *at = NULL;
     lm_status st = frame_room(s, n, &at);
     if (st == LM_E_RANGE)
         return lm_fail(LM_E_RANGE, "a %s message of %zu bytes exceeds the frame limit of %u",

@@ -32,7 +32,7 @@ long=(--evals 9000 --target-verts 300 --views 12 --size 96 --device host --start
 poison_job=("${job[@]}")
 if [ "$light" = 1 ]; then # the sanitizer stage: shorter runs (the release stage runs them whole)
   job=(--evals 1500 --target-verts 300 --views 12 --size 96 --device host --start qem)
-  long=(--evals 4500 --target-verts 300 --views 12 --size 96 --device host)
+  long=(--evals 4500 --target-verts 300 --views 12 --size 96 --device host --start qem)
 fi
 
 stamp() { while IFS= read -r l; do printf '%s %s\n' "$EPOCHREALTIME" "$l"; done; }
