@@ -176,3 +176,17 @@ lm_status lm_simplify(const lm_mesh *in, lm_simplify_method method, uint32_t tar
                        target_verts, (*out)->live_verts);
     return s;
 }
+
+lm_status lm_simplify_best(const lm_mesh *in, lm_simplify_method method, uint32_t target_verts,
+                           lm_mesh **out, int *short_of)
+{
+    lm_status st = lm_simplify(in, method, target_verts, out);
+    *short_of = st == LM_E_RANGE && *out;
+    if (*short_of)
+        return LM_OK;
+    if (st != LM_OK && *out) {
+        lm_mesh_destroy(*out);
+        *out = NULL;
+    }
+    return st;
+}

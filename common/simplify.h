@@ -15,5 +15,10 @@ typedef enum lm_simplify_method { LM_SIMPLIFY_QEM, LM_SIMPLIFY_CLUSTER } lm_simp
  * any other error leaves *out NULL. */
 lm_status lm_simplify(const lm_mesh *in, lm_simplify_method method, uint32_t target_verts,
                       lm_mesh **out);
+/* lm_simplify that settles for the best mesh reached: LM_OK with *short_of 1 where the target
+ * could not be reached (why, in lm_last_error(), for a warning; the caller clears it), 0 where it
+ * was. Any other error as lm_simplify's. */
+lm_status lm_simplify_best(const lm_mesh *in, lm_simplify_method method, uint32_t target_verts,
+                           lm_mesh **out, int *short_of);
 
 #endif

@@ -11,6 +11,7 @@
 #include "coordinator/job/job.h"
 #include "coordinator/job/job_log.h"
 #include "coordinator/job/progress.h"
+#include "coordinator/optimizer/optimizer_tuning.h"
 #include "coordinator/pool/pool.h"
 #include "coordinator/quality/report.h"
 
@@ -67,9 +68,11 @@ static const char co_optimize_help[] =
     "                          --surface-share; 0 = none, the paper's energy; see\n"
     "                          coordinator/OPTIMIZER.md). Part of the job, like the seed\n"
     "  --surface-share S       the geometric term with the weight that makes it S times the image\n"
-    "                          energy at the start (default 0.1; 0 = none, the paper's energy;\n"
-    "                          ignored with --surface-weight); --start image weighs its collapses\n"
-    "                          with the share of QEM's mesh. Part of the job, like the seed\n"
+    "                          energy of QEM's mesh at the target, or of the --initial mesh\n"
+    "                          (default %g with --start image, whose collapses are weighed with\n"
+    "                          it too; %g with --start qem or --initial; 0 = none, the paper's\n"
+    "                          energy; ignored with --surface-weight). Part of the job, like the\n"
+    "                          seed\n"
     "  --device D              rendering device: auto (GPU if any, else cpu), cpu, host, egl:N\n"
     "                          (default auto; see lumesh devices); local workers use it too\n"
     "  --workers N             render in N lumesh-worker processes on this machine, each owning\n"
@@ -286,7 +289,8 @@ static int parse_args(int argc, char **argv, optimize_args *a)
         if (c == 'h') {
             printf(co_optimize_help, CO_JOB_MIN_TARGET_VERTS, CO_JOB_DEFAULT_VIEWS,
                    CO_JOB_DEFAULT_SIZE, (unsigned long long)CO_JOB_DEFAULT_EVALS,
-                   CO_JOB_DEFAULT_CHECKPOINT_S, CO_JOB_DEFAULT_IN_FLIGHT);
+                   CO_JOB_DEFAULT_CHECKPOINT_S, CO_JOB_IMAGE_START_SHARE, CO_SURFACE_SHARE,
+                   CO_JOB_DEFAULT_IN_FLIGHT);
             return -1;
         }
         if (c == '?' || c == ':')

@@ -198,8 +198,10 @@ static lm_status verify_frame(const char *path, const uint8_t *d, size_t n, uint
         return lm_fail(LM_E_FORMAT, "checkpoint '%s' is truncated (%zu bytes)", path, n);
     uint32_t version = get_u32(d + 8);
     if (version != CO_CHECKPOINT_VERSION)
-        return lm_fail(LM_E_FORMAT, "checkpoint '%s' has version %" PRIu32 ", expected %u", path,
-                       version, CO_CHECKPOINT_VERSION);
+        return lm_fail(LM_E_FORMAT,
+                       "checkpoint '%s' has version %" PRIu32 ", expected %u (%s lumesh wrote it)",
+                       path, version, CO_CHECKPOINT_VERSION,
+                       version < CO_CHECKPOINT_VERSION ? "an older" : "a newer");
     if (get_u32(d + 12) != CO_KEY_BYTES)
         return lm_fail(LM_E_FORMAT, "checkpoint '%s' is corrupted (bad header)", path);
     uint64_t plen = get_u64(d + 16 + CO_KEY_BYTES);

@@ -270,7 +270,7 @@ static lm_status image_start(co_job *j, lm_mesh **out)
         .surface_weight = o->surface_weight > 0 ? o->surface_weight : 0,
         .surface_share = none                   ? 0
                          : o->surface_share > 0 ? o->surface_share
-                                                : CO_SURFACE_SHARE,
+                                                : CO_JOB_IMAGE_START_SHARE,
         .progress = j->rep.style == CO_REPORT_TTY,
     };
     int human = j->rep.style == CO_REPORT_TTY || j->rep.style == CO_REPORT_LINES;
@@ -304,15 +304,12 @@ static lm_status make_coarse(co_job *j, lm_mesh **out)
         return lm_mesh_load(j->o.initial_path, NULL, out);
     if (j->o.start == CO_JOB_START_IMAGE)
         return image_start(j, out);
-    lm_status st = lm_simplify(j->original, LM_SIMPLIFY_QEM, j->o.target_verts, out);
-    if (st == LM_E_RANGE && *out) {
+    int short_of;
+    lm_status st =
+        lm_simplify_best(j->original, LM_SIMPLIFY_QEM, j->o.target_verts, out, &short_of);
+    if (short_of)
         note(j, "warning", "%s; going on with %" PRIu32 " vertices", lm_last_error(),
              (*out)->live_verts);
-        st = LM_OK;
-    } else if (st != LM_OK && *out) {
-        lm_mesh_destroy(*out);
-        *out = NULL;
-    }
     return st;
 }
 

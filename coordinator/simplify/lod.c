@@ -114,12 +114,12 @@ static lm_status simplify_level(lod *L, uint32_t k, lm_mesh **out)
     const lm_mesh *prev = k ? L->levels[k - 1] : L->orig;
     uint32_t t = L->target[k];
     uint32_t start = L->o->qem ? t : co_simplify_start_verts(prev->live_verts, t, 0);
-    lm_status st = start < prev->live_verts ? lm_simplify(prev, LM_SIMPLIFY_QEM, start, out)
-                                            : lm_mesh_clone(prev, out);
-    if (st == LM_E_RANGE && *out) {
+    int short_of = 0;
+    lm_status st = start < prev->live_verts
+                       ? lm_simplify_best(prev, LM_SIMPLIFY_QEM, start, out, &short_of)
+                       : lm_mesh_clone(prev, out);
+    if (short_of)
         lm_clear_error();
-        st = LM_OK;
-    }
     int derived;
     if (st == LM_OK)
         st = co_simplify_prepare(*out, &derived);

@@ -49,11 +49,10 @@ static lm_status start_mesh(sjob *j)
         co_simplify_start_verts(j->in->live_verts, j->o->target_verts, j->o->presimplify);
     lm_status st;
     if (start < j->in->live_verts) {
-        st = lm_simplify(j->in, LM_SIMPLIFY_QEM, start, &j->work);
-        if (st == LM_E_RANGE && j->work) {
+        int short_of;
+        st = lm_simplify_best(j->in, LM_SIMPLIFY_QEM, start, &j->work, &short_of);
+        if (short_of)
             lm_clear_error();
-            st = LM_OK;
-        }
     } else {
         st = lm_mesh_clone(j->in, &j->work);
     }
@@ -70,11 +69,10 @@ static lm_status share_weight(sjob *j, double *w)
 {
     lm_mesh *qem = NULL;
     int derived;
-    lm_status st = lm_simplify(j->in, LM_SIMPLIFY_QEM, j->o->target_verts, &qem);
-    if (st == LM_E_RANGE && qem) {
+    int short_of;
+    lm_status st = lm_simplify_best(j->in, LM_SIMPLIFY_QEM, j->o->target_verts, &qem, &short_of);
+    if (short_of)
         lm_clear_error();
-        st = LM_OK;
-    }
     if (st == LM_OK)
         st = co_simplify_prepare(qem, &derived);
     if (st == LM_OK)
