@@ -31,8 +31,8 @@ job=(--evals 3000 --target-verts 300 --views 12 --size 96 --device host --start 
 long=(--evals 9000 --target-verts 300 --views 12 --size 96 --device host --start qem)
 poison_job=("${job[@]}")
 if [ "$light" = 1 ]; then # the sanitizer stage: shorter runs (the release stage runs them whole)
-  job=(--evals 1500 --target-verts 300 --views 12 --size 96 --device host --start qem)
-  long=(--evals 4500 --target-verts 300 --views 12 --size 96 --device host --start qem)
+  job+=(--evals 1500) # the last --evals counts: everything else stays the release stage's
+  long+=(--evals 4500)
 fi
 
 stamp() { while IFS= read -r l; do printf '%s %s\n' "$EPOCHREALTIME" "$l"; done; }

@@ -69,7 +69,7 @@ wait
 
 # The same with worker 1's link cut for 6 s in the middle of a longer run.
 long=(--evals 9000 --target-verts 300 --views 12 --size 96 --device host --start qem)
-[ "$light" = 1 ] && long=(--evals 5000 --target-verts 300 --views 12 --size 96 --device host --start qem)
+[ "$light" = 1 ] && long+=(--evals 5000) # the last --evals counts
 "$LUMESH" optimize "$bunny" -o "$tmp/local9.glb" "${long[@]}" --workers 0 2>/dev/null ||
   fail "in-process run, 9000"
 ip netns exec "${ns[0]}" "$LUMESH" optimize "$bunny" -o "$tmp/cut.glb" "${long[@]}" \

@@ -115,7 +115,7 @@ echo "slurm.sh: slurmctld and slurmd up after $(since "$t_start") s"
 export LP_NUM_THREADS=0
 "$LUMESH" gen-frog -o "$tmp/work/frog.obj" --tris 8000 >/dev/null || fail "gen-frog"
 job=(--views 12 --size 96 --evals 9000 --target-verts 300 --device host --start qem)
-[ "$light" = 1 ] && job=(--views 12 --size 96 --evals 6000 --target-verts 300 --device host --start qem)
+[ "$light" = 1 ] && job+=(--evals 6000) # the last --evals counts
 "$LUMESH" optimize "$tmp/work/frog.obj" -o "$tmp/work/local.glb" "${job[@]}" --workers 0 \
   >/dev/null 2>"$tmp/log/local.err" || fail "the local run: $(tail -1 "$tmp/log/local.err")"
 
