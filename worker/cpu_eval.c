@@ -44,8 +44,8 @@ lm_status wk_cpu_eval_init(wk_cpu_views *v)
     e->mask_idx = malloc(v->tiles * sizeof *e->mask_idx);
     e->cmax = malloc(v->tiles * sizeof *e->cmax);
     if (!e->log.stamp || !e->log.idx || !e->log.xy || !e->log.old || !e->log.flag || !e->owned ||
-        !e->luma || !e->rgb || !e->tile_old || !e->tile_idx || !e->tile_stamp || !e->tile_mask ||
-        !e->mask_idx || !e->cmax)
+        !e->luma || !e->rgb || !e->texl || !e->tile_old || !e->tile_idx || !e->tile_stamp ||
+        !e->tile_mask || !e->mask_idx || !e->cmax)
         return lm_fail(LM_E_NOMEM, "out of memory for the evaluation scratch of %zu pixels",
                        v->plane);
     return LM_OK;

@@ -31,13 +31,29 @@ void wk_cpu_shade_setup(const wk_cpu_sub *s, const lm_tri_data *t, const float l
 
 /* RGB8 and luminance of the sub at n pixels xy[i] (WK_CPU_XY, each covered by it): colour into
  * rgb (3 n bytes, by channel: red i at rgb[i], green at rgb[n + i], blue at rgb[2 n + i]),
- * luminance (wk_luma of it) into luma[i]. Pixels go four at a time through IEEE float lanes;
- * each pixel's value depends on the sub and the pixel only, never on the others of the call.
+ * luminance (wk_luma of it) into luma[i]. Pixels go four or eight at a time through IEEE float
+ * lanes; each pixel's value depends on the sub and the pixel only, never on the others of the call.
  * texf (textured materials only; 3 floats a pixel, texf[3 i + channel]; may be NULL): the
  * texture's factors, written as sampled, or with reuse read instead of sampling (factors a call
  * made for a sub of the same corners, texture coordinates and material: the same bits). */
 void wk_cpu_shade_pixels(const wk_cpu_sub *s, const wk_cpu_shade *sh, const uint32_t *xy, size_t n,
                          uint8_t *rgb, uint8_t *luma, float *texf, int reuse);
+
+/* The lane width wk_cpu_shade_pixels uses, resolved once: 8 where this build has the AVX2 code
+ * (x86-64) and the processor has AVX2, unless the environment sets LUMESH_CPU_LANES=4; else 4.
+ * Every width gives the same bits. */
+int wk_cpu_shade_lanes(void);
+/* Tests: use 8 lanes (where supported) or 4 from now on; returns the width now used. */
+int wk_cpu_shade_set_lanes(int lanes);
+
+/* The eight-lane instantiation (cpu_shade_avx2.c): whether this build has it and the processor
+ * runs it, and wk_cpu_shade_pixels through it (only where supported). */
+int wk_cpu_shade_wide_supported(void);
+void wk_cpu_shade_pixels_wide(const wk_cpu_sub *s, const wk_cpu_shade *sh, const uint32_t *xy,
+                              size_t n, uint8_t *rgb, uint8_t *luma, float *texf, int reuse);
+
+/* 65536 log2(1 + i / 256), rounded, for i = 0..256 (the level of detail's table). */
+extern const uint32_t wk_cpu_log2_table[257];
 
 /* 2^8 log2(sqrt(r2)) = 128 log2(r2) rounded down (the level of detail of a footprint whose squared
  * size is r2 texels²), from a table of log2 over the mantissa's top bits, interpolated in integers;

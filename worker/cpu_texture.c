@@ -1,6 +1,6 @@
 /* worker/cpu_texture.c — mip pyramids (box-filtered in integers, texels packed), trilinear
- * sampling of four points at a time with repeat wrapping, and the CPU backend's material tables
- * (see cpu_texture.h). */
+ * sampling of four points at a time with repeat wrapping (cpu_sample_lanes.h), and the CPU
+ * backend's material tables (see cpu_texture.h). */
 #include "worker/cpu_texture.h"
 
 #include <math.h>
@@ -99,117 +99,16 @@ void wk_cpu_texture_destroy(wk_cpu_texture *t)
     free(t);
 }
 
-/* u - floor(u) in [0, 1] per lane; 0 for huge (integral) or non-finite u. */
-static v4f fraction4(v4f u)
-{
-    v4i ok = (u < wk_v4_splat(8388608.0f)) & (u > wk_v4_splat(-8388608.0f)); /* false: NaN */
-    u = wk_v4_select(ok, u, wk_v4_splat(0.0f));
-    v4f i = __builtin_convertvector(__builtin_convertvector(u, v4i), v4f);
-    return u - wk_v4_select(i > u, i - 1.0f, i);
-}
-
-/* Texel pairs and weights along one axis: s = f size - 1/2, texel floor(s) and the next one,
- * repeating, and the weight of the next one. */
-static void axis4(v4f f, v4i size, v4i *i0, v4i *i1, v4f *w)
-{
-    v4f s = f * __builtin_convertvector(size, v4f) - 0.5f; /* in [-0.5, size - 0.5] */
-    v4i fl = __builtin_convertvector(s + 1.0f, v4i) - 1;   /* floor: s + 1 > 0 */
-    *w = s - __builtin_convertvector(fl, v4f);             /* in [0, 1) */
-    fl += (fl < 0) & size;                                 /* -1 -> size - 1 */
-    fl -= (fl >= size) & size;
-    *i0 = fl;
-    *i1 = (fl + 1) & ~(fl + 1 == size); /* size -> 0 */
-}
-
-/* The bilinear mix of four texels a lane (texel[0], [1] along x, [2], [3] the row above) with the
- * weights of the second of each pair, channels 0..255. */
-static void lerp_texels(const v4i texel[4], v4f wx, v4f wy, v4f out[3])
-{
-    for (int ch = 0; ch < 3; ch++) {
-        v4f v[4];
-        for (int c = 0; c < 4; c++)
-            v[c] = __builtin_convertvector((texel[c] >> (8 * ch)) & 255, v4f);
-        v4f lo = v[0] + (v[1] - v[0]) * wx, hi = v[2] + (v[3] - v[2]) * wx;
-        out[ch] = lo + (hi - lo) * wy; /* lerps: exact where the texels agree */
-    }
-}
-
-/* Bilinear samples of level lv[k] at lane k (fractions fu, fv), channels 0..255. */
-static void bilinear4(const wk_cpu_texture *t, v4i lv, v4f fu, v4f fv, v4f out[3])
-{
-    v4i w, h, base;
-    for (int k = 0; k < 4; k++) {
-        w[k] = t->width[lv[k]];
-        h[k] = t->height[lv[k]];
-        base[k] = t->offset[lv[k]];
-    }
-    v4i x0, x1, y0, y1;
-    v4f wx, wy;
-    axis4(fu, w, &x0, &x1, &wx);
-    axis4(fv, h, &y0, &y1, &wy);
-    v4i r0 = base + y0 * w, r1 = base + y1 * w, at[4] = {r0 + x0, r0 + x1, r1 + x0, r1 + x1};
-    v4i texel[4];
-    for (int c = 0; c < 4; c++)
-        for (int k = 0; k < 4; k++)
-            texel[c][k] = (int32_t)t->data[at[c][k]];
-    lerp_texels(texel, wx, wy, out);
-}
-
-/* bilinear4 where every lane reads level l (neighbouring pixels nearly always do): the level's
- * size and place loaded once, the same bits. */
-static void bilinear4_at(const wk_cpu_texture *t, int l, v4f fu, v4f fv, v4f out[3])
-{
-    const int32_t w = t->width[l], h = t->height[l];
-    const v4i ws = {w, w, w, w}, hs = {h, h, h, h};
-    v4i x0, x1, y0, y1;
-    v4f wx, wy;
-    axis4(fu, ws, &x0, &x1, &wx);
-    axis4(fv, hs, &y0, &y1, &wy);
-    const uint32_t *data = t->data + t->offset[l];
-    v4i texel[4];
-    for (int k = 0; k < 4; k++) {
-        const uint32_t *r0 = data + (size_t)y0[k] * (size_t)w,
-                       *r1 = data + (size_t)y1[k] * (size_t)w;
-        texel[0][k] = (int32_t)r0[x0[k]];
-        texel[1][k] = (int32_t)r0[x1[k]];
-        texel[2][k] = (int32_t)r1[x0[k]];
-        texel[3][k] = (int32_t)r1[x1[k]];
-    }
-    lerp_texels(texel, wx, wy, out);
-}
-
-static int same_lanes(v4i a)
-{
-    return a[0] == a[1] && a[0] == a[2] && a[0] == a[3];
-}
+/* Sampling at four lanes (cpu_sample_lanes.h; the shading code has its own instantiations). */
+#define WK_W 4
+#define WK_VF v4f
+#define WK_VI v4i
+#define WK_L(name) name##_w4
+#include "worker/cpu_sample_lanes.h"
 
 void wk_cpu_texture_sample4(const wk_cpu_texture *t, v4f u, v4f v, v4i lod, v4f out[3])
 {
-    const v4i last = {t->n_levels - 1, t->n_levels - 1, t->n_levels - 1, t->n_levels - 1};
-    v4i mag = lod <= 0, d = (lod >> 8) & ~mag;
-    v4i top = d >= last;
-    d = (d & ~top) | (last & top);
-    v4i d1 = d + 1;
-    d1 = (d1 & ~(d1 > last)) | (last & (d1 > last));
-    v4f f = __builtin_convertvector(lod & 255 & ~mag & ~top, v4f) * (1.0f / 256.0f);
-    v4f fu = fraction4(u), fv = fraction4(v), a[3], b[3];
-    v4i flat = f == 0.0f; /* the finer level alone: a + (b - a) 0 is a, bit for bit */
-    int one_level = same_lanes(d), fine_only = flat[0] & flat[1] & flat[2] & flat[3];
-    if (one_level)
-        bilinear4_at(t, d[0], fu, fv, a);
-    else
-        bilinear4(t, d, fu, fv, a);
-    if (fine_only) {
-        for (int ch = 0; ch < 3; ch++)
-            out[ch] = a[ch];
-        return;
-    }
-    if (one_level)
-        bilinear4_at(t, d1[0], fu, fv, b);
-    else
-        bilinear4(t, d1, fu, fv, b);
-    for (int ch = 0; ch < 3; ch++)
-        out[ch] = a[ch] + (b[ch] - a[ch]) * f;
+    sample_w4(t, u, v, lod, out);
 }
 
 void wk_cpu_materials_free(wk_cpu_materials *t)

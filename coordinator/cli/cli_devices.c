@@ -8,6 +8,7 @@
 
 #include "common/error.h"
 #include "coordinator/cli/cli_args.h"
+#include "worker/cpu_shade.h"
 #include "worker/device_choice.h"
 #include "worker/gl_context.h"
 #include "worker/usb_devices.h"
@@ -105,7 +106,7 @@ static void print_json(FILE *f, const devices_report *r)
     print_json_egl(f, r);
     fputs("  \"cpu_device\": {\"spec\": \"cpu\", \"kind\": \"cpu\", \"renderer\": ", f);
     json_str(f, WK_CPU_RASTERISER);
-    fputs(", \"usable\": true},\n", f);
+    fprintf(f, ", \"pixel_lanes\": %d, \"usable\": true},\n", wk_cpu_shade_lanes());
     print_json_usb(f, r);
     fputs("  \"selection\": {\"spec\": ", f);
     json_str(f, r->spec);
@@ -137,7 +138,8 @@ static void print_text(FILE *f, const devices_report *r)
                 d->node[0] ? d->node : "-", d->usable ? "yes" : "no",
                 d->renderer[0] ? d->renderer : "(no context)");
     }
-    fprintf(f, "CPU renderer: cpu (%s), always usable\n", WK_CPU_RASTERISER);
+    fprintf(f, "CPU renderer: cpu (%s), always usable; pixels %d at a time\n", WK_CPU_RASTERISER,
+            wk_cpu_shade_lanes());
     fprintf(f, "USB devices: %d\n", r->usb_count);
     for (int i = 0; i < r->usb_count; i++) {
         const wk_usb_device *u = &r->usb[i];
@@ -163,7 +165,9 @@ static void usage(FILE *f)
           "Lists EGL rendering devices (GPUs first, then Mesa's software renderer), probing each\n"
           "with an OpenGL ES 3 context, lumesh's CPU rasteriser (cpu) and USB devices with known\n"
           "accelerators flagged; then the device that --device (default auto: the first working\n"
-          "GPU, else cpu) selects, as lumesh-worker would choose it.\n",
+          "GPU, else cpu) selects, as lumesh-worker would choose it.\n"
+          "The CPU rasteriser shades 8 pixels at a time where the processor has AVX2, else 4\n"
+          "(LUMESH_CPU_LANES=4 forces 4); both give the same bits.\n",
           f);
 }
 

@@ -30,11 +30,15 @@ kinds = [e["kind"] for e in egl]
 assert kinds == sorted(kinds, key=lambda k: k != "gpu"), kinds  # GPUs first
 assert isinstance(d["usb_devices"], list)
 assert d["cpu_device"]["spec"] == "cpu" and d["cpu_device"]["usable"], d["cpu_device"]
+assert d["cpu_device"]["pixel_lanes"] in (4, 8), d["cpu_device"]
 sel = d["selection"]
 gpus = [e for e in egl if e["kind"] == "gpu" and e["usable"]]
 want = "egl:%d" % gpus[0]["index"] if gpus else "cpu"  # auto: the first working GPU, else cpu
 assert sel["spec"] == "auto" and sel["selected"] == want, (sel, want)
 PY
+LUMESH_CPU_LANES=4 "$LUMESH" devices --json |
+    python3 -c 'import json, sys; assert json.load(sys.stdin)["cpu_device"]["pixel_lanes"] == 4' ||
+    fail "LUMESH_CPU_LANES=4 does not force four lanes"
 "$LUMESH" devices --json --device host | python3 -c '
 import json, sys
 s = json.load(sys.stdin)["selection"]

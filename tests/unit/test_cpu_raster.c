@@ -2,8 +2,9 @@
  * the direct evaluation of the subs (random triangles, clip rectangles, tile masks and depth-tile
  * rejection), the fill rule is watertight (a jittered grid covers each pixel centre of its inside
  * exactly once), drawing order does not matter, near-plane clipping makes a watertight fan, the
- * integer level of detail, texture sampling, shading of runs against single pixels, and a golden
- * hash of rendered images that pins the arithmetic (bump WK_CPU_RASTERISER's version with it). */
+ * integer level of detail, texture sampling, shading of runs against single pixels, four lanes
+ * against eight, and a golden hash of rendered images that pins the arithmetic (bump
+ * WK_CPU_RASTERISER's version with it). */
 #include <float.h>
 #include <math.h>
 #include <stdio.h>
@@ -343,6 +344,31 @@ static void test_texture(void **state)
     lm_image_destroy(img);
 }
 
+/* Two materials: untextured, and textured with a random w x h texture (*img, freed by the
+ * caller after the table). */
+static void random_materials(int w, int h, wk_cpu_materials *table, lm_image **img)
+{
+    assert_int_equal(lm_image_create(w, h, img), LM_OK);
+    for (int i = 0; i < w * h * 4; i++)
+        (*img)->pixels[i] = (uint8_t)(urand() * 256);
+    lm_material mats[2] = {{.diffuse = {0.9f, 0.8f, 1.0f, 1}}, {.diffuse = {1, 1, 1, 1}}};
+    mats[1].texture = *img;
+    assert_int_equal(wk_cpu_materials_set(table, mats, 2), LM_OK);
+}
+
+/* The window's pixels that sub s covers, in scan order; returns how many. */
+static size_t sub_pixels(const wk_cpu_sub *s, uint32_t *xy)
+{
+    size_t m = 0;
+    for (int y = 0; y < H; y++)
+        for (int x = 0; x < W; x++) {
+            uint64_t key;
+            if (wk_cpu_sub_key_at(s, x, y, &key))
+                xy[m++] = WK_CPU_XY(x, y);
+        }
+    return m;
+}
+
 /* Shading a run of pixels gives each pixel what shading it alone gives. */
 static void test_shade_runs(void **state)
 {
@@ -350,13 +376,8 @@ static void test_shade_runs(void **state)
     wk_cpu_view v;
     window_view(&v);
     lm_image *img;
-    assert_int_equal(lm_image_create(8, 8, &img), LM_OK);
-    for (int i = 0; i < 8 * 8 * 4; i++)
-        img->pixels[i] = (uint8_t)(urand() * 256);
-    lm_material mats[2] = {{.diffuse = {0.9f, 0.8f, 1.0f, 1}}, {.diffuse = {1, 1, 1, 1}}};
-    mats[1].texture = img;
     wk_cpu_materials table = {0};
-    assert_int_equal(wk_cpu_materials_set(&table, mats, 2), LM_OK);
+    random_materials(8, 8, &table, &img);
     const float light[3] = {0, 0, 1};
     for (int round = 0; round < 200; round++) {
         lm_tri_data t = random_tri(1, 40.0);
@@ -365,13 +386,7 @@ static void test_shade_runs(void **state)
         int n = wk_cpu_tri_setup(&v, &t, subs);
         for (int s = 0; s < n; s++) {
             uint32_t xy[W * H];
-            size_t m = 0;
-            for (int y = 0; y < H; y++)
-                for (int x = 0; x < W; x++) {
-                    uint64_t key;
-                    if (wk_cpu_sub_key_at(&subs[s], x, y, &key))
-                        xy[m++] = WK_CPU_XY(x, y);
-                }
+            size_t m = sub_pixels(&subs[s], xy);
             wk_cpu_shade sh;
             wk_cpu_shade_setup(&subs[s], &t, light, &table, &sh);
             static uint8_t rgb[3 * W * H], luma[W * H];
@@ -407,9 +422,8 @@ static uint64_t fnv1a(uint64_t h, const uint8_t *p, size_t n)
  * of the rasteriser's arithmetic changes this hash: then bump the version in WK_CPU_RASTERISER
  * (worker/device_choice.h), since images of two versions must not be compared, and update it. */
 #define GOLDEN_HASH 0xd5fc19749df55f46ull
-static void test_golden_images(void **state)
+static uint64_t golden_hash(void)
 {
-    (void)state;
     lm_mesh *m = lmt_make_sphere(3), *coarse = lmt_make_sphere(1);
     lm_image *tex; /* a texture of 16x16 colour cells, so that sampling is pinned too */
     assert_int_equal(lm_image_create(64, 32, &tex), LM_OK);
@@ -435,13 +449,79 @@ static void test_golden_images(void **state)
         assert_int_equal(v->ops->read_image(v, LM_IMAGE_TARGET_LUMA, k, y), LM_OK);
         h = fnv1a(fnv1a(h, rgba, sizeof rgba), y, sizeof y);
     }
-    printf("# golden hash of the CPU images: 0x%016llxull\n", (unsigned long long)h);
-    assert_true(h == GOLDEN_HASH);
     free(tris);
     lm_views_destroy(v);
     free(vs);
     lm_mesh_destroy(m);
     lm_mesh_destroy(coarse);
+    return h;
+}
+
+/* ... at four lanes and, where the processor has AVX2, at eight. */
+static void test_golden_images(void **state)
+{
+    (void)state;
+    int before = wk_cpu_shade_lanes();
+    for (int lanes = 4; lanes <= 8; lanes += 4) {
+        if (wk_cpu_shade_set_lanes(lanes) != lanes) {
+            printf("# %d lanes: not on this processor or build, skipped\n", lanes);
+            continue;
+        }
+        uint64_t h = golden_hash();
+        printf("# golden hash of the CPU images, %d lanes: 0x%016llxull\n", lanes,
+               (unsigned long long)h);
+        assert_true(h == GOLDEN_HASH);
+    }
+    wk_cpu_shade_set_lanes(before);
+}
+
+/* Eight lanes shade every run (lengths 1 to hundreds, so every tail) to the same bytes and
+ * texture factors as four, sampling and reusing factors alike. */
+static void test_lane_widths_agree(void **state)
+{
+    (void)state;
+    int before = wk_cpu_shade_lanes();
+    if (wk_cpu_shade_set_lanes(8) != 8) {
+        printf("# 8 lanes: not on this processor or build, skipped\n");
+        wk_cpu_shade_set_lanes(before);
+        return;
+    }
+    wk_cpu_view v;
+    window_view(&v);
+    lm_image *img;
+    wk_cpu_materials table = {0};
+    random_materials(32, 16, &table, &img);
+    const float light[3] = {0.3f, 0.1f, 0.9f};
+    static uint8_t rgb[2][3 * W * H], luma[2][W * H];
+    static float texf[2][3 * W * H];
+    for (int round = 0; round < 300; round++) {
+        lm_tri_data t = random_tri(1, 10.0 + urand() * 80.0);
+        t.material = (uint32_t)(round % 3 != 0);
+        wk_cpu_sub subs[WK_CPU_MAX_SUBS];
+        int n = wk_cpu_tri_setup(&v, &t, subs);
+        for (int s = 0; s < n; s++) {
+            uint32_t xy[W * H];
+            size_t m = sub_pixels(&subs[s], xy);
+            size_t cut = m ? (size_t)(urand() * (double)m) : 0; /* two runs: every tail */
+            wk_cpu_shade sh;
+            wk_cpu_shade_setup(&subs[s], &t, light, &table, &sh);
+            for (int w = 0; w < 2; w++) {
+                wk_cpu_shade_set_lanes(w ? 8 : 4);
+                wk_cpu_shade_pixels(&subs[s], &sh, xy, cut, rgb[w], luma[w], texf[w], 0);
+                wk_cpu_shade_pixels(&subs[s], &sh, xy + cut, m - cut, rgb[w] + 3 * cut,
+                                    luma[w] + cut, texf[w] + 3 * cut, 0);
+            }
+            assert_memory_equal(rgb[0], rgb[1], 3 * m);
+            assert_memory_equal(luma[0], luma[1], m);
+            if (sh.tex)
+                assert_memory_equal(texf[0], texf[1], 3 * m * sizeof(float));
+            wk_cpu_shade_pixels(&subs[s], &sh, xy, m, rgb[1], luma[1], texf[0], 1); /* reuse */
+            assert_memory_equal(luma[0], luma[1], m);
+        }
+    }
+    wk_cpu_materials_free(&table);
+    lm_image_destroy(img);
+    wk_cpu_shade_set_lanes(before);
 }
 
 int main(void)
@@ -456,6 +536,7 @@ int main(void)
         cmocka_unit_test(test_texture),
         cmocka_unit_test(test_shade_runs),
         cmocka_unit_test(test_golden_images),
+        cmocka_unit_test(test_lane_widths_agree),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
