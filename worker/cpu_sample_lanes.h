@@ -3,7 +3,8 @@
  * that instantiate it, with WK_W (4 or 8), WK_VF / WK_VI (float and int32 vectors of WK_W lanes)
  * and WK_L(name) (the name with the width's suffix) defined. Every operation is the IEEE (or two's
  * complement) one lane by lane, so a point's result never depends on the width nor on the other
- * points of its group. No include guard: one inclusion per width. */
+ * points of its group. At eight lanes with AVX2 the includer provides <immintrin.h> (texel
+ * gathers). No include guard: one inclusion per width. */
 
 /* u - floor(u) in [0, 1] per lane; 0 for huge (integral) or non-finite u. */
 static inline WK_VF WK_L(fraction)(WK_VF u)

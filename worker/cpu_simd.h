@@ -9,12 +9,6 @@
 typedef float v4f __attribute__((vector_size(16)));
 typedef int32_t v4i __attribute__((vector_size(16)));
 
-/* Lanes of a where mask is all ones, of b where it is zero. */
-static inline v4f wk_v4_select(v4i mask, v4f a, v4f b)
-{
-    return (v4f)(((v4i)a & mask) | ((v4i)b & ~mask));
-}
-
 static inline v4f wk_v4_splat(float x)
 {
     return (v4f){x, x, x, x};

@@ -3,7 +3,6 @@
  * backend's material tables (see cpu_texture.h). */
 #include "worker/cpu_texture.h"
 
-#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
