@@ -1,6 +1,10 @@
 /* common/bvh.c — closest-point queries over a triangle mesh: build (median split of
  * the centroids on the box's longest axis), point-to-triangle distance by Voronoi regions, and a
- * depth-first query that visits the nearer child first and skips boxes farther than the best. */
+ * depth-first query that visits the nearer child first and skips boxes farther than the best.
+ * Nodes are 32 bytes (two a cache line): float boxes, rounded outwards where a corner is not a
+ * float (the model's positions are, so the boxes are exact), and a left child stored right after
+ * its parent. A box only ever decides what is skipped, never a distance, so the result is the
+ * least distance over all triangles whatever the boxes. */
 #include "common/bvh.h"
 
 #include <float.h>
@@ -9,13 +13,14 @@
 #include <string.h>
 
 typedef struct bvh_node {
-    double lo[3], hi[3];
-    uint32_t first, count; /* leaf: triangles [first, first + count); inner: count = 0 */
-    uint32_t left, right;  /* inner: children */
+    float lo[3], hi[3];
+    uint32_t first; /* leaf: triangles [first, first + count); inner: the right child (the left
+                       one is the next node) */
+    uint32_t count; /* 0: inner */
 } bvh_node;
 
 struct lm_bvh {
-    double (*tri)[3][3]; /* [n] corner positions, in leaf order */
+    float (*tri)[3][3]; /* [n] corner positions (the mesh's floats), in leaf order */
     uint32_t n, n_nodes;
     bvh_node *nodes; /* [2n] at most */
 };
@@ -27,19 +32,31 @@ typedef struct build_ctx {
     double (*src)[3][3];
 } build_ctx;
 
-static void node_bounds(build_ctx *c, bvh_node *nd)
+/* The box of slots [first, first + count) (lo, hi in double). */
+static void slot_bounds(const build_ctx *c, uint32_t first, uint32_t count, double lo[3],
+                        double hi[3])
 {
     for (int k = 0; k < 3; k++) {
-        nd->lo[k] = DBL_MAX;
-        nd->hi[k] = -DBL_MAX;
+        lo[k] = DBL_MAX;
+        hi[k] = -DBL_MAX;
     }
-    for (uint32_t i = nd->first; i < nd->first + nd->count; i++)
+    for (uint32_t i = first; i < first + count; i++)
         for (int v = 0; v < 3; v++)
             for (int k = 0; k < 3; k++) {
                 double x = c->src[c->order[i]][v][k];
-                nd->lo[k] = x < nd->lo[k] ? x : nd->lo[k];
-                nd->hi[k] = x > nd->hi[k] ? x : nd->hi[k];
+                lo[k] = x < lo[k] ? x : lo[k];
+                hi[k] = x > hi[k] ? x : hi[k];
             }
+}
+
+/* The box in floats that holds [lo, hi]. */
+static void node_box(bvh_node *nd, const double lo[3], const double hi[3])
+{
+    for (int k = 0; k < 3; k++) {
+        float l = (float)lo[k], h = (float)hi[k];
+        nd->lo[k] = (double)l > lo[k] ? nextafterf(l, -INFINITY) : l;
+        nd->hi[k] = (double)h < hi[k] ? nextafterf(h, INFINITY) : h;
+    }
 }
 
 /* Partition slots [first, first + count) around their median centroid on `axis` (quickselect). */
@@ -78,23 +95,25 @@ static uint32_t build(build_ctx *c, uint32_t first, uint32_t count)
 {
     uint32_t id = c->b->n_nodes++;
     bvh_node *nd = &c->b->nodes[id];
+    double lo[3], hi[3];
+    slot_bounds(c, first, count, lo, hi);
+    node_box(nd, lo, hi);
     nd->first = first;
     nd->count = count;
-    node_bounds(c, nd);
     if (count <= LM_BVH_LEAF)
         return id;
     int axis = 0;
     for (int k = 1; k < 3; k++)
-        if (nd->hi[k] - nd->lo[k] > nd->hi[axis] - nd->lo[axis])
+        if (hi[k] - lo[k] > hi[axis] - lo[axis])
             axis = k;
     median_split(c, first, count, axis);
     uint32_t half = count / 2;
     uint32_t left = build(c, first, half);
     uint32_t right = build(c, first + half, count - half);
+    LM_ASSERT(left == id + 1);
     nd = &c->b->nodes[id]; /* (no reallocation happens, but keep the pointer fresh) */
     nd->count = 0;
-    nd->left = left;
-    nd->right = right;
+    nd->first = right;
     return id;
 }
 
@@ -141,7 +160,9 @@ lm_status lm_bvh_create(const lm_mesh *m, lm_bvh **out)
     if (!s) {
         build(&c, 0, n);
         for (uint32_t i = 0; i < n; i++)
-            memcpy(b->tri[i], c.src[c.order[i]], sizeof b->tri[i]);
+            for (int v = 0; v < 3; v++)
+                for (int k = 0; k < 3; k++)
+                    b->tri[i][v][k] = (float)c.src[c.order[i]][v][k]; /* exact: floats */
     }
     free(c.src);
     free(c.centre);
@@ -222,7 +243,8 @@ static double box_sq(const bvh_node *nd, const double p[3])
 {
     double d = 0;
     for (int k = 0; k < 3; k++) {
-        double e = p[k] < nd->lo[k] ? nd->lo[k] - p[k] : p[k] > nd->hi[k] ? p[k] - nd->hi[k] : 0;
+        double lo = nd->lo[k], hi = nd->hi[k];
+        double e = p[k] < lo ? lo - p[k] : p[k] > hi ? p[k] - hi : 0;
         d += e * e;
     }
     return d;
@@ -233,28 +255,47 @@ static double box_sq(const bvh_node *nd, const double p[3])
 double lm_bvh_closest_sq(const lm_bvh *b, const double p[3])
 {
     double best = DBL_MAX;
-    uint32_t stack[BVH_STACK];
+    struct {
+        uint32_t node;
+        double d; /* its box's squared distance, a lower bound of its triangles' */
+    } stack[BVH_STACK];
     int top = 0;
-    stack[top++] = 0;
+    stack[top].node = 0;
+    stack[top++].d = box_sq(&b->nodes[0], p);
     while (top > 0) {
-        const bvh_node *nd = &b->nodes[stack[--top]];
-        if (box_sq(nd, p) >= best)
+        --top;
+        if (stack[top].d >= best)
             continue;
+        uint32_t id = stack[top].node;
+        const bvh_node *nd = &b->nodes[id];
         if (nd->count) {
             for (uint32_t i = nd->first; i < nd->first + nd->count; i++) {
-                double d = lm_point_triangle_sq(p, b->tri[i][0], b->tri[i][1], b->tri[i][2]);
+                double t[3][3];
+                for (int v = 0; v < 3; v++)
+                    for (int k = 0; k < 3; k++)
+                        t[v][k] = b->tri[i][v][k];
+                double d = lm_point_triangle_sq(p, t[0], t[1], t[2]);
                 best = d < best ? d : best;
             }
             continue;
         }
-        uint32_t near = nd->left, far = nd->right;
-        if (box_sq(&b->nodes[far], p) < box_sq(&b->nodes[near], p)) {
-            near = nd->right;
-            far = nd->left;
+        uint32_t near = id + 1, far = nd->first;
+        double dn = box_sq(&b->nodes[near], p), df = box_sq(&b->nodes[far], p);
+        if (df < dn) {
+            uint32_t t = near;
+            double td = dn;
+            near = far, dn = df;
+            far = t, df = td;
         }
         LM_ASSERT(top + 2 <= BVH_STACK);
-        stack[top++] = far;
-        stack[top++] = near;
+        if (df < best) {
+            stack[top].node = far;
+            stack[top++].d = df;
+        }
+        if (dn < best) {
+            stack[top].node = near;
+            stack[top++].d = dn;
+        }
     }
     return best;
 }

@@ -2,24 +2,27 @@
  * the efficiency they predict.
  *
  * A real optimisation (the model simplified by QEM to 1%, in-process views behind a measuring
- * wrapper) is run twice, one edge at a time and K edges in flight. For every evaluation batch the
- * wrapper records its patches, the bytes of the Evaluate message a worker would receive (encoded
- * exactly as the remote backend encodes it) and the time the views took; the process CPU outside
- * the views is the coordinator's own work. One worker process then answers small requests over its
- * link (the socketpair local mode uses) and again over the pool's ZeroMQ ipc socket (as workers
- * that connect by address talk), to measure this machine's round trips, and two processes bounce 8
- * bytes over a plain Unix socket: the least round trip any transport between processes has here
- * (the floor). The link is timed a second time with coordinator and worker on one core: the
- * difference is what waking a sleeping processor costs (on a VM, most of a round trip).
+ * wrapper, the geometric term on as in a job from a QEM start) is run twice, one edge at a time and
+ * K edges in flight. For every evaluation batch the wrapper records its patches, the bytes of the
+ * Evaluate message a worker would receive (encoded exactly as the remote backend encodes it) and
+ * the time the views took; the process CPU outside the views is the coordinator's own work. One
+ * worker process then answers small requests over its link (the socketpair local mode uses) and
+ * again over the pool's ZeroMQ ipc socket (as workers that connect by address talk), to measure
+ * this machine's round trips, and two processes bounce 8 bytes over a plain Unix socket: the least
+ * round trip any transport between processes has here (the floor). The link is timed a second time
+ * with coordinator and worker on one core: the difference is what waking a sleeping processor costs
+ * (on a VM, most of a round trip).
  *
  * The model for W workers over V views, per batch i of n_i patches (perfect balance, a (patch,
- * view) pair the smallest piece of work):
- *     T_i(W) = RTT + coord_i + bytes_i * min(W, V) / bandwidth + n_i * V * c / min(W, n_i * V)
- * against the in-process T_i = coord_i + n_i * V * c; speed-up = sum T_i / sum T_i(W), efficiency
- * = speed-up / W. Printed for W = 1, 2, 4, 8, 16, 128 at --rtt-us (default 100) and --gbps
- * (default 10), both orders of edges; and for 2 workers at the round trips measured here (ZeroMQ,
- * and the floor): what local multi-process mode can reach on this machine at best (the model
- * gives the coordinator a core of its own, so on a machine with as many cores as workers the
+ * view) pair the smallest piece of work), the coordinator's work split into what it does while
+ * the batch is out (overlap_i, measured: the geometric term, surface_term.c) and the rest:
+ *     T_i(W) = rest_i + max(overlap_i, RTT + bytes_i * min(W, V) / bandwidth
+ *                                      + n_i * V * c / min(W, n_i * V))
+ * against the in-process T_i = rest_i + overlap_i + n_i * V * c; speed-up = sum T_i / sum T_i(W),
+ * efficiency = speed-up / W. Printed for W = 1, 2, 4, 8, 16, 128 at --rtt-us (default 100) and
+ * --gbps (default 10), both orders of edges; and for 2 workers at the round trips measured here
+ * (ZeroMQ, and the floor): what local multi-process mode can reach on this machine at best (the
+ * model gives the coordinator a core of its own, so on a machine with as many cores as workers the
  * real figure is lower).
  *
  * usage: bench_scaling [MODEL] [--evals N] [--in-flight K] [--views N] [--size S] [--rtt-us U]
@@ -58,9 +61,11 @@ typedef struct meter {
     lm_views *in;
     uint32_t *n;     /* patches of batch i */
     uint32_t *bytes; /* its Evaluate message for one worker */
+    float *overlap;  /* seconds of the coordinator's work done while batch i is out */
     size_t batches, cap;
     uint64_t patches, commits, commit_bytes;
-    double views_s, views_cpu_s, encode_cpu_s;
+    double views_s, views_cpu_s, encode_cpu_s, overlap_cpu_s;
+    double overlap_now; /* the overlap of the batch being evaluated */
     lm_wire_arena arena;
 } meter;
 
@@ -110,12 +115,29 @@ static lm_status me_evaluate(lm_views *v, const lm_patch *p, uint32_t n, int64_t
         m->cap = m->cap ? 2 * m->cap : 4096;
         m->n = realloc(m->n, m->cap * sizeof *m->n);
         m->bytes = realloc(m->bytes, m->cap * sizeof *m->bytes);
+        m->overlap = realloc(m->overlap, m->cap * sizeof *m->overlap);
     }
+    m->overlap[m->batches] = (float)m->overlap_now;
+    m->overlap_now = 0;
     m->n[m->batches] = n;
     m->bytes[m->batches++] = (uint32_t)message_bytes(m, p, n, 0);
     m->encode_cpu_s += cpu() - c1;
     m->patches += n;
     return st;
+}
+
+/* As a remote backend: the caller's overlapped work (the geometric term), timed apart, then the
+ * evaluation. */
+static lm_status me_evaluate_overlapped(lm_views *v, const lm_patch *p, uint32_t n, int64_t *d,
+                                        void (*overlap)(void *ctx), void *ctx)
+{
+    meter *m = (meter *)v;
+    double c0 = cpu();
+    if (overlap)
+        overlap(ctx);
+    m->overlap_now = cpu() - c0;
+    m->overlap_cpu_s += m->overlap_now;
+    return me_evaluate(v, p, n, d);
 }
 
 static lm_status me_commit(lm_views *v, const lm_patch *p)
@@ -171,6 +193,7 @@ static const lm_views_ops meter_ops = {
     .set_mesh = me_set_mesh,
     .set_materials = me_set_materials,
     .evaluate = me_evaluate,
+    .evaluate_overlapped = me_evaluate_overlapped,
     .commit = me_commit,
     .energy = me_energy,
     .potentials = me_potentials,
@@ -184,8 +207,9 @@ static const lm_views_ops meter_ops = {
 typedef struct costs {
     uint32_t k;
     uint64_t evals, batches;
-    double per_patch_view_us; /* c */
-    double coord_us_per_eval; /* the optimizer and encoding */
+    double per_patch_view_us;   /* c */
+    double coord_us_per_eval;   /* the optimizer and encoding */
+    double overlap_us_per_eval; /* of which done while a batch is out (the geometric term) */
     double bytes_per_batch, patches_per_batch, commit_bytes;
     double t_local_s; /* sum of the in-process T_i */
     const meter *m;
@@ -207,7 +231,8 @@ static lm_status run_once(const opts *o, const lm_mesh *orig, const lm_mesh *coa
     lm_status st = co_views_create(&d, &m->in);
     if (st == LM_OK)
         st = lm_mesh_clone(coarse, &mesh);
-    co_params params = {.seed = 1, .edges_in_flight = k};
+    /* as a job from a QEM start: the geometric term on, its weight from CO_SURFACE_SHARE */
+    co_params params = {.seed = 1, .edges_in_flight = k, .surface = orig};
     double c0 = cpu();
     if (st == LM_OK)
         st = co_optimizer_create(mesh, &m->base, &params, &opt);
@@ -229,6 +254,7 @@ static lm_status run_once(const opts *o, const lm_mesh *orig, const lm_mesh *coa
     *c = (costs){.k = k, .evals = m->patches, .batches = m->batches, .m = m};
     c->per_patch_view_us = 1e6 * m->views_s / ((double)m->patches * views);
     c->coord_us_per_eval = 1e6 * (total_cpu - m->views_cpu_s) / (double)m->patches;
+    c->overlap_us_per_eval = 1e6 * m->overlap_cpu_s / (double)m->patches;
     c->bytes_per_batch = bytes / (double)m->batches;
     c->patches_per_batch = (double)m->patches / (double)m->batches;
     c->commit_bytes = m->commits ? (double)m->commit_bytes / (double)m->commits : 0;
@@ -239,13 +265,15 @@ static lm_status run_once(const opts *o, const lm_mesh *orig, const lm_mesh *coa
 static double speedup_at(const opts *o, const costs *c, uint32_t views, uint32_t w, double rtt_us)
 {
     double t1 = 0, tw = 0, rtt = rtt_us * 1e-6, bw = o->gbps * 1e9 / 8.0;
-    double cost = c->per_patch_view_us * 1e-6, coord = c->coord_us_per_eval * 1e-6;
+    double cost = c->per_patch_view_us * 1e-6;
+    double rest = (c->coord_us_per_eval - c->overlap_us_per_eval) * 1e-6; /* never overlapped */
     for (size_t i = 0; i < c->m->batches; i++) {
-        double n = c->m->n[i], work = n * views * cost;
+        double n = c->m->n[i], work = n * views * cost, ov = c->m->overlap[i];
         double pieces = n * views < w ? n * views : w;
         double ranges = w < views ? w : views;
-        t1 += coord * n + work;
-        tw += rtt + coord * n + c->m->bytes[i] * ranges / bw + work / pieces;
+        double out = rtt + c->m->bytes[i] * ranges / bw + work / pieces; /* the batch is out */
+        t1 += rest * n + ov + work;
+        tw += rest * n + (ov > out ? ov : out);
     }
     return t1 / tw;
 }
@@ -369,10 +397,11 @@ static void print_human(const opts *o, const costs *c, uint32_t views, const rtt
            t->zmq, t->floor);
     for (int r = 0; r < 2; r++) {
         const costs *x = &c[r];
-        printf("  %u in flight: %.1f us per (patch, view); coordinator %.1f us per evaluation; "
-               "%.1f patches and %.0f bytes per batch (%.0f per commit)\n",
-               x->k, x->per_patch_view_us, x->coord_us_per_eval, x->patches_per_batch,
-               x->bytes_per_batch, x->commit_bytes);
+        printf("  %u in flight: %.1f us per (patch, view); coordinator %.1f us per evaluation "
+               "(%.1f of it while the workers render: the geometric term); %.1f patches and %.0f "
+               "bytes per batch (%.0f per commit)\n",
+               x->k, x->per_patch_view_us, x->coord_us_per_eval, x->overlap_us_per_eval,
+               x->patches_per_batch, x->bytes_per_batch, x->commit_bytes);
         printf("    predicted at %.0f us RTT, %.0f Gb/s:", o->rtt_us, o->gbps);
         for (size_t i = 0; i < N_W; i++) {
             double s = speedup(o, x, views, workers[i]);
@@ -396,12 +425,13 @@ static void print_json(const opts *o, const costs *c, uint32_t views, const rtts
     for (int r = 0; r < 2; r++) {
         const costs *x = &c[r];
         printf("%s{\"edges_in_flight\": %u, \"us_per_patch_view\": %.3f, "
-               "\"coordinator_us_per_eval\": %.3f, \"patches_per_batch\": %.3f, "
+               "\"coordinator_us_per_eval\": %.3f, \"overlapped_us_per_eval\": %.3f, "
+               "\"patches_per_batch\": %.3f, "
                "\"bytes_per_batch\": %.1f, \"bytes_per_commit\": %.1f, "
                "\"two_workers_here\": %.3f, \"two_workers_zmq\": %.3f, "
                "\"two_workers_floor\": %.3f, \"predicted\": [",
                r ? ", " : "", x->k, x->per_patch_view_us, x->coord_us_per_eval,
-               x->patches_per_batch, x->bytes_per_batch, x->commit_bytes,
+               x->overlap_us_per_eval, x->patches_per_batch, x->bytes_per_batch, x->commit_bytes,
                speedup_at(o, x, views, 2, t->link), speedup_at(o, x, views, 2, t->zmq),
                speedup_at(o, x, views, 2, t->floor));
         for (size_t i = 0; i < N_W; i++) {
@@ -513,6 +543,7 @@ int main(int argc, char **argv)
     for (int r = 0; r < 2; r++) {
         free(m[r].n);
         free(m[r].bytes);
+        free(m[r].overlap);
         lm_wire_arena_free(&m[r].arena);
     }
     lm_mesh_destroy(orig);
