@@ -29,11 +29,13 @@
 #define CMD "bench"
 #define BENCH_PATCHES 512
 #define BENCH_MAX_RUNS 10 /* worker counts measured: 1, 2, 4, ... 256 and N */
+#define BENCH_ROUNDS 3    /* with --workers: rounds of every worker count in turn (--rounds) */
+#define BENCH_MAX_ROUNDS 20
 #define BUNNY_REL "tests/data/cache/meshes/bunny00.off"
 
 typedef struct bench_args {
     const char *model, *device;
-    uint32_t views, size, evals, workers;
+    uint32_t views, size, evals, workers, rounds;
     uint64_t seed;
     int json;
 } bench_args;
@@ -43,6 +45,7 @@ typedef struct bench_result {
     uint32_t orig_tris, coarse_verts, coarse_tris;
     double full_ms, evals_per_s, evals_per_s_batch, commits_per_s, tris_per_eval;
     double regions_per_eval, pixels_per_region, evals_per_cpu_s;
+    double ratio, ratio_batch; /* to one worker, paired within each round (--workers) */
     char renderer[128];
 } bench_result;
 
@@ -50,7 +53,7 @@ static void usage(FILE *f)
 {
     fprintf(f,
             "usage: lumesh bench eval [--json] [--model FILE] [--views N] [--size S] [--evals N]\n"
-            "                         [--device D] [--seed S] [--workers N]\n"
+            "                         [--device D] [--seed S] [--workers N [--rounds R]]\n"
             "Measures incremental ΔE evaluations per second for single-vertex moves (1-ring\n"
             "patches) on MODEL simplified by QEM to 1%% of its vertices, and a full re-render.\n"
             "  --model FILE   default: the CGAL bunny of the test data (" BUNNY_REL "),\n"
@@ -59,8 +62,12 @@ static void usage(FILE *f)
             "  --views N      default %u, --size S default %d, --evals N default 5000\n"
             "  --device D     auto (default), cpu, egl:N or host;  --json  one JSON object\n"
             "  --workers N    through lumesh-worker processes: measured with 1, 2, 4, ... and N\n"
-            "                 workers (each rendering on one core), with the ratio to 1 worker\n",
-            LM_DEFAULT_VIEWS, LM_DEFAULT_VIEW_SIZE);
+            "                 workers (each rendering on one core), with the ratio to 1 worker\n"
+            "  --rounds R     with --workers: every worker count measured R times in turn\n"
+            "                 (1, 2, ... N, 1, 2, ...; default %d); the medians are printed, and\n"
+            "                 the median of the ratios to 1 worker taken within each round, so\n"
+            "                 that a drift of the machine's speed moves both sides of a ratio\n",
+            LM_DEFAULT_VIEWS, LM_DEFAULT_VIEW_SIZE, BENCH_ROUNDS);
 }
 
 static int parse_option(int c, char **argv, bench_args *a)
@@ -85,6 +92,8 @@ static int parse_option(int c, char **argv, bench_args *a)
         return -1;
     case 'w':
         return co_arg_u32(CMD, "--workers", optarg, 1, 256, &a->workers) ? 1 : -1;
+    case 'r':
+        return co_arg_u32(CMD, "--rounds", optarg, 1, BENCH_MAX_ROUNDS, &a->rounds) ? 1 : -1;
     case 'h':
         usage(stdout);
         return 0;
@@ -95,12 +104,17 @@ static int parse_option(int c, char **argv, bench_args *a)
 
 static int parse(int argc, char **argv, bench_args *a)
 {
-    static const struct option opts[] = {
-        {"model", required_argument, NULL, 'm'}, {"views", required_argument, NULL, 'v'},
-        {"size", required_argument, NULL, 's'},  {"evals", required_argument, NULL, 'n'},
-        {"seed", required_argument, NULL, 'S'},  {"device", required_argument, NULL, 'd'},
-        {"json", no_argument, NULL, 'j'},        {"workers", required_argument, NULL, 'w'},
-        {"help", no_argument, NULL, 'h'},        {NULL, 0, NULL, 0}};
+    static const struct option opts[] = {{"model", required_argument, NULL, 'm'},
+                                         {"views", required_argument, NULL, 'v'},
+                                         {"size", required_argument, NULL, 's'},
+                                         {"evals", required_argument, NULL, 'n'},
+                                         {"seed", required_argument, NULL, 'S'},
+                                         {"device", required_argument, NULL, 'd'},
+                                         {"json", no_argument, NULL, 'j'},
+                                         {"workers", required_argument, NULL, 'w'},
+                                         {"rounds", required_argument, NULL, 'r'},
+                                         {"help", no_argument, NULL, 'h'},
+                                         {NULL, 0, NULL, 0}};
     if (argc < 2 || (strcmp(argv[1], "eval") && strcmp(argv[1], "--help") && strcmp(argv[1], "-h")))
         return co_cli_usage_error(CMD, "expects a benchmark name: eval (see --help)");
     int c, rc;
@@ -293,27 +307,26 @@ static void report_workers(const bench_args *a, const char *model, const bench_r
         n++;
     if (!a->json) {
         printf("bench eval: %s (%u tris) -> QEM %u verts, %u views of %u px, through workers on "
-               "%s\n",
-               model, r[0].orig_tris, r[0].coarse_verts, a->views, a->size, r[0].renderer);
+               "%s; medians of %u rounds\n",
+               model, r[0].orig_tris, r[0].coarse_verts, a->views, a->size, r[0].renderer,
+               a->rounds);
         for (uint32_t i = 0; i < n; i++)
             printf("  %3u worker%s %7.0f evals/s (x%.2f), %7.0f /s in batches of 4 (x%.2f)\n",
-                   r[i].workers, r[i].workers == 1 ? ": " : "s:", r[i].evals_per_s,
-                   r[i].evals_per_s / r[0].evals_per_s, r[i].evals_per_s_batch,
-                   r[i].evals_per_s_batch / r[0].evals_per_s_batch);
+                   r[i].workers, r[i].workers == 1 ? ": " : "s:", r[i].evals_per_s, r[i].ratio,
+                   r[i].evals_per_s_batch, r[i].ratio_batch);
         return;
     }
     printf("{\"bench\": \"eval\", \"model\": ");
     co_json_string(stdout, model);
-    printf(", \"views\": %u, \"size\": %u, \"evals\": %u, \"renderer\": ", a->views, a->size,
-           a->evals);
+    printf(", \"views\": %u, \"size\": %u, \"evals\": %u, \"rounds\": %u, \"renderer\": ", a->views,
+           a->size, a->evals, a->rounds);
     co_json_string(stdout, r[0].renderer);
     printf(", \"runs\": [");
     for (uint32_t i = 0; i < n; i++)
         printf("%s{\"workers\": %u, \"evals_per_s\": %.1f, \"ratio\": %.3f, "
                "\"evals_per_s_batch4\": %.1f, \"ratio_batch4\": %.3f, \"commits_per_s\": %.1f}",
-               i ? ", " : "", r[i].workers, r[i].evals_per_s, r[i].evals_per_s / r[0].evals_per_s,
-               r[i].evals_per_s_batch, r[i].evals_per_s_batch / r[0].evals_per_s_batch,
-               r[i].commits_per_s);
+               i ? ", " : "", r[i].workers, r[i].evals_per_s, r[i].ratio, r[i].evals_per_s_batch,
+               r[i].ratio_batch, r[i].commits_per_s);
     printf("]}\n");
 }
 
@@ -359,11 +372,64 @@ static lm_status measure_with(const bench_args *a, const lm_mesh *orig, const lm
     return st;
 }
 
+/* The median of x[0..n) (sorted in place; n >= 1). */
+static double median(double *x, uint32_t n)
+{
+    for (uint32_t i = 1; i < n; i++)
+        for (uint32_t j = i; j > 0 && x[j] < x[j - 1]; j--) {
+            double t = x[j];
+            x[j] = x[j - 1];
+            x[j - 1] = t;
+        }
+    return n % 2 ? x[n / 2] : 0.5 * (x[n / 2 - 1] + x[n / 2]);
+}
+
+/* r[i]: worker count i's figures as the medians over the rounds rr[k][i], and its ratios to one
+ * worker as the medians of the ratios within each round. */
+static void combine_rounds(const bench_result (*rr)[BENCH_MAX_RUNS], uint32_t rounds, uint32_t n,
+                           bench_result *r)
+{
+    double x[6][BENCH_MAX_ROUNDS];
+    for (uint32_t i = 0; i < n; i++) {
+        r[i] = rr[0][i];
+        for (uint32_t k = 0; k < rounds; k++) {
+            const bench_result *q = &rr[k][i], *one = &rr[k][0];
+            x[0][k] = q->evals_per_s, x[1][k] = q->evals_per_s_batch;
+            x[2][k] = q->commits_per_s, x[3][k] = q->evals_per_cpu_s;
+            x[4][k] = q->evals_per_s / one->evals_per_s;
+            x[5][k] = q->evals_per_s_batch / one->evals_per_s_batch;
+        }
+        r[i].evals_per_s = median(x[0], rounds), r[i].evals_per_s_batch = median(x[1], rounds);
+        r[i].commits_per_s = median(x[2], rounds), r[i].evals_per_cpu_s = median(x[3], rounds);
+        r[i].ratio = median(x[4], rounds), r[i].ratio_batch = median(x[5], rounds);
+    }
+}
+
+/* Round k: one result per worker count, 0 (in process) or 1, 2, 4, ... and a->workers, into
+ * out[0..*n). */
+static lm_status measure_round(const bench_args *a, const lm_mesh *orig, const lm_mesh *coarse,
+                               const lm_view_set *vs, bench_result *out, uint32_t *n)
+{
+    lm_status st = LM_OK;
+    *n = 0;
+    for (uint32_t w = a->workers ? 1 : 0; st == LM_OK && *n < BENCH_MAX_RUNS;) {
+        st = measure_with(a, orig, coarse, vs, w, &out[*n]);
+        out[(*n)++].workers = w;
+        if (w == a->workers)
+            break;
+        w = 2 * w < a->workers ? 2 * w : a->workers;
+    }
+    return st;
+}
+
 static lm_status run(const bench_args *a, const char *model_path, bench_result *r)
 {
     lm_mesh *orig = NULL, *coarse = NULL;
     lm_view_set *vs = NULL;
-    lm_status st = lm_mesh_load(model_path, NULL, &orig);
+    uint32_t rounds = a->workers ? a->rounds : 1, n = 0;
+    bench_result(*rr)[BENCH_MAX_RUNS] = calloc(rounds, sizeof *rr);
+    lm_status st = rr ? lm_mesh_load(model_path, NULL, &orig)
+                      : lm_fail(LM_E_NOMEM, "out of memory for the results");
     if (st == LM_OK) {
         uint32_t target = orig->live_verts / 100 > 4 ? orig->live_verts / 100 : 4;
         st = lm_simplify(orig, LM_SIMPLIFY_QEM, target, &coarse);
@@ -374,14 +440,11 @@ static lm_status run(const bench_args *a, const char *model_path, bench_result *
         st = lm_mesh_build_adjacency(coarse);
     if (st == LM_OK)
         st = co_view_set_around(orig, a->views, (int)a->size, LM_VIEWS_TRAINING, &vs);
-    /* one result per worker count: 0 (in process), or 1, 2, 4, ... and a->workers */
-    for (uint32_t i = 0, w = a->workers ? 1 : 0; st == LM_OK && i < BENCH_MAX_RUNS; i++) {
-        st = measure_with(a, orig, coarse, vs, w, &r[i]);
-        r[i].workers = w;
-        if (w == a->workers)
-            break;
-        w = 2 * w < a->workers ? 2 * w : a->workers;
-    }
+    for (uint32_t k = 0; st == LM_OK && k < rounds; k++)
+        st = measure_round(a, orig, coarse, vs, rr[k], &n);
+    if (st == LM_OK)
+        combine_rounds((const bench_result(*)[BENCH_MAX_RUNS])rr, rounds, n, r);
+    free(rr);
     free(vs);
     lm_mesh_destroy(orig);
     lm_mesh_destroy(coarse);
@@ -393,6 +456,7 @@ int co_cli_bench(int argc, char **argv)
     bench_args a = {.views = LM_DEFAULT_VIEWS,
                     .size = LM_DEFAULT_VIEW_SIZE,
                     .evals = 5000,
+                    .rounds = BENCH_ROUNDS,
                     .seed = 1,
                     .device = "auto"};
     int rc = parse(argc, argv, &a);

@@ -111,6 +111,20 @@ if [ -r "$bunny" ]; then
     v=$(json "$tmp/bench.json" "$key")
     awk -v v="$v" 'BEGIN {exit !(v > 0)}' || fail "bench $key is '$v': $(cat "$tmp/bench.json")"
   done
+  checks=$((checks + 1))
+  # Through real worker processes, two rounds of 1 then 2 workers: medians and paired ratios.
+  "$LUMESH" bench eval --json --views 6 --size 64 --evals 200 --workers 2 --rounds 2 \
+    > "$tmp/bench_w.json" || fail "bench eval --workers 2 failed"
+  python3 - "$tmp/bench_w.json" <<'PY' || fail "bench eval --workers: $(cat "$tmp/bench_w.json")"
+import json, sys
+j = json.load(open(sys.argv[1]))
+assert j['rounds'] == 2, j
+runs = j['runs']
+assert [r['workers'] for r in runs] == [1, 2], runs
+assert runs[0]['ratio'] == 1 and runs[0]['ratio_batch4'] == 1, runs
+assert all(r['evals_per_s'] > 0 and r['ratio'] > 0 and r['evals_per_s_batch4'] > 0 for r in runs)
+PY
+  expect_fail_line "$LUMESH" bench eval --workers 2 --rounds 0
 fi
 
 expect_fail_line "$LUMESH" energy "$spider"
