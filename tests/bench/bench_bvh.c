@@ -6,6 +6,7 @@
  * traversal must leave it alone).
  *
  * usage: bench_bvh [MODEL (default tests/data/cache/meshes/bunny00.off)] [ROUNDS (default 20)] */
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <time.h>
@@ -13,20 +14,13 @@
 #include "common/bvh.h"
 #include "common/mesh_io.h"
 #include "common/simplify.h"
+#include "coordinator/optimizer/rng.h"
 
 static double now(void)
 {
     struct timespec t;
     clock_gettime(CLOCK_MONOTONIC, &t);
     return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
-}
-
-static uint64_t rng_next(uint64_t *s)
-{
-    uint64_t z = (*s += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return z ^ (z >> 31);
 }
 
 /* The points of coarse triangle t (edge midpoints, centroid) into q[4][3]. */
@@ -47,7 +41,8 @@ static void tri_points(const lm_mesh *m, uint32_t t, double q[4][3])
 static double *make_queries(const lm_mesh *m, double jitter, size_t *n)
 {
     double *q = malloc((size_t)m->n_tris * 8 * 3 * sizeof *q);
-    uint64_t rng = 1;
+    co_rng rng;
+    co_rng_seed(&rng, 1);
     *n = 0;
     for (uint32_t t = 0; q && t < m->n_tris; t++) {
         if (!m->tri_alive[t])
@@ -57,7 +52,7 @@ static double *make_queries(const lm_mesh *m, double jitter, size_t *n)
         for (int i = 0; i < 4; i++)
             for (int moved = 0; moved < 2; moved++, (*n)++)
                 for (int k = 0; k < 3; k++) {
-                    double r = (double)(rng_next(&rng) >> 11) / 9007199254740992.0 - 0.5;
+                    double r = co_rng_unit(&rng) - 0.5;
                     q[3 * *n + (size_t)k] = p[i][k] + (moved ? 2 * r * jitter : 0);
                 }
     }
@@ -66,15 +61,12 @@ static double *make_queries(const lm_mesh *m, double jitter, size_t *n)
 
 static double diagonal(const lm_mesh *m)
 {
-    double lo[3] = {1e300, 1e300, 1e300}, hi[3] = {-1e300, -1e300, -1e300}, d = 0;
-    for (uint32_t v = 0; v < m->n_verts; v++)
-        for (int k = 0; k < 3; k++) {
-            lo[k] = m->pos[v][k] < lo[k] ? m->pos[v][k] : lo[k];
-            hi[k] = m->pos[v][k] > hi[k] ? m->pos[v][k] : hi[k];
-        }
+    float lo[3], hi[3];
+    double d = 0;
+    lm_mesh_bounds(m, lo, hi);
     for (int k = 0; k < 3; k++)
-        d += (hi[k] - lo[k]) * (hi[k] - lo[k]);
-    return d > 0 ? __builtin_sqrt(d) : 1;
+        d += ((double)hi[k] - lo[k]) * ((double)hi[k] - lo[k]);
+    return d > 0 ? sqrt(d) : 1;
 }
 
 int main(int argc, char **argv)
