@@ -154,6 +154,14 @@ static void make_view(lm_view *v, const double d[3], int size, const float centr
     v->height = size;
 }
 
+void lm_view_shift(lm_view *v, double dx, double dy)
+{
+    /* clip x += t·w with w = -z_eye (the projection's last row 0 0 -1 0): the column of z */
+    v->proj[8] = (float)((double)v->proj[8] - 2.0 * dx / v->width);
+    v->proj[9] = (float)((double)v->proj[9] - 2.0 * dy / v->height);
+    mat4_mul(v->proj, v->view, v->view_proj);
+}
+
 static lm_status check_args(int size, const float centre[3], float radius)
 {
     if (size < 16 || size > LM_MAX_VIEW_SIZE)

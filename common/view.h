@@ -70,6 +70,11 @@ typedef enum lm_view_set_kind {
     LM_VIEWS_DENSE
 } lm_view_set_kind;
 
+/* Shift view v's picture by (dx, dy) pixels (x right, y up) while the camera stays where it is:
+ * by a fraction of a pixel, the same sight sampled at other pixel centres (an off-centre
+ * perspective; proj and view_proj updated). */
+void lm_view_shift(lm_view *v, double dx, double dy);
+
 /* Project a world point: window coordinates in pixels (x right, y up from the bottom row as GL
  * does) and clip w. Returns 0 if w <= a small epsilon (behind or at the eye). */
 int lm_view_project(const lm_view *v, const float p[3], float win[2], float *w);

@@ -2,7 +2,9 @@
 # scripts/fidelity.sh — does the optimisation generalise? Runs `lumesh optimize` from its own
 # start (the default --start image, or as the extra flags say) on a set of models of different
 # kinds and reports, per model, the image energy of the result relative to that start on
-#   training  the views the optimizer fitted (its own summary, the geometric term left out),
+#   training  the optimizer's views as they were at its start (rendered again: with
+#             --regrid-every its pixel grid moved meanwhile; the JSON's training_own is the
+#             optimizer's own summary, the geometric term left out),
 #   regrid    the same view directions one pixel larger (S+1)²: the same sights on another pixel
 #             grid, which tells fitting the grid (edges moved to cover or miss these pixel
 #             centres) from fitting the directions,
@@ -108,8 +110,9 @@ run_model() {
     {model: $name, kind: $kind, verts: $opt[0].verts, target_verts: $verts,
      evals: $opt[0].evals, optimize_s: $opt[0].optimize_s, wall_s: $opt[0].wall_s,
      views: $views[0].detail,
-     training: (($opt[0].energy_end - ($opt[0].geometric_end // 0)) /
-                ($opt[0].energy_start - ($opt[0].geometric_start // 0))),
+     training: rel($train; 1),
+     training_own: (($opt[0].energy_end - ($opt[0].geometric_end // 0)) /
+                    ($opt[0].energy_start - ($opt[0].geometric_start // 0))),
      regrid: rel($regrid; 1), heldout: rel($held; 1), dense: rel($dense; 1),
      distance: ($dense[1].distance.mean / $dense[0].distance.mean),
      distance_to_original: ($dense[1].distance.mean_to_original /

@@ -12,7 +12,7 @@
 static const char co_magic[8] = {'L', 'U', 'M', 'E', 'S', 'H', 'C', 'K'};
 
 enum {
-    CO_KEY_BYTES = 40,
+    CO_KEY_BYTES = 48,
     CO_HEADER_BYTES = 8 + 4 + 4 + CO_KEY_BYTES + 8,
     CO_TRAILER_BYTES = 8,
 };
@@ -86,6 +86,7 @@ static void encode_header(uint8_t *h, const co_checkpoint_key *key, uint64_t pay
     put_u32(k + 28, key->views);
     put_u32(k + 32, key->size);
     put_u32(k + 36, key->attrs);
+    put_u64(k + 40, key->regrid_every);
     put_u64(h + 16 + CO_KEY_BYTES, payload_len);
 }
 
@@ -98,6 +99,7 @@ static void decode_key(const uint8_t *k, co_checkpoint_key *key)
     key->views = get_u32(k + 28);
     key->size = get_u32(k + 32);
     key->attrs = get_u32(k + 36);
+    key->regrid_every = get_u64(k + 40);
 }
 
 /* Run the payload writer into memory. */
@@ -252,6 +254,7 @@ static lm_status verify_key(const char *path, const co_checkpoint_key *got,
     CO_KEY_CHECK(views, "--views", PRIu32)
     CO_KEY_CHECK(size, "--size", PRIu32)
     CO_KEY_CHECK(attrs, "--attrs mask", PRIu32)
+    CO_KEY_CHECK(regrid_every, "--regrid-every", PRIu64)
 #undef CO_KEY_CHECK
     return LM_OK;
 }

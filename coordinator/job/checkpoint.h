@@ -19,7 +19,7 @@
 
 #include "common/error.h"
 
-#define CO_CHECKPOINT_VERSION 1u
+#define CO_CHECKPOINT_VERSION 2u
 /* Refuse to read checkpoints larger than this (a corrupted length must not allocate terabytes). */
 #define CO_CHECKPOINT_MAX_BYTES ((uint64_t)1 << 34)
 
@@ -32,7 +32,8 @@ typedef struct co_checkpoint_key {
     uint32_t target_verts; /* resolved target of the initial simplification; 0 with --initial */
     uint32_t views;
     uint32_t size;
-    uint32_t attrs; /* LM_ATTR_* optimised besides positions */
+    uint32_t attrs;        /* LM_ATTR_* optimised besides positions */
+    uint64_t regrid_every; /* evaluations between the views' regrid draws; 0 = never */
 } co_checkpoint_key;
 
 /* initial_hash of a job that started from the image-driven simplification ("image-v1"). */

@@ -21,6 +21,7 @@
 #include "common/simplify.h"
 #include "common/view.h"
 #include "coordinator/job/checkpoint.h"
+#include "coordinator/job/regrid.h"
 #include "coordinator/optimizer/optimizer.h"
 #include "coordinator/optimizer/optimizer_tuning.h"
 #include "coordinator/pool/pool.h"
@@ -42,6 +43,8 @@ typedef struct co_job {
     co_worker_report *workers; /* what progress shows of them */
     uint32_t cap_workers;
     lm_views *views;
+    uint32_t draw;         /* the regrid draw the views are made with (regrid.h) */
+    uint64_t regrid_every; /* 0 = never */
     co_optimizer *opt;
     co_checkpoint_key key;
     co_reporter rep;
@@ -166,6 +169,9 @@ static lm_status resolve_options(co_job *j, const co_job_options *in)
         o->checkpoint_every_s = CO_JOB_DEFAULT_CHECKPOINT_S;
     if (!o->device_spec)
         o->device_spec = "auto";
+    if (!o->regrid_every)
+        o->regrid_every = CO_JOB_DEFAULT_REGRID_EVERY;
+    j->regrid_every = o->regrid_every == CO_JOB_NEVER ? 0 : o->regrid_every;
     j->checkpoint_path = o->checkpoint_path ? o->checkpoint_path : o->resume_path;
     lm_status st = check_output_path(o->output_path);
     if (st == LM_OK && j->checkpoint_path)
@@ -357,8 +363,9 @@ static lm_status make_pool(co_job *j)
     return st;
 }
 
-/* The views of the original, with the coarse mesh's materials (an --initial file has its own). */
-static lm_status make_views(co_job *j)
+/* Views of the original in regrid draw `draw`, with the coarse mesh's materials (an --initial
+ * file has its own; the optimizer keeps the coarse mesh's table). */
+static lm_status create_views(co_job *j, uint32_t draw, lm_views **out)
 {
     lm_view_set *vs = malloc(sizeof *vs);
     if (!vs)
@@ -366,16 +373,24 @@ static lm_status make_views(co_job *j)
     float centre[3], radius;
     lm_mesh_bounding_sphere(j->original, centre, &radius);
     lm_status st = lm_view_set_make(vs, j->o.views, j->o.size, centre, radius);
+    co_regrid_apply(vs, j->o.seed, draw);
+    const lm_mesh *m = j->coarse ? j->coarse : co_optimizer_mesh(j->opt);
     co_views_desc d = {.kind = j->pool ? CO_VIEWS_REMOTE : CO_VIEWS_LOCAL,
                        .original = j->original,
                        .views = vs,
-                       .materials = j->coarse->materials,
-                       .n_materials = j->coarse->n_materials,
+                       .materials = m->materials,
+                       .n_materials = m->n_materials,
                        .device = j->o.device_spec,
                        .pool = j->pool};
     if (st == LM_OK)
-        st = co_views_create(&d, &j->views);
+        st = co_views_create(&d, out);
     free(vs);
+    return st;
+}
+
+static lm_status make_views(co_job *j)
+{
+    lm_status st = create_views(j, 0, &j->views);
     if (st != LM_OK)
         return st;
     lm_views_info info;
@@ -387,6 +402,24 @@ static lm_status make_views(co_job *j)
     else
         note(j, "views", "%" PRIu32 " views of %dx%d on %s", info.n_views, info.width, info.height,
              info.renderer);
+    return LM_OK;
+}
+
+/* The optimizer onto views of regrid draw `draw` (the old ones go). rescale_start as in
+ * co_optimizer_replace_views: 1 in the loop, 0 before a resume loads the energies. */
+static lm_status switch_draw(co_job *j, uint32_t draw, int rescale_start)
+{
+    lm_views *v = NULL;
+    lm_status st = create_views(j, draw, &v);
+    if (st == LM_OK)
+        st = co_optimizer_replace_views(j->opt, v, rescale_start);
+    if (st != LM_OK) {
+        lm_views_destroy(v); /* the optimizer is left without views: the job ends here */
+        return st;
+    }
+    lm_views_destroy(j->views);
+    j->views = v;
+    j->draw = draw;
     return LM_OK;
 }
 
@@ -404,17 +437,36 @@ static lm_status make_key(co_job *j)
     k->views = j->o.views;
     k->size = (uint32_t)j->o.size;
     k->attrs = j->attrs;
+    k->regrid_every = j->regrid_every;
     return st;
 }
 
+/* The payload: the regrid draw the views were in (u32, little-endian), then the optimizer. */
 static lm_status save_payload(const void *ctx, FILE *fp)
 {
-    return co_optimizer_save((const co_optimizer *)ctx, fp);
+    const co_job *j = ctx;
+    uint8_t d[4];
+    for (int i = 0; i < 4; i++)
+        d[i] = (uint8_t)(j->draw >> (8 * i));
+    if (fwrite(d, 1, 4, fp) != 4)
+        return lm_fail(LM_E_IO, "cannot write the checkpoint's regrid draw");
+    return co_optimizer_save(j->opt, fp);
 }
 
 static lm_status load_payload(void *ctx, FILE *fp)
 {
-    return co_optimizer_load((co_optimizer *)ctx, fp);
+    co_job *j = ctx;
+    uint8_t d[4];
+    if (fread(d, 1, 4, fp) != 4)
+        return lm_fail(LM_E_INVALID, "checkpoint is truncated (no regrid draw)");
+    uint32_t draw = 0;
+    for (int i = 0; i < 4; i++)
+        draw |= (uint32_t)d[i] << (8 * i);
+    if (draw && !j->regrid_every)
+        return lm_fail(LM_E_INVALID,
+                       "checkpoint names regrid draw %" PRIu32 " of a job without one", draw);
+    lm_status st = draw != j->draw ? switch_draw(j, draw, 0) : LM_OK;
+    return st == LM_OK ? co_optimizer_load(j->opt, fp) : st;
 }
 
 static lm_status make_coarse_mesh(co_job *j)
@@ -443,7 +495,7 @@ static lm_status make_optimizer(co_job *j)
     lm_status st = co_optimizer_create_tuned(coarse, j->views, &params, &tuning, &j->opt);
     if (st != LM_OK || !j->o.resume_path)
         return st;
-    st = co_checkpoint_read(j->o.resume_path, &j->key, load_payload, j->opt);
+    st = co_checkpoint_read(j->o.resume_path, &j->key, load_payload, j);
     if (st != LM_OK)
         return st;
     co_progress p;
@@ -455,7 +507,7 @@ static lm_status make_optimizer(co_job *j)
 
 static void write_checkpoint(co_job *j, const co_progress *p)
 {
-    lm_status st = co_checkpoint_write(j->checkpoint_path, &j->key, save_payload, j->opt);
+    lm_status st = co_checkpoint_write(j->checkpoint_path, &j->key, save_payload, j);
     if (st != LM_OK)
         note(j, "warning", "checkpoint not written: %s", lm_last_error());
     else if (j->rep.style == CO_REPORT_JSON)
@@ -476,7 +528,7 @@ static void report_workers(co_job *j)
     double now = co_pool_now();
     for (uint32_t i = 0; i < n; i++) {
         const co_worker *w = co_pool_worker(j->pool, i);
-        if (!w->in_job && !w->evals)
+        if (!w->job && !w->evals)
             continue;
         double age = now - w->joined > 1e-3 ? now - w->joined : 1e-3;
         co_worker_report *r = &j->workers[k++];
@@ -529,6 +581,26 @@ static uint64_t step_chunk(uint64_t done, double t)
     return chunk < 64 ? 64 : chunk > 1e6 ? 1000000 : (uint64_t)chunk;
 }
 
+/* A new pixel grid when the evaluations have reached the next draw's start: before the next step,
+ * so that a run resumed from a checkpoint written in between switches at the same point. */
+static lm_status regrid_if_due(co_job *j, co_progress *p)
+{
+    uint32_t draw = co_regrid_draw(p->evals, j->regrid_every);
+    if (draw == j->draw)
+        return LM_OK;
+    int64_t before = p->energy;
+    double t0 = seconds_since(&j->t0);
+    lm_status st = switch_draw(j, draw, 1);
+    if (st == LM_OK)
+        co_optimizer_progress(j->opt, p);
+    if (st == LM_OK && j->rep.style == CO_REPORT_JSON)
+        note(j, "regrid",
+             "draw %" PRIu32 " at %" PRIu64 " evaluations: energy %" PRId64
+             " on the last grid, %" PRId64 " on the new one (%.2f s)",
+             draw, p->evals, before, p->energy, seconds_since(&j->t0) - t0);
+    return st;
+}
+
 /* Optimise until the budget, the time limit, or nothing is left to evaluate. The optimizer stops
  * between moves when it reaches the evaluation count it is given and goes on with the same
  * iteration at the next call, so the chunking changes nothing in the result. Periodic checkpoints
@@ -544,8 +616,13 @@ static lm_status run_loop(co_job *j, const char **reason)
     progress(j, &p, 0.0, 1);
     while (!(*reason = stop_reason(j, &p, t, idle))) {
         uint64_t before = p.evals, before_it = p.iterations;
+        lm_status st = regrid_if_due(j, &p);
+        if (st != LM_OK)
+            return st;
         uint64_t target = p.evals + step_chunk(p.evals - evals0, t);
-        lm_status st = co_optimizer_step(j->opt, target < j->o.max_evals ? target : j->o.max_evals);
+        uint64_t regrid = co_regrid_next(j->draw, j->regrid_every);
+        target = target < regrid ? target : regrid;
+        st = co_optimizer_step(j->opt, target < j->o.max_evals ? target : j->o.max_evals);
         if (st != LM_OK)
             return st;
         co_optimizer_progress(j->opt, &p);

@@ -27,6 +27,14 @@
 #define CO_JOB_DEFAULT_CHECKPOINT_S 60.0
 #define CO_JOB_MIN_TARGET_VERTS 100u
 #define CO_JOB_DEFAULT_IN_FLIGHT 1u
+#define CO_JOB_NEVER UINT64_MAX
+/* A new sub-pixel grid of the views every 10,000 evaluations (regrid.h). Measured with
+ * scripts/fidelity.sh on five models, two seeds, at 100,000 evaluations: the training energy ends
+ * 4-7 points from the dense unseen-view energy instead of 12-17 (the optimizer no longer fits edges
+ * to one set of pixel centres, a gain no other view keeps), the dense energy itself the same on
+ * average (36.6-36.7 % of QEM's either way), for 0.1-0.4 s a draw (coordinator/OPTIMIZER.md, ninth
+ * round). */
+#define CO_JOB_DEFAULT_REGRID_EVERY 10000ull
 #define CO_JOB_IN_PROCESS UINT32_MAX /* workers: render in this process (no worker processes) */
 #define CO_JOB_WORKER_START_S 60.0   /* local workers must say hello within this */
 
@@ -81,6 +89,8 @@ typedef struct co_job_options {
                               default, negative = none */
     double surface_share;  /* its weight relative to the start (co_tuning.surface_share): 0 =
                               default, negative = none */
+    uint64_t regrid_every; /* move the views' pixel grid every so many evaluations (regrid.h): 0 =
+                              CO_JOB_DEFAULT_REGRID_EVERY, CO_JOB_NEVER = never */
     const char *initial_output_path; /* write the coarse mesh the optimisation starts from (after
                                         its preparation) here; NULL = not */
     /* Called with the counters at the start, after every optimizer step and at the end (the

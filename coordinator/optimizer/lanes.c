@@ -248,6 +248,12 @@ static lm_status lane_init(co_lanes *l, co_lane *lane)
     return LM_OK;
 }
 
+void co_lanes_set_views(co_lanes *l, lm_views *views)
+{
+    for (uint32_t i = 0; i < l->k; i++)
+        l->lanes[i].views.real = views;
+}
+
 lm_status co_lanes_create(co_optimizer *o, uint32_t k, co_lanes **out)
 {
     *out = NULL;

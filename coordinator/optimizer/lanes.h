@@ -29,6 +29,9 @@ typedef struct co_lanes co_lanes;
 /* k lanes (2..CO_MAX_EDGES_IN_FLIGHT) for optimizer o (its mesh, views, moves config, clock). */
 lm_status co_lanes_create(co_optimizer *o, uint32_t k, co_lanes **out);
 void co_lanes_destroy(co_lanes *l);
+/* The optimizer's views changed (co_optimizer_replace_views): what the lanes' own views ask for
+ * their info. Between groups only. */
+void co_lanes_set_views(co_lanes *l, lm_views *views);
 
 /* The next group of plan[0..n): up to k planned edges, taken in plan order from the next few
  * (GROUP_WINDOW x k) whose neighbourhoods do not meet, moved to the front of plan (the others keep

@@ -97,6 +97,11 @@ void co_moves_destroy(co_moves *mv)
     free(mv);
 }
 
+void co_moves_set_views(co_moves *mv, lm_views *views)
+{
+    mv->views = views;
+}
+
 const lm_mesh *co_moves_mesh(const co_moves *mv)
 {
     return mv->m;

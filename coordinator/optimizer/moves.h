@@ -95,6 +95,9 @@ lm_status co_moves_try(co_moves *mv, co_move_kind kind, int level, uint32_t a, u
 void co_moves_last_change(const co_moves *mv, const uint32_t **before, uint32_t *n_before,
                           const uint32_t **now, uint32_t *n_now);
 
+/* Price against `views` (borrowed) from now on; the caller sends them the mesh. */
+void co_moves_set_views(co_moves *mv, lm_views *views);
+
 /* The mesh the moves act on. */
 const lm_mesh *co_moves_mesh(const co_moves *mv);
 

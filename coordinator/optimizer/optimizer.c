@@ -221,6 +221,42 @@ void co_optimizer_destroy(co_optimizer *opt)
     free(opt);
 }
 
+/* The new views where everything that prices moves holds them: the geometric term's wrapper, or
+ * the moves and the lanes themselves. */
+static void install_views(co_optimizer *o, lm_views *views)
+{
+    if (o->surface) {
+        co_surface_views_set_inner(o->surface, views);
+        return;
+    }
+    o->views = views;
+    co_moves_set_views(o->mv, views);
+    if (o->lanes)
+        co_lanes_set_views(o->lanes, views);
+}
+
+lm_status co_optimizer_replace_views(co_optimizer *opt, lm_views *views, int rescale_start)
+{
+    if (!views)
+        return lm_fail(LM_E_INVALID, "optimizer: views are required");
+    int64_t geo = opt->surface ? co_surface_views_energy(opt->surface) : 0;
+    int64_t old_image = opt->prog.energy - geo;
+    install_views(opt, views);
+    int64_t total = 0;
+    lm_status st = lm_views_set_mesh_from(opt->views, opt->mesh);
+    if (st == LM_OK)
+        st = opt->views->ops->energy(opt->views, &total, NULL);
+    if (st != LM_OK || !rescale_start)
+        return st;
+    int64_t start_image = opt->prog.energy_start - opt->prog.geometric_start;
+    int64_t new_image = total - geo;
+    if (old_image > 0)
+        start_image = llround((double)start_image * ((double)new_image / (double)old_image));
+    opt->prog.energy_start = start_image + opt->prog.geometric_start;
+    opt->prog.energy = total;
+    return LM_OK;
+}
+
 const lm_mesh *co_optimizer_mesh(const co_optimizer *opt)
 {
     return opt->mesh;

@@ -61,6 +61,16 @@ void co_optimizer_destroy(co_optimizer *opt);
  * count since the start of the job) is reached first; stops between moves. */
 lm_status co_optimizer_step(co_optimizer *opt, uint64_t max_evals);
 
+/* Price everything from now on against `views` (borrowed, as at creation) instead of the ones the
+ * optimizer has: views of the same original, count and size, with other cameras or pixel grids
+ * (a job's regrid). The caller destroys the old ones after this returns. Sends the current mesh
+ * to the new views. With rescale_start the start's image energy becomes start × new / old (the
+ * current mesh's image energy on the new and the old views, rounded), so that progress stays a
+ * fraction of the start across a chain of view sets; without it, the energies of the progress
+ * are left as they are (a resume is about to load them). Between steps only. On failure the
+ * optimizer must be given views again before its next step. */
+lm_status co_optimizer_replace_views(co_optimizer *opt, lm_views *views, int rescale_start);
+
 void co_optimizer_progress(const co_optimizer *opt, co_progress *out);
 /* The current mesh (owned by the optimizer; valid until the next step/destroy). */
 const lm_mesh *co_optimizer_mesh(const co_optimizer *opt);

@@ -317,6 +317,11 @@ lm_status co_surface_views_create(lm_views *inner, const lm_mesh *surface, doubl
     return LM_OK;
 }
 
+void co_surface_views_set_inner(lm_views *v, lm_views *inner)
+{
+    as_sv(v)->inner = inner;
+}
+
 int64_t co_surface_views_energy(const lm_views *v)
 {
     return ((const surface_views *)v)->total;

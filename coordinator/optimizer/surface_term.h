@@ -32,6 +32,9 @@
 lm_status co_surface_views_create(lm_views *inner, const lm_mesh *surface, double weight,
                                   lm_views **out);
 
+/* Wrap `inner` (borrowed) instead of the views given so far; the caller sets the mesh on v next. */
+void co_surface_views_set_inner(lm_views *v, lm_views *inner);
+
 /* E_geo of the current mesh (0 before the first set_mesh). `v` must come from
  * co_surface_views_create. */
 int64_t co_surface_views_energy(const lm_views *v);

@@ -57,7 +57,9 @@ typedef struct co_worker {
     int lost;
     double joined, last_heard; /* seconds on the pool's clock */
     /* what the job made of it (kept by the views backend) */
-    int in_job;                    /* brought up for the current job */
+    uint64_t job;                  /* the remote views' job it was brought up for (0 = none): a
+                                      pool serves one views object at a time, and a newer one
+                                      (a regrid's) brings every worker into its own job */
     uint32_t first, count, stride; /* views assigned (an lm_view_deal) */
     uint64_t evals;                /* patches evaluated for the job */
     double busy_s;                 /* seconds spent evaluating them (the worker's own count) */

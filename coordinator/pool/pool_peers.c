@@ -327,7 +327,7 @@ static void answer_status(co_pool *p, const lm_wire_frame *f)
         ws[i].evals = w->evals;
         ws[i].busy_s = w->busy_s, ws[i].joined_s = now - w->joined;
         ws[i].last_heard_s = now - w->last_heard, ws[i].lost = w->lost != 0;
-        ws[i].in_job = w->in_job != 0;
+        ws[i].in_job = w->job != 0;
         wp[i] = &ws[i];
     }
     Lumesh__StatusResult r = LUMESH__STATUS_RESULT__INIT;

@@ -284,9 +284,10 @@ static lm_status bring_up(co_remote *r)
     for (uint32_t i = 0; i < r->n_live && st == LM_OK; i++) {
         co_worker *w = r->live[i];
         const co_range *g = &r->ranges[r->group[i]];
-        if (!w->in_job)
+        int in_job = w->job == r->job;
+        if (!in_job)
             fresh[nf++] = w;
-        if (!w->in_job || w->first != g->first || w->count != g->count || w->stride != g->stride) {
+        if (!in_job || w->first != g->first || w->count != g->count || w->stride != g->stride) {
             w->first = g->first;
             w->count = g->count;
             w->stride = g->stride;
@@ -298,7 +299,7 @@ static lm_status bring_up(co_remote *r)
     if (st == LM_OK && nf)
         st = step_all(r, fresh, nf, send_job, LUMESH__MSG__BODY_READY);
     for (uint32_t i = 0; i < nf && st == LM_OK; i++)
-        fresh[i]->in_job = !fresh[i]->lost;
+        fresh[i]->job = fresh[i]->lost ? 0 : r->job;
     if (st == LM_OK && nm)
         st = step_all(r, moved, nm, send_assign, LUMESH__MSG__BODY_ASSIGNED);
     for (uint32_t i = 0; i < nm && st == LM_OK; i++) {
@@ -343,7 +344,8 @@ lm_status co_remote_layout(co_remote *r)
 void co_remote_layout_free(co_remote *r)
 {
     for (uint32_t i = 0; i < r->n_live; i++)
-        r->live[i]->in_job = 0;
+        if (r->live[i]->job == r->job)
+            r->live[i]->job = 0;
     free(r->live);
     free(r->group);
     r->live = NULL;

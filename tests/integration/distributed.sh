@@ -2,7 +2,8 @@
 # tests/integration/distributed.sh — the job runner with real lumesh-worker processes: the output
 # is byte-identical in process and with 1, 2, 4 and 8 local workers (one edge at a time and 4 in
 # flight, and with the geometric term, --surface-weight or --surface-share, on 3), after a resume
-# on another number of workers, and in cluster mode (--listen) with a worker that joins late, one
+# on another number of workers, with a pixel grid that moves (--regrid-every: new targets on the
+# same workers, resumed across a draw), and in cluster mode (--listen) with a worker that joins late, one
 # that joins mid-run, and a long-lived worker serving two jobs in a row. One renderer per job:
 # llvmpipe at 128 bits is the same renderer and is accepted; softpipe draws other pixels and is
 # refused with the reason. --device cpu (lumesh's CPU rasteriser) gives the same bytes in process,
@@ -72,6 +73,27 @@ no_workers_left "after the runs"
 same "resumed on 3 workers" "$tmp/k4-w0.glb" "$tmp/resumed.glb"
 expect_fail_line "$LUMESH" optimize "$bunny" -o "$tmp/x.glb" "${job[@]}" --edges-in-flight 2 \
   --workers 0 --resume "$tmp/ck"
+
+# -- a pixel grid that moves (--regrid-every): new targets on the same workers, the same bytes in
+# process and on 2 workers, and resumed across a draw on another count --
+rg=(--regrid-every 400)
+for w in 0 2; do
+  "$LUMESH" optimize "$bunny" -o "$tmp/rg-w$w.glb" "${job[@]}" "${rg[@]}" --workers "$w" --json \
+    >"$tmp/rg-w$w.jsonl" 2>"$tmp/err" || fail "regrid, $w workers: $(tail -1 "$tmp/err")"
+done
+same "regrid, 2 workers" "$tmp/rg-w0.glb" "$tmp/rg-w2.glb"
+checks=$((checks + 1))
+[ "$(grep -c '"event":"regrid"' "$tmp/rg-w2.jsonl")" -ge 2 ] || fail "no regrid events in the JSON"
+checks=$((checks + 1))
+cmp -s "$tmp/rg-w0.glb" "$tmp/k1-w0.glb" && fail "--regrid-every 400 changed nothing"
+"$LUMESH" optimize "$bunny" -o "$tmp/rg-half.glb" "${job[@]}" "${rg[@]}" --evals 700 --workers 2 \
+  --checkpoint "$tmp/rg-ck" 2>"$tmp/err" || fail "regrid, first half: $(tail -1 "$tmp/err")"
+"$LUMESH" optimize "$bunny" -o "$tmp/rg-resumed.glb" "${job[@]}" "${rg[@]}" --workers 0 \
+  --resume "$tmp/rg-ck" 2>"$tmp/err" || fail "regrid, resume: $(tail -1 "$tmp/err")"
+same "regrid, resumed in process" "$tmp/rg-w0.glb" "$tmp/rg-resumed.glb"
+expect_fail_line "$LUMESH" optimize "$bunny" -o "$tmp/x.glb" "${job[@]}" --regrid-every 500 \
+  --workers 0 --resume "$tmp/rg-ck"
+no_workers_left "after the regrid runs"
 
 # -- progress JSON shows the workers --
 "$LUMESH" optimize "$bunny" -o "$tmp/j.glb" "${job[@]}" --workers 2 --json >"$tmp/j.jsonl" 2>/dev/null ||
