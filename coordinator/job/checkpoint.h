@@ -4,8 +4,9 @@
  * A checkpoint is one file, all integers little-endian:
  *   "LUMESHCK" magic (8 bytes), u32 version, u32 key size,
  *   the job key (hash of the original file's bytes, hash of the --initial file's bytes or 0, seed,
- *   target vertex count, views, image size, optimised attributes),
- *   u64 payload length, the payload (the optimizer's own serialisation), and a u64 FNV-1a checksum
+ *   target vertex count, views, image size, optimised attributes, evaluations between regrid
+ *   draws), u64 payload length, the payload (the job's: the regrid draw in force, u32, then the
+ *   optimizer's own serialisation), and a u64 FNV-1a checksum
  * of every byte before it. Writes are atomic: the whole file is assembled in memory, written to a
  * temporary file in the same folder, flushed, fsync'ed, renamed over the old one, and the folder is
  * fsync'ed; a failure at any point leaves the previous checkpoint as it was. Reads verify magic,
