@@ -30,10 +30,10 @@
 #define CO_JOB_NEVER UINT64_MAX
 /* A new sub-pixel grid of the views every 10,000 evaluations (regrid.h). Measured with
  * scripts/fidelity.sh on five models, two seeds, at 100,000 evaluations: the training energy ends
- * 4-7 points from the dense unseen-view energy instead of 12-17 (the optimizer no longer fits edges
- * to one set of pixel centres, a gain no other view keeps), the dense energy itself the same on
- * average (36.6-36.7 % of QEM's either way), for 0.1-0.4 s a draw (coordinator/OPTIMIZER.md, ninth
- * round). */
+ * 0-7 points from the dense unseen-view energy instead of 2.5-16 (the optimizer no longer fits
+ * edges to one set of pixel centres, a gain no other view keeps), the dense energy itself the same
+ * on average (36.6-36.7 % of QEM's either way), for 0.06-0.35 s a draw (coordinator/OPTIMIZER.md,
+ * ninth round). */
 #define CO_JOB_DEFAULT_REGRID_EVERY 10000ull
 #define CO_JOB_IN_PROCESS UINT32_MAX /* workers: render in this process (no worker processes) */
 #define CO_JOB_WORKER_START_S 60.0   /* local workers must say hello within this */

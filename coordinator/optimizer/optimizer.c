@@ -244,9 +244,10 @@ lm_status co_optimizer_replace_views(co_optimizer *opt, lm_views *views, int res
     install_views(opt, views);
     int64_t total = 0;
     lm_status st = lm_views_set_mesh_from(opt->views, opt->mesh);
-    if (st == LM_OK)
-        st = opt->views->ops->energy(opt->views, &total, NULL);
     if (st != LM_OK || !rescale_start)
+        return st;
+    st = opt->views->ops->energy(opt->views, &total, NULL);
+    if (st != LM_OK)
         return st;
     int64_t start_image = opt->prog.energy_start - opt->prog.geometric_start;
     int64_t new_image = total - geo;
