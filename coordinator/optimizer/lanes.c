@@ -1,8 +1,7 @@
-/* coordinator/optimizer/lanes.c — edges in flight: lane threads handing a baton, one batch of
+/* coordinator/optimizer/lanes.c — edges in flight: lane fibers handing a baton, one batch of
  * evaluations per round, and the merge of the lanes' changes in order (lanes.h). */
 #include "coordinator/optimizer/lanes.h"
 
-#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -10,12 +9,12 @@
 #include "common/log.h"
 #include "common/mesh_topology.h"
 #include "coordinator/optimizer/edge.h"
+#include "coordinator/optimizer/fiber.h"
 #include "coordinator/optimizer/lane_views.h"
 
 #define GROUP_RINGS 2  /* edges whose vertices lie within this many rings of each other wait */
 #define GROUP_WINDOW 4 /* a group is chosen among the next GROUP_WINDOW x K planned edges */
 
-enum { CMD_NONE, CMD_RUN, CMD_QUIT };
 enum { LANE_IDLE, LANE_RUNNING, LANE_WAITING, LANE_DONE };
 
 /* An accepted operation kept for the merge, with the lane's ΔE before it (to undo on a revert). */
@@ -28,10 +27,8 @@ typedef struct lane_record {
 struct co_lane {
     co_lanes *owner;
     uint32_t index;
-    pthread_t thread;
-    int started;
-    pthread_cond_t cv;
-    int cmd, state, posted;
+    co_fiber *fiber;
+    int state;
     lm_status post_status; /* what the request in flight came back with */
     lm_mesh *mesh;
     co_moves *mv;
@@ -51,8 +48,6 @@ struct co_lanes {
     co_optimizer *o;
     uint32_t k;
     co_lane *lanes;
-    pthread_mutex_t mu;
-    pthread_cond_t sched;
     lm_tri_data *start; /* the group's start, sorted by id */
     size_t n_start;
     lm_patch *batch; /* shallow copies of the lanes' requests */
@@ -68,32 +63,23 @@ struct co_lanes {
 
 /* ---- the baton ------------------------------------------------------------------------------- */
 
-/* Scheduler side: let lane go on, and wait until it waits again or is done. */
+/* Scheduler side: the lane about to run gets the collapse search's veto. */
 static void hand_veto(co_lanes *l, co_lane *lane);
 
+/* Scheduler side: let lane go on (its first edge, its next one, or its answer), until it waits
+ * again or is done. */
 static void resume(co_lanes *l, co_lane *lane)
 {
     hand_veto(l, lane);
-    pthread_mutex_lock(&l->mu);
     lane->state = LANE_RUNNING;
-    lane->posted = 0;
-    pthread_cond_signal(&lane->cv);
-    while (lane->state == LANE_RUNNING)
-        pthread_cond_wait(&l->sched, &l->mu);
-    pthread_mutex_unlock(&l->mu);
+    co_fiber_resume(lane->fiber);
 }
 
 lm_status co_lane_post(co_lane *lane)
 {
-    co_lanes *l = lane->owner;
-    pthread_mutex_lock(&l->mu);
-    lane->posted = 1;
     lane->state = LANE_WAITING;
-    pthread_cond_signal(&l->sched);
-    while (lane->posted)
-        pthread_cond_wait(&lane->cv, &l->mu);
+    co_fiber_yield(lane->fiber);
     lm_status st = lane->post_status;
-    pthread_mutex_unlock(&l->mu);
     return st ? lm_fail(st, "the lanes' batch failed") : LM_OK;
 }
 
@@ -105,38 +91,15 @@ static void run_edge(co_lane *lane)
         snprintf(lane->msg, sizeof lane->msg, "%s", lm_last_error());
 }
 
-static void *lane_main(void *arg)
+/* A lane's fiber: one edge each time the scheduler starts it (it never returns). */
+static void lane_main(void *arg)
 {
     co_lane *lane = arg;
-    co_lanes *l = lane->owner;
-    pthread_mutex_lock(&l->mu);
     for (;;) {
-        while (lane->cmd == CMD_NONE)
-            pthread_cond_wait(&lane->cv, &l->mu);
-        if (lane->cmd == CMD_QUIT)
-            break;
-        lane->cmd = CMD_NONE;
-        pthread_mutex_unlock(&l->mu);
         run_edge(lane);
-        pthread_mutex_lock(&l->mu);
         lane->state = LANE_DONE;
-        pthread_cond_signal(&l->sched);
+        co_fiber_yield(lane->fiber);
     }
-    pthread_mutex_unlock(&l->mu);
-    return NULL;
-}
-
-/* Start lane on its edge (from the scheduler) and wait until it waits or is done. */
-static void start(co_lanes *l, co_lane *lane)
-{
-    hand_veto(l, lane);
-    pthread_mutex_lock(&l->mu);
-    lane->cmd = CMD_RUN;
-    lane->state = LANE_RUNNING;
-    pthread_cond_signal(&lane->cv);
-    while (lane->state == LANE_RUNNING)
-        pthread_cond_wait(&l->sched, &l->mu);
-    pthread_mutex_unlock(&l->mu);
 }
 
 /* ---- keeping lanes apart ----------------------------------------------------------------------
@@ -232,7 +195,6 @@ static lm_status lane_init(co_lanes *l, co_lane *lane)
 {
     lane->owner = l;
     lane->index = (uint32_t)(lane - l->lanes);
-    pthread_cond_init(&lane->cv, NULL);
     co_lane_views_init(&lane->views, lane, l->o->views);
     lm_status st = lm_mesh_create(&lane->mesh);
     if (st == LM_OK)
@@ -242,10 +204,7 @@ static lm_status lane_init(co_lanes *l, co_lane *lane)
     co_moves_share_clock(lane->mv, co_moves_clock_ptr(l->o->mv));
     co_moves_observe(lane->mv, &(co_moves_observer){on_accepted, on_reverted, lane});
     lane->ctx = (co_edge_ctx){.o = l->o, .mesh = lane->mesh, .mv = lane->mv, .deferred = 1};
-    if (pthread_create(&lane->thread, NULL, lane_main, lane) != 0)
-        return lm_fail(LM_E_INTERNAL, "cannot start a lane thread");
-    lane->started = 1;
-    return LM_OK;
+    return co_fiber_create(CO_FIBER_STACK_BYTES, lane_main, lane, &lane->fiber);
 }
 
 void co_lanes_set_views(co_lanes *l, lm_views *views)
@@ -262,8 +221,6 @@ lm_status co_lanes_create(co_optimizer *o, uint32_t k, co_lanes **out)
         return lm_fail(LM_E_NOMEM, "out of memory for lanes");
     l->o = o;
     l->k = k;
-    pthread_mutex_init(&l->mu, NULL);
-    pthread_cond_init(&l->sched, NULL);
     lm_patch_init(&l->merged);
     l->lanes = calloc(k, sizeof *l->lanes);
     l->cap_queue = 65536;
@@ -281,14 +238,8 @@ lm_status co_lanes_create(co_optimizer *o, uint32_t k, co_lanes **out)
 
 static void lane_free(co_lanes *l, co_lane *lane)
 {
-    if (lane->started) {
-        pthread_mutex_lock(&l->mu);
-        lane->cmd = CMD_QUIT;
-        pthread_cond_signal(&lane->cv);
-        pthread_mutex_unlock(&l->mu);
-        pthread_join(lane->thread, NULL);
-    }
-    pthread_cond_destroy(&lane->cv);
+    (void)l;
+    co_fiber_destroy(lane->fiber); /* suspended between edges: its stack holds nothing */
     co_moves_destroy(lane->mv);
     lm_mesh_destroy(lane->mesh);
     co_lane_views_free(&lane->views);
@@ -304,8 +255,6 @@ void co_lanes_destroy(co_lanes *l)
         if (l->lanes[i].owner)
             lane_free(l, &l->lanes[i]);
     free(l->lanes);
-    pthread_mutex_destroy(&l->mu);
-    pthread_cond_destroy(&l->sched);
     free(l->start);
     free(l->batch);
     free(l->deltas);
@@ -623,7 +572,7 @@ lm_status co_lanes_run(co_lanes *l, const co_planned_edge *plan, uint32_t n, int
     LM_ASSERT(n >= 1 && n <= l->k);
     lm_status st = begin_group(l, plan, n);
     for (uint32_t i = 0; i < n && st == LM_OK; i++)
-        start(l, &l->lanes[i]);
+        resume(l, &l->lanes[i]);
     if (st == LM_OK)
         st = run_rounds(l, n);
     l->o->tp.veto = NULL;

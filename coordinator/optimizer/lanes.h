@@ -3,20 +3,20 @@
  *
  * A group is a set of planned edges, taken in plan order from the next few, whose neighbourhoods
  * (two rings) do not meet.
- * Each edge of a group is optimised in a lane: a thread with its own copy of the mesh and its own
- * move workspace, whose views are co_lane_views (lane_views.h). Lanes run one at a time, handing a
- * baton in a fixed order: all run until they wait for an evaluation, their requests go to the real
- * views as ONE batch, the answers come back, and they run again in order — so every decision
- * depends only on the plan, the seed and K, never on timing or on how many workers answered.
- * Nothing is committed to the real views during a group: every evaluation of the group is priced
- * against its start. Then the lanes' changes are merged in lane order: each lane's accepted
- * operations are done again on the optimizer's mesh (co_moves_replay), the patch of that replay
- * goes to the views; the first lane to change anything commits with its exact ΔE (its copy and
- * the replay are the same mesh, checked), every later one is evaluated again against the state
- * the merges before it left (re-validated) and committed only if it still pays (ΔE < 0, or no
- * worse than the lane found), else rolled back.
- * The threads never run concurrently (the baton), so the optimizer's statistics, collapse queue and
- * counters are shared without locks and without races. */
+ * Each edge of a group is optimised in a lane: a fiber (fiber.h) with its own copy of the mesh and
+ * its own move workspace, whose views are co_lane_views (lane_views.h). Lanes run one at a time,
+ * on the optimizer's thread, handing a baton in a fixed order: all run until they wait for an
+ * evaluation, their requests go to the real views as ONE batch, the answers come back, and they run
+ * again in order — so every decision depends only on the plan, the seed and K, never on timing or
+ * on how many workers answered. Nothing is committed to the real views during a group: every
+ * evaluation of the group is priced against its start. Then the lanes' changes are merged in lane
+ * order: each lane's accepted operations are done again on the optimizer's mesh (co_moves_replay),
+ * the patch of that replay goes to the views; the first lane to change anything commits with its
+ * exact ΔE (its copy and the replay are the same mesh, checked), every later one is evaluated again
+ * against the state the merges before it left (re-validated) and committed only if it still pays
+ * (ΔE < 0, or no worse than the lane found), else rolled back. Fibers never run concurrently, so
+ * the optimizer's statistics, collapse queue and counters are shared without locks and without
+ * races; a handoff costs no system call. */
 #ifndef LM_COORDINATOR_OPTIMIZER_LANES_H
 #define LM_COORDINATOR_OPTIMIZER_LANES_H
 
