@@ -50,11 +50,20 @@ typedef struct co_job {
     co_reporter rep;
     struct timespec t0;
     double loop_start_s; /* seconds from t0 to the start of the optimisation loop */
+    double loop_cpu_s;   /* CPU seconds of this process at the start of the loop */
     double loop_limit_s; /* the loop's share of the time limit; 0 = none */
     uint64_t resumed_from_evals;
     double start_weight; /* the geometric term's weight the image start used; 0 = none */
     char renderer[128];
 } co_job;
+
+/* CPU seconds of this process so far, every thread (not the workers). */
+static double process_cpu_s(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
 
 static double seconds_since(const struct timespec *t0)
 {
@@ -677,6 +686,7 @@ static lm_status job_stages(co_job *j, co_job_summary *summary)
         return st;
     /* The time limit counts set-up too; the loop gets what is left of it. */
     j->loop_start_s = seconds_since(&j->t0);
+    j->loop_cpu_s = process_cpu_s();
     if (j->o.time_limit_s > 0) {
         double left = j->o.time_limit_s - j->loop_start_s;
         j->loop_limit_s = j->rep.time_limit_s = left > 1e-3 ? left : 1e-3;
@@ -694,6 +704,7 @@ static lm_status job_stages(co_job *j, co_job_summary *summary)
     co_optimizer_progress(j->opt, &summary->progress);
     summary->wall_s = seconds_since(&j->t0);
     summary->optimize_s = summary->wall_s - j->loop_start_s;
+    summary->loop_cpu_s = process_cpu_s() - j->loop_cpu_s;
     summary->stop_reason = reason;
     summary->output_path = suspended ? NULL : j->o.output_path;
     summary->checkpoint_path = j->checkpoint_path;

@@ -277,9 +277,10 @@ static void json_summary(FILE *fp, const co_reporter *r, const co_job_summary *s
             "{\"type\":\"summary\",\"energy_start\":%" PRId64 ",\"energy_end\":%" PRId64
             ",\"energy_rel\":%.6f,\"evals\":%" PRIu64 ",\"resumed_from_evals\":%" PRIu64
             ",\"iterations\":%" PRIu64 ",\"wall_s\":%.3f,\"optimize_s\":%.3f,\"evals_per_s\":%.1f"
-            ",\"stop_reason\":",
+            ",\"loop_cpu_s\":%.3f,\"loop_cpu_us_per_eval\":%.1f,\"stop_reason\":",
             p->energy_start, p->energy, relative(p), p->evals, s->resumed_from_evals, p->iterations,
-            s->wall_s, s->optimize_s, s->optimize_s > 0 ? run_evals / s->optimize_s : 0.0);
+            s->wall_s, s->optimize_s, s->optimize_s > 0 ? run_evals / s->optimize_s : 0.0,
+            s->loop_cpu_s, run_evals > 0 ? 1e6 * s->loop_cpu_s / run_evals : 0.0);
     co_json_string(fp, s->stop_reason);
     fputs(",\"output\":", fp);
     if (s->output_path)
@@ -329,6 +330,9 @@ static void human_summary(FILE *fp, const co_reporter *r, const co_job_summary *
     fprintf(fp, ", %.1f s (%.1f s optimising, %.0f evals/s); stopped by %s\n", s->wall_s,
             s->optimize_s, s->optimize_s > 0 ? (double)run_evals / s->optimize_s : 0.0,
             s->stop_reason);
+    if (s->workers && run_evals)
+        fprintf(fp, "coordinator: %.1f CPU seconds in the loop, %.0f us per evaluation\n",
+                s->loop_cpu_s, 1e6 * s->loop_cpu_s / (double)run_evals);
     fputs("accepted moves:", fp);
     for (int k = 0; k < CO_MOVE_KINDS; k++)
         fprintf(fp, " %s %" PRIu64 "/%" PRIu64 "%s", co_report_move_name((co_move_kind)k),

@@ -48,6 +48,8 @@ typedef struct co_job_summary {
     co_progress progress;    /* final counters (energy_start, energy, evals, accepted...) */
     double wall_s;           /* seconds the whole job took in this process (load to output) */
     double optimize_s;       /* of which the optimisation loop */
+    double loop_cpu_s;       /* CPU seconds of this process in the loop (with workers: the
+                                coordinator's own work; in process, the rendering too) */
     const char *stop_reason; /* "evals", "time", "converged", "interrupted" or "suspended" */
     const char *output_path; /* NULL when suspended (SIGUSR1): only the checkpoint was written */
     const char *checkpoint_path; /* NULL = none */

@@ -80,6 +80,8 @@ assert s["evals"] >= 1500, s
 assert 0 < s["energy_end"] < s["energy_start"], s
 assert s["renderer"], s
 assert s["stop_reason"] == "evals", s
+# the loop's CPU time (in process here: the rendering too) and its share per evaluation
+assert 0 < s["loop_cpu_s"] and abs(s["loop_cpu_us_per_eval"] - 1e6 * s["loop_cpu_s"] / s["evals"]) < 1, s
 for r in recs:
     if r["type"] == "progress":
         assert r["energy"] >= 0 and r["evals"] >= 0
