@@ -1,6 +1,6 @@
 /* common/patch.c — building patches (removed ids + added triangle records) from a mesh, and the
  * one way a whole mesh is sent to the views (lm_views_set_mesh_from), and the views' optional ops
- * with their stand-ins (lm_views_retarget, lm_views_evaluate_overlapped). */
+ * with their stand-ins (lm_views_retarget, lm_views_evaluate_overlapped, lm_views_surface_term). */
 #include "common/patch.h"
 
 #include <stdlib.h>
@@ -255,4 +255,11 @@ lm_status lm_views_evaluate_overlapped(lm_views *v, const lm_patch *patches, uin
         return v->ops->evaluate_overlapped(v, patches, n, delta, overlap, ctx);
     overlap(ctx);
     return v->ops->evaluate(v, patches, n, delta);
+}
+
+lm_status lm_views_surface_term(lm_views *v, const lm_mesh *surface, double k)
+{
+    if (!v->ops->surface_term)
+        return lm_fail(LM_E_UNSUPPORTED, "these views do not price the geometric term");
+    return v->ops->surface_term(v, surface, k);
 }

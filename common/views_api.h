@@ -10,20 +10,21 @@
  * One constructor makes every kind from one description: co_views_create (coordinator/views/).
  *
  * The state behind the table: the target images (fixed at creation), a material table for the
- * current mesh, and the current mesh with its images. Every op below is BLOCKING: it returns when
- * the whole answer is known (a remote backend has then heard from every worker it needed).
+ * current mesh, the current mesh with its images and, where the backend prices it, the geometric
+ * term's scale (surface_term). Every op below is BLOCKING: it returns when the whole answer is
+ * known (a remote backend has then heard from every worker it needed).
  *
- * Sequence number: every change of state (set_mesh, set_materials, commit) advances `seq` (info)
- * by one. Replicas of the state (worker processes) are tagged with it; a replica that missed a
- * change is detected by its sequence number and re-sent the state, never priced against.
+ * Sequence number: every change of state (set_mesh, set_materials, commit, surface_term) advances
+ * `seq` (info) by one (a remote backend's surface_term may re-send the mesh too: two). Replicas
+ * of the state (worker processes) are tagged with it; a replica that missed a change is detected
+ * by its sequence number and re-sent the state, never priced against.
  *
  * Failure: an op that fails returns a status with a one-line message (common/error.h). Evaluate,
  * energy, potentials, read_image and info never change the state, whatever they return. When
- * set_mesh, set_materials or commit fail, the current state is unknown: the caller must set the
- * mesh again (and its materials, if they failed) before the next evaluation.
- * Recovery inside a backend: a backend that keeps replicas (remote) re-sends the mesh and
- * materials to a replica that lost them on its own; the caller sees an error only when no replica
- * can be made to serve.
+ * set_mesh, set_materials, commit or surface_term fail, the state is unknown: the caller must set
+ * the mesh again (and its materials, if they failed) before the next evaluation. Recovery inside a
+ * backend: a backend that keeps replicas (remote) re-sends the mesh and materials to a replica that
+ * lost them on its own; the caller sees an error only when no replica can be made to serve.
  *
  * Ownership: the views object is created by co_views_create (or a backend's *_create) and released
  * with lm_views_destroy(). Everything passed in stays owned by the caller and may be reused as
@@ -96,6 +97,15 @@ typedef struct lm_views_ops {
      * the next evaluations price a change against the mesh as it is now (Pfeiffer's incremental
      * difference; the shard simplifier). A change of state. In-process backends offer it. */
     lm_status (*retarget)(lm_views *v);
+    /* Optional (NULL = not offered): from now on every evaluate result includes the geometric
+     * term's ΔE_geo of its patch, at scale k (> 0) against `surface` (common/surface_table.h),
+     * priced where the images are made: a remote backend has its workers price it, each group of
+     * views its share of the triangle ids, the same bits as one table. energy, potentials and
+     * read_image stay the images' alone (the caller keeps E_geo). A change of state; a later
+     * call sets another k. LM_E_UNSUPPORTED where the backend cannot (`surface` is not the
+     * original its targets are images of). Recovery: a backend that re-sends its state to a
+     * replica re-sends the term with it. */
+    lm_status (*surface_term)(lm_views *v, const lm_mesh *surface, double k);
 } lm_views_ops;
 
 struct lm_views {
@@ -115,6 +125,10 @@ lm_status lm_views_retarget(lm_views *v);
  * evaluate: the caller's own work done while a remote backend waits, and in turn elsewhere. */
 lm_status lm_views_evaluate_overlapped(lm_views *v, const lm_patch *patches, uint32_t n,
                                        int64_t *delta, void (*overlap)(void *ctx), void *ctx);
+
+/* The surface_term op, or LM_E_UNSUPPORTED where the backend does not offer it (the caller then
+ * prices the term itself). */
+lm_status lm_views_surface_term(lm_views *v, const lm_mesh *surface, double k);
 
 /* Bytes per pixel of an image kind (1 or 4). */
 static inline size_t lm_image_kind_bpp(lm_image_kind kind)

@@ -96,13 +96,93 @@ lm_status lm_wire_tris_encode(const lm_tri_data *tris, size_t n, lm_wire_arena *
     return LM_OK;
 }
 
-lm_status lm_wire_patch_encode(const lm_patch *p, lm_wire_arena *a, Lumesh__Patch *out)
+/* The fields of a corner, in its order of floats, with their Tri.same bits. */
+static const struct {
+    uint32_t bit, at, n;
+} fields[4] = {{LM_WIRE_SAME_POS, 0, 3},
+               {LM_WIRE_SAME_NORMAL, 3, 3},
+               {LM_WIRE_SAME_UV, 6, 2},
+               {LM_WIRE_SAME_COLOR, 8, 4}};
+
+#define FLOATS_PER_CORNER (LM_WIRE_FLOATS_PER_TRI / 3)
+
+static const float *corner_floats(const lm_tri_data *t, int v)
+{
+    return (const float *)(const void *)&t->c[v];
+}
+
+/* Floats a record carries when the fields of `same` are left out. */
+static size_t carried(uint32_t same)
+{
+    size_t n = 0;
+    for (int f = 0; f < 4; f++)
+        n += same & fields[f].bit ? 0 : 3 * fields[f].n;
+    return n;
+}
+
+static uint32_t same_fields(const lm_tri_data *t, const lm_tri_data *cur)
+{
+    uint32_t same = 0;
+    for (int f = 0; f < 4; f++) {
+        int eq = 1;
+        for (int v = 0; v < 3 && eq; v++)
+            eq = !memcmp(corner_floats(t, v) + fields[f].at, corner_floats(cur, v) + fields[f].at,
+                         fields[f].n * sizeof(float));
+        same |= eq ? fields[f].bit : 0;
+    }
+    return same;
+}
+
+/* t's record against cur: the fields that differ, corner by corner. */
+static lm_status tri_against(const lm_tri_data *t, const lm_tri_data *cur, lm_wire_arena *a,
+                             Lumesh__Tri *out)
+{
+    lm_wire_tri_point(t, out);
+    uint32_t same = cur ? same_fields(t, cur) : 0;
+    if (!same)
+        return LM_OK;
+    size_t n = carried(same);
+    float *x = n ? lm_wire_arena_alloc(a, n * sizeof *x) : NULL;
+    if (n && !x)
+        return lm_fail(LM_E_NOMEM, "out of memory encoding a triangle");
+    size_t k = 0;
+    for (int v = 0; v < 3; v++)
+        for (int f = 0; f < 4; f++)
+            if (!(same & fields[f].bit)) {
+                memcpy(x + k, corner_floats(t, v) + fields[f].at, fields[f].n * sizeof *x);
+                k += fields[f].n;
+            }
+    out->same = same;
+    out->n_corners = n;
+    out->corners = x;
+    return LM_OK;
+}
+
+lm_status lm_wire_patch_encode_against(const lm_patch *p, lm_wire_current_fn current,
+                                       const void *ctx, lm_wire_arena *a, Lumesh__Patch *out)
 {
     lumesh__patch__init(out);
     out->n_removed = p->n_removed;
     out->removed = p->removed;
     out->n_added = p->n_added;
-    return lm_wire_tris_encode(p->added, p->n_added, a, &out->added);
+    if (!current)
+        return lm_wire_tris_encode(p->added, p->n_added, a, &out->added);
+    Lumesh__Tri **ptrs = lm_wire_arena_alloc(a, p->n_added * sizeof *ptrs);
+    Lumesh__Tri *w = lm_wire_arena_alloc(a, p->n_added * sizeof *w);
+    if (p->n_added && (!ptrs || !w))
+        return lm_fail(LM_E_NOMEM, "out of memory encoding %u triangles", p->n_added);
+    lm_status st = LM_OK;
+    for (uint32_t i = 0; i < p->n_added && st == LM_OK; i++) {
+        st = tri_against(&p->added[i], current(ctx, p->added[i].id), a, &w[i]);
+        ptrs[i] = &w[i];
+    }
+    out->added = ptrs;
+    return st;
+}
+
+lm_status lm_wire_patch_encode(const lm_patch *p, lm_wire_arena *a, Lumesh__Patch *out)
+{
+    return lm_wire_patch_encode_against(p, NULL, NULL, a, out);
 }
 
 /* A float array of the arena holding a copy of src (the View message points at it). */
@@ -141,6 +221,11 @@ static int all_finite(const float *f, size_t n)
 
 lm_status lm_wire_tri_decode(const Lumesh__Tri *t, uint32_t n_materials, lm_tri_data *out)
 {
+    if (t->same)
+        return lm_fail(LM_E_FORMAT,
+                       "triangle %u is given against a current record where none "
+                       "may be",
+                       t->id);
     if (t->n_corners != LM_WIRE_FLOATS_PER_TRI)
         return lm_fail(LM_E_FORMAT, "triangle %u has %zu corner values, not %u", t->id,
                        t->n_corners, LM_WIRE_FLOATS_PER_TRI);
@@ -158,7 +243,50 @@ lm_status lm_wire_tri_decode(const Lumesh__Tri *t, uint32_t n_materials, lm_tri_
     return LM_OK;
 }
 
+/* A record against the current one of its id: the fields it leaves out from there. */
+static lm_status tri_decode_against(const Lumesh__Tri *t, uint32_t n_materials,
+                                    lm_wire_current_fn current, const void *ctx, lm_tri_data *out)
+{
+    if (!t->same || !current)
+        return lm_wire_tri_decode(t, n_materials, out);
+    const lm_tri_data *cur = current(ctx, t->id);
+    if (t->same & ~(LM_WIRE_SAME_POS | LM_WIRE_SAME_NORMAL | LM_WIRE_SAME_UV | LM_WIRE_SAME_COLOR))
+        return lm_fail(LM_E_FORMAT, "triangle %u leaves out fields %#x that no record has", t->id,
+                       t->same);
+    if (!cur)
+        return lm_fail(LM_E_FORMAT,
+                       "triangle %u is given against a current record of its id, "
+                       "which is not in the mesh",
+                       t->id);
+    if (t->n_corners != carried(t->same))
+        return lm_fail(LM_E_FORMAT, "triangle %u has %zu corner values, not %zu", t->id,
+                       t->n_corners, carried(t->same));
+    if (t->material >= n_materials)
+        return lm_fail(LM_E_RANGE, "triangle %u uses material %u of %u", t->id, t->material,
+                       n_materials);
+    if (!all_finite(t->corners, t->n_corners))
+        return lm_fail(LM_E_RANGE, "triangle %u has a corner value that is not a finite number",
+                       t->id);
+    *out = *cur;
+    out->material = t->material;
+    size_t k = 0;
+    for (int v = 0; v < 3; v++)
+        for (int f = 0; f < 4; f++)
+            if (!(t->same & fields[f].bit)) {
+                memcpy((float *)(void *)&out->c[v] + fields[f].at, t->corners + k,
+                       fields[f].n * sizeof(float));
+                k += fields[f].n;
+            }
+    return LM_OK;
+}
+
 lm_status lm_wire_patch_decode(const Lumesh__Patch *w, uint32_t n_materials, lm_patch *p)
+{
+    return lm_wire_patch_decode_against(w, n_materials, NULL, NULL, p);
+}
+
+lm_status lm_wire_patch_decode_against(const Lumesh__Patch *w, uint32_t n_materials,
+                                       lm_wire_current_fn current, const void *ctx, lm_patch *p)
 {
     lm_patch_reset(p);
     if (w->n_removed > LM_WIRE_MAX_PATCH_TRIS || w->n_added > LM_WIRE_MAX_PATCH_TRIS)
@@ -172,7 +300,7 @@ lm_status lm_wire_patch_decode(const Lumesh__Patch *w, uint32_t n_materials, lm_
     }
     for (size_t i = 0; i < w->n_added && st == LM_OK; i++) {
         lm_tri_data t;
-        st = lm_wire_tri_decode(w->added[i], n_materials, &t);
+        st = tri_decode_against(w->added[i], n_materials, current, ctx, &t);
         if (st == LM_OK)
             st = lm_patch_add(p, &t);
     }

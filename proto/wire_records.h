@@ -4,7 +4,13 @@
  * first problem (LM_E_FORMAT or LM_E_RANGE) and the caller drops that peer.
  *
  * Encoding builds wire structures that point into the caller's records (no copies of the floats)
- * and into an lm_wire_arena for the pointer arrays; they are valid until the arena is reset. */
+ * and into an lm_wire_arena for the pointer arrays; they are valid until the arena is reset.
+ *
+ * Patches against the current mesh: a patch's added record of an id the receiver holds (the
+ * replica of the state both sides are at) leaves out every field — positions, normals, texture
+ * coordinates or colours of its three corners — that is bit for bit the current record's
+ * (Tri.same), so a triangle whose normals alone changed carries 9 floats, not 36. The receiver
+ * takes those fields from its own current record; one it does not hold is a format error. */
 #ifndef LM_PROTO_WIRE_RECORDS_H
 #define LM_PROTO_WIRE_RECORDS_H
 
@@ -33,17 +39,32 @@ void lm_wire_arena_free(lm_wire_arena *a);
 /* n zeroed bytes (aligned to 16), or NULL when memory runs out. */
 void *lm_wire_arena_alloc(lm_wire_arena *a, size_t n);
 
+/* The current record of triangle `id` as the receiver holds it (NULL: none). */
+typedef const lm_tri_data *(*lm_wire_current_fn)(const void *ctx, uint32_t id);
+
+/* Tri.same: the fields left out of a record (those of the current record of its id). */
+#define LM_WIRE_SAME_POS 1u
+#define LM_WIRE_SAME_NORMAL 2u
+#define LM_WIRE_SAME_UV 4u
+#define LM_WIRE_SAME_COLOR 8u
+
 /* Encoding (pointers into the records; arrays from the arena). LM_E_NOMEM when it runs out. */
 void lm_wire_tri_point(const lm_tri_data *t, Lumesh__Tri *out);
 lm_status lm_wire_tris_encode(const lm_tri_data *tris, size_t n, lm_wire_arena *a,
                               Lumesh__Tri ***out);
 lm_status lm_wire_patch_encode(const lm_patch *p, lm_wire_arena *a, Lumesh__Patch *out);
+/* The same patch against the current records (current(ctx, id); current NULL: full records). */
+lm_status lm_wire_patch_encode_against(const lm_patch *p, lm_wire_current_fn current,
+                                       const void *ctx, lm_wire_arena *a, Lumesh__Patch *out);
 lm_status lm_wire_view_encode(const lm_view *v, lm_wire_arena *a, Lumesh__View *out);
 
 /* Decoding, checked. Materials must be below n_materials. */
 lm_status lm_wire_tri_decode(const Lumesh__Tri *t, uint32_t n_materials, lm_tri_data *out);
-/* Into p (emptied first; capacity kept). */
+/* Into p (emptied first; capacity kept). Full records only. */
 lm_status lm_wire_patch_decode(const Lumesh__Patch *w, uint32_t n_materials, lm_patch *p);
+/* A patch encoded against the current records current(ctx, id) (NULL: full records only). */
+lm_status lm_wire_patch_decode_against(const Lumesh__Patch *w, uint32_t n_materials,
+                                       lm_wire_current_fn current, const void *ctx, lm_patch *p);
 /* A camera of width x height pixels. */
 lm_status lm_wire_view_decode(const Lumesh__View *w, int width, int height, lm_view *out);
 

@@ -63,3 +63,39 @@ void wk_replica_kill(wk_replica *r, uint32_t id)
     r->alive[id] = 0;
     r->n_alive--;
 }
+
+lm_status wk_replica_set(wk_replica *r, const lm_tri_data *tris, size_t n)
+{
+    wk_replica_clear(r);
+    lm_status st = LM_OK;
+    for (size_t i = 0; i < n && st == LM_OK; i++) {
+        if (wk_replica_alive(r, tris[i].id))
+            return lm_fail(LM_E_INVALID, "triangle id %u appears twice in the mesh", tris[i].id);
+        st = wk_replica_put(r, &tris[i]);
+    }
+    return st;
+}
+
+lm_status wk_replica_apply(wk_replica *r, const lm_patch *p)
+{
+    for (uint32_t i = 0; i < p->n_removed; i++)
+        if (!wk_replica_alive(r, p->removed[i]))
+            return lm_fail(LM_E_INVALID, "patch removes triangle %u which is not in the mesh",
+                           p->removed[i]);
+    for (uint32_t i = 0; i < p->n_removed; i++)
+        wk_replica_kill(r, p->removed[i]);
+    lm_status st = LM_OK;
+    for (uint32_t i = 0; i < p->n_added && st == LM_OK; i++) {
+        if (wk_replica_alive(r, p->added[i].id))
+            return lm_fail(LM_E_INVALID, "patch adds triangle %u which is alive and not removed",
+                           p->added[i].id);
+        st = wk_replica_put(r, &p->added[i]);
+    }
+    return st;
+}
+
+const lm_tri_data *wk_replica_current(const void *ctx, uint32_t id)
+{
+    const wk_replica *r = ctx;
+    return wk_replica_alive(r, id) ? &r->tris[id] : NULL;
+}

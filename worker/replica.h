@@ -29,4 +29,16 @@ static inline int wk_replica_alive(const wk_replica *r, uint32_t id)
     return id < r->cap && r->alive[id];
 }
 
+/* Exactly these triangles (ids distinct: a repeated one is refused). On failure the replica is
+ * left partial (the caller sets it again). */
+lm_status wk_replica_set(wk_replica *r, const lm_tri_data *tris, size_t n);
+
+/* The patch applied, checked as the views check it: removed ids alive, added ids free after the
+ * removals. On failure the replica may be half-applied (the caller sets it again). */
+lm_status wk_replica_apply(wk_replica *r, const lm_patch *p);
+
+/* The current record of id (NULL when it is not alive), as lm_wire_current_fn wants it (ctx: the
+ * replica). */
+const lm_tri_data *wk_replica_current(const void *ctx, uint32_t id);
+
 #endif

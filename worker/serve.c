@@ -217,6 +217,8 @@ static void server_free(wk_server *s)
     if (s->health)
         zmq_close(s->health);
     wk_serve_end_job(s);
+    wk_replica_free(&s->rep);
+    lm_bvh_destroy(s->bvh);
     wk_serve_assets_free(s);
     for (uint32_t i = 0; i < s->cap_patches; i++)
         lm_patch_free(&s->patches[i]);
@@ -264,6 +266,7 @@ static lm_status dispatch(wk_server *s, const lm_msg *m, int *job_ended)
     case LUMESH__MSG__BODY_ASSIGN:
         return wk_serve_assign(s, m);
     case LUMESH__MSG__BODY_SET_MATERIALS:
+    case LUMESH__MSG__BODY_SET_SURFACE:
     case LUMESH__MSG__BODY_SET_MESH:
     case LUMESH__MSG__BODY_COMMIT:
         return wk_serve_change(s, m);

@@ -6,8 +6,10 @@
 
 #include <stdint.h>
 
+#include "common/bvh.h"
 #include "common/mesh.h"
 #include "common/patch.h"
+#include "common/surface_table.h"
 #include "common/view.h"
 #include "common/views_api.h"
 #include "proto/asset.h"
@@ -15,6 +17,7 @@
 #include "proto/wire.h"
 #include "proto/wire_records.h"
 #include "worker/probe.h"
+#include "worker/replica.h"
 #include "worker/serve.h"
 
 /* An asset arriving in chunks. */
@@ -48,10 +51,18 @@ typedef struct wk_server {
     /* the job */
     uint64_t job;
     lm_mesh *original;
+    lm_asset_hash original_hash;
     lm_view_set *views; /* the job's whole view set */
     lm_view_deal deal;  /* the views assigned */
     lm_views *v;        /* the assigned views (NULL until Assign) */
     uint32_t n_materials;
+    int mesh_set;   /* a mesh was set on v */
+    wk_replica rep; /* v's current triangles: what patches are encoded against (Tri.same) */
+    /* the geometric term of this worker's share of triangle ids (SetSurface; NULL = none), over
+       the hierarchy of the original it was built for (kept across jobs of that original) */
+    lm_surface_table *geo;
+    lm_bvh *bvh;
+    lm_asset_hash bvh_of;
     uint64_t seq; /* of the replica (the coordinator's count of changes) */
     int stale;    /* a change failed or was missed: no request is answered until the state is
                      sent again */

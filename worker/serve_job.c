@@ -1,8 +1,10 @@
 /* worker/serve_job.c — the worker's job: the original and the view set (Job), the views it is
  * assigned (Assign: targets rendered), the replica's changes of state in sequence (SetMaterials,
- * SetMesh, Commit) and the requests priced against it (Evaluate, Energy, Potentials, ReadImage).
+ * SetSurface, SetMesh, Commit) and the requests priced against it (Evaluate, Energy, Potentials,
+ * ReadImage); with SetSurface, its share of the geometric term added to every Evaluate.
  * Everything decoded is checked (proto/wire_records.h; the views backend checks patches against
  * the replica) and a failure is answered, never fatal. */
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -13,6 +15,10 @@
 
 static void drop_views(wk_server *s)
 {
+    lm_surface_table_destroy(s->geo);
+    s->geo = NULL;
+    s->mesh_set = 0;
+    wk_replica_clear(&s->rep);
     lm_views_destroy(s->v);
     s->v = NULL;
     s->seq = 0;
@@ -72,6 +78,13 @@ lm_status wk_serve_job(wk_server *s, const lm_msg *m)
         st = cached(s, &m->job->original, &a);
     if (st == LM_OK)
         st = lm_asset_unpack_mesh(a->data, a->size, &s->cache, &s->original);
+    if (st == LM_OK) {
+        s->original_hash = a->hash;
+        if (s->bvh && memcmp(s->bvh_of.b, a->hash.b, sizeof a->hash.b)) {
+            lm_bvh_destroy(s->bvh); /* made for another original */
+            s->bvh = NULL;
+        }
+    }
     if (st != LM_OK) {
         lm_status code = st;
         char msg[512];
@@ -138,9 +151,43 @@ static lm_status set_mesh(wk_server *s, const Lumesh__SetMesh *b)
     lm_status st = LM_OK;
     for (size_t i = 0; i < b->n_tris && st == LM_OK; i++)
         st = lm_wire_tri_decode(b->tris[i], s->n_materials, &tris[i]);
+    s->mesh_set = 0;
     if (st == LM_OK)
         st = s->v->ops->set_mesh(s->v, tris, b->n_tris);
+    if (st == LM_OK && s->geo)
+        st = lm_surface_table_set_mesh(s->geo, tris, b->n_tris);
+    if (st == LM_OK)
+        st = wk_replica_set(&s->rep, tris, b->n_tris);
+    s->mesh_set = st == LM_OK;
     free(tris);
+    return st;
+}
+
+/* The geometric term of this worker's share (proto/lumesh.proto, SetSurface): a new scale for
+ * the table there is, or a table made empty, to be filled by the mesh that follows (*stale: until
+ * then the replica is stale). */
+static lm_status set_surface(wk_server *s, const Lumesh__SetSurface *b, int *stale)
+{
+    if (!(b->k > 0) || !isfinite(b->k))
+        return lm_fail(LM_E_FORMAT, "a geometric term of scale %g", b->k);
+    if (b->views_first > s->deal.first || s->deal.first - b->views_first >= s->deal.stride)
+        return lm_fail(LM_E_RANGE,
+                       "a geometric term for views from %u, served from view %u, %u "
+                       "apart",
+                       b->views_first, s->deal.first, s->deal.stride);
+    if (s->geo) {
+        lm_surface_table_set_k(s->geo, b->k);
+        return LM_OK;
+    }
+    lm_status st = LM_OK;
+    if (!s->bvh) {
+        st = lm_bvh_create(s->original, &s->bvh);
+        s->bvh_of = s->original_hash;
+    }
+    if (st == LM_OK)
+        st = lm_surface_table_create(s->bvh, b->k, s->deal.first - b->views_first, s->deal.stride,
+                                     &s->geo);
+    *stale = st == LM_OK && s->mesh_set; /* the table lacks the mesh until it is set again */
     return st;
 }
 
@@ -172,8 +219,15 @@ static lm_status commit(wk_server *s, const lm_msg *m)
         return lm_fail(LM_E_FORMAT, "a commit without a patch");
     lm_status st = reserve_patches(s, 1);
     if (st == LM_OK)
-        st = lm_wire_patch_decode(m->commit->patch, s->n_materials, &s->patches[0]);
-    return st == LM_OK ? s->v->ops->commit(s->v, &s->patches[0]) : st;
+        st = lm_wire_patch_decode_against(m->commit->patch, s->n_materials, wk_replica_current,
+                                          &s->rep, &s->patches[0]);
+    if (st == LM_OK)
+        st = s->v->ops->commit(s->v, &s->patches[0]);
+    if (st == LM_OK && s->geo)
+        st = lm_surface_table_commit(s->geo, &s->patches[0]);
+    if (st == LM_OK)
+        st = wk_replica_apply(&s->rep, &s->patches[0]);
+    return st;
 }
 
 /* A change's result is the coordinator's sequence number; a failed one leaves no state (every
@@ -181,6 +235,7 @@ static lm_status commit(wk_server *s, const lm_msg *m)
 lm_status wk_serve_change(wk_server *s, const lm_msg *m)
 {
     lm_status st;
+    int stale = 0;
     if (!s->v)
         return wk_serve_fail(s, m->req, LM_E_INVALID,
                              "a change of state before views were assigned");
@@ -191,6 +246,9 @@ lm_status wk_serve_change(wk_server *s, const lm_msg *m)
     case LUMESH__MSG__BODY_SET_MESH:
         st = set_mesh(s, m->set_mesh);
         break;
+    case LUMESH__MSG__BODY_SET_SURFACE:
+        st = set_surface(s, m->set_surface, &stale);
+        break;
     default:
         st = commit(s, m);
         if (st == LM_E_UNSUPPORTED) {
@@ -200,7 +258,7 @@ lm_status wk_serve_change(wk_server *s, const lm_msg *m)
     }
     if (st == LM_OK) {
         s->seq = m->seq;
-        s->stale = 0;
+        s->stale = stale;
         return LM_OK;
     }
     s->stale = 1;
@@ -241,9 +299,12 @@ static lm_status evaluate(wk_server *s, const lm_msg *m)
     double t0 = cpu_now();
     lm_status st = reserve_patches(s, e->n_patches);
     for (size_t i = 0; i < e->n_patches && st == LM_OK; i++)
-        st = lm_wire_patch_decode(e->patches[i], s->n_materials, &s->patches[i]);
+        st = lm_wire_patch_decode_against(e->patches[i], s->n_materials, wk_replica_current,
+                                          &s->rep, &s->patches[i]);
     if (st == LM_OK && e->n_patches)
         st = s->v->ops->evaluate(s->v, s->patches, (uint32_t)e->n_patches, s->deltas);
+    for (size_t i = 0; i < e->n_patches && st == LM_OK && s->geo; i++)
+        s->deltas[i] += lm_surface_table_delta(s->geo, &s->patches[i]);
     if (st != LM_OK)
         return wk_serve_fail(s, m->req, st, lm_last_error());
     Lumesh__Deltas d = LUMESH__DELTAS__INIT;

@@ -127,7 +127,7 @@ static lm_status relative_weight(co_optimizer *o)
     lm_status st = co_surface_views_weight_for_share(o->surface, o->tuning.surface_share,
                                                      &o->tuning.surface_weight);
     if (st == LM_OK)
-        co_surface_views_set_weight(o->surface, o->tuning.surface_weight);
+        st = co_surface_views_set_weight(o->surface, o->tuning.surface_weight);
     return st;
 }
 
@@ -223,16 +223,15 @@ void co_optimizer_destroy(co_optimizer *opt)
 
 /* The new views where everything that prices moves holds them: the geometric term's wrapper, or
  * the moves and the lanes themselves. */
-static void install_views(co_optimizer *o, lm_views *views)
+static lm_status install_views(co_optimizer *o, lm_views *views)
 {
-    if (o->surface) {
-        co_surface_views_set_inner(o->surface, views);
-        return;
-    }
+    if (o->surface)
+        return co_surface_views_set_inner(o->surface, views);
     o->views = views;
     co_moves_set_views(o->mv, views);
     if (o->lanes)
         co_lanes_set_views(o->lanes, views);
+    return LM_OK;
 }
 
 lm_status co_optimizer_replace_views(co_optimizer *opt, lm_views *views, int rescale_start)
@@ -241,9 +240,10 @@ lm_status co_optimizer_replace_views(co_optimizer *opt, lm_views *views, int res
         return lm_fail(LM_E_INVALID, "optimizer: views are required");
     int64_t geo = opt->surface ? co_surface_views_energy(opt->surface) : 0;
     int64_t old_image = opt->prog.energy - geo;
-    install_views(opt, views);
     int64_t total = 0;
-    lm_status st = lm_views_set_mesh_from(opt->views, opt->mesh);
+    lm_status st = install_views(opt, views);
+    if (st == LM_OK)
+        st = lm_views_set_mesh_from(opt->views, opt->mesh);
     if (st != LM_OK || !rescale_start)
         return st;
     st = opt->views->ops->energy(opt->views, &total, NULL);

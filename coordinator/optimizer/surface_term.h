@@ -10,11 +10,17 @@
  * r), distance in pixels of a 256-wide view, once per view, so that weight 1 costs a triangle what
  * one squared unit of luminance per pixel and view would if every view saw it a pixel off.
  *
- * Every e(t) is an int64 computed here, in the coordinator, from the triangle's corner positions
- * alone (double precision, no contracted multiply-adds: the same bits on every platform), so
- * evaluate's ΔE stays an exact integer and E_geo does not depend on how views are split or on the
- * order of anything. The wrapped views are borrowed; every op is passed on to them, evaluate adds
- * each patch's ΔE_geo, energy adds E_geo to the total (per_view stays the image energies). */
+ * Every e(t) is an int64 computed from the triangle's corner positions alone (common/
+ * surface_table.h: double precision, no contracted multiply-adds, the same bits on every
+ * platform), so evaluate's ΔE stays an exact integer and E_geo does not depend on how views are
+ * split or on the order of anything. The wrapped views are borrowed; every op is passed on to
+ * them, evaluate adds each patch's ΔE_geo, energy adds E_geo to the total (per_view stays the
+ * image energies).
+ *
+ * Where the wrapped views take the term (lm_views_surface_term: workers in other processes), the
+ * ΔE_geo of evaluations is priced there, each group of views a share of the triangle ids, and
+ * evaluate passes straight through: the coordinator keeps only E_geo (set_mesh, commit), so an
+ * evaluation costs it no distance query. The answers are the same bits either way. */
 #ifndef LM_COORDINATOR_SURFACE_TERM_H
 #define LM_COORDINATOR_SURFACE_TERM_H
 
@@ -23,17 +29,17 @@
 #include "common/mesh.h"
 #include "common/views_api.h"
 
-/* Distances remembered by point (distance_memo.h): 2^14 slots, 512 KiB. On the bunny at 378
- * vertices about half of an evaluation's queries are answered from it. */
-#define CO_SURFACE_MEMO_LOG2 14u
-
 /* Views over `inner` (borrowed, must outlive them) with the geometric term against `surface`
  * (borrowed likewise; its live triangles, at least one) of weight `weight` (> 0). */
 lm_status co_surface_views_create(lm_views *inner, const lm_mesh *surface, double weight,
                                   lm_views **out);
 
-/* Wrap `inner` (borrowed) instead of the views given so far; the caller sets the mesh on v next. */
-void co_surface_views_set_inner(lm_views *v, lm_views *inner);
+/* Wrap `inner` (borrowed) instead of the views given so far, handing it the term where it takes
+ * it; the caller sets the mesh on v next. Fails only as inner's surface_term op does. */
+lm_status co_surface_views_set_inner(lm_views *v, lm_views *inner);
+
+/* 1 when the wrapped views price the evaluations' ΔE_geo (lm_views_surface_term took it). */
+int co_surface_views_offloaded(const lm_views *v);
 
 /* E_geo of the current mesh (0 before the first set_mesh). `v` must come from
  * co_surface_views_create. */
@@ -49,8 +55,9 @@ double co_surface_views_unit_energy(const lm_views *v);
  * same for any split of the views. Fails only as the wrapped views' energy op does. */
 lm_status co_surface_views_weight_for_share(lm_views *v, double share, double *weight);
 
-/* Change the weight (> 0) and recompute every e(t) of the current mesh with it. */
-void co_surface_views_set_weight(lm_views *v, double weight);
+/* Change the weight (> 0) and recompute every e(t) of the current mesh with it (and hand the new
+ * scale to wrapped views that price the term). Fails only as their surface_term op does. */
+lm_status co_surface_views_set_weight(lm_views *v, double weight);
 
 /* e(t) of one triangle (for tests and the scale above). */
 int64_t co_surface_views_tri(const lm_views *v, const float p[3][3]);

@@ -93,7 +93,7 @@ static lm_status wrap_surface(sjob *j, const lm_mesh *ref)
     if (st == LM_OK && !(j->o->surface_weight > 0)) {
         st = share_weight(j, &w);
         if (st == LM_OK)
-            co_surface_views_set_weight(j->views, w);
+            st = co_surface_views_set_weight(j->views, w);
     }
     j->sum->surface_weight = w;
     return st == LM_OK ? lm_views_set_mesh_from(j->views, j->work) : st;

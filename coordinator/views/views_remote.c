@@ -2,6 +2,7 @@
  * state sent to every worker (packed once) with their sequence numbers and kept for resending;
  * requests fanned out over the layout (a batch divided between the replicas of a range), partial
  * int64 results summed; an operation redone when a worker was lost or stale meanwhile. */
+#include <float.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -31,14 +32,8 @@ static lm_status broadcast(co_remote *r, Lumesh__Msg__BodyCase c, void *body)
 static lm_status rm_set_mesh(lm_views *v, const lm_tri_data *tris, size_t n)
 {
     co_remote *r = as_remote(v);
-    wk_replica_clear(&r->rep);
     r->mesh_set = 0;
-    lm_status st = LM_OK;
-    for (size_t i = 0; i < n && st == LM_OK; i++) {
-        if (wk_replica_alive(&r->rep, tris[i].id))
-            return lm_fail(LM_E_INVALID, "triangle id %u appears twice in the mesh", tris[i].id);
-        st = wk_replica_put(&r->rep, &tris[i]);
-    }
+    lm_status st = wk_replica_set(&r->rep, tris, n);
     if (st == LM_OK)
         st = co_remote_layout(r);
     if (st != LM_OK)
@@ -49,6 +44,35 @@ static lm_status rm_set_mesh(lm_views *v, const lm_tri_data *tris, size_t n)
     m.n_tris = n;
     st = lm_wire_tris_encode(tris, n, &r->arena, &m.tris);
     return st == LM_OK ? broadcast(r, LUMESH__MSG__BODY_SET_MESH, &m) : st;
+}
+
+/* The geometric term on the workers (views_api.h, surface_term): each group of views prices the
+ * triangle ids of its share; the first time, the mesh goes again with it (the workers keep e(t)
+ * per triangle from it). */
+static lm_status rm_surface_term(lm_views *v, const lm_mesh *surface, double k)
+{
+    co_remote *r = as_remote(v);
+    if (surface != r->original_mesh)
+        return lm_fail(LM_E_UNSUPPORTED, "the workers hold another original than this surface");
+    if (!(k > 0 && k <= DBL_MAX))
+        return lm_fail(LM_E_INVALID, "a geometric term of scale %g", k);
+    int first = !(r->surface_k > 0);
+    r->surface_k = k;
+    r->seq++;
+    Lumesh__SetSurface g;
+    co_remote_surface_msg(r, &g);
+    lm_status st = broadcast(r, LUMESH__MSG__BODY_SET_SURFACE, &g);
+    if (st != LM_OK || !first || !r->mesh_set)
+        return st;
+    lm_tri_data *tris = NULL;
+    Lumesh__SetMesh sm;
+    r->seq++;
+    st = co_remote_mesh_msg(r, &sm, &tris);
+    if (st == LM_OK)
+        st = broadcast(r, LUMESH__MSG__BODY_SET_MESH, &sm);
+    lm_wire_arena_reset(&r->arena);
+    free(tris);
+    return st;
 }
 
 static lm_status rm_set_materials(lm_views *v, const lm_material *mats, uint32_t n)
@@ -72,41 +96,26 @@ static lm_status rm_set_materials(lm_views *v, const lm_material *mats, uint32_t
     return broadcast(r, LUMESH__MSG__BODY_SET_MATERIALS, &m);
 }
 
-/* The replica follows the patch (checked as the views would: removed ids alive, added ids free). */
-static lm_status apply_to_replica(co_remote *r, const lm_patch *p)
-{
-    for (uint32_t i = 0; i < p->n_removed; i++)
-        if (!wk_replica_alive(&r->rep, p->removed[i]))
-            return lm_fail(LM_E_INVALID, "patch removes triangle %u which is not in the mesh",
-                           p->removed[i]);
-    for (uint32_t i = 0; i < p->n_removed; i++)
-        wk_replica_kill(&r->rep, p->removed[i]);
-    lm_status st = LM_OK;
-    for (uint32_t i = 0; i < p->n_added && st == LM_OK; i++) {
-        if (wk_replica_alive(&r->rep, p->added[i].id))
-            return lm_fail(LM_E_INVALID, "patch adds triangle %u which is alive and not removed",
-                           p->added[i].id);
-        st = wk_replica_put(&r->rep, &p->added[i]);
-    }
-    return st;
-}
-
+/* The patch goes against the replica as it was (the workers' current records), which then
+ * follows it. */
 static lm_status rm_commit(lm_views *v, const lm_patch *patch)
 {
     co_remote *r = as_remote(v);
     if (!r->mesh_set)
         return lm_fail(LM_E_INVALID, "no mesh set: call set_mesh before commit");
-    lm_status st = apply_to_replica(r, patch);
+    Lumesh__Commit c = LUMESH__COMMIT__INIT;
+    Lumesh__Patch p;
+    lm_status st = lm_wire_patch_encode_against(patch, wk_replica_current, &r->rep, &r->arena, &p);
+    c.patch = &p;
+    if (st == LM_OK)
+        st = wk_replica_apply(&r->rep, patch);
     if (st != LM_OK) {
+        lm_wire_arena_reset(&r->arena);
         r->mesh_set = 0; /* half-applied: the caller sets the mesh again */
         return st;
     }
     r->seq++;
-    Lumesh__Commit c = LUMESH__COMMIT__INIT;
-    Lumesh__Patch p;
-    st = lm_wire_patch_encode(patch, &r->arena, &p);
-    c.patch = &p;
-    return st == LM_OK ? broadcast(r, LUMESH__MSG__BODY_COMMIT, &c) : st;
+    return broadcast(r, LUMESH__MSG__BODY_COMMIT, &c);
 }
 
 /* ---- requests -------------------------------------------------------------------------------- */
@@ -272,7 +281,8 @@ static lm_status send_evaluate(round *rd, uint32_t i, uint64_t req)
         Lumesh__Patch **pp = lm_wire_arena_alloc(&r->arena, n * sizeof *pp);
         st = p && pp ? LM_OK : lm_fail(LM_E_NOMEM, "out of memory encoding patches");
         for (uint32_t k = 0; k < n && st == LM_OK; k++) {
-            st = lm_wire_patch_encode(&e->patches[lo + k], &r->arena, &p[k]);
+            st = lm_wire_patch_encode_against(&e->patches[lo + k], wk_replica_current, &r->rep,
+                                              &r->arena, &p[k]);
             pp[k] = &p[k];
         }
         Lumesh__Evaluate m = LUMESH__EVALUATE__INIT;
@@ -524,6 +534,7 @@ static const lm_views_ops remote_ops = {
     .read_image = rm_read_image,
     .info = rm_info,
     .destroy = rm_destroy,
+    .surface_term = rm_surface_term,
 };
 
 lm_status co_views_remote_create(const co_views_desc *d, lm_views **out)
@@ -538,6 +549,7 @@ lm_status co_views_remote_create(const co_views_desc *d, lm_views **out)
         r->job = (uint64_t)getpid() << 32 | ++jobs;
         r->first = d->first;
         r->count = d->count;
+        r->original_mesh = d->original;
         r->width = d->views->views[0].width;
         r->height = d->views->views[0].height;
         lm_asset_set_init(&r->assets);

@@ -26,7 +26,9 @@ typedef struct co_remote {
     lm_asset_set assets;
     lm_asset_hash original, materials;
     int has_materials;
-    lm_view_set *views; /* the job's whole view set */
+    const lm_mesh *original_mesh; /* what the original asset was packed from (borrowed) */
+    double surface_k;             /* the geometric term the workers price (0 = none) */
+    lm_view_set *views;           /* the job's whole view set */
     uint32_t first, count;
     int width, height;
     /* the current state, re-sent to workers that lack it */
@@ -63,9 +65,16 @@ lm_status co_remote_pack(co_remote *r, uint64_t req, uint64_t seq, Lumesh__Msg__
 /* Every asset of r->assets on every worker of ws: Offer, then what each Needs, until Ready. */
 lm_status co_remote_ship(co_remote *r, co_worker **ws, uint32_t n);
 
-/* Send the current state (materials, mesh) to w: after its views were assigned, or when it said
- * it is stale. */
+/* Send the current state (materials, geometric term, mesh) to w: after its views were assigned,
+ * or when it said it is stale. */
 lm_status co_remote_send_state(co_remote *r, co_worker *w);
+
+/* The SetSurface of the current geometric term (r->surface_k > 0). */
+void co_remote_surface_msg(const co_remote *r, Lumesh__SetSurface *out);
+
+/* The replica's mesh as a SetMesh (its records in r->arena and *tris, which the caller frees
+ * after sending, with lm_wire_arena_reset). */
+lm_status co_remote_mesh_msg(co_remote *r, Lumesh__SetMesh *out, lm_tri_data **tris);
 
 /* A reply that is not the expected kind: Stale (1: resend the state and try again) or a Failure
  * or anything else (an error naming the worker). */

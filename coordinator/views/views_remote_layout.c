@@ -200,6 +200,30 @@ static lm_status send_assign(co_remote *r, co_worker *w, uint64_t req)
     return co_pool_send(r->pool, w, req, r->seq, LUMESH__MSG__BODY_ASSIGN, &a);
 }
 
+void co_remote_surface_msg(const co_remote *r, Lumesh__SetSurface *out)
+{
+    Lumesh__SetSurface m = LUMESH__SET_SURFACE__INIT;
+    m.k = r->surface_k;
+    m.views_first = r->first;
+    *out = m;
+}
+
+lm_status co_remote_mesh_msg(co_remote *r, Lumesh__SetMesh *out, lm_tri_data **tris)
+{
+    *tris = malloc((r->rep.n_alive + 1) * sizeof **tris);
+    if (!*tris)
+        return lm_fail(LM_E_NOMEM, "out of memory re-sending the mesh");
+    size_t n = 0;
+    for (size_t id = 0; id < r->rep.cap; id++)
+        if (r->rep.alive[id])
+            (*tris)[n++] = r->rep.tris[id];
+    Lumesh__SetMesh sm = LUMESH__SET_MESH__INIT;
+    sm.n_tris = n;
+    lm_status st = lm_wire_tris_encode(*tris, n, &r->arena, &sm.tris);
+    *out = sm;
+    return st;
+}
+
 lm_status co_remote_send_state(co_remote *r, co_worker *w)
 {
     lm_status st = LM_OK;
@@ -208,18 +232,16 @@ lm_status co_remote_send_state(co_remote *r, co_worker *w)
         m.materials = (ProtobufCBinaryData){LM_ASSET_HASH_BYTES, r->materials.b};
         st = co_pool_send(r->pool, w, 0, r->seq, LUMESH__MSG__BODY_SET_MATERIALS, &m);
     }
+    if (st == LM_OK && r->surface_k > 0) {
+        Lumesh__SetSurface g;
+        co_remote_surface_msg(r, &g);
+        st = co_pool_send(r->pool, w, 0, r->seq, LUMESH__MSG__BODY_SET_SURFACE, &g);
+    }
     if (st != LM_OK || !r->mesh_set)
         return st;
-    lm_tri_data *tris = malloc((r->rep.n_alive + 1) * sizeof *tris);
-    if (!tris)
-        return lm_fail(LM_E_NOMEM, "out of memory re-sending the mesh");
-    size_t n = 0;
-    for (size_t id = 0; id < r->rep.cap; id++)
-        if (r->rep.alive[id])
-            tris[n++] = r->rep.tris[id];
-    Lumesh__SetMesh sm = LUMESH__SET_MESH__INIT;
-    sm.n_tris = n;
-    st = lm_wire_tris_encode(tris, n, &r->arena, &sm.tris);
+    lm_tri_data *tris = NULL;
+    Lumesh__SetMesh sm;
+    st = co_remote_mesh_msg(r, &sm, &tris);
     if (st == LM_OK)
         st = co_pool_send(r->pool, w, 0, r->seq, LUMESH__MSG__BODY_SET_MESH, &sm);
     lm_wire_arena_reset(&r->arena);

@@ -14,11 +14,12 @@
  * (on a VM, most of a round trip).
  *
  * The model for W workers over V views, per batch i of n_i patches (perfect balance, a (patch,
- * view) pair the smallest piece of work), the coordinator's work split into what it does while
- * the batch is out (overlap_i, measured: the geometric term, surface_term.c) and the rest:
- *     T_i(W) = rest_i + max(overlap_i, RTT + bytes_i * min(W, V) / bandwidth
- *                                      + n_i * V * c / min(W, n_i * V))
- * against the in-process T_i = rest_i + overlap_i + n_i * V * c; speed-up = sum T_i / sum T_i(W),
+ * view) pair the smallest piece of work), the coordinator's work split into the geometric term
+ * (geo_i, measured as the in-process views price it; with workers, they price it instead, each
+ * group of views a share of the triangles: views_api.h, surface_term) and the rest:
+ *     T_i(W) = rest_i + RTT + bytes_i * min(W, V) / bandwidth
+ *                     + (n_i * V * c + geo_i) / min(W, n_i * V)
+ * against the in-process T_i = rest_i + geo_i + n_i * V * c; speed-up = sum T_i / sum T_i(W),
  * efficiency = speed-up / W. Printed for W = 1, 2, 4, 8, 16, 128 at --rtt-us (default 100) and
  * --gbps (default 10), both orders of edges; and for 2 workers at the round trips measured here
  * (ZeroMQ, and the floor): what local multi-process mode can reach on this machine at best (the
@@ -45,6 +46,7 @@
 #include "coordinator/pool/pool.h"
 #include "coordinator/views/views.h"
 #include "proto/wire_records.h"
+#include "worker/replica.h"
 
 typedef struct opts {
     const char *model, *device;
@@ -67,6 +69,7 @@ typedef struct meter {
     double views_s, views_cpu_s, encode_cpu_s, overlap_cpu_s;
     double overlap_now; /* the overlap of the batch being evaluated */
     lm_wire_arena arena;
+    wk_replica rep; /* the workers' current records, which patches are encoded against */
 } meter;
 
 static double wall(void)
@@ -89,7 +92,7 @@ static size_t message_bytes(meter *m, const lm_patch *p, uint32_t n, int commit)
     Lumesh__Patch *wp = lm_wire_arena_alloc(&m->arena, n * sizeof *wp);
     Lumesh__Patch **pp = lm_wire_arena_alloc(&m->arena, n * sizeof *pp);
     for (uint32_t i = 0; i < n; i++) {
-        lm_wire_patch_encode(&p[i], &m->arena, &wp[i]);
+        lm_wire_patch_encode_against(&p[i], wk_replica_current, &m->rep, &m->arena, &wp[i]);
         pp[i] = &wp[i];
     }
     Lumesh__Evaluate e = LUMESH__EVALUATE__INIT;
@@ -145,13 +148,15 @@ static lm_status me_commit(lm_views *v, const lm_patch *p)
     meter *m = (meter *)v;
     m->commits++;
     m->commit_bytes += message_bytes(m, p, 1, 1);
-    return m->in->ops->commit(m->in, p);
+    lm_status st = wk_replica_apply(&m->rep, p);
+    return st == LM_OK ? m->in->ops->commit(m->in, p) : st;
 }
 
 static lm_status me_set_mesh(lm_views *v, const lm_tri_data *t, size_t n)
 {
     meter *m = (meter *)v;
-    return m->in->ops->set_mesh(m->in, t, n);
+    lm_status st = wk_replica_set(&m->rep, t, n);
+    return st == LM_OK ? m->in->ops->set_mesh(m->in, t, n) : st;
 }
 
 static lm_status me_set_materials(lm_views *v, const lm_material *mat, uint32_t n)
@@ -209,7 +214,7 @@ typedef struct costs {
     uint64_t evals, batches;
     double per_patch_view_us;   /* c */
     double coord_us_per_eval;   /* the optimizer and encoding */
-    double overlap_us_per_eval; /* of which done while a batch is out (the geometric term) */
+    double overlap_us_per_eval; /* of which the geometric term (the workers' with workers) */
     double bytes_per_batch, patches_per_batch, commit_bytes;
     double t_local_s; /* sum of the in-process T_i */
     const meter *m;
@@ -246,6 +251,7 @@ static lm_status run_once(const opts *o, const lm_mesh *orig, const lm_mesh *coa
     double total_cpu = cpu() - c0;
     co_optimizer_destroy(opt);
     lm_views_destroy(m->in);
+    wk_replica_free(&m->rep);
     if (st != LM_OK)
         return st;
     double views = vs->count, bytes = 0;
@@ -266,14 +272,14 @@ static double speedup_at(const opts *o, const costs *c, uint32_t views, uint32_t
 {
     double t1 = 0, tw = 0, rtt = rtt_us * 1e-6, bw = o->gbps * 1e9 / 8.0;
     double cost = c->per_patch_view_us * 1e-6;
-    double rest = (c->coord_us_per_eval - c->overlap_us_per_eval) * 1e-6; /* never overlapped */
+    double rest = (c->coord_us_per_eval - c->overlap_us_per_eval) * 1e-6; /* the coordinator's */
     for (size_t i = 0; i < c->m->batches; i++) {
-        double n = c->m->n[i], work = n * views * cost, ov = c->m->overlap[i];
+        double n = c->m->n[i], work = n * views * cost, geo = c->m->overlap[i];
         double pieces = n * views < w ? n * views : w;
         double ranges = w < views ? w : views;
-        double out = rtt + c->m->bytes[i] * ranges / bw + work / pieces; /* the batch is out */
-        t1 += rest * n + ov + work;
-        tw += rest * n + (ov > out ? ov : out);
+        double out = rtt + c->m->bytes[i] * ranges / bw + (work + geo) / pieces; /* out */
+        t1 += rest * n + geo + work;
+        tw += rest * n + out;
     }
     return t1 / tw;
 }
@@ -397,9 +403,9 @@ static void print_human(const opts *o, const costs *c, uint32_t views, const rtt
            t->zmq, t->floor);
     for (int r = 0; r < 2; r++) {
         const costs *x = &c[r];
-        printf("  %u in flight: %.1f us per (patch, view); coordinator %.1f us per evaluation "
-               "(%.1f of it while the workers render: the geometric term); %.1f patches and %.0f "
-               "bytes per batch (%.0f per commit)\n",
+        printf("  %u in flight: %.1f us per (patch, view); coordinator %.1f us per evaluation in "
+               "process (%.1f of it the geometric term, which workers price); %.1f patches and "
+               "%.0f bytes per batch (%.0f per commit)\n",
                x->k, x->per_patch_view_us, x->coord_us_per_eval, x->overlap_us_per_eval,
                x->patches_per_batch, x->bytes_per_batch, x->commit_bytes);
         printf("    predicted at %.0f us RTT, %.0f Gb/s:", o->rtt_us, o->gbps);
@@ -425,7 +431,7 @@ static void print_json(const opts *o, const costs *c, uint32_t views, const rtts
     for (int r = 0; r < 2; r++) {
         const costs *x = &c[r];
         printf("%s{\"edges_in_flight\": %u, \"us_per_patch_view\": %.3f, "
-               "\"coordinator_us_per_eval\": %.3f, \"overlapped_us_per_eval\": %.3f, "
+               "\"coordinator_us_per_eval\": %.3f, \"geometric_us_per_eval\": %.3f, "
                "\"patches_per_batch\": %.3f, "
                "\"bytes_per_batch\": %.1f, \"bytes_per_commit\": %.1f, "
                "\"two_workers_here\": %.3f, \"two_workers_zmq\": %.3f, "

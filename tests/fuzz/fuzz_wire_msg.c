@@ -1,7 +1,8 @@
 /* tests/fuzz/fuzz_wire_msg.c — libFuzzer target for the wire protocol's decoding: any frame is
  * decoded with the bounded allocator (proto/wire.h) and, when it decodes, every record it carries
  * is checked the way the worker and the coordinator check them (proto/wire_records.h): triangles,
- * patches, cameras, asset hashes and chunks. Any input must give LM_OK or an error with a one-line
+ * patches (full records, and against a replica holding the ids below 16), cameras, asset hashes
+ * and chunks. Any input must give LM_OK or an error with a one-line
  * message; never a crash, a leak, a hang or an allocation beyond the budget.
  * Seeds: written by make_wire_seeds (scripts/test.sh). */
 #include <stddef.h>
@@ -20,12 +21,25 @@ static void check(lm_status st)
     LM_ASSERT(st == LM_OK || (lm_last_error()[0] != '\0' && !strchr(lm_last_error(), '\n')));
 }
 
+/* Current records of the ids below 16, as a worker's replica would hold them. */
+static const lm_tri_data *current(const void *ctx, uint32_t id)
+{
+    static lm_tri_data held[16];
+    (void)ctx;
+    if (id >= 16)
+        return NULL;
+    held[id].id = id;
+    return &held[id];
+}
+
 static void walk_patches(Lumesh__Patch **p, size_t n)
 {
     lm_patch patch;
     lm_patch_init(&patch);
-    for (size_t i = 0; i < n && i < 256; i++)
+    for (size_t i = 0; i < n && i < 256; i++) {
         check(lm_wire_patch_decode(p[i], 8, &patch));
+        check(lm_wire_patch_decode_against(p[i], 8, current, NULL, &patch));
+    }
     lm_patch_free(&patch);
 }
 

@@ -69,6 +69,12 @@ static void make_tris(lm_tri_data *t, int n)
     }
 }
 
+/* The current record of id among the ten seed triangles. */
+static const lm_tri_data *current_of(const void *ctx, uint32_t id)
+{
+    return id < 10 ? &((const lm_tri_data *)ctx)[id] : NULL;
+}
+
 static void msg_seeds(const char *dir)
 {
     lm_wire_arena a;
@@ -111,6 +117,19 @@ static void msg_seeds(const char *dir)
     Lumesh__Commit cm = LUMESH__COMMIT__INIT;
     cm.patch = &wp[0];
     write_msg(dir, "commit", LUMESH__MSG__BODY_COMMIT, &cm);
+    /* against the current records (Tri.same): triangle 3 with new normals only */
+    lm_tri_data moved = tris[3];
+    moved.c[1].normal[0] = 0.5f;
+    lm_patch_reset(&p);
+    lm_patch_remove(&p, 3);
+    lm_patch_add(&p, &moved);
+    Lumesh__Patch ws, *wsp = &ws;
+    lm_wire_patch_encode_against(&p, current_of, tris, &a, &ws);
+    e.n_patches = 1, e.patches = &wsp;
+    write_msg(dir, "evaluate_same", LUMESH__MSG__BODY_EVALUATE, &e);
+    Lumesh__SetSurface ss = LUMESH__SET_SURFACE__INIT;
+    ss.k = 12.5, ss.views_first = 0;
+    write_msg(dir, "set_surface", LUMESH__MSG__BODY_SET_SURFACE, &ss);
     ProtobufCBinaryData hs[2] = {{sizeof hash, hash}, {sizeof hash, hash}};
     Lumesh__Offer o = LUMESH__OFFER__INIT;
     o.n_assets = 2, o.assets = hs;

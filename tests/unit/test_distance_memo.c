@@ -1,11 +1,11 @@
 /* tests/unit/test_distance_memo.c — the geometric term's memo of distances
- * (coordinator/optimizer/distance_memo.h): whatever it holds, every answer is the very double
+ * (common/distance_memo.h): whatever it holds, every answer is the very double
  * lm_bvh_closest_sq gives, for points asked once, again, and after others took their slot. */
 #include <stdlib.h>
 #include <string.h>
 
 #include "common/bvh.h"
-#include "coordinator/optimizer/distance_memo.h"
+#include "common/distance_memo.h"
 #include "test_support.h"
 
 static void check_against_bvh(uint32_t log2_slots)
@@ -14,8 +14,8 @@ static void check_against_bvh(uint32_t log2_slots)
     assert_non_null(sphere);
     lm_bvh *bvh = NULL;
     assert_int_equal(lm_bvh_create(sphere, &bvh), LM_OK);
-    co_distance_memo *m = NULL;
-    assert_int_equal(co_distance_memo_create(bvh, log2_slots, &m), LM_OK);
+    lm_distance_memo *m = NULL;
+    assert_int_equal(lm_distance_memo_create(bvh, log2_slots, &m), LM_OK);
     enum { N = 300 };
     double q[N][3];
     uint64_t seed = 7;
@@ -28,10 +28,10 @@ static void check_against_bvh(uint32_t log2_slots)
     for (int round = 0; round < 3; round++)
         for (int i = 0; i < N; i++) {
             int j = (i * 7 + round * 13) % N; /* another order each round */
-            double want = lm_bvh_closest_sq(bvh, q[j]), got = co_distance_memo_sq(m, q[j]);
+            double want = lm_bvh_closest_sq(bvh, q[j]), got = lm_distance_memo_sq(m, q[j]);
             assert_memory_equal(&want, &got, sizeof want);
         }
-    co_distance_memo_destroy(m);
+    lm_distance_memo_destroy(m);
     lm_bvh_destroy(bvh);
     lm_mesh_destroy(sphere);
 }
@@ -46,10 +46,10 @@ static void test_same_as_bvh(void **state)
 static void test_refuses_bad_sizes(void **state)
 {
     (void)state;
-    co_distance_memo *m = (co_distance_memo *)1;
-    assert_int_equal(co_distance_memo_create(NULL, 4, &m), LM_E_INVALID);
+    lm_distance_memo *m = (lm_distance_memo *)1;
+    assert_int_equal(lm_distance_memo_create(NULL, 4, &m), LM_E_INVALID);
     assert_null(m);
-    co_distance_memo_destroy(NULL);
+    lm_distance_memo_destroy(NULL);
 }
 
 int main(void)

@@ -1,7 +1,9 @@
 /* tests/unit/test_views_remote.c — views served by real lumesh-worker processes (spawned by the
  * pool over a private ipc socket) are bit-identical to one in-process backend: energies, ΔE of a
  * batch of moves, potentials, images, before and after commits and a change of materials, for
- * 1..3 workers over 20 views and for 3 workers over 2 views (replicas dividing the batch). A job
+ * 1..3 workers over 20 views and for 3 workers over 2 views (replicas dividing the batch). The
+ * geometric term priced by the workers (each group of views its share of the triangles) gives
+ * the bits the coordinator's own pricing gives, also after commits and a change of weight. A job
  * pins its renderer: a worker of another renderer is refused with the reason. */
 #include <stdlib.h>
 #include <string.h>
@@ -11,6 +13,7 @@
 #include "common/patch.h"
 #include "common/simplify.h"
 #include "coordinator/cli/bench_moves.h"
+#include "coordinator/optimizer/surface_term.h"
 #include "coordinator/pool/pool.h"
 #include "coordinator/views/views.h"
 #include "test_support.h"
@@ -138,6 +141,66 @@ static void check_remote(const char *path, uint32_t views, uint32_t workers)
     rig_free(&r);
 }
 
+/* The geometric term over both: priced here over the in-process views, by the workers over the
+ * remote ones; the same ΔE for every patch, before and after commits and a new weight. */
+static void check_surface(const char *path, uint32_t views, uint32_t workers)
+{
+    rig r;
+    rig_init(&r, path, views, workers);
+    lm_views *g1 = NULL, *g2 = NULL;
+    assert_int_equal(co_surface_views_create(r.one, r.orig, 3.0, &g1), LM_OK);
+    assert_int_equal(co_surface_views_create(r.remote, r.orig, 3.0, &g2), LM_OK);
+    assert_false(co_surface_views_offloaded(g1));
+    assert_true(co_surface_views_offloaded(g2));
+    assert_int_equal(lm_views_set_mesh_from(g1, r.coarse), LM_OK);
+    assert_int_equal(lm_views_set_mesh_from(g2, r.coarse), LM_OK);
+    lm_patch p[N_PATCHES];
+    for (int i = 0; i < N_PATCHES; i++)
+        lm_patch_init(&p[i]);
+    assert_int_equal(co_bench_vertex_moves(r.coarse, 11 + workers, p, N_PATCHES), LM_OK);
+    int64_t d1[N_PATCHES], d2[N_PATCHES], img[N_PATCHES];
+    for (int round = 0; round < 3; round++) {
+        assert_int_equal(g1->ops->evaluate(g1, p, N_PATCHES, d1), LM_OK);
+        assert_int_equal(g2->ops->evaluate(g2, p, N_PATCHES, d2), LM_OK);
+        assert_int_equal(r.one->ops->evaluate(r.one, p, N_PATCHES, img), LM_OK);
+        int geo = 0;
+        for (int i = 0; i < N_PATCHES; i++) {
+            assert_true(d1[i] == d2[i]);
+            geo += d1[i] != img[i]; /* the term took part */
+        }
+        assert_true(geo > N_PATCHES / 2);
+        int64_t e1, e2;
+        assert_int_equal(g1->ops->energy(g1, &e1, NULL), LM_OK);
+        assert_int_equal(g2->ops->energy(g2, &e2, NULL), LM_OK);
+        assert_true(e1 == e2 && co_surface_views_energy(g1) == co_surface_views_energy(g2));
+        if (round == 0) { /* commits: both tables follow */
+            for (int i = 0; i < 3; i++) {
+                assert_int_equal(g1->ops->commit(g1, &p[i * 5]), LM_OK);
+                assert_int_equal(g2->ops->commit(g2, &p[i * 5]), LM_OK);
+            }
+        } else if (round == 1) { /* a new weight reaches the workers */
+            assert_int_equal(co_surface_views_set_weight(g1, 40.0), LM_OK);
+            assert_int_equal(co_surface_views_set_weight(g2, 40.0), LM_OK);
+        }
+    }
+    for (int i = 0; i < N_PATCHES; i++)
+        lm_patch_free(&p[i]);
+    lm_views_destroy(g1);
+    lm_views_destroy(g2);
+    rig_free(&r);
+}
+
+static void test_remote_surface_term(void **state)
+{
+    (void)state;
+    const char *bunny = lmt_bunny_path();
+    if (!bunny)
+        skip();
+    for (uint32_t w = 1; w <= 3; w++)
+        check_surface(bunny, 20, w);
+    check_surface(bunny, 2, 3); /* replicas: each range's share priced once */
+}
+
 static void test_remote_bunny(void **state)
 {
     (void)state;
@@ -163,6 +226,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_remote_bunny),
         cmocka_unit_test(test_remote_spider),
+        cmocka_unit_test(test_remote_surface_term),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

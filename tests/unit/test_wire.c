@@ -63,6 +63,87 @@ static void test_roundtrip_patch(void **state)
     lm_patch_free(&q);
 }
 
+/* Current records, as a receiver's replica holds them: ids 0..7. */
+static lm_tri_data held[8];
+
+static const lm_tri_data *held_current(const void *ctx, uint32_t id)
+{
+    (void)ctx;
+    return id < 8 ? &held[id] : NULL;
+}
+
+static size_t packed_patch_bytes(const lm_patch *p, lm_wire_current_fn current)
+{
+    lm_wire_arena a;
+    lm_wire_arena_init(&a);
+    Lumesh__Patch wp;
+    assert_int_equal(lm_wire_patch_encode_against(p, current, NULL, &a, &wp), LM_OK);
+    size_t n = lumesh__patch__get_packed_size(&wp);
+    lm_wire_arena_free(&a);
+    return n;
+}
+
+/* A patch against the current records: what equals them is left out and comes back from the
+ * receiver's own records, bit for bit; a receiver without the record refuses it. */
+static void test_patch_against_current(void **state)
+{
+    (void)state;
+    for (uint32_t id = 0; id < 8; id++) {
+        held[id].id = id;
+        held[id].material = id % 2;
+        for (int k = 0; k < 3; k++)
+            for (int i = 0; i < 12; i++)
+                ((float *)&held[id].c[k])[i] = 0.37f * (float)(id * 40 + k * 12 + i) - 3.0f;
+    }
+    lm_patch p, q;
+    lm_patch_init(&p);
+    lm_patch_init(&q);
+    lm_tri_data normals = held[2], moved = held[5], fresh = held[6];
+    normals.c[1].normal[2] = -0.25f; /* a twin: only a normal changed */
+    moved.c[0].pos[0] += 1.0f;       /* positions and normals change, uv and colour stay */
+    moved.c[2].normal[1] = 0.125f;
+    moved.material = 0;
+    fresh.id = 30; /* not held: a full record */
+    for (uint32_t id = 2; id <= 5; id += 3)
+        assert_int_equal(lm_patch_remove(&p, id), LM_OK);
+    assert_int_equal(lm_patch_add(&p, &normals), LM_OK);
+    assert_int_equal(lm_patch_add(&p, &moved), LM_OK);
+    assert_int_equal(lm_patch_add(&p, &fresh), LM_OK);
+    lm_wire_arena a;
+    lm_wire_arena_init(&a);
+    Lumesh__Patch wp;
+    assert_int_equal(lm_wire_patch_encode_against(&p, held_current, NULL, &a, &wp), LM_OK);
+    assert_int_equal(wp.added[0]->same, LM_WIRE_SAME_POS | LM_WIRE_SAME_UV | LM_WIRE_SAME_COLOR);
+    assert_int_equal(wp.added[0]->n_corners, 9);
+    assert_int_equal(wp.added[1]->same, LM_WIRE_SAME_UV | LM_WIRE_SAME_COLOR);
+    assert_int_equal(wp.added[2]->same, 0);
+    assert_int_equal(lm_wire_patch_decode_against(&wp, 2, held_current, NULL, &q), LM_OK);
+    assert_int_equal(q.n_added, 3);
+    assert_memory_equal(&q.added[0], &normals, sizeof normals);
+    assert_memory_equal(&q.added[1], &moved, sizeof moved);
+    assert_memory_equal(&q.added[2], &fresh, sizeof fresh);
+    /* far fewer bytes than full records */
+    assert_true(2 * packed_patch_bytes(&p, held_current) < packed_patch_bytes(&p, NULL) + 200);
+    /* without current records, or where the receiver lacks the id, it is refused */
+    assert_int_equal(lm_wire_patch_decode(&wp, 2, &q), LM_E_FORMAT);
+    memmove(&held[2], &held[3], sizeof held[2]); /* id 2 no longer holds its record... */
+    held[2].id = 2;
+    assert_int_equal(lm_wire_patch_decode_against(&wp, 2, held_current, NULL, &q), LM_OK);
+    assert_memory_not_equal(&q.added[0], &normals, sizeof normals); /* ...so it is another mesh */
+    wp.added[0]->id = 9;
+    assert_int_equal(lm_wire_patch_decode_against(&wp, 2, held_current, NULL, &q), LM_E_FORMAT);
+    assert_non_null(strstr(lm_last_error(), "not in the mesh"));
+    wp.added[0]->id = 2;
+    wp.added[0]->n_corners = 8; /* the fields carried must match `same` */
+    assert_int_equal(lm_wire_patch_decode_against(&wp, 2, held_current, NULL, &q), LM_E_FORMAT);
+    wp.added[0]->n_corners = 9;
+    wp.added[0]->same |= 16; /* no such field */
+    assert_int_equal(lm_wire_patch_decode_against(&wp, 2, held_current, NULL, &q), LM_E_FORMAT);
+    lm_wire_arena_free(&a);
+    lm_patch_free(&p);
+    lm_patch_free(&q);
+}
+
 static void test_bad_records(void **state)
 {
     (void)state;
@@ -208,7 +289,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_roundtrip_patch), cmocka_unit_test(test_bad_records),
         cmocka_unit_test(test_decode_budget),   cmocka_unit_test(test_asset_roundtrip),
-        cmocka_unit_test(test_asset_refused),
+        cmocka_unit_test(test_asset_refused),   cmocka_unit_test(test_patch_against_current),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -1,6 +1,6 @@
-/* coordinator/optimizer/distance_memo.c — the memo of distances (distance_memo.h): a direct-mapped
+/* common/distance_memo.c — the memo of distances (distance_memo.h): a direct-mapped
  * table keyed by a point's exact bits. */
-#include "coordinator/optimizer/distance_memo.h"
+#include "common/distance_memo.h"
 
 #include <stdlib.h>
 #include <string.h>
@@ -11,18 +11,18 @@ typedef struct slot {
     int used;
 } slot;
 
-struct co_distance_memo {
+struct lm_distance_memo {
     const lm_bvh *bvh;
     slot *slots;
     uint64_t mask;
 };
 
-lm_status co_distance_memo_create(const lm_bvh *bvh, uint32_t log2_slots, co_distance_memo **out)
+lm_status lm_distance_memo_create(const lm_bvh *bvh, uint32_t log2_slots, lm_distance_memo **out)
 {
     *out = NULL;
     if (!bvh || log2_slots > 24)
         return lm_fail(LM_E_INVALID, "a distance memo needs a surface and at most 2^24 slots");
-    co_distance_memo *m = calloc(1, sizeof *m);
+    lm_distance_memo *m = calloc(1, sizeof *m);
     slot *s = calloc((size_t)1 << log2_slots, sizeof *s);
     if (!m || !s) {
         free(m);
@@ -36,7 +36,7 @@ lm_status co_distance_memo_create(const lm_bvh *bvh, uint32_t log2_slots, co_dis
     return LM_OK;
 }
 
-void co_distance_memo_destroy(co_distance_memo *m)
+void lm_distance_memo_destroy(lm_distance_memo *m)
 {
     if (!m)
         return;
@@ -59,7 +59,7 @@ static uint64_t hash_of(const uint64_t k[3])
     return h;
 }
 
-double co_distance_memo_sq(co_distance_memo *m, const double q[3])
+double lm_distance_memo_sq(lm_distance_memo *m, const double q[3])
 {
     uint64_t k[3];
     memcpy(k, q, sizeof k);
