@@ -96,15 +96,10 @@ lm_status lm_wire_tris_encode(const lm_tri_data *tris, size_t n, lm_wire_arena *
     return LM_OK;
 }
 
-/* The fields of a corner, in its order of floats, with their Tri.same bits. */
+/* The fields of a corner, in its order of floats (LM_WIRE_FIELD_*). */
 static const struct {
-    uint32_t bit, at, n;
-} fields[4] = {{LM_WIRE_SAME_POS, 0, 3},
-               {LM_WIRE_SAME_NORMAL, 3, 3},
-               {LM_WIRE_SAME_UV, 6, 2},
-               {LM_WIRE_SAME_COLOR, 8, 4}};
-
-#define FLOATS_PER_CORNER (LM_WIRE_FLOATS_PER_TRI / 3)
+    uint32_t at, n;
+} fields[4] = {{0, 3}, {3, 3}, {6, 2}, {8, 4}};
 
 static const float *corner_floats(const lm_tri_data *t, int v)
 {
@@ -115,21 +110,20 @@ static const float *corner_floats(const lm_tri_data *t, int v)
 static size_t carried(uint32_t same)
 {
     size_t n = 0;
-    for (int f = 0; f < 4; f++)
-        n += same & fields[f].bit ? 0 : 3 * fields[f].n;
+    for (int v = 0; v < 3; v++)
+        for (int f = 0; f < 4; f++)
+            n += same & LM_WIRE_SAME_BIT(v, f) ? 0 : fields[f].n;
     return n;
 }
 
 static uint32_t same_fields(const lm_tri_data *t, const lm_tri_data *cur)
 {
     uint32_t same = 0;
-    for (int f = 0; f < 4; f++) {
-        int eq = 1;
-        for (int v = 0; v < 3 && eq; v++)
-            eq = !memcmp(corner_floats(t, v) + fields[f].at, corner_floats(cur, v) + fields[f].at,
-                         fields[f].n * sizeof(float));
-        same |= eq ? fields[f].bit : 0;
-    }
+    for (int v = 0; v < 3; v++)
+        for (int f = 0; f < 4; f++)
+            if (!memcmp(corner_floats(t, v) + fields[f].at, corner_floats(cur, v) + fields[f].at,
+                        fields[f].n * sizeof(float)))
+                same |= LM_WIRE_SAME_BIT(v, f);
     return same;
 }
 
@@ -148,7 +142,7 @@ static lm_status tri_against(const lm_tri_data *t, const lm_tri_data *cur, lm_wi
     size_t k = 0;
     for (int v = 0; v < 3; v++)
         for (int f = 0; f < 4; f++)
-            if (!(same & fields[f].bit)) {
+            if (!(same & LM_WIRE_SAME_BIT(v, f))) {
                 memcpy(x + k, corner_floats(t, v) + fields[f].at, fields[f].n * sizeof *x);
                 k += fields[f].n;
             }
@@ -250,7 +244,7 @@ static lm_status tri_decode_against(const Lumesh__Tri *t, uint32_t n_materials,
     if (!t->same || !current)
         return lm_wire_tri_decode(t, n_materials, out);
     const lm_tri_data *cur = current(ctx, t->id);
-    if (t->same & ~(LM_WIRE_SAME_POS | LM_WIRE_SAME_NORMAL | LM_WIRE_SAME_UV | LM_WIRE_SAME_COLOR))
+    if (t->same & ~LM_WIRE_SAME_ALL)
         return lm_fail(LM_E_FORMAT, "triangle %u leaves out fields %#x that no record has", t->id,
                        t->same);
     if (!cur)
@@ -272,7 +266,7 @@ static lm_status tri_decode_against(const Lumesh__Tri *t, uint32_t n_materials,
     size_t k = 0;
     for (int v = 0; v < 3; v++)
         for (int f = 0; f < 4; f++)
-            if (!(t->same & fields[f].bit)) {
+            if (!(t->same & LM_WIRE_SAME_BIT(v, f))) {
                 memcpy((float *)(void *)&out->c[v] + fields[f].at, t->corners + k,
                        fields[f].n * sizeof(float));
                 k += fields[f].n;

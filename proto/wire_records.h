@@ -7,10 +7,10 @@
  * and into an lm_wire_arena for the pointer arrays; they are valid until the arena is reset.
  *
  * Patches against the current mesh: a patch's added record of an id the receiver holds (the
- * replica of the state both sides are at) leaves out every field — positions, normals, texture
- * coordinates or colours of its three corners — that is bit for bit the current record's
- * (Tri.same), so a triangle whose normals alone changed carries 9 floats, not 36. The receiver
- * takes those fields from its own current record; one it does not hold is a format error. */
+ * replica of the state both sides are at) leaves out every field of a corner — position, normal,
+ * texture coordinates, colour — that is bit for bit the current record's (Tri.same), so a
+ * triangle of which one corner's normal changed carries 3 floats, not 36. The receiver takes
+ * those fields from its own current record; one it does not hold is a format error. */
 #ifndef LM_PROTO_WIRE_RECORDS_H
 #define LM_PROTO_WIRE_RECORDS_H
 
@@ -42,11 +42,11 @@ void *lm_wire_arena_alloc(lm_wire_arena *a, size_t n);
 /* The current record of triangle `id` as the receiver holds it (NULL: none). */
 typedef const lm_tri_data *(*lm_wire_current_fn)(const void *ctx, uint32_t id);
 
-/* Tri.same: the fields left out of a record (those of the current record of its id). */
-#define LM_WIRE_SAME_POS 1u
-#define LM_WIRE_SAME_NORMAL 2u
-#define LM_WIRE_SAME_UV 4u
-#define LM_WIRE_SAME_COLOR 8u
+/* Tri.same: the fields left out of a record (those of the current record of its id), bit
+ * 4 v + f for field f of corner v. */
+enum { LM_WIRE_FIELD_POS, LM_WIRE_FIELD_NORMAL, LM_WIRE_FIELD_UV, LM_WIRE_FIELD_COLOR };
+#define LM_WIRE_SAME_BIT(v, f) (1u << (4u * (unsigned)(v) + (unsigned)(f)))
+#define LM_WIRE_SAME_ALL 0xFFFu
 
 /* Encoding (pointers into the records; arrays from the arena). LM_E_NOMEM when it runs out. */
 void lm_wire_tri_point(const lm_tri_data *t, Lumesh__Tri *out);

@@ -19,7 +19,11 @@
  * group of views a share of the triangles: views_api.h, surface_term) and the rest:
  *     T_i(W) = rest_i + RTT + bytes_i * min(W, V) / bandwidth
  *                     + (n_i * V * c + geo_i) / min(W, n_i * V)
- * against the in-process T_i = rest_i + geo_i + n_i * V * c; speed-up = sum T_i / sum T_i(W),
+ * plus, once for the run, the views' other work S (commits, meshes, energies and the oracle's
+ * potentials: the workers', each on its share of the views), a round trip per energy or
+ * potentials request and the commits' bytes to every group: S / min(W, V) + requests * RTT +
+ * commit bytes * min(W, V) / bandwidth (in process: S);
+ * against the in-process T_i = rest_i + geo_i + n_i * V * c; speed-up = sum T / sum T(W),
  * efficiency = speed-up / W. Printed for W = 1, 2, 4, 8, 16, 128 at --rtt-us (default 100) and
  * --gbps (default 10), both orders of edges; and for 2 workers at the round trips measured here
  * (ZeroMQ, and the floor): what local multi-process mode can reach on this machine at best (the
@@ -66,8 +70,11 @@ typedef struct meter {
     float *overlap;  /* seconds of the coordinator's work done while batch i is out */
     size_t batches, cap;
     uint64_t patches, commits, commit_bytes;
+    uint64_t added, kept_pos; /* added triangle records; of them, with the workers' positions */
     double views_s, views_cpu_s, encode_cpu_s, overlap_cpu_s;
-    double overlap_now; /* the overlap of the batch being evaluated */
+    double state_cpu_s;   /* the views' commits, meshes, energies and potentials: the workers' */
+    uint64_t round_trips; /* energy and potentials requests (each a round trip with workers) */
+    double overlap_now;   /* the overlap of the batch being evaluated */
     lm_wire_arena arena;
     wk_replica rep; /* the workers' current records, which patches are encoded against */
 } meter;
@@ -126,6 +133,14 @@ static lm_status me_evaluate(lm_views *v, const lm_patch *p, uint32_t n, int64_t
     m->bytes[m->batches++] = (uint32_t)message_bytes(m, p, n, 0);
     m->encode_cpu_s += cpu() - c1;
     m->patches += n;
+    for (uint32_t i = 0; i < n; i++)
+        for (uint32_t j = 0; j < p[i].n_added; j++) {
+            const lm_tri_data *cur = wk_replica_current(&m->rep, p[i].added[j].id);
+            m->added++;
+            m->kept_pos += cur && !memcmp(cur->c[0].pos, p[i].added[j].c[0].pos, 12) &&
+                           !memcmp(cur->c[1].pos, p[i].added[j].c[1].pos, 12) &&
+                           !memcmp(cur->c[2].pos, p[i].added[j].c[2].pos, 12);
+        }
     return st;
 }
 
@@ -149,14 +164,22 @@ static lm_status me_commit(lm_views *v, const lm_patch *p)
     m->commits++;
     m->commit_bytes += message_bytes(m, p, 1, 1);
     lm_status st = wk_replica_apply(&m->rep, p);
-    return st == LM_OK ? m->in->ops->commit(m->in, p) : st;
+    double c0 = cpu();
+    if (st == LM_OK)
+        st = m->in->ops->commit(m->in, p);
+    m->state_cpu_s += cpu() - c0;
+    return st;
 }
 
 static lm_status me_set_mesh(lm_views *v, const lm_tri_data *t, size_t n)
 {
     meter *m = (meter *)v;
     lm_status st = wk_replica_set(&m->rep, t, n);
-    return st == LM_OK ? m->in->ops->set_mesh(m->in, t, n) : st;
+    double c0 = cpu();
+    if (st == LM_OK)
+        st = m->in->ops->set_mesh(m->in, t, n);
+    m->state_cpu_s += cpu() - c0;
+    return st;
 }
 
 static lm_status me_set_materials(lm_views *v, const lm_material *mat, uint32_t n)
@@ -168,13 +191,21 @@ static lm_status me_set_materials(lm_views *v, const lm_material *mat, uint32_t 
 static lm_status me_energy(lm_views *v, int64_t *t, int64_t *pv)
 {
     meter *m = (meter *)v;
-    return m->in->ops->energy(m->in, t, pv);
+    double c0 = cpu();
+    lm_status st = m->in->ops->energy(m->in, t, pv);
+    m->state_cpu_s += cpu() - c0;
+    m->round_trips++;
+    return st;
 }
 
 static lm_status me_potentials(lm_views *v, const float (*pts)[3], size_t n, int64_t *out)
 {
     meter *m = (meter *)v;
-    return m->in->ops->potentials(m->in, pts, n, out);
+    double c0 = cpu();
+    lm_status st = m->in->ops->potentials(m->in, pts, n, out);
+    m->state_cpu_s += cpu() - c0;
+    m->round_trips++;
+    return st;
 }
 
 static lm_status me_read_image(lm_views *v, lm_image_kind k, uint32_t view, uint8_t *out)
@@ -216,7 +247,11 @@ typedef struct costs {
     double coord_us_per_eval;   /* the optimizer and encoding */
     double overlap_us_per_eval; /* of which the geometric term (the workers' with workers) */
     double bytes_per_batch, patches_per_batch, commit_bytes;
-    double t_local_s; /* sum of the in-process T_i */
+    double tris_per_patch, moved_share; /* added records a patch; share with corners moved */
+    double state_us_per_eval;           /* the views' commits, meshes, energies, potentials */
+    double round_trips, commits, total_commit_bytes; /* of the run */
+    double setup_s;                                  /* the optimizer's set-up, once */
+    double t_local_s;                                /* sum of the in-process T_i */
     const meter *m;
 } costs;
 
@@ -238,9 +273,13 @@ static lm_status run_once(const opts *o, const lm_mesh *orig, const lm_mesh *coa
         st = lm_mesh_clone(coarse, &mesh);
     /* as a job from a QEM start: the geometric term on, its weight from CO_SURFACE_SHARE */
     co_params params = {.seed = 1, .edges_in_flight = k, .surface = orig};
-    double c0 = cpu();
+    double c_create = cpu();
     if (st == LM_OK)
         st = co_optimizer_create(mesh, &m->base, &params, &opt);
+    /* the optimizer's set-up (the start's energies, the term's weight, the edge queue) is done
+       once a job: not a cost per evaluation */
+    double c0 = cpu(), state0 = m->state_cpu_s;
+    uint64_t trips0 = m->round_trips;
     for (int guard = 0; st == LM_OK && guard < 100000; guard++) {
         co_progress p;
         co_optimizer_progress(opt, &p);
@@ -249,6 +288,8 @@ static lm_status run_once(const opts *o, const lm_mesh *orig, const lm_mesh *coa
         st = co_optimizer_step(opt, o->evals);
     }
     double total_cpu = cpu() - c0;
+    m->state_cpu_s -= state0;
+    m->round_trips -= trips0;
     co_optimizer_destroy(opt);
     lm_views_destroy(m->in);
     wk_replica_free(&m->rep);
@@ -258,12 +299,19 @@ static lm_status run_once(const opts *o, const lm_mesh *orig, const lm_mesh *coa
     for (size_t i = 0; i < m->batches; i++)
         bytes += m->bytes[i];
     *c = (costs){.k = k, .evals = m->patches, .batches = m->batches, .m = m};
+    c->setup_s = c0 - c_create;
     c->per_patch_view_us = 1e6 * m->views_s / ((double)m->patches * views);
-    c->coord_us_per_eval = 1e6 * (total_cpu - m->views_cpu_s) / (double)m->patches;
+    c->coord_us_per_eval = 1e6 * (total_cpu - m->views_cpu_s - m->state_cpu_s) / (double)m->patches;
+    c->state_us_per_eval = 1e6 * m->state_cpu_s / (double)m->patches;
+    c->round_trips = (double)m->round_trips;
+    c->commits = (double)m->commits;
+    c->total_commit_bytes = (double)m->commit_bytes;
     c->overlap_us_per_eval = 1e6 * m->overlap_cpu_s / (double)m->patches;
     c->bytes_per_batch = bytes / (double)m->batches;
     c->patches_per_batch = (double)m->patches / (double)m->batches;
     c->commit_bytes = m->commits ? (double)m->commit_bytes / (double)m->commits : 0;
+    c->tris_per_patch = (double)m->added / (double)m->patches;
+    c->moved_share = m->added ? 1.0 - (double)m->kept_pos / (double)m->added : 0;
     return LM_OK;
 }
 
@@ -281,6 +329,11 @@ static double speedup_at(const opts *o, const costs *c, uint32_t views, uint32_t
         t1 += rest * n + geo + work;
         tw += rest * n + out;
     }
+    /* the views' other work (commits, meshes, energies, potentials) on the workers, each its
+       share of the views, with a round trip per request and the commits' bytes to every group */
+    double ranges = w < views ? w : views, state = c->state_us_per_eval * 1e-6 * (double)c->evals;
+    t1 += state;
+    tw += state / ranges + c->round_trips * rtt + c->total_commit_bytes * ranges / bw;
     return t1 / tw;
 }
 
@@ -404,10 +457,13 @@ static void print_human(const opts *o, const costs *c, uint32_t views, const rtt
     for (int r = 0; r < 2; r++) {
         const costs *x = &c[r];
         printf("  %u in flight: %.1f us per (patch, view); coordinator %.1f us per evaluation in "
-               "process (%.1f of it the geometric term, which workers price); %.1f patches and "
-               "%.0f bytes per batch (%.0f per commit)\n",
+               "process (%.1f of it the geometric term, which workers price) and %.1f us of the "
+               "views' commits and oracle, which workers do; %.1f patches and "
+               "%.0f bytes per batch (%.0f per commit); %.1f triangles a patch, %.0f%% of them "
+               "moved; the optimizer's set-up %.2f s, once\n",
                x->k, x->per_patch_view_us, x->coord_us_per_eval, x->overlap_us_per_eval,
-               x->patches_per_batch, x->bytes_per_batch, x->commit_bytes);
+               x->state_us_per_eval, x->patches_per_batch, x->bytes_per_batch, x->commit_bytes,
+               x->tris_per_patch, 100.0 * x->moved_share, x->setup_s);
         printf("    predicted at %.0f us RTT, %.0f Gb/s:", o->rtt_us, o->gbps);
         for (size_t i = 0; i < N_W; i++) {
             double s = speedup(o, x, views, workers[i]);
@@ -434,10 +490,12 @@ static void print_json(const opts *o, const costs *c, uint32_t views, const rtts
                "\"coordinator_us_per_eval\": %.3f, \"geometric_us_per_eval\": %.3f, "
                "\"patches_per_batch\": %.3f, "
                "\"bytes_per_batch\": %.1f, \"bytes_per_commit\": %.1f, "
+               "\"tris_per_patch\": %.2f, \"moved_share\": %.3f, \"state_us_per_eval\": %.3f, "
                "\"two_workers_here\": %.3f, \"two_workers_zmq\": %.3f, "
                "\"two_workers_floor\": %.3f, \"predicted\": [",
                r ? ", " : "", x->k, x->per_patch_view_us, x->coord_us_per_eval,
                x->overlap_us_per_eval, x->patches_per_batch, x->bytes_per_batch, x->commit_bytes,
+               x->tris_per_patch, x->moved_share, x->state_us_per_eval,
                speedup_at(o, x, views, 2, t->link), speedup_at(o, x, views, 2, t->zmq),
                speedup_at(o, x, views, 2, t->floor));
         for (size_t i = 0; i < N_W; i++) {

@@ -113,9 +113,12 @@ static void test_patch_against_current(void **state)
     lm_wire_arena_init(&a);
     Lumesh__Patch wp;
     assert_int_equal(lm_wire_patch_encode_against(&p, held_current, NULL, &a, &wp), LM_OK);
-    assert_int_equal(wp.added[0]->same, LM_WIRE_SAME_POS | LM_WIRE_SAME_UV | LM_WIRE_SAME_COLOR);
-    assert_int_equal(wp.added[0]->n_corners, 9);
-    assert_int_equal(wp.added[1]->same, LM_WIRE_SAME_UV | LM_WIRE_SAME_COLOR);
+    assert_int_equal(wp.added[0]->same,
+                     LM_WIRE_SAME_ALL & ~LM_WIRE_SAME_BIT(1, LM_WIRE_FIELD_NORMAL));
+    assert_int_equal(wp.added[0]->n_corners, 3);
+    assert_int_equal(wp.added[1]->same, LM_WIRE_SAME_ALL & ~LM_WIRE_SAME_BIT(0, LM_WIRE_FIELD_POS) &
+                                            ~LM_WIRE_SAME_BIT(2, LM_WIRE_FIELD_NORMAL));
+    assert_int_equal(wp.added[1]->n_corners, 6);
     assert_int_equal(wp.added[2]->same, 0);
     assert_int_equal(lm_wire_patch_decode_against(&wp, 2, held_current, NULL, &q), LM_OK);
     assert_int_equal(q.n_added, 3);
@@ -134,10 +137,10 @@ static void test_patch_against_current(void **state)
     assert_int_equal(lm_wire_patch_decode_against(&wp, 2, held_current, NULL, &q), LM_E_FORMAT);
     assert_non_null(strstr(lm_last_error(), "not in the mesh"));
     wp.added[0]->id = 2;
-    wp.added[0]->n_corners = 8; /* the fields carried must match `same` */
+    wp.added[0]->n_corners = 2; /* the fields carried must match `same` */
     assert_int_equal(lm_wire_patch_decode_against(&wp, 2, held_current, NULL, &q), LM_E_FORMAT);
-    wp.added[0]->n_corners = 9;
-    wp.added[0]->same |= 16; /* no such field */
+    wp.added[0]->n_corners = 3;
+    wp.added[0]->same |= 1u << 12; /* no such field */
     assert_int_equal(lm_wire_patch_decode_against(&wp, 2, held_current, NULL, &q), LM_E_FORMAT);
     lm_wire_arena_free(&a);
     lm_patch_free(&p);
