@@ -97,15 +97,18 @@ typedef struct lm_views_ops {
      * the next evaluations price a change against the mesh as it is now (Pfeiffer's incremental
      * difference; the shard simplifier). A change of state. In-process backends offer it. */
     lm_status (*retarget)(lm_views *v);
-    /* Optional (NULL = not offered): from now on every evaluate result includes the geometric
-     * term's ΔE_geo of its patch, at scale k (> 0) against `surface` (common/surface_table.h),
-     * priced where the images are made: a remote backend has its workers price it, each group of
-     * views its share of the triangle ids, the same bits as one table. energy, potentials and
-     * read_image stay the images' alone (the caller keeps E_geo). A change of state; a later
-     * call sets another k. LM_E_UNSUPPORTED where the backend cannot (`surface` is not the
-     * original its targets are images of). Recovery: a backend that re-sends its state to a
-     * replica re-sends the term with it. */
+    /* Optional (NULL = not offered; then so is evaluate_surface): the backend holds the
+     * geometric term at scale k (> 0) against `surface` (common/surface_table.h) from now on,
+     * where the images are made (a remote backend: on its workers, each group of views a share
+     * of the triangle ids, their tables following set_mesh and commit), so that evaluate_surface
+     * can price it. A change of state; a later call sets another k. LM_E_UNSUPPORTED where the
+     * backend cannot (`surface` is not the original its targets are images of). Recovery: a
+     * backend that re-sends its state to a replica re-sends the term with it. */
     lm_status (*surface_term)(lm_views *v, const lm_mesh *surface, double k);
+    /* Evaluate as above, with the geometric term's ΔE_geo of each patch added by the backend (the
+     * same bits as one table over the whole mesh). Only after surface_term; energy, potentials
+     * and read_image stay the images' alone (the caller keeps E_geo). */
+    lm_status (*evaluate_surface)(lm_views *v, const lm_patch *patches, uint32_t n, int64_t *delta);
 } lm_views_ops;
 
 struct lm_views {
@@ -127,7 +130,7 @@ lm_status lm_views_evaluate_overlapped(lm_views *v, const lm_patch *patches, uin
                                        int64_t *delta, void (*overlap)(void *ctx), void *ctx);
 
 /* The surface_term op, or LM_E_UNSUPPORTED where the backend does not offer it (the caller then
- * prices the term itself). */
+ * prices the term itself, and must not call evaluate_surface). */
 lm_status lm_views_surface_term(lm_views *v, const lm_mesh *surface, double k);
 
 /* Bytes per pixel of an image kind (1 or 4). */

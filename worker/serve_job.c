@@ -292,6 +292,10 @@ static int faulty(const wk_server *s, const Lumesh__Evaluate *e, const char *kin
 static lm_status evaluate(wk_server *s, const lm_msg *m)
 {
     const Lumesh__Evaluate *e = m->evaluate;
+    if (e->surface && !s->geo) { /* the term asked of a replica that lacks it: send the state */
+        Lumesh__Stale r = LUMESH__STALE__INIT;
+        return wk_serve_send(s, m->req, LUMESH__MSG__BODY_STALE, &r);
+    }
     if (faulty(s, e, "crash-on-tris"))
         abort();
     if (faulty(s, e, "fail-on-tris"))
@@ -303,7 +307,7 @@ static lm_status evaluate(wk_server *s, const lm_msg *m)
                                           &s->rep, &s->patches[i]);
     if (st == LM_OK && e->n_patches)
         st = s->v->ops->evaluate(s->v, s->patches, (uint32_t)e->n_patches, s->deltas);
-    for (size_t i = 0; i < e->n_patches && st == LM_OK && s->geo; i++)
+    for (size_t i = 0; i < e->n_patches && st == LM_OK && e->surface; i++)
         s->deltas[i] += lm_surface_table_delta(s->geo, &s->patches[i]);
     if (st != LM_OK)
         return wk_serve_fail(s, m->req, st, lm_last_error());

@@ -295,9 +295,9 @@ static void json_summary(FILE *fp, const co_reporter *r, const co_job_summary *s
     fputs(",\"renderer\":", fp);
     co_json_string(fp, s->renderer);
     fprintf(fp,
-            ",\"geometric_start\":%" PRId64 ",\"geometric_end\":%" PRId64 ",\"verts\":%" PRIu32
-            ",\"tris\":%" PRIu32 ",",
-            p->geometric_start, p->geometric, p->live_verts, p->live_tris);
+            ",\"geometric_start\":%" PRId64 ",\"geometric_end\":%" PRId64
+            ",\"geometric_by_workers\":%.3f,\"verts\":%" PRIu32 ",\"tris\":%" PRIu32 ",",
+            p->geometric_start, p->geometric, p->geometric_by_workers, p->live_verts, p->live_tris);
     json_counts(fp, "accepted", p->accepted);
     fputc(',', fp);
     json_counts(fp, "attempted", p->attempted);

@@ -268,6 +268,7 @@ void co_optimizer_progress(const co_optimizer *opt, co_progress *out)
     *out = opt->prog;
     /* prog counts the sum the moves minimise; callers see the image energy and the term apart */
     out->geometric = opt->surface ? co_surface_views_energy(opt->surface) : 0;
+    out->geometric_by_workers = opt->surface ? co_surface_views_worker_share(opt->surface) : 0;
     out->energy = opt->prog.energy - out->geometric;
     out->energy_start = opt->prog.energy_start - opt->prog.geometric_start;
     out->evals = co_moves_evals(opt->mv);

@@ -43,6 +43,8 @@ typedef struct co_progress {
     int64_t energy_start, energy;       /* image energy E at start and now */
     int64_t geometric_start, geometric; /* the geometric term at start and now (0 without one); the
                                            optimizer minimises energy + geometric */
+    double geometric_by_workers;        /* share of the evaluations whose geometric term the workers
+                                           priced (surface_term.h) */
     uint64_t accepted[CO_MOVE_KINDS];   /* accepted moves by kind (teleports count as SPLIT) */
     uint64_t attempted[CO_MOVE_KINDS];
     uint32_t live_verts, live_tris;

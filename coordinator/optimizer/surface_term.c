@@ -1,17 +1,30 @@
 /* coordinator/optimizer/surface_term.c — the geometric term (surface_term.h): views that pass every
  * op on to the views they wrap and keep the current mesh's e(t) in a table (common/
  * surface_table.h), so that a patch's ΔE_geo costs distance queries only for triangles whose
- * corners moved; where the wrapped views offer it (workers), the ΔE_geo of evaluations is
- * priced there instead, each group of views its share of the triangles. */
+ * corners moved; where the wrapped views hold the term too (workers), the ΔE_geo of evaluations
+ * is priced here or there, whichever measures faster. */
 #include "coordinator/optimizer/surface_term.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #include "common/bvh.h"
+#include "common/log.h"
 #include "common/surface_table.h"
 #include "coordinator/optimizer/optimizer_tuning.h"
+
+/* Where the evaluations' ΔE_geo is priced when the wrapped views hold the term too: here, while
+ * they render (this process's work, overlapped with theirs), or by them (spread over their
+ * groups of views, but after their rendering, in every round). Here costs nothing while the
+ * workers take longer than the term, and holds every round up once they are quicker (many
+ * workers, short rounds): so a batch priced here measures the term's time and how long the
+ * workers' answers were still awaited after it, and the workers price it while that wait is under
+ * a tenth of the term's time (averages over batches; while they do, every SV_PROBE_EVERY-th batch
+ * is priced here to measure again). The answers are the same bits either way. */
+#define SV_PROBE_EVERY 32u
+#define SV_AVERAGE 0.0625 /* weight of a batch in the averages */
 
 typedef struct surface_views {
     lm_views base;
@@ -21,8 +34,14 @@ typedef struct surface_views {
     lm_surface_table *table;   /* every triangle of the current mesh (share 0 of 1) */
     double k;                  /* e(t) = round(k · area · mean d²) */
     double n_views, px, px256; /* k = weight · views · px² · px256² */
-    int offloaded;             /* the inner views add ΔE_geo to their evaluations */
-    int64_t *scratch;          /* evaluate: each patch's change */
+    int held;                  /* the inner views hold the term (surface_term took it) */
+    co_surface_pricing pricing;
+    int workers;                  /* with CO_SURFACE_AUTO: the inner views price it now */
+    uint32_t batch;               /* batches evaluated by the workers since the last here */
+    double geo_s, wait_s;         /* averages a patch, of batches priced here: the term's time,
+                                     and the wait for the workers' answers after it */
+    uint64_t by_workers, by_here; /* patches priced each way */
+    int64_t *scratch;             /* evaluate: each patch's change */
     uint32_t cap_scratch;
 } surface_views;
 
@@ -37,12 +56,12 @@ static double scale(const surface_views *s, double weight)
     return weight * s->n_views * s->px * s->px * s->px256 * s->px256;
 }
 
-/* Hand the term to the inner views where they take it (their evaluations then include ΔE_geo);
+/* Hand the term to the inner views where they take it (their evaluate_surface then prices it);
  * otherwise it is priced here. */
 static lm_status offload(surface_views *s)
 {
     lm_status st = lm_views_surface_term(s->inner, s->surface, s->k);
-    s->offloaded = st == LM_OK;
+    s->held = st == LM_OK && s->inner->ops->evaluate_surface;
     if (st == LM_E_UNSUPPORTED) {
         lm_clear_error();
         st = LM_OK;
@@ -81,27 +100,57 @@ typedef struct batch_geo {
     surface_views *s;
     const lm_patch *patches;
     uint32_t n;
+    double seconds; /* the time it took */
 } batch_geo;
+
+static double wall_s(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
 
 static void geo_of_batch(void *ctx)
 {
-    const batch_geo *b = ctx;
+    batch_geo *b = ctx;
+    double t0 = wall_s();
     for (uint32_t i = 0; i < b->n; i++)
         b->s->scratch[i] = lm_surface_table_delta(b->s->table, &b->patches[i]);
+    b->seconds = wall_s() - t0;
+}
+
+/* The batch with ΔE_geo priced here, while the inner views render it where they can; where they
+ * hold the term too, the averages that decide where it is priced are updated. */
+static lm_status evaluate_here(surface_views *s, const lm_patch *patches, uint32_t n,
+                               int64_t *delta)
+{
+    lm_status st = scratch_reserve(s, n);
+    batch_geo b = {s, patches, n, 0};
+    double t0 = wall_s();
+    if (st == LM_OK)
+        st = lm_views_evaluate_overlapped(s->inner, patches, n, delta, geo_of_batch, &b);
+    for (uint32_t i = 0; i < n && st == LM_OK; i++)
+        delta[i] += s->scratch[i];
+    if (st == LM_OK && s->held && n) {
+        double wait = wall_s() - t0 - b.seconds, geo = b.seconds;
+        s->geo_s += SV_AVERAGE * (geo / n - s->geo_s);
+        s->wait_s += SV_AVERAGE * ((wait > 0 ? wait : 0) / n - s->wait_s);
+        s->workers = s->wait_s < 0.1 * s->geo_s;
+        s->batch = 0;
+    }
+    return st;
 }
 
 static lm_status sv_evaluate(lm_views *base, const lm_patch *patches, uint32_t n, int64_t *delta)
 {
     surface_views *s = as_sv(base);
-    if (s->offloaded)
-        return s->inner->ops->evaluate(s->inner, patches, n, delta);
-    lm_status st = scratch_reserve(s, n);
-    batch_geo b = {s, patches, n};
-    if (st == LM_OK)
-        st = lm_views_evaluate_overlapped(s->inner, patches, n, delta, geo_of_batch, &b);
-    for (uint32_t i = 0; i < n && st == LM_OK; i++)
-        delta[i] += s->scratch[i];
-    return st;
+    int workers =
+        s->held &&
+        (s->pricing == CO_SURFACE_WORKERS ||
+         (s->pricing == CO_SURFACE_AUTO && s->workers && ++s->batch % SV_PROBE_EVERY != 0));
+    *(workers ? &s->by_workers : &s->by_here) += s->held ? n : 0;
+    return workers ? s->inner->ops->evaluate_surface(s->inner, patches, n, delta)
+                   : evaluate_here(s, patches, n, delta);
 }
 
 static lm_status sv_commit(lm_views *base, const lm_patch *patch)
@@ -142,6 +191,10 @@ static void sv_info(lm_views *base, lm_views_info *out)
 static void sv_destroy(lm_views *base)
 {
     surface_views *s = as_sv(base);
+    if (s->held)
+        lm_debug("geometric term: %.1f us a patch, answers awaited %.1f us after it; %.0f%% of "
+                 "patches priced by the workers",
+                 1e6 * s->geo_s, 1e6 * s->wait_s, 100.0 * co_surface_views_worker_share(base));
     lm_surface_table_destroy(s->table);
     lm_bvh_destroy(s->bvh);
     free(s->scratch);
@@ -181,6 +234,7 @@ lm_status co_surface_views_create(lm_views *inner, const lm_mesh *surface, doubl
     s->px = (double)info.width / two_r;
     s->px256 = 256.0 / two_r;
     s->k = scale(s, weight);
+    s->workers = 0; /* until a batch priced here has measured the way */
     lm_status st = lm_bvh_create(surface, &s->bvh);
     if (st == LM_OK)
         st = lm_surface_table_create(s->bvh, s->k, 0, 1, &s->table);
@@ -203,7 +257,19 @@ lm_status co_surface_views_set_inner(lm_views *v, lm_views *inner)
 
 int co_surface_views_offloaded(const lm_views *v)
 {
-    return ((const surface_views *)v)->offloaded;
+    return ((const surface_views *)v)->held;
+}
+
+void co_surface_views_set_pricing(lm_views *v, co_surface_pricing p)
+{
+    as_sv(v)->pricing = p;
+}
+
+double co_surface_views_worker_share(const lm_views *v)
+{
+    const surface_views *s = (const surface_views *)v;
+    uint64_t all = s->by_workers + s->by_here;
+    return all ? (double)s->by_workers / (double)all : 0.0;
 }
 
 int64_t co_surface_views_energy(const lm_views *v)
@@ -243,5 +309,5 @@ lm_status co_surface_views_set_weight(lm_views *v, double weight)
     surface_views *s = as_sv(v);
     s->k = scale(s, weight);
     lm_surface_table_set_k(s->table, s->k);
-    return s->offloaded ? offload(s) : LM_OK;
+    return s->held ? offload(s) : LM_OK;
 }

@@ -17,10 +17,13 @@
  * them, evaluate adds each patch's ΔE_geo, energy adds E_geo to the total (per_view stays the
  * image energies).
  *
- * Where the wrapped views take the term (lm_views_surface_term: workers in other processes), the
- * ΔE_geo of evaluations is priced there, each group of views a share of the triangle ids, and
- * evaluate passes straight through: the coordinator keeps only E_geo (set_mesh, commit), so an
- * evaluation costs it no distance query. The answers are the same bits either way. */
+ * Where the wrapped views hold the term too (lm_views_surface_term: workers in other processes),
+ * the ΔE_geo of an evaluation can be priced there, each group of views a share of the triangle
+ * ids, so that it costs the coordinator no distance query (it keeps only E_geo: set_mesh,
+ * commit): on a cluster the coordinator's own work is what caps the speed-up. On a machine whose
+ * cores the workers share, pricing it here while they render can be faster; by default the
+ * wrapper measures both ways now and then and keeps the faster (co_surface_views_set_pricing).
+ * The answers are the same bits either way. */
 #ifndef LM_COORDINATOR_SURFACE_TERM_H
 #define LM_COORDINATOR_SURFACE_TERM_H
 
@@ -38,8 +41,21 @@ lm_status co_surface_views_create(lm_views *inner, const lm_mesh *surface, doubl
  * it; the caller sets the mesh on v next. Fails only as inner's surface_term op does. */
 lm_status co_surface_views_set_inner(lm_views *v, lm_views *inner);
 
-/* 1 when the wrapped views price the evaluations' ΔE_geo (lm_views_surface_term took it). */
+/* 1 when the wrapped views hold the term (lm_views_surface_term took it), so they can price the
+ * evaluations' ΔE_geo. */
 int co_surface_views_offloaded(const lm_views *v);
+
+typedef enum co_surface_pricing {
+    CO_SURFACE_AUTO = 0, /* whichever way measures faster (the default) */
+    CO_SURFACE_HERE,     /* always here */
+    CO_SURFACE_WORKERS,  /* always by the wrapped views, where they hold the term */
+} co_surface_pricing;
+
+/* Where evaluations' ΔE_geo is priced (the answers are the same bits: tests and benchmarks). */
+void co_surface_views_set_pricing(lm_views *v, co_surface_pricing p);
+
+/* The share of evaluated patches whose ΔE_geo the wrapped views priced. */
+double co_surface_views_worker_share(const lm_views *v);
 
 /* E_geo of the current mesh (0 before the first set_mesh). `v` must come from
  * co_surface_views_create. */

@@ -235,6 +235,7 @@ static lm_status plan_one_per_range(round *rd)
 typedef struct eval_ctx {
     const lm_patch *patches;
     uint32_t n;
+    int surface; /* the workers add the geometric term (surface_term) */
     int64_t *delta;
     uint32_t *lo, *hi; /* slice of worker i */
     size_t packed;     /* bytes of the message in r->pack (0 = none) */
@@ -288,6 +289,7 @@ static lm_status send_evaluate(round *rd, uint32_t i, uint64_t req)
         Lumesh__Evaluate m = LUMESH__EVALUATE__INIT;
         m.n_patches = n;
         m.patches = pp;
+        m.surface = e->surface;
         if (st == LM_OK)
             st = co_remote_pack(r, req, r->seq, LUMESH__MSG__BODY_EVALUATE, &m, &e->packed);
         lm_wire_arena_reset(&r->arena);
@@ -314,18 +316,20 @@ static lm_status take_deltas(round *rd, uint32_t i)
     return LM_OK;
 }
 
-static lm_status rm_evaluate_overlapped(lm_views *v, const lm_patch *patches, uint32_t n,
-                                        int64_t *delta, void (*overlap)(void *ctx), void *ctx)
+/* A batch over the layout; with `surface`, the workers add the geometric term. */
+static lm_status evaluate_batch(co_remote *r, const lm_patch *patches, uint32_t n, int64_t *delta,
+                                int surface, void (*overlap)(void *ctx), void *ctx)
 {
-    co_remote *r = as_remote(v);
     if (!r->mesh_set)
         return lm_fail(LM_E_INVALID, "no mesh set: call set_mesh before evaluate");
+    if (surface && !(r->surface_k > 0))
+        return lm_fail(LM_E_INVALID, "the geometric term asked of workers that were not given it");
     if (n == 0) {
         if (overlap)
             overlap(ctx);
         return LM_OK;
     }
-    eval_ctx e = {.patches = patches, .n = n, .delta = delta};
+    eval_ctx e = {.patches = patches, .n = n, .delta = delta, .surface = surface};
     round rd = {.r = r,
                 .want = LUMESH__MSG__BODY_DELTAS,
                 .send = send_evaluate,
@@ -341,9 +345,21 @@ static lm_status rm_evaluate_overlapped(lm_views *v, const lm_patch *patches, ui
     return st;
 }
 
+static lm_status rm_evaluate_overlapped(lm_views *v, const lm_patch *patches, uint32_t n,
+                                        int64_t *delta, void (*overlap)(void *ctx), void *ctx)
+{
+    return evaluate_batch(as_remote(v), patches, n, delta, 0, overlap, ctx);
+}
+
 static lm_status rm_evaluate(lm_views *v, const lm_patch *patches, uint32_t n, int64_t *delta)
 {
-    return rm_evaluate_overlapped(v, patches, n, delta, NULL, NULL);
+    return evaluate_batch(as_remote(v), patches, n, delta, 0, NULL, NULL);
+}
+
+static lm_status rm_evaluate_surface(lm_views *v, const lm_patch *patches, uint32_t n,
+                                     int64_t *delta)
+{
+    return evaluate_batch(as_remote(v), patches, n, delta, 1, NULL, NULL);
 }
 
 /* -- energy -- */
@@ -535,6 +551,7 @@ static const lm_views_ops remote_ops = {
     .info = rm_info,
     .destroy = rm_destroy,
     .surface_term = rm_surface_term,
+    .evaluate_surface = rm_evaluate_surface,
 };
 
 lm_status co_views_remote_create(const co_views_desc *d, lm_views **out)

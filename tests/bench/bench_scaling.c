@@ -15,10 +15,12 @@
  *
  * The model for W workers over V views, per batch i of n_i patches (perfect balance, a (patch,
  * view) pair the smallest piece of work), the coordinator's work split into the geometric term
- * (geo_i, measured as the in-process views price it; with workers, they price it instead, each
- * group of views a share of the triangles: views_api.h, surface_term) and the rest:
- *     T_i(W) = rest_i + RTT + bytes_i * min(W, V) / bandwidth
- *                     + (n_i * V * c + geo_i) / min(W, n_i * V)
+ * (geo_i, as the in-process views price it) and the rest; the term is priced where that is
+ * faster (surface_term.h): here while the workers render, or by them, each group of views a share
+ * of the triangles:
+ *     out_i  = RTT + bytes_i * min(W, V) / bandwidth
+ *     T_i(W) = rest_i + min(max(geo_i, out_i + n_i * V * c / p_i),
+ *                           out_i + (n_i * V * c + geo_i) / p_i),   p_i = min(W, n_i * V)
  * plus, once for the run, the views' other work S (commits, meshes, energies and the oracle's
  * potentials: the workers', each on its share of the views), a round trip per energy or
  * potentials request and the commits' bytes to every group: S / min(W, V) + requests * RTT +
@@ -325,9 +327,11 @@ static double speedup_at(const opts *o, const costs *c, uint32_t views, uint32_t
         double n = c->m->n[i], work = n * views * cost, geo = c->m->overlap[i];
         double pieces = n * views < w ? n * views : w;
         double ranges = w < views ? w : views;
-        double out = rtt + c->m->bytes[i] * ranges / bw + (work + geo) / pieces; /* out */
+        double round = rtt + c->m->bytes[i] * ranges / bw; /* the batch out and back */
+        double by_workers = round + (work + geo) / pieces, here = round + work / pieces;
+        here = here > geo ? here : geo; /* the term priced here while they render */
         t1 += rest * n + geo + work;
-        tw += rest * n + out;
+        tw += rest * n + (here < by_workers ? here : by_workers);
     }
     /* the views' other work (commits, meshes, energies, potentials) on the workers, each its
        share of the views, with a round trip per request and the commits' bytes to every group */
@@ -456,14 +460,15 @@ static void print_human(const opts *o, const costs *c, uint32_t views, const rtt
            t->zmq, t->floor);
     for (int r = 0; r < 2; r++) {
         const costs *x = &c[r];
-        printf("  %u in flight: %.1f us per (patch, view); coordinator %.1f us per evaluation in "
-               "process (%.1f of it the geometric term, which workers price) and %.1f us of the "
-               "views' commits and oracle, which workers do; %.1f patches and "
-               "%.0f bytes per batch (%.0f per commit); %.1f triangles a patch, %.0f%% of them "
-               "moved; the optimizer's set-up %.2f s, once\n",
-               x->k, x->per_patch_view_us, x->coord_us_per_eval, x->overlap_us_per_eval,
-               x->state_us_per_eval, x->patches_per_batch, x->bytes_per_batch, x->commit_bytes,
-               x->tris_per_patch, 100.0 * x->moved_share, x->setup_s);
+        printf(
+            "  %u in flight: %.1f us per (patch, view); coordinator %.1f us per evaluation in "
+            "process (%.1f of it the geometric term, which workers can price) and %.1f us of the "
+            "views' commits and oracle, which workers do; %.1f patches and "
+            "%.0f bytes per batch (%.0f per commit); %.1f triangles a patch, %.0f%% of them "
+            "moved; the optimizer's set-up %.2f s, once\n",
+            x->k, x->per_patch_view_us, x->coord_us_per_eval, x->overlap_us_per_eval,
+            x->state_us_per_eval, x->patches_per_batch, x->bytes_per_batch, x->commit_bytes,
+            x->tris_per_patch, 100.0 * x->moved_share, x->setup_s);
         printf("    predicted at %.0f us RTT, %.0f Gb/s:", o->rtt_us, o->gbps);
         for (size_t i = 0; i < N_W; i++) {
             double s = speedup(o, x, views, workers[i]);

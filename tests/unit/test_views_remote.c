@@ -158,10 +158,14 @@ static void check_surface(const char *path, uint32_t views, uint32_t workers)
     for (int i = 0; i < N_PATCHES; i++)
         lm_patch_init(&p[i]);
     assert_int_equal(co_bench_vertex_moves(r.coarse, 11 + workers, p, N_PATCHES), LM_OK);
-    int64_t d1[N_PATCHES], d2[N_PATCHES], img[N_PATCHES];
+    int64_t d1[N_PATCHES], d2[N_PATCHES], d3[N_PATCHES], img[N_PATCHES];
     for (int round = 0; round < 3; round++) {
         assert_int_equal(g1->ops->evaluate(g1, p, N_PATCHES, d1), LM_OK);
+        co_surface_views_set_pricing(g2, CO_SURFACE_WORKERS);
         assert_int_equal(g2->ops->evaluate(g2, p, N_PATCHES, d2), LM_OK);
+        co_surface_views_set_pricing(g2, CO_SURFACE_HERE);
+        assert_int_equal(g2->ops->evaluate(g2, p, N_PATCHES, d3), LM_OK);
+        assert_memory_equal(d2, d3, sizeof d2);
         assert_int_equal(r.one->ops->evaluate(r.one, p, N_PATCHES, img), LM_OK);
         int geo = 0;
         for (int i = 0; i < N_PATCHES; i++) {
@@ -183,6 +187,7 @@ static void check_surface(const char *path, uint32_t views, uint32_t workers)
             assert_int_equal(co_surface_views_set_weight(g2, 40.0), LM_OK);
         }
     }
+    assert_true(co_surface_views_worker_share(g2) == 0.5);
     for (int i = 0; i < N_PATCHES; i++)
         lm_patch_free(&p[i]);
     lm_views_destroy(g1);
