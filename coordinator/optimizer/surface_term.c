@@ -56,6 +56,18 @@ static double scale(const surface_views *s, double weight)
     return weight * s->n_views * s->px * s->px * s->px256 * s->px256;
 }
 
+/* LUMESH_SURFACE_PRICING=here|workers fixes where the term is priced (tests, benchmarks); unset
+ * or anything else, whichever measures faster. */
+static co_surface_pricing pricing_from_env(void)
+{
+    const char *e = getenv("LUMESH_SURFACE_PRICING");
+    if (e && !strcmp(e, "here"))
+        return CO_SURFACE_HERE;
+    if (e && !strcmp(e, "workers"))
+        return CO_SURFACE_WORKERS;
+    return CO_SURFACE_AUTO;
+}
+
 /* Hand the term to the inner views where they take it (their evaluate_surface then prices it);
  * otherwise it is priced here. */
 static lm_status offload(surface_views *s)
@@ -235,6 +247,7 @@ lm_status co_surface_views_create(lm_views *inner, const lm_mesh *surface, doubl
     s->px256 = 256.0 / two_r;
     s->k = scale(s, weight);
     s->workers = 0; /* until a batch priced here has measured the way */
+    s->pricing = pricing_from_env();
     lm_status st = lm_bvh_create(surface, &s->bvh);
     if (st == LM_OK)
         st = lm_surface_table_create(s->bvh, s->k, 0, 1, &s->table);

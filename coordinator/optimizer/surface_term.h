@@ -51,7 +51,8 @@ typedef enum co_surface_pricing {
     CO_SURFACE_WORKERS,  /* always by the wrapped views, where they hold the term */
 } co_surface_pricing;
 
-/* Where evaluations' ΔE_geo is priced (the answers are the same bits: tests and benchmarks). */
+/* Where evaluations' ΔE_geo is priced (the answers are the same bits: tests and benchmarks). The
+ * default comes from LUMESH_SURFACE_PRICING (here, workers; else auto). */
 void co_surface_views_set_pricing(lm_views *v, co_surface_pricing p);
 
 /* The share of evaluated patches whose ΔE_geo the wrapped views priced. */

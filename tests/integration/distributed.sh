@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # tests/integration/distributed.sh — the job runner with real lumesh-worker processes: the output
 # is byte-identical in process and with 1, 2, 4 and 8 local workers (one edge at a time and 4 in
-# flight, and with the geometric term, --surface-weight or --surface-share, on 3), after a resume
+# flight, and with the geometric term, --surface-weight or --surface-share, on 3, priced by the
+# coordinator or by the workers), after a resume
 # on another number of workers, with a pixel grid that moves (--regrid-every: new targets on the
 # same workers, resumed across a draw), and in cluster mode (--listen) with a worker that joins late, one
 # that joins mid-run, and a long-lived worker serving two jobs in a row. One renderer per job:
@@ -46,7 +47,7 @@ for k in $ks; do
     same "$w workers, $k in flight" "$tmp/k$k-w0.glb" "$tmp/k$k-w$w.glb"
   done
 done
-# -- with the geometric term (computed in the coordinator): the same bytes with 3 workers --
+# -- with the geometric term (priced where it is faster): the same bytes with 3 workers --
 for w in 0 3; do
   "$LUMESH" optimize "$bunny" -o "$tmp/g-w$w.glb" "${job[@]}" --edges-in-flight 4 --workers "$w" \
     --surface-weight 30 2>"$tmp/err" || fail "geometric term, $w workers: $(tail -1 "$tmp/err")"
@@ -58,6 +59,14 @@ for w in 0 3; do
     --surface-share 0.1 2>"$tmp/err" || fail "relative geometric term, $w workers: $(tail -1 "$tmp/err")"
 done
 same "relative geometric term, 3 workers" "$tmp/s-w0.glb" "$tmp/s-w3.glb"
+# -- the geometric term priced by the workers, each group of views its share: the same bytes --
+LUMESH_SURFACE_PRICING=workers "$LUMESH" optimize "$bunny" -o "$tmp/gw-w3.glb" "${job[@]}" \
+  --edges-in-flight 4 --workers 3 --surface-weight 30 --json >"$tmp/gw.json" 2>"$tmp/err" ||
+  fail "geometric term by the workers: $(tail -1 "$tmp/err")"
+same "geometric term priced by 3 workers" "$tmp/g-w0.glb" "$tmp/gw-w3.glb"
+checks=$((checks + 1))
+tail -1 "$tmp/gw.json" | python3 -c 'import json,sys; s=json.load(sys.stdin); assert s["geometric_by_workers"] == 1, s' ||
+  fail "LUMESH_SURFACE_PRICING=workers: the workers did not price the term"
 checks=$((checks + 1))
 cmp -s "$tmp/g-w0.glb" "$tmp/k4-w0.glb" && fail "--surface-weight 30 changed nothing"
 [ "$light" = 1 ] && "$LUMESH" optimize "$bunny" -o "$tmp/k1-w0.glb" "${job[@]}" --workers 0 2>/dev/null

@@ -63,9 +63,10 @@ worker() { # worker PORT LOG [ARGS...]: a long-lived cluster worker in the backg
 "$LUMESH" optimize "$bunny" -o "$tmp/ref9.glb" "${long[@]}" --workers 0 2>"$tmp/ref.err" ||
   fail "reference run, 9000: $(tail -3 "$tmp/ref.err")"
 
-# -- local workers SIGKILLed mid-run, batches of 4 edges in flight --
-"$LUMESH" optimize "$bunny" -o "$tmp/kill.glb" "${job[@]}" --edges-in-flight 4 --workers 3 \
-  2> >(stamp >"$tmp/kill.err") &
+# -- local workers SIGKILLed mid-run, batches of 4 edges in flight, the geometric term priced by
+# the workers (each group of views its share: the groups change as they die) --
+LUMESH_SURFACE_PRICING=workers "$LUMESH" optimize "$bunny" -o "$tmp/kill.glb" "${job[@]}" \
+  --edges-in-flight 4 --workers 3 2> >(stamp >"$tmp/kill.err") &
 coord=$!
 wait_for 60 grep -q "evals [0-9]*/s .*3 workers" "$tmp/kill.err" || fail "the run never had its 3 workers"
 sleep 0.5
