@@ -49,6 +49,10 @@ typedef struct lm_views_info {
      * object, and summed over its parts the view regions redrawn, their pixels and the triangles
      * drawn. */
     uint64_t evaluations, regions, region_pixels, tris_drawn;
+    /* 1 where the caller's own work while an evaluation is out (evaluate_overlapped) takes
+     * processor time from the evaluation: the backend's workers busy every processor of this
+     * machine. 0 where it is free, or nothing is out meanwhile (in process). */
+    int overlap_costs;
     char renderer[128]; /* device and driver that made every image, e.g. "EGL llvmpipe
                            (Mesa 22.3.6)" */
 } lm_views_info;

@@ -22,7 +22,11 @@
  * workers, short rounds): so a batch priced here measures the term's time and how long the
  * workers' answers were still awaited after it, and the workers price it while that wait is under
  * a tenth of the term's time (averages over batches; while they do, every SV_PROBE_EVERY-th batch
- * is priced here to measure again). The answers are the same bits either way. */
+ * is priced here to measure again). Where the workers busy every processor of this machine
+ * (lm_views_info.overlap_costs: local workers as many as its cores), work here is never free: it
+ * takes a processor from one of them, which that wait cannot show, so they always price it
+ * (bunny 1% and frog, --workers 2 on 2 cores: ×1.04 evaluations/s). The answers are the same
+ * bits either way. */
 #define SV_PROBE_EVERY 32u
 #define SV_AVERAGE 0.0625 /* weight of a batch in the averages */
 
@@ -37,6 +41,8 @@ typedef struct surface_views {
     int held;                  /* the inner views hold the term (surface_term took it) */
     co_surface_pricing pricing;
     int workers;                  /* with CO_SURFACE_AUTO: the inner views price it now */
+    int cores_full;               /* their workers busy every processor here (overlap_costs):
+                                     with CO_SURFACE_AUTO they always price it */
     uint32_t batch;               /* batches evaluated by the workers since the last here */
     double geo_s, wait_s;         /* averages a patch, of batches priced here: the term's time,
                                      and the wait for the workers' answers after it */
@@ -74,6 +80,9 @@ static lm_status offload(surface_views *s)
 {
     lm_status st = lm_views_surface_term(s->inner, s->surface, s->k);
     s->held = st == LM_OK && s->inner->ops->evaluate_surface;
+    lm_views_info info;
+    s->inner->ops->info(s->inner, &info);
+    s->cores_full = info.overlap_costs;
     if (st == LM_E_UNSUPPORTED) {
         lm_clear_error();
         st = LM_OK;
@@ -157,9 +166,9 @@ static lm_status sv_evaluate(lm_views *base, const lm_patch *patches, uint32_t n
 {
     surface_views *s = as_sv(base);
     int workers =
-        s->held &&
-        (s->pricing == CO_SURFACE_WORKERS ||
-         (s->pricing == CO_SURFACE_AUTO && s->workers && ++s->batch % SV_PROBE_EVERY != 0));
+        s->held && (s->pricing == CO_SURFACE_WORKERS ||
+                    (s->pricing == CO_SURFACE_AUTO &&
+                     (s->cores_full || (s->workers && ++s->batch % SV_PROBE_EVERY != 0))));
     *(workers ? &s->by_workers : &s->by_here) += s->held ? n : 0;
     return workers ? s->inner->ops->evaluate_surface(s->inner, patches, n, delta)
                    : evaluate_here(s, patches, n, delta);

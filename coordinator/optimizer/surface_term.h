@@ -20,10 +20,11 @@
  * Where the wrapped views hold the term too (lm_views_surface_term: workers in other processes),
  * the ΔE_geo of an evaluation can be priced there, each group of views a share of the triangle
  * ids, so that it costs the coordinator no distance query (it keeps only E_geo: set_mesh,
- * commit): on a cluster the coordinator's own work is what caps the speed-up. On a machine whose
- * cores the workers share, pricing it here while they render can be faster; by default the
- * wrapper measures both ways now and then and keeps the faster (co_surface_views_set_pricing).
- * The answers are the same bits either way. */
+ * commit): on a cluster the coordinator's own work is what caps the speed-up. Where this
+ * process has a processor to itself, pricing it here while they render can be faster; by default
+ * the wrapper measures both ways now and then and keeps the faster, and where the workers busy
+ * every processor of this machine (lm_views_info.overlap_costs) they always price it
+ * (co_surface_views_set_pricing). The answers are the same bits either way. */
 #ifndef LM_COORDINATOR_SURFACE_TERM_H
 #define LM_COORDINATOR_SURFACE_TERM_H
 

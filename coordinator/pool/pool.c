@@ -116,10 +116,13 @@ lm_status co_pool_create(const co_pool_options *o, co_pool **out)
     if (!p)
         return lm_fail(LM_E_NOMEM, "out of memory creating the worker pool");
     p->o = *o;
-    if (p->o.spin_us == 0) {
-        long cpus = sysconf(_SC_NPROCESSORS_ONLN);
-        p->o.spin_us = cpus > 0 && o->local_workers <= (uint32_t)cpus ? (int)CO_POOL_SPIN_US : -1;
-    }
+    long cpus = sysconf(_SC_NPROCESSORS_ONLN);
+    int fit = cpus > 0 && o->local_workers <= (uint32_t)cpus;
+    p->cores_full = cpus > 0 && o->local_workers >= (uint32_t)cpus;
+    if (p->o.spin_us == 0)
+        p->o.spin_us = fit ? (int)CO_POOL_SPIN_US : -1;
+    if (p->o.await_spin_us == 0)
+        p->o.await_spin_us = fit ? (int)CO_POOL_AWAIT_SPIN_US : -1;
     if (o->renderer_id)
         snprintf(p->renderer_id, sizeof p->renderer_id, "%s", o->renderer_id);
     lm_status st = bind_socket(p);
@@ -131,6 +134,11 @@ lm_status co_pool_create(const co_pool_options *o, co_pool **out)
     }
     *out = p;
     return LM_OK;
+}
+
+int co_pool_cores_full(const co_pool *p)
+{
+    return p->cores_full;
 }
 
 /* EndJob to every worker. The socket lingers for up to CO_POOL_END_LINGER_MS on close so that

@@ -63,6 +63,7 @@ struct co_pool {
      * once ZMQ_EVENTS has said "nothing to read" since the socket was last used. sock_unsure is
      * set by every send or receive on the socket and cleared by that answer (pool_links.c). */
     int sock_fd, sock_unsure;
+    int cores_full; /* co_pool_cores_full, decided at creation */
 };
 
 void co_pool_note(const co_pool *p, const char *fmt, ...) __attribute__((format(printf, 2, 3)));

@@ -7,6 +7,7 @@
 #include <errno.h>
 #include <fcntl.h>
 #include <poll.h>
+#include <sched.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -229,6 +230,19 @@ static int sock_readable(co_pool *p)
     return p->sock_unsure;
 }
 
+/* poll(2) that first looks without sleeping for up to the pool's await spin, yielding the
+ * processor to anything else that wants it, where local workers' answers are awaited. */
+static int poll_awake(co_pool *p, struct pollfd *fds, nfds_t n, int timeout_ms)
+{
+    if (timeout_ms == 0 || p->o.await_spin_us <= 0 || !p->n_links)
+        return poll(fds, n, timeout_ms);
+    double until = co_pool_now() + 1e-6 * p->o.await_spin_us;
+    int rc;
+    while ((rc = poll(fds, n, 0)) == 0 && co_pool_now() < until)
+        sched_yield();
+    return rc == 0 ? poll(fds, n, timeout_ms) : rc;
+}
+
 /* One poll(2) over the links and the socket's descriptor: zmq_poll would ask the socket for its
  * events (and getpid) on every call, twice when it sleeps, and a round trip over a link makes
  * several waits. Returns whether the socket has a message to take, or -1 (errno) on failure. */
@@ -241,7 +255,7 @@ static int wait_all(co_pool *p, int timeout_ms)
         fds[i] = (struct pollfd){.fd = p->links[i].s.fd, .events = (short)(POLLIN | out)};
     }
     fds[p->n_links] = (struct pollfd){.fd = p->sock_fd, .events = POLLIN};
-    int rc = poll(fds, p->n_links + 1, sock_ready || p->sock_unsure ? 0 : timeout_ms);
+    int rc = poll_awake(p, fds, p->n_links + 1, sock_ready || p->sock_unsure ? 0 : timeout_ms);
     if (rc < 0)
         return -1;
     if (rc > 0)

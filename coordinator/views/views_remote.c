@@ -524,6 +524,7 @@ static void rm_info(lm_views *v, lm_views_info *out)
     out->height = r->height;
     out->seq = r->seq;
     out->evaluations = r->evaluations;
+    out->overlap_costs = co_pool_cores_full(r->pool);
     snprintf(out->renderer, sizeof out->renderer, "%s", r->renderer);
 }
 

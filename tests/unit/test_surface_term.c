@@ -14,8 +14,9 @@
 
 typedef struct zero_views {
     lm_views base;
-    int set_mesh, evaluate, commit;
-    int64_t image; /* what energy reports */
+    int set_mesh, evaluate, commit, evaluate_surface;
+    int64_t image;     /* what energy reports */
+    int overlap_costs; /* what info reports */
 } zero_views;
 
 static lm_status zv_set_mesh(lm_views *v, const lm_tri_data *t, size_t n)
@@ -61,10 +62,10 @@ static lm_status zv_read_image(lm_views *v, lm_image_kind k, uint32_t view, uint
 }
 static void zv_info(lm_views *v, lm_views_info *out)
 {
-    (void)v;
     memset(out, 0, sizeof *out);
     out->n_views = 10;
     out->width = out->height = 128;
+    out->overlap_costs = ((zero_views *)v)->overlap_costs;
 }
 static void zv_destroy(lm_views *v)
 {
@@ -80,6 +81,31 @@ static const lm_views_ops zero_ops = {.set_mesh = zv_set_mesh,
                                       .read_image = zv_read_image,
                                       .info = zv_info,
                                       .destroy = zv_destroy};
+
+/* Views that hold the term too, as workers do (they price nothing here: 0). */
+static lm_status zv_surface_term(lm_views *v, const lm_mesh *surface, double k)
+{
+    (void)v, (void)surface, (void)k;
+    return LM_OK;
+}
+static lm_status zv_evaluate_surface(lm_views *v, const lm_patch *p, uint32_t n, int64_t *d)
+{
+    ((zero_views *)v)->evaluate_surface++;
+    ((zero_views *)v)->evaluate--; /* counted once, as the one evaluation it is */
+    return zv_evaluate(v, p, n, d);
+}
+
+static const lm_views_ops holding_ops = {.set_mesh = zv_set_mesh,
+                                         .set_materials = zv_set_materials,
+                                         .evaluate = zv_evaluate,
+                                         .commit = zv_commit,
+                                         .energy = zv_energy,
+                                         .potentials = zv_potentials,
+                                         .read_image = zv_read_image,
+                                         .info = zv_info,
+                                         .destroy = zv_destroy,
+                                         .surface_term = zv_surface_term,
+                                         .evaluate_surface = zv_evaluate_surface};
 
 typedef struct fixture {
     zero_views inner;
@@ -282,12 +308,49 @@ static void test_refuses_bad_arguments(void **state)
     teardown(&f);
 }
 
+/* Workers that busy every processor here price the term from the first evaluation on and are
+ * never probed (work here would take a processor from one of them); otherwise the first batch
+ * is priced here, to measure. */
+static void test_pricing_where_the_cores_are_full(void **state)
+{
+    (void)state;
+    for (int full = 0; full <= 1; full++) {
+        zero_views inner = {.base.ops = &holding_ops, .overlap_costs = full};
+        lm_mesh *plane = lmt_make_grid(9);
+        lm_views *v = NULL;
+        assert_int_equal(co_surface_views_create(&inner.base, plane, 2.0, &v), LM_OK);
+        assert_true(co_surface_views_offloaded(v));
+        co_surface_views_set_pricing(v, CO_SURFACE_AUTO);
+        lm_tri_data t[2] = {tri(0, 0.1f, 0.1f, 0.3f, 0.0f), tri(1, 0.5f, 0.5f, 0.3f, 0.0f)};
+        assert_int_equal(v->ops->set_mesh(v, t, 2), LM_OK);
+        lm_patch p;
+        lm_patch_init(&p);
+        uint32_t removed = 0;
+        lm_tri_data moved = tri(0, 0.1f, 0.1f, 0.3f, 0.02f);
+        p.removed = &removed, p.n_removed = 1, p.added = &moved, p.n_added = 1;
+        int64_t d = 0;
+        assert_int_equal(v->ops->evaluate(v, &p, 1, &d), LM_OK);
+        assert_int_equal(inner.evaluate_surface, full);
+        assert_int_equal(inner.evaluate, !full);
+        /* full: never probed here either (past SV_PROBE_EVERY batches) */
+        for (int i = 0; full && i < 40; i++)
+            assert_int_equal(v->ops->evaluate(v, &p, 1, &d), LM_OK);
+        assert_true(co_surface_views_worker_share(v) == (full ? 1.0 : 0.0));
+        lm_views_destroy(v);
+        lm_mesh_destroy(plane);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_scale),        cmocka_unit_test(test_delta_is_what_commit_changes),
-        cmocka_unit_test(test_order_free),   cmocka_unit_test(test_set_weight),
-        cmocka_unit_test(test_share_weight), cmocka_unit_test(test_refuses_bad_arguments),
+        cmocka_unit_test(test_scale),
+        cmocka_unit_test(test_delta_is_what_commit_changes),
+        cmocka_unit_test(test_order_free),
+        cmocka_unit_test(test_set_weight),
+        cmocka_unit_test(test_share_weight),
+        cmocka_unit_test(test_refuses_bad_arguments),
+        cmocka_unit_test(test_pricing_where_the_cores_are_full),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
