@@ -80,6 +80,37 @@ static void test_each_share_sees_both_sides(void **state)
     free(vs);
 }
 
+/* The default set (the dodecahedron) is listed along a tour of neighbouring directions, so that
+ * dealt in halves (or quarters), the views that see any one side of the model are shared out
+ * evenly: for every direction of the set, the views of the hemisphere around it differ by at most
+ * 2 between two shares and 3 between four (in the order the vertices are made, one half held all
+ * the +x cube corners: 8 more of a hemisphere than the other). */
+static void test_shares_see_each_side_evenly(void **state)
+{
+    (void)state;
+    lm_view_set *vs = malloc(sizeof *vs);
+    assert_non_null(vs);
+    const float centre[3] = {0, 0, 0};
+    assert_int_equal(lm_view_set_make(vs, LM_DEFAULT_VIEWS, 64, centre, 1.0f), LM_OK);
+    for (uint32_t g = 2; g <= 4; g += 2)
+        for (uint32_t u = 0; u < vs->count; u++) {
+            uint32_t most = 0, least = vs->count;
+            for (uint32_t k = 0; k < g; k++) {
+                lm_view_deal d = share(vs->count, g, k);
+                uint32_t seeing = 0;
+                for (uint32_t i = 0; i < d.count; i++) {
+                    const float *a = vs->views[lm_view_deal_view(d, i)].dir;
+                    const float *b = vs->views[u].dir;
+                    seeing += a[0] * b[0] + a[1] * b[1] + a[2] * b[2] > 0.0f;
+                }
+                most = seeing > most ? seeing : most;
+                least = seeing < least ? seeing : least;
+            }
+            assert_true(most - least <= (g == 2 ? 2u : 3u));
+        }
+    free(vs);
+}
+
 static void test_text(void **state)
 {
     (void)state;
@@ -100,6 +131,7 @@ int main(void)
         cmocka_unit_test(test_shares_cover_once),
         cmocka_unit_test(test_refuses_what_does_not_fit),
         cmocka_unit_test(test_each_share_sees_both_sides),
+        cmocka_unit_test(test_shares_see_each_side_evenly),
         cmocka_unit_test(test_text),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
