@@ -6,7 +6,9 @@
  *      and comparing keys; none when its visible-pixel count is 0) become background; the old key
  *      there is a lower bound of every kept triangle's key (it beat them all). A removed triangle
  *      re-added with the same id and bit-identical corners (a "twin": only its attributes change)
- *      keeps its keys; its pixels are only marked for shading.
+ *      keeps its keys; its pixels are only marked for shading. An evaluation that removes the same
+ *      triangles (and twins) from the same keys as the view's last one replays that step's log
+ *      instead (cpu_holes.h: a simplex evaluates one neighbourhood many times in a row).
  *   B. the added triangles (twins aside) are drawn by min-update, skipping 8x8 tiles whose
  *      depth maximum lies in front of them.
  *   C. a hole whose new key is not below its bound may show a kept triangle: those triangles come
@@ -43,16 +45,21 @@ lm_status wk_cpu_eval_init(wk_cpu_views *v)
     e->tile_mask = calloc(v->tiles, 1);
     e->mask_idx = malloc(v->tiles * sizeof *e->mask_idx);
     e->cmax = malloc(v->tiles * sizeof *e->cmax);
+    e->holes = calloc(v->views.count, sizeof *e->holes);
     if (!e->log.stamp || !e->log.idx || !e->log.xy || !e->log.old || !e->log.flag || !e->owned ||
         !e->luma || !e->rgb || !e->texl || !e->tile_old || !e->tile_idx || !e->tile_stamp ||
-        !e->tile_mask || !e->mask_idx || !e->cmax)
+        !e->tile_mask || !e->mask_idx || !e->cmax || !e->holes)
         return lm_fail(LM_E_NOMEM, "out of memory for the evaluation scratch of %zu pixels",
                        v->plane);
     return LM_OK;
 }
 
-void wk_cpu_eval_free(wk_cpu_eval *e)
+void wk_cpu_eval_free(wk_cpu_eval *e, uint32_t n_views)
 {
+    for (uint32_t h = 0; e->holes && h < n_views; h++)
+        wk_cpu_holes_free(&e->holes[h]);
+    free(e->holes);
+    free(e->removed_twin);
     void *p[] = {e->log.stamp,   e->log.idx,    e->log.xy,   e->log.old,       e->log.flag,
                  e->owned,       e->luma,       e->rgb,      e->tile_old,      e->tile_idx,
                  e->tile_stamp,  e->tile_mask,  e->mask_idx, e->cmax,          e->removed_stamp,
@@ -177,6 +184,15 @@ static lm_status prepare_patch(wk_cpu_views *v, const lm_patch *p)
             wk_cpu_box_add(&e->box, &p->added[i]);
         }
     }
+    if (p->n_removed > e->cap_removed) {
+        uint8_t *t = realloc(e->removed_twin, p->n_removed);
+        if (!t)
+            return lm_fail(LM_E_NOMEM, "out of memory for a patch of %u triangles", p->n_removed);
+        e->removed_twin = t;
+        e->cap_removed = p->n_removed;
+    }
+    for (uint32_t i = 0; i < p->n_removed; i++)
+        e->removed_twin[i] = e->twin_stamp[p->removed[i]] == now;
     return LM_OK;
 }
 
@@ -241,22 +257,25 @@ static uint32_t tile_of(const wk_cpu_views *v, uint32_t xy)
            (uint32_t)(WK_CPU_X(xy) / WK_CPU_TILE);
 }
 
-/* Raise the maxima of the tiles of sub s's box to the background (they may hold holes now). */
+/* Raise tile t's maximum to the background for this pass (it may hold holes now). */
+static void raise_tile(wk_cpu_eval *e, wk_cpu_keys *k, uint32_t t)
+{
+    if (e->tile_stamp[t] == e->log.now)
+        return;
+    e->tile_stamp[t] = e->log.now;
+    e->tile_idx[e->n_raised] = t;
+    e->tile_old[e->n_raised++] = k->tmax[t];
+    k->tmax[t] = WK_CPU_KEY_BG;
+}
+
+/* Raise the maxima of the tiles of sub s's box. */
 static void raise_tiles(wk_cpu_views *v, wk_cpu_keys *k, const wk_cpu_sub *s)
 {
-    wk_cpu_eval *e = &v->eval;
     if (!k->tmax)
         return;
     for (int ty = s->y0 / WK_CPU_TILE; ty * WK_CPU_TILE < s->y1; ty++)
-        for (int tx = s->x0 / WK_CPU_TILE; tx * WK_CPU_TILE < s->x1; tx++) {
-            uint32_t t = (uint32_t)ty * (uint32_t)v->tiles_w + (uint32_t)tx;
-            if (e->tile_stamp[t] == e->log.now)
-                continue;
-            e->tile_stamp[t] = e->log.now;
-            e->tile_idx[e->n_raised] = t;
-            e->tile_old[e->n_raised++] = k->tmax[t];
-            k->tmax[t] = WK_CPU_KEY_BG;
-        }
+        for (int tx = s->x0 / WK_CPU_TILE; tx * WK_CPU_TILE < s->x1; tx++)
+            raise_tile(&v->eval, k, (uint32_t)ty * (uint32_t)v->tiles_w + (uint32_t)tx);
 }
 
 /* Step A for removed triangle id: its visible pixels (found along its subs' rows, the key
@@ -290,6 +309,40 @@ static lm_status punch(wk_cpu_views *v, const lm_patch *p, uint32_t h, uint32_t 
         found += m;
     }
     return LM_OK;
+}
+
+/* Step A for every removed triangle: replayed from the view's last pass where that removed the
+ * same triangles, with the same twins, against the same keys (cpu_holes.h); else rasterised, and
+ * remembered when `keep`. */
+static lm_status punch_all(wk_cpu_views *v, const lm_patch *p, uint32_t h, wk_cpu_keys *k, int keep)
+{
+    wk_cpu_eval *e = &v->eval;
+    wk_cpu_holes *c = &e->holes[h];
+    lm_status st = LM_OK;
+    if (keep &&
+        wk_cpu_holes_match(c, v->seq, v->occlusion, p->removed, e->removed_twin, p->n_removed)) {
+        for (uint32_t i = 0; st == LM_OK && i < p->n_removed; i++) {
+            uint32_t id = p->removed[i], first, n; /* twins are registered as punch does */
+            if (e->removed_twin[i] && (!v->occlusion || v->count[h][id]))
+                st = register_tri(v, h, &p->added[e->twin_of[id]], 1, &first, &n);
+        }
+        for (size_t j = 0; st == LM_OK && j < c->n; j++) {
+            wk_cpu_log_pixel(&e->log, c->idx[j], c->xy[j], c->old[j], c->flag[j]);
+            if (c->flag[j] == F_HOLE)
+                k->key[c->idx[j]] = WK_CPU_KEY_BG;
+        }
+        for (size_t j = 0; st == LM_OK && k->tmax && j < c->n_tiles; j++)
+            raise_tile(e, k, c->tiles[j]);
+        return st;
+    }
+    for (uint32_t i = 0; st == LM_OK && i < p->n_removed; i++)
+        st = punch(v, p, h, p->removed[i], k);
+    if (st == LM_OK && keep)
+        wk_cpu_holes_keep(c, v->seq, v->occlusion, p->removed, e->removed_twin, p->n_removed,
+                          &e->log, e->log.n, e->tile_idx, e->n_raised);
+    else
+        wk_cpu_holes_forget(c);
+    return st;
 }
 
 /* Step B: the added triangles that are not twins, drawn with logging. */
@@ -570,8 +623,10 @@ static int view_unchanged(const wk_cpu_views *v, const lm_patch *p, uint32_t h,
     return wk_cpu_box_hidden(&v->eval.box, &v->cviews[h], k);
 }
 
+/* One view's pass; `keep`: an evaluation's (its step A may be replayed, and remembered), not a
+ * commit's (which changes the keys). */
 static lm_status view_pass(wk_cpu_views *v, const lm_patch *p, uint32_t h, wk_cpu_keys *k,
-                           int64_t *delta)
+                           int64_t *delta, int keep)
 {
     pass_begin(v);
     if (view_unchanged(v, p, h, k)) {
@@ -580,9 +635,7 @@ static lm_status view_pass(wk_cpu_views *v, const lm_patch *p, uint32_t h, wk_cp
     }
     if (!v->occlusion)
         k->tmax = NULL;
-    lm_status st = LM_OK;
-    for (uint32_t i = 0; st == LM_OK && i < p->n_removed; i++)
-        st = punch(v, p, h, p->removed[i], k);
+    lm_status st = punch_all(v, p, h, k, keep);
     if (st == LM_OK)
         st = draw_added(v, p, h, k);
     if (st == LM_OK)
@@ -706,7 +759,7 @@ lm_status wk_cpu_evaluate(lm_views *base, const lm_patch *patches, uint32_t n, i
         for (uint32_t h = 0; st == LM_OK && h < v->views.count; h++) {
             gather_view(v, &patches[i], h);
             wk_cpu_keys k = wk_cpu_view_keys(v, h);
-            st = view_pass(v, &patches[i], h, &k, &delta[i]);
+            st = view_pass(v, &patches[i], h, &k, &delta[i], 1);
             roll_back(v, h);
         }
         v->stats.evaluations++;
@@ -754,7 +807,7 @@ lm_status wk_cpu_commit(lm_views *base, const lm_patch *patch)
         gather_view(v, patch, h);
         wk_cpu_keys k = wk_cpu_view_keys(v, h);
         int64_t unused = 0;
-        st = view_pass(v, patch, h, &k, &unused);
+        st = view_pass(v, patch, h, &k, &unused, 0);
         if (st == LM_OK)
             keep(v, h, patch);
         else

@@ -123,7 +123,7 @@ static void cv_destroy(lm_views *base)
     wk_replica_free(&v->rep);
     wk_cpu_materials_free(&v->mats[0]);
     wk_cpu_materials_free(&v->mats[1]);
-    wk_cpu_eval_free(&v->eval);
+    wk_cpu_eval_free(&v->eval, v->views.count);
     wk_cpu_subcache_free(&v->subcache);
     free(v->keys);
     free(v->tmax);

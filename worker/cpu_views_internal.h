@@ -5,6 +5,7 @@
 
 #include "worker/buckets.h"
 #include "worker/cpu_cull.h"
+#include "worker/cpu_holes.h"
 #include "worker/cpu_raster.h"
 #include "worker/cpu_setups.h"
 #include "worker/cpu_shade.h"
@@ -37,7 +38,10 @@ typedef struct wk_cpu_eval {
     uint32_t *loc_stamp, *loc_first; /* per id: its subs in `set` during this pass */
     uint8_t *loc_n;
     wk_idlist cand;
-    uint64_t gathered; /* sum of the loads that gather a view's memory (never used) */
+    uint64_t gathered;     /* sum of the loads that gather a view's memory (never used) */
+    wk_cpu_holes *holes;   /* [n_views] each view's last step A, replayed (cpu_holes.h) */
+    uint8_t *removed_twin; /* [cap_removed] the patch's removed ids: 1 where a twin */
+    uint32_t cap_removed;
 } wk_cpu_eval;
 
 typedef struct wk_cpu_views {
@@ -94,7 +98,7 @@ lm_status wk_cpu_count_reserve(wk_cpu_views *v, size_t need);
 lm_status wk_cpu_evaluate(lm_views *base, const lm_patch *patches, uint32_t n, int64_t *delta);
 lm_status wk_cpu_commit(lm_views *base, const lm_patch *patch);
 lm_status wk_cpu_eval_init(wk_cpu_views *v);
-void wk_cpu_eval_free(wk_cpu_eval *e);
+void wk_cpu_eval_free(wk_cpu_eval *e, uint32_t n_views);
 /* (Re)build every view's buckets from the replica. */
 lm_status wk_cpu_build_buckets(wk_cpu_views *v);
 

@@ -319,6 +319,49 @@ static void batch_check(harness *h, int kinds)
     free(base);
 }
 
+/* A simplex's evaluations: one vertex moved several times in a row, each time against the same
+ * mesh, with the same removed triangles (the rings of the vertex and of a neighbour, whose
+ * triangles away from the vertex come back unchanged: twins); each ΔE equals the full renders'.
+ * Then the last move is committed (the same triangle ids, moved) and the vertex moved again from
+ * there: the same removed ids against other images. This is the pattern the CPU views replay a
+ * view's holes for (cpu_holes.h), and the commit is what must end a replay. */
+#define SIMPLEX_STEPS 4
+#define SIMPLEX_CHECKS 12
+static void simplex_check(harness *h)
+{
+    uint32_t verts[2], before[MAX_RING], after[MAX_RING];
+    random_edge(h, &verts[0], &verts[1]);
+    for (int round = 0; round < 2; round++) {
+        uint32_t nb = ring(h->m, verts, 2, before);
+        lm_tri_data *base;
+        size_t n_base;
+        assert_int_equal(lm_mesh_export_tris(h->m, &base, &n_base), LM_OK);
+        int64_t e0 = total_energy(h->inc);
+        for (int step = 0; step < SIMPLEX_STEPS; step++) {
+            size_t mark = lm_journal_mark(h->journal);
+            move_vertex(h, verts[0]);
+            uint32_t na = ring(h->m, verts, 2, after);
+            assert_int_equal(lm_patch_build(&h->patch, h->m, before, nb, after, na), LM_OK);
+            int64_t delta = 0;
+            assert_int_equal(h->inc->ops->evaluate(h->inc, &h->patch, 1, &delta), LM_OK);
+            int64_t e = full_energy_patched(h, base, n_base, &h->patch);
+            if (delta != e - e0)
+                fail_msg("simplex round %d step %d: incremental dE %lld, full renders %lld", round,
+                         step, (long long)delta, (long long)(e - e0));
+            h->delta_checks++;
+            if (round == 0 && step == SIMPLEX_STEPS - 1) {
+                assert_int_equal(h->inc->ops->commit(h->inc, &h->patch), LM_OK);
+                assert_true(total_energy(h->inc) == e0 + delta);
+                lm_journal_clear(h->journal);
+                h->commits++;
+            } else {
+                lm_journal_rollback(h->m, h->journal, mark);
+            }
+        }
+        free(base);
+    }
+}
+
 static void run_moves(harness *h, int n_moves, int kinds, int delta_every)
 {
     int64_t e_before = total_energy(h->inc);
@@ -359,6 +402,7 @@ static void run_moves(harness *h, int n_moves, int kinds, int delta_every)
             batch_check(h, kinds);
             e_before = total_energy(h->inc);
         }
+
         if (h->moves % 50 == 0)
             check_images(h);
     }
@@ -385,6 +429,10 @@ static void exercise(const lm_mesh *original, const lm_mesh *coarse, int n_moves
     /* vertex moves (with attribute changes), then all four kinds of move */
     run_moves(&h, n_moves / 2, 1, delta_every);
     run_moves(&h, n_moves, 4, delta_every);
+    /* then simplexes (after the moves, which thereby stay the sequence they always were) */
+    for (int i = 0; i < SIMPLEX_CHECKS; i++)
+        simplex_check(&h);
+    check_images(&h);
     wk_views_local_stats stats;
     wk_views_local_get_stats(h.inc, &stats);
     printf("# %s on %s: %d moves (%d committed), %d dE checks, %d image checks, %u tris now, "
