@@ -13,8 +13,7 @@ int wk_cpu_holes_match(const wk_cpu_holes *c, uint64_t seq, int occlusion, const
                                !memcmp(c->twin, twin, n_removed)));
 }
 
-/* Room for n elements of size `elem` in *a (capacity *cap, in elements, shared by the arrays
- * that follow it). */
+/* Room for n elements of size `elem` in *a, which holds `cap` of them now. */
 static int grow(void **a, size_t elem, size_t n, size_t cap)
 {
     if (n <= cap && *a)
