@@ -442,6 +442,14 @@ static int candidate_may_show(const wk_cpu_views *v, uint32_t h, uint32_t id)
     return masked_tiles_behind(v, &f->rect, footprint_bound(f));
 }
 
+/* A hint that sub s will be drawn soon: the lines the rasteriser reads (not the shading's). */
+static void prefetch_sub(const wk_cpu_sub *s)
+{
+    __builtin_prefetch(s);
+    __builtin_prefetch((const char *)s + 64);
+    __builtin_prefetch((const char *)s + 126);
+}
+
 /* Step C: kept triangles (and twins) whose footprint meets the unresolved holes. */
 static lm_status fill_unresolved(wk_cpu_views *v, const lm_patch *p, uint32_t h, wk_cpu_keys *k)
 {
@@ -454,7 +462,7 @@ static lm_status fill_unresolved(wk_cpu_views *v, const lm_patch *p, uint32_t h,
         kc.tmax = e->cmax;
     e->cand.n = 0;
     lm_status st = wk_buckets_query(v->buckets[h], &clip.rect, &e->cand);
-
+    size_t m = 0; /* the candidates kept, registered first: their subs' loads then overlap */
     for (size_t i = 0; st == LM_OK && i < e->cand.n; i++) {
         uint32_t id = e->cand.ids[i], first, n;
         const lm_tri_data *t = &v->rep.tris[id];
@@ -467,6 +475,12 @@ static lm_status fill_unresolved(wk_cpu_views *v, const lm_patch *p, uint32_t h,
             continue;
         st = register_tri(v, h, t, 1, &first, &n);
         for (uint32_t j = 0; st == LM_OK && j < n; j++)
+            prefetch_sub(e->set.sub[first + j]);
+        e->cand.ids[m++] = id;
+    }
+    for (size_t i = 0; st == LM_OK && i < m; i++) {
+        uint32_t id = e->cand.ids[i], first = e->loc_first[id], n = e->loc_n[id];
+        for (uint32_t j = 0; j < n; j++)
             wk_cpu_draw(e->set.sub[first + j], &kc, &clip, &e->log, F_NEW);
         v->stats.tris_drawn += n;
     }

@@ -362,8 +362,10 @@ static int box_tiles(const wk_cpu_sub *s, const wk_cpu_keys *k, const wk_cpu_cli
 /* Min-update of columns [x0, x1) of one tile's row (key row `row`, absolute columns); changed
  * pixels logged (first touch) when log is not NULL. Fields are copied to locals: the key stores
  * could alias them otherwise. */
-static size_t draw_run(const wk_cpu_sub *s, uint64_t *row, int x0, int x1, int64_t z,
-                       wk_cpu_log *log, uint32_t p0, uint32_t y16, uint8_t flag)
+static inline __attribute__((always_inline)) size_t draw_run(const wk_cpu_sub *s, uint64_t *row,
+                                                             int x0, int x1, int64_t z,
+                                                             wk_cpu_log *log, uint32_t p0,
+                                                             uint32_t y16, uint8_t flag)
 {
     const int64_t za = s->za;
     const uint64_t tag = s->tag;

@@ -42,13 +42,14 @@
 typedef struct wk_cpu_sub {
     int64_t e[3];       /* edge functions at the centre of (x0, y0), minus the fill-rule bias */
     int64_t a[3], b[3]; /* their steps per pixel in x and in y */
-    uint8_t bias[3];    /* 1 where pixel centres on the edge are left out (not top-left) */
     int64_t z, za, zb;  /* depth plane at the centre of (x0, y0) and its steps (2^-48 units) */
     uint64_t zmin_key;  /* no fragment of this sub has a smaller key (0: unknown) */
     int x0, y0, x1, y1; /* pixels whose centres may be covered, [x0, x1) x [y0, y1), in the view */
     uint32_t tag;       /* id << 3 | sub index */
-    double invw[3];     /* 1 / clip w of each corner */
-    double beta[3][3];  /* each corner as barycentric weights of the source triangle's corners */
+    uint8_t bias[3];    /* 1 where pixel centres on the edge are left out (not top-left) */
+    /* (the rasteriser reads the fields above, the first 127 bytes; the shading those below) */
+    double invw[3];    /* 1 / clip w of each corner */
+    double beta[3][3]; /* each corner as barycentric weights of the source triangle's corners */
 } wk_cpu_sub;
 
 /* A view as the rasteriser uses it: its world-to-clip matrix in double, its size. */
