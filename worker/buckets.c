@@ -56,9 +56,27 @@ static float window_depth(const lm_view *v, const float p[3], float w)
     return z / w * 0.5f + 0.5f;
 }
 
+/* Widen [zmin, zmax] by the depth plane's greatest change over WK_DEPTH_REACH in x and y
+ * (unbounded when the projected triangle has no area). */
+static void widen_depths(const float (*win)[2], const float z[3], wk_footprint *out)
+{
+    double ex1 = (double)win[1][0] - win[0][0], ey1 = (double)win[1][1] - win[0][1];
+    double ex2 = (double)win[2][0] - win[0][0], ey2 = (double)win[2][1] - win[0][1];
+    double area2 = ex1 * ey2 - ey1 * ex2, dz1 = (double)z[1] - z[0], dz2 = (double)z[2] - z[0];
+    double gx = (dz1 * ey2 - dz2 * ey1) / area2, gy = (dz2 * ex1 - dz1 * ex2) / area2;
+    double reach = (fabs(gx) + fabs(gy)) * WK_DEPTH_REACH;
+    if (!(reach < 1.0)) { /* no area, or a plane steeper than the whole depth range a pixel */
+        out->zmin = -INFINITY;
+        out->zmax = INFINITY;
+        return;
+    }
+    out->zmin = (float)(out->zmin - reach);
+    out->zmax = (float)(out->zmax + reach);
+}
+
 void wk_tri_footprint(const lm_view *v, const lm_tri_data *t, wk_footprint *out)
 {
-    float lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
+    float lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY}, zc[3];
     out->projected = 0;
     out->zmin = INFINITY;
     out->zmax = -INFINITY;
@@ -72,6 +90,7 @@ void wk_tri_footprint(const lm_view *v, const lm_tri_data *t, wk_footprint *out)
             out->zmax = INFINITY;
             return;
         }
+        zc[k] = z;
         out->zmin = z < out->zmin ? z : out->zmin;
         out->zmax = z > out->zmax ? z : out->zmax;
         for (int a = 0; a < 2; a++) {
@@ -86,6 +105,7 @@ void wk_tri_footprint(const lm_view *v, const lm_tri_data *t, wk_footprint *out)
     out->rect.x1 = clamp_coord(floor(hi[0] - 0.5 + WK_PIXEL_SLACK) + 1.0, v->width);
     out->rect.y1 = clamp_coord(floor(hi[1] - 0.5 + WK_PIXEL_SLACK) + 1.0, v->height);
     out->projected = 1;
+    widen_depths((const float(*)[2])out->win, zc, out);
 }
 
 /* Some corner of [x0,x1]x[y0,y1] is not strictly outside edge a->b (whose inside has sign s): the

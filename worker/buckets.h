@@ -44,6 +44,11 @@ static inline wk_rect wk_rect_intersect(const wk_rect *a, const wk_rect *b)
  * this distance of the projected triangle. */
 #define WK_PIXEL_SLACK 0.25f
 
+/* How far, in pixels along x and along y, a pixel centre that a rasteriser covers may lie outside
+ * the projected triangle: half a subpixel step where corners snap to 1/16 pixel (OpenGL ES asks
+ * for at least four subpixel bits; llvmpipe and GPUs have eight). */
+#define WK_DEPTH_REACH (1.0f / 32.0f)
+
 /* Where a triangle lands in a view: the conservative rectangle of the pixels it may touch, clamped
  * to the view (pixels whose centre lies within WK_PIXEL_SLACK of the projected bounds; the whole
  * view if a corner is at or behind the eye or not finite; empty when it lies entirely outside),
@@ -52,8 +57,12 @@ typedef struct wk_footprint {
     wk_rect rect;
     int projected; /* win and zmin hold the corners' window coordinates */
     float win[3][2];
-    float zmin; /* least window depth of the corners (0 near .. 1 far; -inf if not projected) */
-    float zmax; /* greatest window depth of the corners (+inf when not projected) */
+    float zmin; /* least window depth a fragment may have (0 near .. 1 far; -inf if not projected
+                 * or if its depth plane is unbounded): the corners' least, less the plane's change
+                 * over WK_DEPTH_REACH, since a rasteriser that covers a pixel centre just outside
+                 * the triangle (its corners snapped) extrapolates the depth plane there, and a
+                 * sliver's plane is steep */
+    float zmax; /* greatest window depth a fragment may have, likewise (+inf when not projected) */
 } wk_footprint;
 
 void wk_tri_footprint(const lm_view *v, const lm_tri_data *t, wk_footprint *out);
