@@ -40,7 +40,7 @@ void wk_cover_patch_free(wk_cover_patch *cp);
 /* The per-view test: the footprints of every removed and added triangle that is not a twin. */
 typedef struct wk_cover_tri {
     wk_rect rect;
-    float zmax; /* farthest window depth of its corners */
+    float zmax; /* farthest window depth of its fragments (wk_footprint's zmax) */
     int sign;   /* its orientation in the view (+1, -1), 0 if clipped or (nearly) degenerate */
     int added;
 } wk_cover_tri;
