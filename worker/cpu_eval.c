@@ -326,14 +326,16 @@ static lm_status punch_all(wk_cpu_views *v, const lm_patch *p, uint32_t h, wk_cp
             if (e->removed_twin[i] && (!v->occlusion || v->count[h][id]))
                 st = register_tri(v, h, &p->added[e->twin_of[id]], 1, &first, &n);
         }
-        for (size_t j = 0; st == LM_OK && j < c->n; j++) {
+        if (st != LM_OK)
+            return st;
+        for (size_t j = 0; j < c->n; j++) {
             wk_cpu_log_pixel(&e->log, c->idx[j], c->xy[j], c->old[j], c->flag[j]);
             if (c->flag[j] == F_HOLE)
                 k->key[c->idx[j]] = WK_CPU_KEY_BG;
         }
-        for (size_t j = 0; st == LM_OK && k->tmax && j < c->n_tiles; j++)
+        for (size_t j = 0; k->tmax && j < c->n_tiles; j++)
             raise_tile(e, k, c->tiles[j]);
-        return st;
+        return LM_OK;
     }
     for (uint32_t i = 0; st == LM_OK && i < p->n_removed; i++)
         st = punch(v, p, h, p->removed[i], k);
@@ -447,7 +449,7 @@ static void prefetch_sub(const wk_cpu_sub *s)
 {
     __builtin_prefetch(s);
     __builtin_prefetch((const char *)s + 64);
-    __builtin_prefetch((const char *)s + 126);
+    __builtin_prefetch(&s->bias[2]); /* the last of them (wk_cpu_sub) */
 }
 
 /* Step C: kept triangles (and twins) whose footprint meets the unresolved holes. */

@@ -408,7 +408,6 @@ static void run_moves(harness *h, int n_moves, int kinds, int delta_every)
             batch_check(h, kinds);
             e_before = total_energy(h->inc);
         }
-
         if (h->moves % 50 == 0)
             check_images(h);
     }
