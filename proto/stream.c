@@ -1,4 +1,5 @@
-/* proto/stream.c — length-prefixed frames over a non-blocking byte stream (see stream.h). */
+/* proto/stream.c — length-prefixed frames over a non-blocking byte stream, and beside it the
+ * shared-memory lane of a local link (see stream.h). */
 #include "proto/stream.h"
 
 #include <errno.h>
@@ -26,10 +27,18 @@ void lm_stream_close(lm_stream *s)
 {
     if (s->fd >= 0)
         close(s->fd);
+    lm_ring_unmap(&s->ring);
     free(s->in);
     free(s->out);
+    free(s->ring_in);
     memset(s, 0, sizeof *s);
     s->fd = -1;
+}
+
+lm_status lm_stream_share(lm_stream *s, int shm_fd, int side)
+{
+    LM_ASSERT(!s->ring.map && !s->sent && !s->taken);
+    return lm_ring_map(shm_fd, side, &s->ring);
 }
 
 static lm_status reserve(uint8_t **buf, size_t *cap, size_t need)
@@ -81,13 +90,41 @@ static lm_status frame_room(lm_stream *s, size_t n, uint8_t **at)
     for (unsigned i = 0; i < LM_STREAM_HEADER; i++)
         h[i] = (uint8_t)(n >> (8 * i));
     s->out_len += LM_STREAM_HEADER + n;
+    s->sent++;
     *at = h + LM_STREAM_HEADER;
     return LM_OK;
 }
 
+/* Room for a frame of n bytes in the shared lane, or NULL where it must go over the socket: no
+ * lane, a frame too large or a ring too full, or socket frames the peer has not taken yet. */
+static uint8_t *lane_room(lm_stream *s, size_t n)
+{
+    if (!s->ring.map || s->out_len > s->out_off || lm_ring_peer_taken(&s->ring) != s->sent)
+        return NULL;
+    return lm_ring_room(&s->ring, n);
+}
+
+/* Publish the frame given room in the lane, and wake a peer that may be asleep on the socket. */
+static lm_status lane_publish(lm_stream *s)
+{
+    if (!lm_ring_publish(&s->ring))
+        return LM_OK;
+    lm_status st = reserve(&s->out, &s->out_cap, s->out_len + LM_STREAM_HEADER);
+    if (st != LM_OK)
+        return st;
+    memset(s->out + s->out_len, 0xff, LM_STREAM_HEADER); /* LM_STREAM_WAKE */
+    s->out_len += LM_STREAM_HEADER;
+    s->sent++;
+    return lm_stream_flush(s);
+}
+
 lm_status lm_stream_put(lm_stream *s, const void *data, size_t n)
 {
-    uint8_t *at = NULL;
+    uint8_t *at = lane_room(s, n);
+    if (at) {
+        memcpy(at, data, n);
+        return lane_publish(s);
+    }
     lm_status st = frame_room(s, n, &at);
     if (st != LM_OK)
         return st;
@@ -98,7 +135,11 @@ lm_status lm_stream_put(lm_stream *s, const void *data, size_t n)
 lm_status lm_stream_put_msg(lm_stream *s, const lm_msg *m)
 {
     size_t n = lumesh__msg__get_packed_size(m);
-    uint8_t *at = NULL;
+    uint8_t *at = lane_room(s, n);
+    if (at) {
+        lumesh__msg__pack(m, at);
+        return lane_publish(s);
+    }
     lm_status st = frame_room(s, n, &at);
     if (st == LM_E_RANGE)
         return lm_fail(LM_E_RANGE, "a %s message of %zu bytes exceeds the frame limit of %u",
@@ -129,7 +170,7 @@ static int frame_ready(const lm_stream *s)
     if (have < LM_STREAM_HEADER)
         return 0;
     uint32_t n = frame_length(s->in + s->in_off);
-    return n == 0 || n > LM_WIRE_MAX_FRAME || have - LM_STREAM_HEADER >= n;
+    return n == 0 || n > LM_WIRE_MAX_FRAME || have - LM_STREAM_HEADER >= n; /* a wake mark too */
 }
 
 lm_status lm_stream_fill(lm_stream *s)
@@ -169,11 +210,66 @@ static void release_frame(void *owner, const lm_wire_frame *f)
     s->frame_out = 0;
 }
 
+static void release_lane_frame(void *owner, const lm_wire_frame *f)
+{
+    (void)f;
+    ((lm_stream *)owner)->frame_out = 0;
+}
+
+/* The next frame of the shared lane, if any (into f, as lm_stream_next). */
+static lm_status lane_next(lm_stream *s, lm_wire_frame *f)
+{
+    size_t n = 0;
+    lm_status st = lm_ring_take(&s->ring, &s->ring_in, &s->ring_in_cap, &n);
+    if (st != LM_OK || n == 0)
+        return st;
+    f->data = s->ring_in;
+    f->size = n;
+    f->release_ = release_lane_frame;
+    f->owner_ = s;
+    s->frame_out = 1;
+    return LM_OK;
+}
+
+/* One more socket frame (or wake mark) taken, said to the writer. */
+static void count_taken(lm_stream *s)
+{
+    s->taken++;
+    if (s->ring.map)
+        lm_ring_set_taken(&s->ring, s->taken);
+}
+
+int lm_stream_ready(const lm_stream *s)
+{
+    return (s->ring.map && lm_ring_ready(&s->ring)) || frame_ready(s);
+}
+
+int lm_stream_sleep(lm_stream *s)
+{
+    return s->ring.map ? lm_ring_sleep(&s->ring) : 0;
+}
+
+void lm_stream_awake(lm_stream *s)
+{
+    if (s->ring.map)
+        lm_ring_awake(&s->ring);
+}
+
 lm_status lm_stream_next(lm_stream *s, lm_wire_frame *f)
 {
     memset(f, 0, sizeof *f);
     LM_ASSERT(!s->frame_out);
+    if (s->ring.map) {
+        lm_status st = lane_next(s, f);
+        if (st != LM_OK || f->data)
+            return st;
+    }
     size_t have = s->in_len - s->in_off;
+    while (s->ring.map && have >= LM_STREAM_HEADER &&
+           frame_length(s->in + s->in_off) == LM_STREAM_WAKE) {
+        s->in_off += LM_STREAM_HEADER, have -= LM_STREAM_HEADER;
+        count_taken(s);
+    }
     if (have < LM_STREAM_HEADER)
         return LM_OK;
     uint32_t n = frame_length(s->in + s->in_off);
@@ -187,5 +283,6 @@ lm_status lm_stream_next(lm_stream *s, lm_wire_frame *f)
     f->release_ = release_frame;
     f->owner_ = s;
     s->frame_out = 1;
+    count_taken(s);
     return LM_OK;
 }

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Sets up everything and runs every test: the release build (-Werror) with ctest, the same tests
-# under ASan+UBSan, the fuzz targets (model loading, wire messages, local links' framing, assets,
-# progressive-mesh files) for a short time each, and the clang-format check.
+# under ASan+UBSan, the fuzz targets (model loading, wire messages, local links' framing and shared
+# memory, assets, progressive-mesh files) for a short time each, and the clang-format check.
 # LUMESH_TEST_QUICK=1 runs only the release tests.
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
@@ -65,6 +65,7 @@ fuzz fuzz_mesh_load "${LUMESH_FUZZ_SECONDS:-60}" tests/fuzz/corpus/mesh_load
 fuzz fuzz_wire_msg "${LUMESH_FUZZ_WIRE_SECONDS:-30}" "$seeds/msg"
 fuzz fuzz_wire_asset "${LUMESH_FUZZ_WIRE_SECONDS:-30}" "$seeds/asset"
 fuzz fuzz_stream "${LUMESH_FUZZ_WIRE_SECONDS:-30}" "$seeds/stream"
+fuzz fuzz_stream_lane "${LUMESH_FUZZ_WIRE_SECONDS:-30}" tests/fuzz/corpus/stream_lane
 fuzz fuzz_pm "${LUMESH_FUZZ_PM_SECONDS:-30}" tests/fuzz/corpus/pm
 rm -rf "$seeds"
 echo "all tests passed"

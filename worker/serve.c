@@ -77,15 +77,21 @@ lm_status wk_serve_send(wk_server *s, uint64_t req, Lumesh__Msg__BodyCase c, voi
     return st;
 }
 
-/* Whether the link has something to read within timeout_ms: looked for without sleeping until
- * spin_until (sched_yield lets anything else runnable here go first), then slept on. */
+/* Whether the link has something to read within timeout_ms (> 0 for its socket, or 0 with a
+ * frame in its shared-memory lane): looked for without sleeping until spin_until (sched_yield lets
+ * anything else runnable here go first), then slept on, the coordinator told so. */
 static int link_wait(wk_server *s, int timeout_ms)
 {
     struct pollfd pf = {.fd = s->link.fd, .events = POLLIN};
-    int rc;
-    while ((rc = poll(&pf, 1, 0)) == 0 && timeout_ms != 0 && wk_serve_now() < s->spin_until)
+    int rc = 0;
+    while (!lm_stream_ready(&s->link) && (rc = poll(&pf, 1, 0)) == 0 && timeout_ms != 0 &&
+           wk_serve_now() < s->spin_until)
         sched_yield();
-    return rc == 0 && timeout_ms != 0 ? poll(&pf, 1, timeout_ms) : rc;
+    if (rc != 0 || timeout_ms == 0 || lm_stream_ready(&s->link))
+        return rc;
+    rc = lm_stream_sleep(&s->link) ? 0 : poll(&pf, 1, timeout_ms);
+    lm_stream_awake(&s->link);
+    return rc;
 }
 
 /* A frame from the link within timeout_ms (as lm_wire_recv); at its end, link_closed. */
@@ -98,7 +104,7 @@ static lm_status link_recv(wk_server *s, int timeout_ms, lm_wire_frame *f)
     if (rc < 0)
         return errno == EINTR ? LM_OK : lm_fail(LM_E_IO, "waiting: %s", strerror(errno));
     if (rc == 0)
-        return LM_OK;
+        return lm_stream_next(&s->link, f);  /* the lane's, if it was that */
     if (lm_stream_fill(&s->link) != LM_OK) { /* the frames before the end are still taken */
         lm_clear_error();
         s->link_closed = 1;
@@ -153,7 +159,14 @@ static lm_status open_link(wk_server *s)
         return lm_fail(LM_E_INTERNAL, "creating a ZeroMQ context: %s", zmq_strerror(zmq_errno()));
     snprintf(s->id, sizeof s->id, "%s", s->o.link_id);
     s->linked = 1;
-    return lm_stream_open(&s->link, s->o.link_fd);
+    lm_status st = lm_stream_open(&s->link, s->o.link_fd);
+    if (s->o.link_shm > 0) {
+        if (st == LM_OK)
+            st = lm_stream_share(&s->link, s->o.link_shm, 1); /* closes it */
+        else
+            close(s->o.link_shm);
+    }
+    return st;
 }
 
 /* A stable routing id: host, pid and a random tag (a restarted worker is a new peer). */

@@ -33,6 +33,8 @@ typedef struct wk_serve_options {
                              endpoint; the worker ends when it closes. -1 (or 0 with no link_id):
                              everything over endpoint */
     const char *link_id;  /* the routing id the coordinator gave the link (with link_fd) */
+    int link_shm;         /* > 0 (with link_fd): the link's shared-memory lane (proto/ring.h),
+                             taken over; 0 = none */
     double spin_s;        /* with link_fd: after each reply, look for the next request this long
                              (yielding the processor to anyone else who wants it) before sleeping;
                              0 = sleep at once. The coordinator's next request usually comes

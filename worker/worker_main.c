@@ -28,6 +28,7 @@ typedef struct worker_args {
     const char *health;        /* ask the worker answering here, and exit */
     int link_fd;               /* messages over this descriptor (-1: over --connect) */
     const char *link_id;       /* the routing id the coordinator knows the link by */
+    int link_shm;              /* with link_fd: its shared-memory lane (0: none) */
     int ready;                 /* with health: exit 0 only when it is welcomed by a coordinator */
     long spin_us;              /* with link_fd: wait awake this long for the next request */
     int help;
@@ -59,6 +60,8 @@ static void usage(FILE *f)
           "  --link-fd N --link-id ID  (given by a coordinator that starts its own workers)\n"
           "                   exchange messages over descriptor N, a socketpair, as ID; only\n"
           "                   heartbeats go to --connect\n"
+          "  --link-shm N     with --link-fd: descriptor N is the link's shared memory, through\n"
+          "                   which short messages pass without system calls\n"
           "  --spin-us N      with --link-fd: after each reply, look for the next request for up\n"
           "                   to N µs (yielding the processor to anything else that wants it)\n"
           "                   before sleeping; a wake-up can cost more than that (default 0;\n"
@@ -76,25 +79,19 @@ static void usage(FILE *f)
 
 static lm_status parse_args(int argc, char **argv, worker_args *a)
 {
-    static const struct option opts[] = {{"connect", required_argument, NULL, 'c'},
-                                         {"device", required_argument, NULL, 'd'},
-                                         {"self-test", no_argument, NULL, 's'},
-                                         {"verbose", no_argument, NULL, 'v'},
-                                         {"once", no_argument, NULL, 'o'},
-                                         {"parent", required_argument, NULL, 'p'},
-                                         {"keys", required_argument, NULL, 'k'},
-                                         {"health-socket", required_argument, NULL, 'H'},
-                                         {"health", required_argument, NULL, 'q'},
-                                         {"ready", no_argument, NULL, 'r'},
-                                         {"link-fd", required_argument, NULL, 'L'},
-                                         {"link-id", required_argument, NULL, 'I'},
-                                         {"spin-us", required_argument, NULL, 'S'},
-                                         {"help", no_argument, NULL, 'h'},
-                                         {NULL, 0, NULL, 0}};
+    static const struct option opts[] = {
+        {"connect", required_argument, NULL, 'c'},  {"device", required_argument, NULL, 'd'},
+        {"self-test", no_argument, NULL, 's'},      {"verbose", no_argument, NULL, 'v'},
+        {"once", no_argument, NULL, 'o'},           {"parent", required_argument, NULL, 'p'},
+        {"keys", required_argument, NULL, 'k'},     {"health-socket", required_argument, NULL, 'H'},
+        {"health", required_argument, NULL, 'q'},   {"ready", no_argument, NULL, 'r'},
+        {"link-fd", required_argument, NULL, 'L'},  {"link-id", required_argument, NULL, 'I'},
+        {"link-shm", required_argument, NULL, 'M'}, {"spin-us", required_argument, NULL, 'S'},
+        {"help", no_argument, NULL, 'h'},           {NULL, 0, NULL, 0}};
     int c;
     opterr = 0;
     optind = 1;
-    while ((c = getopt_long(argc, argv, ":c:d:svohp:k:H:q:rL:I:S:", opts, NULL)) != -1) {
+    while ((c = getopt_long(argc, argv, ":c:d:svohp:k:H:q:rL:I:M:S:", opts, NULL)) != -1) {
         switch (c) {
         case 'c':
             a->connect = optarg;
@@ -131,6 +128,14 @@ static lm_status parse_args(int argc, char **argv, worker_args *a)
         case 'I':
             a->link_id = optarg;
             break;
+        case 'M': {
+            char *end;
+            long fd = strtol(optarg, &end, 10);
+            if (!*optarg || *end || fd < 3 || fd > 1023)
+                return lm_fail(LM_E_INVALID, "--link-shm expects a descriptor, got '%s'", optarg);
+            a->link_shm = (int)fd;
+            break;
+        }
         case 'S': {
             char *end;
             a->spin_us = strtol(optarg, &end, 10);
@@ -162,6 +167,8 @@ static lm_status parse_args(int argc, char **argv, worker_args *a)
         return lm_fail(LM_E_INVALID, "unexpected argument '%s' (see --help)", argv[optind]);
     if ((a->link_fd >= 0) != (a->link_id != NULL))
         return lm_fail(LM_E_INVALID, "--link-fd and --link-id go together");
+    if (a->link_shm && a->link_fd < 0)
+        return lm_fail(LM_E_INVALID, "--link-shm goes with --link-fd");
     if (a->link_id && (!*a->link_id || strlen(a->link_id) > 200))
         return lm_fail(LM_E_INVALID, "--link-id expects 1 to 200 characters");
     if (!a->help && !a->connect && !a->self_test && !a->health)
@@ -245,6 +252,7 @@ int main(int argc, char **argv)
                               .health = a.health_socket,
                               .link_fd = a.link_fd,
                               .link_id = a.link_id,
+                              .link_shm = a.link_shm,
                               .spin_s = 1e-6 * (double)a.spin_us};
         st = wk_serve(&o);
         if (st != LM_OK) {

@@ -1,9 +1,9 @@
 /* coordinator/pool/pool_links.c — the socketpairs to the worker processes this coordinator
- * starts (proto/stream.h says why not ZeroMQ there), and the one way the pool sends and receives:
- * a peer whose routing id is a link's goes over its link, every other one over the ROUTER socket.
- * A link's worker still beats over the socket ("<id>#hb"); a frame at the socket that claims a
- * link's routing id is dropped. A link that closes (the process ended) or breaks the framing loses
- * its worker. */
+ * starts (proto/stream.h says why not ZeroMQ there) with their shared-memory lanes (proto/ring.h),
+ * and the one way the pool sends and receives: a peer whose routing id is a link's goes over its
+ * link, every other one over the ROUTER socket. A link's worker still beats over the socket
+ * ("<id>#hb"); a frame at the socket that claims a link's routing id is dropped. A link that closes
+ * (the process ended) or breaks the framing loses its worker. */
 #include <errno.h>
 #include <fcntl.h>
 #include <poll.h>
@@ -46,21 +46,36 @@ static lm_status add_link(co_pool *p, co_link **out)
     return LM_OK;
 }
 
-/* A socketpair, both ends close-on-exec, the child's end never descriptor 3 (spawn.c). */
-static lm_status make_pair(int fd[2])
+/* fd moved (close-on-exec) above the descriptors a worker is given its link on (3 and 4,
+ * spawn.c), where it was one of them; -1 (errno) if it cannot be. */
+static int above_child_fds(int fd)
 {
+    if (fd != 3 && fd != 4)
+        return fd;
+    int moved = fcntl(fd, F_DUPFD_CLOEXEC, 5);
+    close(fd);
+    return moved;
+}
+
+/* A socketpair and its shared-memory lane (proto/ring.h), all close-on-exec, the child's end and
+ * the lane never descriptor 3 or 4. */
+static lm_status make_pair(int fd[2], int *shm)
+{
+    *shm = -1;
     if (socketpair(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0, fd) != 0)
         return lm_fail(LM_E_IO, "cannot make a connection for a worker: %s", strerror(errno));
-    if (fd[1] == 3) {
-        int moved = fcntl(fd[1], F_DUPFD_CLOEXEC, 4);
-        close(fd[1]);
-        fd[1] = moved;
-        if (moved < 0) {
-            close(fd[0]);
-            return lm_fail(LM_E_IO, "cannot make a connection for a worker: %s", strerror(errno));
-        }
+    fd[1] = above_child_fds(fd[1]);
+    lm_status st =
+        fd[1] < 0 ? lm_fail(LM_E_IO, "cannot make a connection for a worker: %s", strerror(errno))
+                  : lm_ring_create(shm);
+    if (st == LM_OK && (*shm = above_child_fds(*shm)) < 0)
+        st = lm_fail(LM_E_IO, "cannot make shared memory for a worker: %s", strerror(errno));
+    if (st != LM_OK) {
+        close(fd[0]);
+        if (fd[1] >= 0)
+            close(fd[1]);
     }
-    return LM_OK;
+    return st;
 }
 
 lm_status co_pool_spawn(co_pool *p, uint32_t n)
@@ -71,28 +86,34 @@ lm_status co_pool_spawn(co_pool *p, uint32_t n)
     for (uint32_t i = 0; i < n && st == LM_OK; i++) {
         pid_t pid;
         if (p->o.socket_only) {
-            co_spawn_args a = {p->endpoint, p->o.device, p->o.keys, -1, NULL, 0};
+            co_spawn_args a = {p->endpoint, p->o.device, p->o.keys, -1, NULL, 0, -1};
             st = co_spawn_worker(&p->spawned, program, &a, &pid);
             continue;
         }
         co_link *l = NULL;
-        int fd[2] = {-1, -1};
+        int fd[2] = {-1, -1}, shm = -1;
         st = add_link(p, &l);
         if (st == LM_OK)
-            st = make_pair(fd);
+            st = make_pair(fd, &shm);
         if (st != LM_OK)
             break;
         l->rid_len =
             (size_t)snprintf(l->rid, sizeof l->rid, "local:%d:%u", (int)getpid(), ++p->links_made);
-        co_spawn_args a = {p->endpoint, p->o.device, p->o.keys, fd[1], l->rid, p->o.spin_us};
+        co_spawn_args a = {p->endpoint, p->o.device, p->o.keys, fd[1], l->rid, p->o.spin_us, shm};
         st = co_spawn_worker(&p->spawned, program, &a, &pid);
         close(fd[1]);
         if (st == LM_OK)
             st = lm_stream_open(&l->s, fd[0]);
+        else
+            close(fd[0]);
+        if (st == LM_OK)
+            st = lm_stream_share(&l->s, shm, 0); /* closes shm */
+        else
+            close(shm);
         if (st == LM_OK)
             p->n_links++;
         else
-            close(fd[0]);
+            lm_stream_close(&l->s);
     }
     return st;
 }
@@ -230,17 +251,38 @@ static int sock_readable(co_pool *p)
     return p->sock_unsure;
 }
 
-/* poll(2) that first looks without sleeping for up to the pool's await spin, yielding the
- * processor to anything else that wants it, where local workers' answers are awaited. */
+/* Whether a link has a frame to give without reading its socket (its shared-memory lane). */
+static int links_ready(co_pool *p)
+{
+    for (uint32_t i = 0; i < p->n_links; i++)
+        if (lm_stream_ready(&p->links[i].s))
+            return 1;
+    return 0;
+}
+
+/* poll(2) over fds with the links' lanes looked at too: first without sleeping for up to the
+ * pool's await spin, yielding the processor to anything else that wants it, where local workers'
+ * answers are awaited; then asleep, the links' writers told so (proto/stream.h). Returns as poll,
+ * 0 too when only a lane has something. */
 static int poll_awake(co_pool *p, struct pollfd *fds, nfds_t n, int timeout_ms)
 {
-    if (timeout_ms == 0 || p->o.await_spin_us <= 0 || !p->n_links)
-        return poll(fds, n, timeout_ms);
-    double until = co_pool_now() + 1e-6 * p->o.await_spin_us;
-    int rc;
-    while ((rc = poll(fds, n, 0)) == 0 && co_pool_now() < until)
-        sched_yield();
-    return rc == 0 ? poll(fds, n, timeout_ms) : rc;
+    if (timeout_ms == 0)
+        return poll(fds, n, 0);
+    int rc = 0;
+    if (p->o.await_spin_us > 0 && p->n_links) {
+        double until = co_pool_now() + 1e-6 * p->o.await_spin_us;
+        while (!links_ready(p) && (rc = poll(fds, n, 0)) == 0 && co_pool_now() < until)
+            sched_yield();
+    }
+    if (rc != 0 || links_ready(p))
+        return rc;
+    int woke = 0;
+    for (uint32_t i = 0; i < p->n_links; i++)
+        woke |= lm_stream_sleep(&p->links[i].s);
+    rc = woke ? 0 : poll(fds, n, timeout_ms);
+    for (uint32_t i = 0; i < p->n_links; i++)
+        lm_stream_awake(&p->links[i].s);
+    return rc;
 }
 
 /* One poll(2) over the links and the socket's descriptor: zmq_poll would ask the socket for its

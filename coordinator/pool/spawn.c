@@ -67,24 +67,30 @@ static char **worker_env(void)
 }
 
 #define WORKER_LINK_FD 3 /* the descriptor a worker finds its link on */
+#define WORKER_SHM_FD 4  /* ... and its link's shared-memory lane */
 
-/* The link's end as descriptor WORKER_LINK_FD in the child (every other descriptor of ours is
- * close-on-exec or not the child's business). */
-static lm_status link_actions(posix_spawn_file_actions_t *fa, int fd)
+/* The link's end as descriptor WORKER_LINK_FD in the child, its lane as WORKER_SHM_FD (every
+ * other descriptor of ours is close-on-exec or not the child's business). */
+static lm_status link_actions(posix_spawn_file_actions_t *fa, int fd, int shm_fd)
 {
     int rc = posix_spawn_file_actions_init(fa);
     if (rc == 0 && fd >= 0 && fd != WORKER_LINK_FD)
         rc = posix_spawn_file_actions_adddup2(fa, fd, WORKER_LINK_FD);
+    if (rc == 0 && fd >= 0 && shm_fd >= 0)
+        rc = posix_spawn_file_actions_adddup2(fa, shm_fd, WORKER_SHM_FD);
     return rc == 0 ? LM_OK : lm_fail(LM_E_NOMEM, "preparing a worker's start: %s", strerror(rc));
 }
 
 lm_status co_spawn_worker(co_spawned *s, const char *program, const co_spawn_args *a, pid_t *pid)
 {
-    char parent[32], link_fd[16], spin[16];
+    char parent[32], link_fd[16], shm_fd[16], spin[16];
     snprintf(parent, sizeof parent, "%d", (int)getpid());
     snprintf(link_fd, sizeof link_fd, "%d", WORKER_LINK_FD);
-    LM_ASSERT(a->link_fd != WORKER_LINK_FD); /* dup2 onto itself would keep close-on-exec */
-    char *argv[18] = {(char *)program,
+    snprintf(shm_fd, sizeof shm_fd, "%d", WORKER_SHM_FD);
+    /* dup2 onto itself would keep close-on-exec; the first dup2 must not overwrite the second's */
+    LM_ASSERT(a->link_fd != WORKER_LINK_FD && a->link_fd != WORKER_SHM_FD);
+    LM_ASSERT(a->shm_fd < 0 || (a->shm_fd != WORKER_LINK_FD && a->shm_fd != WORKER_SHM_FD));
+    char *argv[20] = {(char *)program,
                       "--connect",
                       (char *)a->endpoint,
                       "--device",
@@ -96,6 +102,8 @@ lm_status co_spawn_worker(co_spawned *s, const char *program, const co_spawn_arg
     if (a->link_fd >= 0) {
         argv[k++] = "--link-fd", argv[k++] = link_fd;
         argv[k++] = "--link-id", argv[k++] = (char *)a->link_id;
+        if (a->shm_fd >= 0)
+            argv[k++] = "--link-shm", argv[k++] = shm_fd;
         if (a->spin_us > 0) {
             snprintf(spin, sizeof spin, "%d", a->spin_us);
             argv[k++] = "--spin-us", argv[k++] = spin;
@@ -108,7 +116,7 @@ lm_status co_spawn_worker(co_spawned *s, const char *program, const co_spawn_arg
     if (!env)
         return lm_fail(LM_E_NOMEM, "out of memory starting workers");
     posix_spawn_file_actions_t fa;
-    lm_status st = link_actions(&fa, a->link_fd);
+    lm_status st = link_actions(&fa, a->link_fd, a->shm_fd);
     if (st == LM_OK) {
         fflush(NULL);
         int rc = posix_spawnp(pid, program, &fa, NULL, argv, env);

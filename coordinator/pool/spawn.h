@@ -24,15 +24,17 @@ const char *co_spawn_find_worker(const char *path, char *buf);
 
 /* What a worker is started with: the pool's endpoint (its heartbeats go there), --device
  * (NULL: auto), --keys (NULL: none) and, when link_fd >= 0, the socketpair end that carries its
- * messages (proto/stream.h), given to it as descriptor 3 with the routing id link_id. */
+ * messages (proto/stream.h), given to it as descriptor 3 with the routing id link_id, and with it
+ * shm_fd >= 0, the link's shared-memory lane (proto/ring.h), given as descriptor 4. */
 typedef struct co_spawn_args {
     const char *endpoint, *device, *keys;
     int link_fd;
     const char *link_id;
     int spin_us; /* with link_fd: its --spin-us (0 = none given) */
+    int shm_fd;  /* with link_fd: its --link-shm (-1 = none), never descriptor 3 or 4 */
 } co_spawn_args;
 
-/* Start one worker; its pid in *pid. The caller keeps (and closes) link_fd. */
+/* Start one worker; its pid in *pid. The caller keeps (and closes) link_fd and shm_fd. */
 lm_status co_spawn_worker(co_spawned *s, const char *program, const co_spawn_args *a, pid_t *pid);
 
 /* Reap the ones that exited: returns how many, their pids in exited[] (up to cap). */

@@ -8,8 +8,9 @@
  * the time the views took; the process CPU outside the views is the coordinator's own work. One
  * worker process then answers small requests over its link (the socketpair local mode uses) and
  * again over the pool's ZeroMQ ipc socket (as workers that connect by address talk), to measure
- * this machine's round trips, and two processes bounce 8 bytes over a plain Unix socket: the least
- * round trip any transport between processes has here (the floor). The link is timed a second time
+ * this machine's round trips, and two processes bounce 8 bytes over a plain Unix socket with
+ * blocking calls: the least a transport that sleeps between messages pays here (the floor; the link
+ * goes under it by spinning and through its shared-memory lane). The link is timed a second time
  * with coordinator and worker on one core: the difference is what waking a sleeping processor costs
  * (on a VM, most of a round trip).
  *
@@ -455,7 +456,7 @@ static void print_human(const opts *o, const costs *c, uint32_t views, const rtt
 {
     printf("bench scaling: %s, %u views of %u px, %llu evaluations per run; round trip here "
            "(small request) %.0f us over a local worker's link (%.0f us with both on one core), "
-           "%.0f us over ZeroMQ ipc, %.0f us over a plain Unix socket (the floor)\n",
+           "%.0f us over ZeroMQ ipc, %.0f us over a plain Unix socket, asleep between (the floor)\n",
            o->model, views, o->size, (unsigned long long)o->evals, t->link, t->link_one_core,
            t->zmq, t->floor);
     for (int r = 0; r < 2; r++) {
