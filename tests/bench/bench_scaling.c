@@ -454,11 +454,12 @@ typedef struct rtts {
 
 static void print_human(const opts *o, const costs *c, uint32_t views, const rtts *t)
 {
-    printf("bench scaling: %s, %u views of %u px, %llu evaluations per run; round trip here "
-           "(small request) %.0f us over a local worker's link (%.0f us with both on one core), "
-           "%.0f us over ZeroMQ ipc, %.0f us over a plain Unix socket, asleep between (the floor)\n",
-           o->model, views, o->size, (unsigned long long)o->evals, t->link, t->link_one_core,
-           t->zmq, t->floor);
+    printf(
+        "bench scaling: %s, %u views of %u px, %llu evaluations per run; round trip here "
+        "(small request) %.0f us over a local worker's link (%.0f us with both on one core), "
+        "%.0f us over ZeroMQ ipc, %.0f us over a plain Unix socket, asleep between (the floor)\n",
+        o->model, views, o->size, (unsigned long long)o->evals, t->link, t->link_one_core, t->zmq,
+        t->floor);
     for (int r = 0; r < 2; r++) {
         const costs *x = &c[r];
         printf(
