@@ -57,25 +57,27 @@ static int above_child_fds(int fd)
     return moved;
 }
 
-/* A socketpair and its shared-memory lane (proto/ring.h), all close-on-exec, the child's end and
- * the lane never descriptor 3 or 4. */
+/* A socketpair, both ends close-on-exec, the child's end never descriptor 3 or 4; and its
+ * shared-memory lane (proto/ring.h) in *shm, likewise, or -1 where the system gives none (the link
+ * then carries everything over the socket, as before the lane: slower, never wrong). */
 static lm_status make_pair(int fd[2], int *shm)
 {
-    *shm = -1;
     if (socketpair(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0, fd) != 0)
         return lm_fail(LM_E_IO, "cannot make a connection for a worker: %s", strerror(errno));
-    fd[1] = above_child_fds(fd[1]);
-    lm_status st =
-        fd[1] < 0 ? lm_fail(LM_E_IO, "cannot make a connection for a worker: %s", strerror(errno))
-                  : lm_ring_create(shm);
-    if (st == LM_OK && (*shm = above_child_fds(*shm)) < 0)
-        st = lm_fail(LM_E_IO, "cannot make shared memory for a worker: %s", strerror(errno));
-    if (st != LM_OK) {
+    if ((fd[1] = above_child_fds(fd[1])) < 0) {
+        int e = errno;
         close(fd[0]);
-        if (fd[1] >= 0)
-            close(fd[1]);
+        return lm_fail(LM_E_IO, "cannot make a connection for a worker: %s", strerror(e));
     }
-    return st;
+    lm_status st = lm_ring_create(shm);
+    if (st == LM_OK && (*shm = above_child_fds(*shm)) < 0)
+        st = lm_fail(LM_E_IO, "cannot move a worker's shared memory: %s", strerror(errno));
+    if (st != LM_OK) {
+        lm_warn("a local worker's messages all go over its socket: %s", lm_last_error());
+        lm_clear_error();
+        *shm = -1;
+    }
+    return LM_OK;
 }
 
 lm_status co_pool_spawn(co_pool *p, uint32_t n)
@@ -106,9 +108,9 @@ lm_status co_pool_spawn(co_pool *p, uint32_t n)
             st = lm_stream_open(&l->s, fd[0]);
         else
             close(fd[0]);
-        if (st == LM_OK)
+        if (st == LM_OK && shm >= 0)
             st = lm_stream_share(&l->s, shm, 0); /* closes shm */
-        else
+        else if (shm >= 0)
             close(shm);
         if (st == LM_OK)
             p->n_links++;
