@@ -17,6 +17,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/mman.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #define RING_WRAP 0xffffffffu
@@ -48,6 +49,11 @@ lm_status lm_ring_map(int fd, int side, lm_rings *r)
 {
     memset(r, 0, sizeof *r);
     size_t len = 2 * sizeof(lm_ring_shared);
+    struct stat st;
+    if (fstat(fd, &st) != 0 || st.st_size < (off_t)len) { /* else a touch beyond it is SIGBUS */
+        close(fd);
+        return lm_fail(LM_E_INVALID, "descriptor %d is not a link's shared memory", fd);
+    }
     void *m = mmap(NULL, len, PROT_READ | PROT_WRITE, MAP_SHARED, fd, 0);
     int e = errno;
     close(fd);

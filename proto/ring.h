@@ -43,7 +43,8 @@ typedef struct lm_rings {
 
 /* A new region for two rings, as a descriptor (close-on-exec) in *fd. */
 lm_status lm_ring_create(int *fd);
-/* Map region fd (closed whatever the result) as side 0 (its creator) or 1. */
+/* Map region fd (closed whatever the result) as side 0 (its creator) or 1. LM_E_INVALID when fd
+ * has less memory behind it than a region (not one: touching it would raise SIGBUS). */
 lm_status lm_ring_map(int fd, int side, lm_rings *r);
 void lm_ring_unmap(lm_rings *r);
 

@@ -1,9 +1,9 @@
 /* tests/unit/test_stream_lane.c — a local link's shared-memory lane (proto/ring.h, stream.h):
  * frames arrive whole and in the order sent whichever way each went (the lane, or the socket for
  * large frames and a full ring); a reader asleep on the socket is woken by a frame put in the lane,
- * and the wake mark costs the lane nothing afterwards; a ring whose lengths were scribbled on is
- * refused; two processes bouncing frames of every size, each side sleeping at times, keep every
- * byte and the order. */
+ * and the wake mark costs the lane nothing afterwards; a descriptor that is not a lane's memory,
+ * and a ring whose lengths were scribbled on, are refused; two processes bouncing frames of every
+ * size, each side sleeping at times, keep every byte and the order. */
 #include <poll.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -164,6 +164,18 @@ static void test_sleeping_reader_woken(void **state)
     lm_stream_close(&b);
 }
 
+static void test_not_a_lane_refused(void **state)
+{
+    (void)state;
+    int fd[2];
+    assert_int_equal(pipe(fd), 0);
+    lm_rings r;
+    assert_int_equal(lm_ring_map(fd[0], 1, &r), LM_E_INVALID); /* no memory behind it: refused */
+    assert_non_null(strstr(lm_last_error(), "not a link's shared memory"));
+    assert_null(r.map);
+    close(fd[1]);
+}
+
 static void test_scribbled_ring_refused(void **state)
 {
     (void)state;
@@ -239,6 +251,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_order_across_lane_and_socket),
         cmocka_unit_test(test_sleeping_reader_woken),
+        cmocka_unit_test(test_not_a_lane_refused),
         cmocka_unit_test(test_scribbled_ring_refused),
         cmocka_unit_test(test_two_processes_bounce),
     };
