@@ -23,7 +23,8 @@ lm_status wk_device_check_spec(const char *spec)
     int index;
     if (wk_device_is_cpu(spec) || wk_egl_parse_spec(spec, &kind, &index) == LM_OK)
         return LM_OK;
-    return lm_fail(LM_E_INVALID, "bad device '%s': expected auto, cpu, host or egl:N", spec);
+    return lm_fail(LM_E_INVALID, "bad device '%s': expected auto, cpu, host or egl:N",
+                   spec ? spec : "");
 }
 
 lm_status wk_device_open(const char *spec, wk_gl_context **ctx)
