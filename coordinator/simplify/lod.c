@@ -128,7 +128,7 @@ static lm_status simplify_level(lod *L, uint32_t k, lm_mesh **out)
     int shard = L->o->method == CO_PRICE_SHARD;
     co_isimp_config cfg = {
         .method = L->o->method, .target_verts = t, .views = L->vs, .derived_normals = derived};
-    co_isimp_stats s;
+    co_isimp_stats s = {0};
     if (!shard)
         st = lm_views_set_mesh_from(L->views, *out);
     if (st == LM_OK)
