@@ -1,8 +1,10 @@
 /* common/image_io_oiio.cpp — the only C++ in lumesh: the OpenImageIO 2.4 shim behind the C header
- * common/image.h. Reads any format OpenImageIO knows (file or memory) into RGBA8, rows top to
- * bottom; writes by extension, atomically (temp file beside the target, fsync, rename); encodes
- * PNG into memory for GLB export. No C++ exception crosses into C: every entry point catches them
- * and converts them, like OpenImageIO's own errors, into an lm_status with a one-line message. */
+ * common/image.h. Decodes any format OpenImageIO knows (file or memory) into RGBA8, rows top to
+ * bottom (lm_image_decode_*: in this process; common/image_read.c decides which bytes may come
+ * here and which are decoded in a child process); writes by extension, atomically (temp file beside
+ * the target, fsync, rename); encodes PNG into memory for GLB export. No C++ exception crosses into
+ * C: every entry point catches them and converts them, like OpenImageIO's own errors, into an
+ * lm_status with a one-line message. */
 #define _Noreturn [[noreturn]]
 extern "C" {
 #include "common/image.h"
@@ -260,14 +262,14 @@ template <typename F> static lm_status guarded(const char *what, F body)
     }
 }
 
-extern "C" lm_status lm_image_read(const char *path, lm_image **out)
+extern "C" lm_status lm_image_decode_file(const char *path, lm_image **out)
 {
     LM_ASSERT(path != NULL && out != NULL);
     return guarded("reading an image", [&] { return read_file(path, out); });
 }
 
-extern "C" lm_status lm_image_read_memory(const void *data, size_t size, const char *hint_ext,
-                                          lm_image **out)
+extern "C" lm_status lm_image_decode_memory(const void *data, size_t size, const char *hint_ext,
+                                            lm_image **out)
 {
     LM_ASSERT(out != NULL);
     return guarded("decoding an image", [&] { return read_memory(data, size, hint_ext, out); });

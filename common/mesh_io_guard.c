@@ -1,7 +1,8 @@
 /* common/mesh_io_guard.c — checks on the raw bytes of a model before assimp sees them, for the
  * input classes assimp 5.2 mis-handles: header counts far beyond what the file holds (assimp
- * allocates them up front), truncated GLB containers. OFF, PLY and STL have their own walkers
- * (mesh_io_guard_{off,ply,stl,dae,gltf}.c). Also the list of formats lm_mesh_load accepts. */
+ * allocates them up front), truncated GLB containers. OFF and STL have their own walkers
+ * (mesh_io_guard_{off,stl,dae,gltf}.c); PLY is read by lumesh's own reader, which checks its
+ * counts itself (mesh_io_ply_header.c). Also the list of formats lm_mesh_load accepts. */
 #include <ctype.h>
 #include <string.h>
 
@@ -72,8 +73,6 @@ lm_status lm_io_guard(const uint8_t *data, size_t size, const char *ext, const c
         return lm_fail(LM_E_FORMAT, "%s: the file is empty", name);
     if (!strcmp(ext, "off"))
         return lm_io_guard_off(data, size, name, max_tris);
-    if (!strcmp(ext, "ply"))
-        return lm_io_guard_ply(data, size, name, max_tris);
     if (!strcmp(ext, "stl"))
         return lm_io_guard_stl(data, size, name, max_tris);
     if (!strcmp(ext, "glb"))

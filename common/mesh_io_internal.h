@@ -28,13 +28,25 @@ void lm_io_path_ext(const char *path, char *buf, size_t cap);
 lm_status lm_io_guard(const uint8_t *data, size_t size, const char *ext, const char *name,
                       uint32_t max_tris);
 lm_status lm_io_guard_off(const uint8_t *data, size_t size, const char *name, uint32_t max_tris);
-lm_status lm_io_guard_ply(const uint8_t *data, size_t size, const char *name, uint32_t max_tris);
 lm_status lm_io_guard_stl(const uint8_t *data, size_t size, const char *name, uint32_t max_tris);
 lm_status lm_io_guard_dae(const uint8_t *data, size_t size, const char *name);
 /* The JSON of a .gltf file or of a .glb's first chunk. */
 lm_status lm_io_guard_gltf_json(const uint8_t *json, size_t size, const char *name);
 /* LM_E_UNSUPPORTED: "NAME: WHAT glTF 1.0 file (...); lumesh reads glTF 2.0: convert it ...". */
 lm_status lm_io_gltf1_refusal(const char *name, const char *what);
+
+/* ---- mesh_io_ply_header.c, mesh_io_ply_read.c: lumesh's own PLY reader --------------------- */
+
+/* A whole PLY file (ASCII, binary little or big endian) as a new scene in assimp's C layout: one
+ * mesh of triangles (polygons split, strips unrolled), one root node, one material (its diffuse
+ * texture the file's "comment TextureFile", if any). Not an assimp scene: release it with
+ * lm_io_ply_scene_destroy, never aiReleaseImport, and apply no assimp post-processing to it.
+ * Counts are checked against max_tris, LM_MESH_MAX_VERTS and the bytes present before anything is
+ * allocated for them. Errors: LM_E_FORMAT (malformed, truncated), LM_E_RANGE (over a limit, a
+ * vertex index out of range), LM_E_NOMEM; one line naming `name`; *out is then NULL. */
+lm_status lm_io_ply_read(const uint8_t *data, size_t size, const char *name, uint32_t max_tris,
+                         struct aiScene **out);
+void lm_io_ply_scene_destroy(struct aiScene *sc);
 
 /* ---- mesh_io_isolate.c: readers run in a child process ------------------------------------ */
 

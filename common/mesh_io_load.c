@@ -1,7 +1,8 @@
 /* common/mesh_io_load.c — lm_mesh_load / lm_mesh_load_memory: read the bytes, refuse hostile input
  * assimp would mis-handle (mesh_io_guard*.c), import through assimp's C API with our own file
- * system (mesh_io_aifs.c), convert the scene (mesh_io_scene.c), validate, build adjacency; FBX
- * and COLLADA in a child process (mesh_io_isolate.c).
+ * system (mesh_io_aifs.c) or, for PLY, through lumesh's own reader (mesh_io_ply_read.c), convert
+ * the scene (mesh_io_scene.c), validate, build adjacency; FBX and COLLADA in a child process
+ * (mesh_io_isolate.c). Which format is read how, and why: common/MODEL_INPUT.md.
  *
  * assimp runs in two steps: import with ValidateDataStructure only; then, once our own checks of
  * the raw scene pass (lm_io_check_scene: faces without indices make assimp's Triangulate abort),
@@ -70,38 +71,66 @@ static uint32_t max_tris_of(const lm_load_options *opts)
     return max_tris < LM_MESH_MAX_TRIS ? max_tris : LM_MESH_MAX_TRIS;
 }
 
+/* The scene of bytes that passed lm_io_guard: lumesh's own reader for PLY (*ours set: release
+ * with lm_io_ply_scene_destroy), assimp for the rest (*fs is then its file system). */
+static lm_status read_scene(const uint8_t *data, size_t size, const char *name, const char *ext,
+                            const char *dir, uint32_t max_tris, lm_aifs **fs,
+                            const struct aiScene **sc, int *ours)
+{
+    *fs = NULL;
+    *ours = !strcmp(ext, "ply");
+    if (*ours) {
+        struct aiScene *ply = NULL;
+        lm_status s = lm_io_ply_read(data, size, name, max_tris, &ply);
+        if (!s && (s = lm_io_check_scene(ply, name)) != LM_OK)
+            lm_io_ply_scene_destroy(ply);
+        *sc = s ? NULL : ply;
+        return s;
+    }
+    lm_status s = lm_aifs_create(name, data, size, dir != NULL, fs);
+    if (!s && (s = import_scene(*fs, name, sc)) != LM_OK) {
+        lm_aifs_destroy(*fs);
+        *fs = NULL;
+    }
+    return s;
+}
+
+static void release_scene(const struct aiScene *sc, lm_aifs *fs, int ours)
+{
+    if (ours)
+        lm_io_ply_scene_destroy((struct aiScene *)sc);
+    else
+        aiReleaseImport(sc);
+    lm_aifs_destroy(fs);
+}
+
 /* Import, convert, validate bytes that passed lm_io_guard, in this process; `dir` is NULL for
  * memory loads. */
 static lm_status load_bytes_here(const uint8_t *data, size_t size, const char *name,
                                  const char *dir, const lm_load_options *opts, lm_mesh **out)
 {
     uint32_t max_tris = max_tris_of(opts);
+    char ext[16];
+    lm_io_path_ext(name, ext, sizeof ext);
     lm_aifs *fs = NULL;
-    lm_status s = lm_aifs_create(name, data, size, dir != NULL, &fs);
+    const struct aiScene *sc = NULL;
+    int ours = 0;
+    lm_status s = read_scene(data, size, name, ext, dir, max_tris, &fs, &sc, &ours);
     if (s)
         return s;
-    const struct aiScene *sc = NULL;
-    s = import_scene(fs, name, &sc);
-    if (s) {
-        lm_aifs_destroy(fs);
-        return s;
-    }
     lm_scene_source src = {.name = name,
                            .dir = dir,
                            .max_tris = max_tris,
                            .keep_degenerate = opts ? opts->keep_degenerate : 0};
     lm_face_part *parts = NULL;
-    char ext[16];
-    lm_io_path_ext(name, ext, sizeof ext);
-    if (!strcmp(ext, "ply"))
+    if (ours)
         s = lm_io_ply_read_parts(data, size, &parts, &src.n_face_parts);
     src.face_parts = parts;
     lm_mesh *m = NULL;
     if (!s)
         s = lm_mesh_from_scene(sc, &src, &m);
     free(parts);
-    aiReleaseImport(sc);
-    lm_aifs_destroy(fs);
+    release_scene(sc, fs, ours);
     if (!s && (s = lm_mesh_validate(m)) != LM_OK)
         s = fail_named(s, name);
     if (!s)

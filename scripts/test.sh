@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Sets up everything and runs every test: the release build (-Werror) with ctest, the same tests
 # under ASan+UBSan, the fuzz targets (model loading, wire messages, local links' framing and shared
-# memory, assets, progressive-mesh files) for a short time each, and the clang-format check.
+# memory, assets, progressive-mesh files, textures, checkpoints), each a fixed number of runs, and
+# the clang-format check.
 # LUMESH_TEST_QUICK=1 runs only the release tests.
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
@@ -45,27 +46,49 @@ if [ "$rc" != 0 ]; then
 fi
 rm -f "$log"
 
-# A fixed seed keeps CI reproducible (LUMESH_FUZZ_SEED=0 lets libFuzzer pick one); longer
-# exploratory runs go through the same binaries with other seeds, and what they find joins the corpus.
-fuzz() { # fuzz TARGET SECONDS SEED_DIR...
-  local target=$1 secs=$2 corpus
+# The fuzz stages replay each target's corpus (its seeds, and every finding so far as a regress_*
+# input), then make a fixed number of mutations from a fixed seed: -runs, not a time, so a clean
+# checkout does the same work and passes or fails the same way on every machine, fast or slow.
+# Each fuzzer's whole output goes to build-fuzz/fuzz-logs/TARGET.log and a failing input to
+# build-fuzz/fuzz-logs/TARGET-crash-* (both named when it fails). Long exploratory campaigns with
+# other seeds are scripts/fuzz-explore.sh, run before a change to a parser lands.
+fuzz() { # fuzz TARGET RUNS SEED_DIR...
+  local target=$1 runs=$2 corpus log rc
   shift 2
   corpus=$(mktemp -d)
   for d in "$@"; do cp "$d"/* "$corpus"/; done
-  echo "== fuzz ($target, $secs s)"
-  ASAN_OPTIONS=detect_leaks=0 "$dir/tests/$target" -max_total_time="$secs" \
-    -seed="${LUMESH_FUZZ_SEED:-1}" -rss_limit_mb=4096 -max_len=65536 "$corpus" 2>&1 | tail -n 3
+  log="$logs/$target.log"
+  echo "== fuzz ($target: $(ls "$corpus" | wc -l) corpus inputs, then $runs runs, seed ${LUMESH_FUZZ_SEED:-1})"
+  set +e
+  ASAN_OPTIONS=detect_leaks=0 "$dir/tests/$target" -runs="$runs" -seed="${LUMESH_FUZZ_SEED:-1}" \
+    -rss_limit_mb=4096 -max_len=65536 -timeout=60 -artifact_prefix="$logs/$target-" \
+    "$corpus" >"$log" 2>&1
+  rc=$?
+  set -e
   rm -rf "$corpus"
+  if [ "$rc" != 0 ]; then
+    # the report: from the sanitizer's or libFuzzer's first error line to the end
+    awk '/^==[0-9]+==ERROR|^ERROR: libFuzzer|^==[0-9]+== ERROR|runtime error:|^\*\*\*/ {p=1} p' "$log" | head -n 150
+    echo "fuzz: $target failed (exit $rc); its whole report: $log; the input: $(ls "$logs/$target"-* 2>/dev/null | tr '\n' ' ')"
+    echo "fuzz: once fixed, add the input to the target's corpus as tests/fuzz/corpus/<target>/regress_<what>"
+    exit 1
+  fi
+  grep -E '^Done [0-9]+ runs' "$log" || tail -n 1 "$log"
 }
 dir=$(bash scripts/build.sh fuzz | tail -n 1)
+logs="$dir/fuzz-logs"
+rm -rf "$logs"
+mkdir -p "$logs"
 seeds=$(mktemp -d)
 mkdir -p "$seeds/msg" "$seeds/asset" "$seeds/stream"
 "$dir/tests/make_wire_seeds" "$seeds/msg" "$seeds/asset" "$seeds/stream"
-fuzz fuzz_mesh_load "${LUMESH_FUZZ_SECONDS:-60}" tests/fuzz/corpus/mesh_load
-fuzz fuzz_wire_msg "${LUMESH_FUZZ_WIRE_SECONDS:-30}" "$seeds/msg"
-fuzz fuzz_wire_asset "${LUMESH_FUZZ_WIRE_SECONDS:-30}" "$seeds/asset"
-fuzz fuzz_stream "${LUMESH_FUZZ_WIRE_SECONDS:-30}" "$seeds/stream"
-fuzz fuzz_stream_lane "${LUMESH_FUZZ_WIRE_SECONDS:-30}" tests/fuzz/corpus/stream_lane
-fuzz fuzz_pm "${LUMESH_FUZZ_PM_SECONDS:-30}" tests/fuzz/corpus/pm
+fuzz fuzz_mesh_load "${LUMESH_FUZZ_RUNS:-15000}" tests/fuzz/corpus/mesh_load
+fuzz fuzz_image "${LUMESH_FUZZ_RUNS:-6000}" tests/fuzz/corpus/image
+fuzz fuzz_wire_msg "${LUMESH_FUZZ_RUNS:-3000000}" "$seeds/msg"
+fuzz fuzz_wire_asset "${LUMESH_FUZZ_RUNS:-2000000}" "$seeds/asset"
+fuzz fuzz_stream "${LUMESH_FUZZ_RUNS:-300000}" "$seeds/stream"
+fuzz fuzz_stream_lane "${LUMESH_FUZZ_RUNS:-100000}" tests/fuzz/corpus/stream_lane
+fuzz fuzz_pm "${LUMESH_FUZZ_RUNS:-25000}" tests/fuzz/corpus/pm
+fuzz fuzz_checkpoint "${LUMESH_FUZZ_RUNS:-RUNS_CKPT}" tests/fuzz/corpus/checkpoint
 rm -rf "$seeds"
 echo "all tests passed"

@@ -4,9 +4,15 @@
  * FBX and DAE inputs are read in a child process (common/mesh_io_isolate.c), as in the product:
  * a crash inside assimp's readers for them is an error status here, and what this target still
  * catches for them are faults of our guards, the hand-back and the parent's side.
- * Seeds: tests/fuzz/corpus/mesh_load/ (tiny OBJ, PLY, OFF, STL, glTF, GLB, DAE and FBX files). */
+ * PLY is read by lumesh's own reader (common/mesh_io_ply_read.c), the other formats by assimp.
+ * LUMESH_FUZZ_FORMAT=ply (or obj, off, ...) pins every input to one format, the first byte still
+ * skipped, for the per-format campaigns of scripts/fuzz-explore.sh.
+ * Seeds: tests/fuzz/corpus/mesh_load/ (tiny OBJ, PLY, OFF, STL, glTF, GLB, DAE and FBX files, and
+ * every finding as a regress_* input). */
 #include <stddef.h>
 #include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "common/log.h"
@@ -23,7 +29,27 @@ const char *__lsan_default_suppressions(void)
 
 static const char *const exts[] = {"obj", "ply", "off", "stl", "gltf", "glb", "dae", "fbx"};
 
+static const char *pinned; /* LUMESH_FUZZ_FORMAT, or NULL */
+
+int LLVMFuzzerInitialize(int *argc, char ***argv);
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
+
+int LLVMFuzzerInitialize(int *argc, char ***argv)
+{
+    (void)argc, (void)argv;
+    const char *f = getenv("LUMESH_FUZZ_FORMAT");
+    for (size_t i = 0; f && *f && i < sizeof exts / sizeof exts[0]; i++)
+        if (!strcmp(f, exts[i]))
+            pinned = exts[i];
+    if (f && *f && !pinned) {
+        fprintf(stderr,
+                "fuzz_mesh_load: LUMESH_FUZZ_FORMAT=%s is not one of obj ply off stl gltf "
+                "glb dae fbx\n",
+                f);
+        exit(2);
+    }
+    return 0;
+}
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
@@ -32,7 +58,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     lm_log_set_level(LM_LOG_ERROR); /* dropped-triangle and texture warnings are expected */
     lm_load_options opts = {.max_tris = 1u << 20};
     lm_mesh *m = NULL;
-    lm_status s = lm_mesh_load_memory(data + 1, size - 1, exts[data[0] % 8], &opts, &m);
+    lm_status s =
+        lm_mesh_load_memory(data + 1, size - 1, pinned ? pinned : exts[data[0] % 8], &opts, &m);
     if (s == LM_OK) {
         LM_ASSERT(m != NULL && m->live_tris > 0 && m->live_tris <= opts.max_tris);
         LM_ASSERT(lm_mesh_validate(m) == LM_OK);

@@ -475,6 +475,80 @@ static void test_bad_absurd_counts(void **state)
     lmt_rmdir(dir);
 }
 
+/* lumesh's own PLY reader: big-endian bodies, uchar colours normalised, quads split, triangle
+ * strips with a restart, and the header classes that once reached assimp's reader and corrupted
+ * its heap (a repeated format line, a repeated element) refused with one line. */
+static void test_ply_reader(void **state)
+{
+    (void)state;
+    char *dir = lmt_mkdtemp();
+    /* big-endian: 4 vertices (x y z float, red green blue uchar), one quad */
+    const char *head = "ply\nformat binary_big_endian 1.0\nelement vertex 4\nproperty float x\n"
+                       "property float y\nproperty float z\nproperty uchar red\n"
+                       "property uchar green\nproperty uchar blue\nelement face 1\n"
+                       "property list uchar int vertex_indices\nend_header\n";
+    uint8_t body[4 * 15 + 1 + 16];
+    const float xyz[4][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+    size_t at = 0;
+    for (int v = 0; v < 4; v++) {
+        for (int k = 0; k < 3; k++) {
+            uint32_t u;
+            memcpy(&u, &xyz[v][k], 4);
+            for (int b = 3; b >= 0; b--)
+                body[at++] = (uint8_t)(u >> (8 * b));
+        }
+        body[at++] = 255, body[at++] = 0, body[at++] = 51;
+    }
+    body[at++] = 4;
+    for (int i = 0; i < 4; i++)
+        body[at++] = 0, body[at++] = 0, body[at++] = 0, body[at++] = (uint8_t)i;
+    uint8_t file[1024];
+    memcpy(file, head, strlen(head));
+    memcpy(file + strlen(head), body, at);
+    write_bytes(path_in(dir, "be.ply"), file, strlen(head) + at);
+    lm_mesh *m = NULL;
+    assert_int_equal(lm_mesh_load(path_in(dir, "be.ply"), NULL, &m), LM_OK);
+    assert_int_equal(m->live_tris, 2);
+    assert_int_equal(m->live_verts, 4);
+    assert_true(m->attrs & LM_ATTR_COLOR);
+    assert_float_equal(m->wedges[0].color[0], 1.0f, 1e-6);
+    assert_float_equal(m->wedges[0].color[2], 0.2f, 1e-6);
+    assert_float_equal(m->pos[2][0], 1.0f, 0);
+    lm_mesh_destroy(m);
+    /* a strip of 5 corners, a restart, then one more triangle: 3 + 1 triangles */
+    write_text(path_in(dir, "strip.ply"),
+               "ply\nformat ascii 1.0\nelement vertex 6\nproperty float x\nproperty float y\n"
+               "property float z\nelement tristrips 1\nproperty list int int vertex_indices\n"
+               "end_header\n0 0 0\n0 1 0\n1 0 0\n1 1 0\n2 0 0\n2 1 0\n"
+               "9 0 1 2 3 4 -1 5 4 3\n");
+    assert_int_equal(lm_mesh_load(path_in(dir, "strip.ply"), NULL, &m), LM_OK);
+    assert_int_equal(m->live_tris, 4);
+    lm_mesh_destroy(m);
+    const char *tri = "property float x\nproperty float y\nproperty float z\nelement face 1\n"
+                      "property list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n"
+                      "3 0 1 2\n";
+    char text[1024];
+    snprintf(text, sizeof text,
+             "ply\nformat ascii 1.0\nformat binary_little_endian 1.0\n"
+             "element vertex 3\n%s",
+             tri);
+    expect_load(dir, "twoformats.ply", text, LM_E_FORMAT);
+    assert_non_null(strstr(lm_last_error(), "two format lines"));
+    snprintf(text, sizeof text, "ply\nformat ascii 1.0\nelement vertex 3\nelement vertex 3\n%s",
+             tri);
+    expect_load(dir, "twovertex.ply", text, LM_E_FORMAT);
+    assert_non_null(strstr(lm_last_error(), "twice"));
+    expect_load(dir, "noxyz.ply",
+                "ply\nformat ascii 1.0\nelement vertex 1\nproperty float q\nend_header\n1\n",
+                LM_E_FORMAT);
+    expect_load(dir, "badstrip.ply",
+                "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                "property float z\nelement tristrips 1\nproperty list int int vertex_indices\n"
+                "end_header\n0 0 0\n1 0 0\n0 1 0\n4 0 1 2 -2\n",
+                LM_E_RANGE);
+    lmt_rmdir(dir);
+}
+
 /* glTF: assimp guesses another format from the bytes when its glTF reader refuses them, so JSON
  * that does not parse, or names no 2.x version, is refused before assimp sees it. */
 static void test_bad_gltf(void **state)
@@ -660,6 +734,7 @@ int main(void)
         cmocka_unit_test(test_bad_numbers_and_indices),
         cmocka_unit_test(test_bad_empty_and_degenerate),
         cmocka_unit_test(test_bad_absurd_counts),
+        cmocka_unit_test(test_ply_reader),
         cmocka_unit_test(test_bad_collada),
         cmocka_unit_test(test_bad_gltf),
         cmocka_unit_test(test_bad_output),

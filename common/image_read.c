@@ -1,0 +1,217 @@
+/* common/image_read.c — which decoder may see an image from outside (a model's texture, a texture
+ * embedded in a model or a progressive-mesh file), and where. The bytes decide, never the name:
+ * PNG and JPEG (by their signatures) are decoded in this process, through OpenImageIO's readers
+ * that the test gate fuzzes (tests/fuzz/fuzz_image.c); anything else OpenImageIO may know (TGA,
+ * BMP, TIFF, DDS, PSD, EXR, ...: dozens of readers nobody here fuzzes) is decoded in a forked child
+ * process that hands the pixels back through a pipe, so that a decoder crashing on a hostile file
+ * is a one-line error and the caller's heap, GL contexts and work are untouched. */
+#include <errno.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include "common/image.h"
+
+/* Largest image file read into memory to be decoded here. */
+#define IMAGE_MAX_FILE_BYTES ((size_t)1 << 30)
+
+/* "png" or "jpg" when the bytes start with that format's signature; NULL otherwise. */
+static const char *vetted_format(const uint8_t *p, size_t n)
+{
+    if (n >= 8 && !memcmp(p, "\x89PNG\r\n\x1a\n", 8))
+        return "png";
+    if (n >= 3 && p[0] == 0xFF && p[1] == 0xD8 && p[2] == 0xFF)
+        return "jpg";
+    return NULL;
+}
+
+/* What to decode: a file (path) or bytes in memory. */
+typedef struct decode_job {
+    const char *path;
+    const void *data;
+    size_t size;
+    const char *hint;
+} decode_job;
+
+static lm_status decode_here(const decode_job *j, lm_image **out)
+{
+    return j->path ? lm_image_decode_file(j->path, out)
+                   : lm_image_decode_memory(j->data, j->size, j->hint, out);
+}
+
+static int write_all(int fd, const void *p, size_t n)
+{
+    for (const uint8_t *b = p; n > 0;) {
+        ssize_t w = write(fd, b, n);
+        if (w < 0 && errno == EINTR)
+            continue;
+        if (w <= 0)
+            return 0;
+        b += w, n -= (size_t)w;
+    }
+    return 1;
+}
+
+static int read_all(int fd, void *p, size_t n)
+{
+    for (uint8_t *b = p; n > 0;) {
+        ssize_t r = read(fd, b, n);
+        if (r < 0 && errno == EINTR)
+            continue;
+        if (r <= 0)
+            return 0;
+        b += r, n -= (size_t)r;
+    }
+    return 1;
+}
+
+/* In the child: decode, then send {status, width, height} and the pixels (or the message). A
+ * fault kills the child by default action, whatever handlers the parent installed. */
+static void child_run(const decode_job *j, int fd)
+{
+    const int faults[] = {SIGSEGV, SIGBUS, SIGILL, SIGFPE, SIGABRT};
+    for (size_t i = 0; i < sizeof faults / sizeof faults[0]; i++)
+        signal(faults[i], SIG_DFL);
+    lm_image *img = NULL;
+    lm_status st = decode_here(j, &img);
+    int32_t head[3] = {(int32_t)st, img ? img->width : 0, img ? img->height : 0};
+    if (write_all(fd, head, sizeof head)) {
+        if (st == LM_OK)
+            write_all(fd, img->pixels, (size_t)img->width * (size_t)img->height * 4);
+        else
+            write_all(fd, lm_last_error(), strlen(lm_last_error()));
+    }
+    _exit(0);
+}
+
+/* In the parent: the child's answer, read whole before the child is reaped. */
+static lm_status parent_read(int fd, const char *name, lm_image **out)
+{
+    int32_t head[3];
+    if (!read_all(fd, head, sizeof head))
+        return lm_fail(LM_E_FORMAT, "image %s: the image decoder failed on this file", name);
+    if (head[0] != LM_OK) {
+        char msg[400] = "";
+        ssize_t n = read(fd, msg, sizeof msg - 1);
+        msg[n > 0 ? n : 0] = '\0';
+        lm_status st = head[0] > 0 && head[0] < LM_E_COUNT_ ? (lm_status)head[0] : LM_E_INTERNAL;
+        return lm_fail(st, "%s", msg[0] ? msg : "image decoder failed");
+    }
+    if (head[1] < 1 || head[2] < 1 || head[1] > LM_IMAGE_MAX_SIDE || head[2] > LM_IMAGE_MAX_SIDE)
+        return lm_fail(LM_E_INTERNAL, "image %s: the decoder process sent a %dx%d image", name,
+                       head[1], head[2]);
+    lm_image *img;
+    lm_status st = lm_image_create(head[1], head[2], &img);
+    if (st)
+        return st;
+    if (!read_all(fd, img->pixels, (size_t)head[1] * (size_t)head[2] * 4)) {
+        lm_image_destroy(img);
+        return lm_fail(LM_E_FORMAT, "image %s: the image decoder failed on this file", name);
+    }
+    *out = img;
+    return LM_OK;
+}
+
+/* Decode in a forked child; a crash there is LM_E_FORMAT naming `name`. */
+static lm_status decode_isolated(const decode_job *j, const char *name, lm_image **out)
+{
+    int fds[2];
+    if (pipe(fds) != 0)
+        return lm_fail(LM_E_IO, "cannot create a pipe: %s", strerror(errno));
+    pid_t pid = fork();
+    if (pid < 0) {
+        close(fds[0]), close(fds[1]);
+        return lm_fail(LM_E_IO, "cannot start an image decoder process: %s", strerror(errno));
+    }
+    if (pid == 0) {
+        close(fds[0]);
+        child_run(j, fds[1]);
+    }
+    close(fds[1]);
+    lm_image *img = NULL;
+    lm_status st = parent_read(fds[0], name, &img);
+    close(fds[0]);
+    int ws = 0;
+    while (waitpid(pid, &ws, 0) < 0 && errno == EINTR)
+        ;
+    if (WIFSIGNALED(ws) && st != LM_OK) /* killed after a whole image: the image stands */
+        st = lm_fail(LM_E_FORMAT, "image %s: the image decoder crashed on it (%s): it is malformed",
+                     name, strsignal(WTERMSIG(ws)));
+    if (st) {
+        lm_image_destroy(img);
+        return st;
+    }
+    *out = img;
+    return LM_OK;
+}
+
+/* The whole file, when it is small enough to decode from memory here. */
+static lm_status read_bytes(const char *path, size_t size, uint8_t **out)
+{
+    FILE *fp = fopen(path, "rb");
+    if (!fp)
+        return lm_fail(LM_E_IO, "cannot read image %s: %s", path, strerror(errno));
+    uint8_t *buf = malloc(size ? size : 1);
+    size_t got = buf ? fread(buf, 1, size, fp) : 0;
+    fclose(fp);
+    if (!buf || got != size) {
+        free(buf);
+        return buf ? lm_fail(LM_E_IO, "cannot read image %s: it changed while read", path)
+                   : lm_fail(LM_E_NOMEM, "out of memory reading image %s", path);
+    }
+    *out = buf;
+    return LM_OK;
+}
+
+lm_status lm_image_read(const char *path, lm_image **out)
+{
+    LM_ASSERT(path != NULL && out != NULL);
+    struct stat st;
+    if (stat(path, &st) != 0)
+        return lm_fail(LM_E_IO, "cannot read image %s: %s", path, strerror(errno));
+    if (!S_ISREG(st.st_mode))
+        return lm_fail(LM_E_IO, "cannot read image %s: not a regular file", path);
+    uint8_t head[8] = {0};
+    FILE *fp = fopen(path, "rb");
+    size_t n = fp ? fread(head, 1, sizeof head, fp) : 0;
+    if (fp)
+        fclose(fp);
+    if (!fp)
+        return lm_fail(LM_E_IO, "cannot read image %s: %s", path, strerror(errno));
+    const char *fmt = vetted_format(head, n);
+    if (!fmt || (uint64_t)st.st_size > IMAGE_MAX_FILE_BYTES) {
+        decode_job j = {.path = path};
+        return decode_isolated(&j, path, out);
+    }
+    uint8_t *bytes = NULL;
+    lm_status s = read_bytes(path, (size_t)st.st_size, &bytes);
+    if (s)
+        return s;
+    s = lm_image_decode_memory(bytes, (size_t)st.st_size, fmt, out);
+    free(bytes);
+    if (s) { /* the message names the file, not "embedded.png" */
+        char msg[300];
+        snprintf(msg, sizeof msg, "%s", lm_last_error());
+        s = lm_fail(s, "image %s: %s", path, msg);
+    }
+    return s;
+}
+
+lm_status lm_image_read_memory(const void *data, size_t size, const char *hint_ext, lm_image **out)
+{
+    LM_ASSERT(out != NULL);
+    if (!data || size == 0)
+        return lm_fail(LM_E_FORMAT, "embedded image is empty");
+    const char *fmt = vetted_format(data, size);
+    if (fmt)
+        return lm_image_decode_memory(data, size, fmt, out);
+    decode_job j = {.data = data, .size = size, .hint = hint_ext};
+    char name[64];
+    snprintf(name, sizeof name, "embedded %s (%zu bytes)", hint_ext && *hint_ext ? hint_ext : "",
+             size);
+    return decode_isolated(&j, name, out);
+}

@@ -1,0 +1,34 @@
+/* tests/fuzz/fuzz_image.c — libFuzzer target for the textures lumesh decodes in its own process
+ * (lm_image_read_memory; common/image_read.c): PNG and JPEG, by their signatures, through
+ * OpenImageIO and libpng / libjpeg. Every other format goes to a child process there, where a
+ * crash is an error status; this target sees those inputs too, and checks the hand-back. The
+ * first byte picks the format hint, the rest is the image. Any input must give LM_OK with an image
+ * inside the limits, or an error status with a one-line message; never a crash, a leak or a hang.
+ * Seeds: tests/fuzz/corpus/image/ (small PNG and JPEG files: grey, RGB, RGBA, palette, 16-bit,
+ * interlaced, progressive). */
+#include <stddef.h>
+#include <stdint.h>
+#include <string.h>
+
+#include "common/image.h"
+#include "common/log.h"
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
+{
+    static const char *const hints[] = {"png", "jpg", "tga", NULL};
+    if (size < 1)
+        return 0;
+    lm_log_set_level(LM_LOG_ERROR);
+    lm_image *img = NULL;
+    lm_status s = lm_image_read_memory(data + 1, size - 1, hints[data[0] % 4], &img);
+    if (s == LM_OK) {
+        LM_ASSERT(img != NULL && img->channels == 4 && img->width >= 1 && img->height >= 1 &&
+                  img->width <= LM_IMAGE_MAX_SIDE && img->height <= LM_IMAGE_MAX_SIDE);
+        lm_image_destroy(img);
+    } else {
+        LM_ASSERT(img == NULL && lm_last_error()[0] != '\0' && !strchr(lm_last_error(), '\n'));
+    }
+    return 0;
+}
