@@ -10,12 +10,15 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include "common/image.h"
 
+/* CPU seconds a decoder process may use (a 16k x 16k texture decodes in a few). */
+#define IMAGE_DECODER_CPU_SECONDS 300
 /* Largest image file read into memory to be decoded here. */
 #define IMAGE_MAX_FILE_BYTES ((size_t)1 << 30)
 
@@ -73,9 +76,11 @@ static int read_all(int fd, void *p, size_t n)
  * fault kills the child by default action, whatever handlers the parent installed. */
 static void child_run(const decode_job *j, int fd)
 {
-    const int faults[] = {SIGSEGV, SIGBUS, SIGILL, SIGFPE, SIGABRT};
+    const int faults[] = {SIGSEGV, SIGBUS, SIGILL, SIGFPE, SIGABRT, SIGXCPU};
     for (size_t i = 0; i < sizeof faults / sizeof faults[0]; i++)
         signal(faults[i], SIG_DFL);
+    struct rlimit cpu = {IMAGE_DECODER_CPU_SECONDS, IMAGE_DECODER_CPU_SECONDS};
+    setrlimit(RLIMIT_CPU, &cpu); /* a decoder that loops forever is killed, reported as a crash */
     lm_image *img = NULL;
     lm_status st = decode_here(j, &img);
     int32_t head[3] = {(int32_t)st, img ? img->width : 0, img ? img->height : 0};

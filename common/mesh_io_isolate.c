@@ -1,6 +1,7 @@
 /* common/mesh_io_isolate.c — runs a model reader in a child process, for the formats whose assimp
  * reader is not fully guarded (FBX, COLLADA): assimp 5.2 aborts on some malformed FBX files
- * (ai_assert) and can crash or exhaust memory on others. The child (fork) loads the model and
+ * (ai_assert) and can crash or exhaust memory on others; one that loops forever is stopped after
+ * LM_IO_ISOLATED_CPU_SECONDS of CPU. The child (fork) loads the model and
  * writes it as GLB to a private temporary folder; the parent reads that back through the guarded
  * glTF path. A crash, an abort or the OOM killer in the child becomes a one-line error, and the
  * caller's process, its GL contexts and its work are untouched. The child touches no GL state and
@@ -10,10 +11,15 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include "common/mesh_io_internal.h"
+
+/* CPU seconds a reader process may use: far beyond any real model (a 2M-triangle OBJ loads in
+ * 6 s here), short of a stuck job. */
+#define LM_IO_ISOLATED_CPU_SECONDS 900
 
 int lm_io_isolated_format(const char *ext)
 {
@@ -25,9 +31,12 @@ int lm_io_isolated_format(const char *ext)
  * sanitizers would otherwise catch it and run on as a copy of the parent). */
 static void child_run(lm_io_loader load, void *ctx, const char *glb, int fd)
 {
-    const int faults[] = {SIGSEGV, SIGBUS, SIGILL, SIGFPE, SIGABRT};
+    const int faults[] = {SIGSEGV, SIGBUS, SIGILL, SIGFPE, SIGABRT, SIGXCPU};
     for (size_t i = 0; i < sizeof faults / sizeof faults[0]; i++)
         signal(faults[i], SIG_DFL);
+    /* a reader that loops forever is killed (SIGXCPU) and reported like a crash */
+    struct rlimit cpu = {LM_IO_ISOLATED_CPU_SECONDS, LM_IO_ISOLATED_CPU_SECONDS};
+    setrlimit(RLIMIT_CPU, &cpu);
     lm_mesh *m = NULL;
     lm_status st = load(ctx, &m);
     if (st == LM_OK)

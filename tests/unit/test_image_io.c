@@ -78,6 +78,35 @@ static void test_png_roundtrip(void **state)
     lmt_rmdir(dir);
 }
 
+/* The bytes decide which decoder reads a file, not its name: a TIFF named .png (read in a child
+ * process) and a PNG named .tga (read here) both come back whole; bytes no decoder knows give one
+ * line. */
+static void test_bytes_decide(void **state)
+{
+    (void)state;
+    char *dir = lmt_mkdtemp();
+    lm_image *img = make_image(), *back = NULL;
+    const char *pairs[][2] = {{"t.tif", "tif_named.png"}, {"p.png", "png_named.tga"}};
+    for (int i = 0; i < 2; i++) {
+        assert_int_equal(lm_image_write(path_in(dir, pairs[i][0]), img), LM_OK);
+        assert_int_equal(rename(path_in(dir, pairs[i][0]), path_in(dir, pairs[i][1])), 0);
+        assert_int_equal(lm_image_read(path_in(dir, pairs[i][1]), &back), LM_OK);
+        assert_memory_equal(img->pixels, back->pixels, 7 * 5 * 4);
+        lm_image_destroy(back);
+    }
+    FILE *fp = fopen(path_in(dir, "noise.tga"), "wb");
+    assert_non_null(fp);
+    for (int i = 0; i < 300; i++)
+        fputc((i * 37) & 255, fp);
+    fclose(fp);
+    back = NULL;
+    assert_int_not_equal(lm_image_read(path_in(dir, "noise.tga"), &back), LM_OK);
+    assert_null(back);
+    assert_null(strchr(lm_last_error(), '\n'));
+    lm_image_destroy(img);
+    lmt_rmdir(dir);
+}
+
 static void test_jpeg_drops_alpha(void **state)
 {
     (void)state;
@@ -208,7 +237,7 @@ int main(void)
         cmocka_unit_test(test_create_clone),     cmocka_unit_test(test_png_roundtrip),
         cmocka_unit_test(test_jpeg_drops_alpha), cmocka_unit_test(test_gray),
         cmocka_unit_test(test_memory),           cmocka_unit_test(test_png_bomb),
-        cmocka_unit_test(test_failures),
+        cmocka_unit_test(test_failures),         cmocka_unit_test(test_bytes_decide),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
