@@ -52,7 +52,7 @@ rm -f "$log"
 # Each fuzzer's whole output goes to build-fuzz/fuzz-logs/TARGET.log and a failing input to
 # build-fuzz/fuzz-logs/TARGET-crash-* (both named when it fails). Long exploratory campaigns with
 # other seeds are scripts/fuzz-explore.sh, run before a change to a parser lands.
-fuzz() { # fuzz TARGET RUNS SEED_DIR...
+fuzz() { # [FUZZ_ARGS="-flag=..."] fuzz TARGET RUNS SEED_DIR...
   local target=$1 runs=$2 corpus log rc
   shift 2
   corpus=$(mktemp -d)
@@ -62,7 +62,7 @@ fuzz() { # fuzz TARGET RUNS SEED_DIR...
   set +e
   ASAN_OPTIONS=detect_leaks=0 "$dir/tests/$target" -runs="$runs" -seed="${LUMESH_FUZZ_SEED:-1}" \
     -rss_limit_mb=4096 -max_len=65536 -timeout=60 -artifact_prefix="$logs/$target-" \
-    "$corpus" >"$log" 2>&1
+    ${FUZZ_ARGS:-} "$corpus" >"$log" 2>&1
   rc=$?
   set -e
   rm -rf "$corpus"
@@ -89,6 +89,7 @@ fuzz fuzz_wire_asset "${LUMESH_FUZZ_RUNS:-2000000}" "$seeds/asset"
 fuzz fuzz_stream "${LUMESH_FUZZ_RUNS:-300000}" "$seeds/stream"
 fuzz fuzz_stream_lane "${LUMESH_FUZZ_RUNS:-100000}" tests/fuzz/corpus/stream_lane
 fuzz fuzz_pm "${LUMESH_FUZZ_RUNS:-25000}" tests/fuzz/corpus/pm
-fuzz fuzz_checkpoint "${LUMESH_FUZZ_RUNS:-RUNS_CKPT}" tests/fuzz/corpus/checkpoint
+# a checkpoint of a few KiB once made the loader allocate 1 GiB: the limit makes that a finding
+FUZZ_ARGS=-malloc_limit_mb=256 fuzz fuzz_checkpoint "${LUMESH_FUZZ_RUNS:-300000}" tests/fuzz/corpus/checkpoint
 rm -rf "$seeds"
 echo "all tests passed"

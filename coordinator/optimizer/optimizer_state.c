@@ -323,8 +323,9 @@ static void save_iteration(co_bin *b, const co_iteration *it)
         co_put_u32(b, it->touched.ids[i]);
 }
 
-/* Into `it`, whose arrays hold `cap` entries. */
-static lm_status load_iteration(co_bin *b, co_iteration *it, uint32_t cap)
+/* Into `it`, whose arrays hold `cap` entries; touched vertices are ids below n_verts (the set is
+ * sized by the largest id). */
+static lm_status load_iteration(co_bin *b, co_iteration *it, uint32_t cap, uint32_t n_verts)
 {
     it->active = (int)co_get_u32(b);
     it->pos = co_get_u32(b);
@@ -352,7 +353,7 @@ static lm_status load_iteration(co_bin *b, co_iteration *it, uint32_t cap)
         return co_bin_bad(b, "bad iteration state");
     for (uint32_t i = 0; i < n && !b->status; i++) {
         uint32_t v = co_get_u32(b);
-        if (v >= LM_MESH_MAX_VERTS)
+        if (v >= n_verts)
             return co_bin_bad(b, "bad iteration state");
         lm_status st = co_idset_add(&it->touched, v);
         if (st)
@@ -504,7 +505,7 @@ static lm_status parse(co_bin *b, const co_optimizer *o, loaded *l)
     if (!st && (!l->it.plan || !l->it.no_progress))
         st = lm_fail(LM_E_NOMEM, "out of memory reading the optimizer state");
     if (!st)
-        st = load_iteration(b, &l->it, cap);
+        st = load_iteration(b, &l->it, cap, l->mesh.n_verts);
     if (!st && co_get_u32(b) != OPT_END)
         st = co_bin_bad(b, "missing end marker");
     for (uint32_t i = 0; i < l->it.n_plan && !st; i++)
