@@ -9,6 +9,7 @@
 #
 #   scripts/fuzz-explore.sh [--minutes M] [--seeds "11 12 13"] [--jobs J] [FORMAT...]
 #   FORMAT: obj ply off stl gltf glb dae fbx image (default: all)
+#   LUMESH_FUZZ_DIR=DIR: use DIR/tests/fuzz_* as built, instead of building build-fuzz/
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
 minutes=30 seeds="11 12 13" jobs=1 formats=()
@@ -17,13 +18,14 @@ while [ $# -gt 0 ]; do
     --minutes) minutes=$2; shift 2 ;;
     --seeds) seeds=$2; shift 2 ;;
     --jobs) jobs=$2; shift 2 ;;
-    -h|--help) sed -n '2,13p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,15p' "$0"; exit 0 ;;
     -*) echo "fuzz-explore: unknown option $1" >&2; exit 2 ;;
     *) formats+=("$1"); shift ;;
   esac
 done
 [ ${#formats[@]} -gt 0 ] || formats=(obj ply off stl gltf glb dae fbx image)
-dir=$(bash "$here/scripts/build.sh" fuzz | tail -n 1)
+# LUMESH_FUZZ_DIR: a folder whose tests/ holds fuzz binaries already built (default: build them)
+dir=${LUMESH_FUZZ_DIR:-$(bash "$here/scripts/build.sh" fuzz | tail -n 1)}
 out="$here/out/fuzz"
 models="$here/tests/data/cache/root/usr/share/assimp/models"
 n_seeds=$(echo $seeds | wc -w)
