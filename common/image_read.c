@@ -2,9 +2,10 @@
  * embedded in a model or a progressive-mesh file), and where. The bytes decide, never the name:
  * PNG and JPEG (by their signatures) are decoded in this process, through OpenImageIO's readers
  * that the test gate fuzzes (tests/fuzz/fuzz_image.c); anything else OpenImageIO may know (TGA,
- * BMP, TIFF, DDS, PSD, EXR, ...: dozens of readers nobody here fuzzes) is decoded in a forked child
- * process that hands the pixels back through a pipe, so that a decoder crashing on a hostile file
- * is a one-line error and the caller's heap, GL contexts and work are untouched. */
+ * BMP, TIFF, DDS, PSD, EXR, ...: dozens of readers nobody here fuzzes) is decoded in a process of
+ * its own (this program run afresh: fork, then exec) that hands the pixels back through a pipe,
+ * so that a decoder crashing on a hostile file is a one-line error and the caller's heap, GL
+ * contexts and work are untouched. */
 #include <errno.h>
 #include <signal.h>
 #include <stdio.h>
@@ -40,12 +41,6 @@ typedef struct decode_job {
     const char *hint;
 } decode_job;
 
-static lm_status decode_here(const decode_job *j, lm_image **out)
-{
-    return j->path ? lm_image_decode_file(j->path, out)
-                   : lm_image_decode_memory(j->data, j->size, j->hint, out);
-}
-
 static int write_all(int fd, const void *p, size_t n)
 {
     for (const uint8_t *b = p; n > 0;) {
@@ -72,28 +67,89 @@ static int read_all(int fd, void *p, size_t n)
     return 1;
 }
 
-/* In the child: decode, then send {status, width, height} and the pixels (or the message). A
- * fault kills the child by default action, whatever handlers the parent installed. */
-static void child_run(const decode_job *j, int fd)
+/* ---- the decoder process ----------------------------------------------------------------------
+ * A fork alone is not enough: the child would inherit locks and thread pools of threads it does
+ * not have (OpenImageIO's TIFF reader spun forever in such a child, waiting on its parent's pool).
+ * So the child execs this same program afresh, with DECODER_ENV set; before main runs, the
+ * constructor below sees it, decodes (the file DECODER_ENV names, or the bytes on stdin), answers
+ * on stdout with {status, width, height} and the pixels (or the message), and exits. */
+#define DECODER_ENV "LUMESH_IMAGE_DECODER"
+#define DECODER_HINT_ENV "LUMESH_IMAGE_DECODER_HINT"
+
+/* The bytes on stdin (at most IMAGE_MAX_FILE_BYTES). */
+static uint8_t *read_stdin(size_t *n)
 {
-    const int faults[] = {SIGSEGV, SIGBUS, SIGILL, SIGFPE, SIGABRT, SIGXCPU};
-    for (size_t i = 0; i < sizeof faults / sizeof faults[0]; i++)
-        signal(faults[i], SIG_DFL);
+    size_t cap = 1 << 16;
+    uint8_t *buf = malloc(cap);
+    *n = 0;
+    for (ssize_t r; buf;) {
+        if (*n == cap) {
+            uint8_t *b = cap < IMAGE_MAX_FILE_BYTES ? realloc(buf, cap * 2) : NULL;
+            if (!b) {
+                free(buf);
+                return NULL;
+            }
+            buf = b, cap *= 2;
+        }
+        r = read(0, buf + *n, cap - *n);
+        if (r < 0 && errno == EINTR)
+            continue;
+        if (r <= 0)
+            break;
+        *n += (size_t)r;
+    }
+    return buf;
+}
+
+static void decoder_answer(lm_status st, const lm_image *img)
+{
+    int32_t head[3] = {(int32_t)st, img ? img->width : 0, img ? img->height : 0};
+    if (write_all(1, head, sizeof head)) {
+        if (st == LM_OK)
+            write_all(1, img->pixels, (size_t)img->width * (size_t)img->height * 4);
+        else
+            write_all(1, lm_last_error(), strlen(lm_last_error()));
+    }
+}
+
+__attribute__((constructor)) static void decoder_main(void)
+{
+    const char *what = getenv(DECODER_ENV);
+    if (!what)
+        return;
     struct rlimit cpu = {IMAGE_DECODER_CPU_SECONDS, IMAGE_DECODER_CPU_SECONDS};
     setrlimit(RLIMIT_CPU, &cpu); /* a decoder that loops forever is killed, reported as a crash */
     lm_image *img = NULL;
-    lm_status st = decode_here(j, &img);
-    int32_t head[3] = {(int32_t)st, img ? img->width : 0, img ? img->height : 0};
-    if (write_all(fd, head, sizeof head)) {
-        if (st == LM_OK)
-            write_all(fd, img->pixels, (size_t)img->width * (size_t)img->height * 4);
-        else
-            write_all(fd, lm_last_error(), strlen(lm_last_error()));
+    lm_status st;
+    if (what[0]) {
+        st = lm_image_decode_file(what, &img);
+    } else {
+        size_t n = 0;
+        uint8_t *data = read_stdin(&n);
+        st = data ? lm_image_decode_memory(data, n, getenv(DECODER_HINT_ENV), &img)
+                  : lm_fail(LM_E_NOMEM, "out of memory reading an image");
+        free(data);
     }
+    decoder_answer(st, img);
     _exit(0);
 }
 
-/* In the parent: the child's answer, read whole before the child is reaped. */
+/* In the forked child: stdin and stdout on the pipes, then this program again, as a decoder. */
+static void child_exec(const decode_job *j, int in_fd, int out_fd)
+{
+    if (dup2(in_fd, 0) < 0 || dup2(out_fd, 1) < 0)
+        _exit(127);
+    setenv(DECODER_ENV, j->path ? j->path : "", 1);
+    if (j->hint)
+        setenv(DECODER_HINT_ENV, j->hint, 1);
+    else
+        unsetenv(DECODER_HINT_ENV);
+    char *argv[] = {"lumesh-image-decoder", NULL};
+    execv("/proc/self/exe", argv);
+    _exit(127);
+}
+
+/* In the parent: the decoder's answer, read whole before it is reaped. */
 static lm_status parent_read(int fd, const char *name, lm_image **out)
 {
     int32_t head[3];
@@ -121,31 +177,53 @@ static lm_status parent_read(int fd, const char *name, lm_image **out)
     return LM_OK;
 }
 
-/* Decode in a forked child; a crash there is LM_E_FORMAT naming `name`. */
-static lm_status decode_isolated(const decode_job *j, const char *name, lm_image **out)
+/* The decoder's exit: a crash, or an exec that failed, is an error naming `name`. */
+static lm_status reap(pid_t pid, lm_status st, const char *name)
 {
-    int fds[2];
-    if (pipe(fds) != 0)
-        return lm_fail(LM_E_IO, "cannot create a pipe: %s", strerror(errno));
-    pid_t pid = fork();
-    if (pid < 0) {
-        close(fds[0]), close(fds[1]);
-        return lm_fail(LM_E_IO, "cannot start an image decoder process: %s", strerror(errno));
-    }
-    if (pid == 0) {
-        close(fds[0]);
-        child_run(j, fds[1]);
-    }
-    close(fds[1]);
-    lm_image *img = NULL;
-    lm_status st = parent_read(fds[0], name, &img);
-    close(fds[0]);
     int ws = 0;
     while (waitpid(pid, &ws, 0) < 0 && errno == EINTR)
         ;
-    if (WIFSIGNALED(ws) && st != LM_OK) /* killed after a whole image: the image stands */
-        st = lm_fail(LM_E_FORMAT, "image %s: the image decoder crashed on it (%s): it is malformed",
-                     name, strsignal(WTERMSIG(ws)));
+    if (st == LM_OK) /* a whole image came back: it stands, whatever happened after */
+        return LM_OK;
+    if (WIFSIGNALED(ws))
+        return lm_fail(LM_E_FORMAT,
+                       "image %s: the image decoder crashed on it (%s): it is malformed", name,
+                       strsignal(WTERMSIG(ws)));
+    if (WIFEXITED(ws) && WEXITSTATUS(ws) == 127)
+        return lm_fail(LM_E_INTERNAL, "image %s: cannot start an image decoder process", name);
+    return st;
+}
+
+/* Decode in a fresh process (fork, then exec of this program); a crash there is LM_E_FORMAT
+ * naming `name`. Bytes in memory go to it on a pipe. */
+static lm_status decode_isolated(const decode_job *j, const char *name, lm_image **out)
+{
+    int in[2], res[2];
+    if (pipe(in) != 0)
+        return lm_fail(LM_E_IO, "cannot create a pipe: %s", strerror(errno));
+    if (pipe(res) != 0) {
+        close(in[0]), close(in[1]);
+        return lm_fail(LM_E_IO, "cannot create a pipe: %s", strerror(errno));
+    }
+    pid_t pid = fork();
+    if (pid < 0) {
+        close(in[0]), close(in[1]), close(res[0]), close(res[1]);
+        return lm_fail(LM_E_IO, "cannot start an image decoder process: %s", strerror(errno));
+    }
+    if (pid == 0) {
+        close(in[1]), close(res[0]);
+        child_exec(j, in[0], res[1]);
+    }
+    close(in[0]), close(res[1]);
+    void (*old)(int) = signal(SIGPIPE, SIG_IGN); /* a decoder that died must not kill us */
+    if (!j->path)
+        write_all(in[1], j->data, j->size);
+    close(in[1]);
+    lm_image *img = NULL;
+    lm_status st = parent_read(res[0], name, &img);
+    close(res[0]);
+    signal(SIGPIPE, old);
+    st = reap(pid, st, name);
     if (st) {
         lm_image_destroy(img);
         return st;
