@@ -83,6 +83,13 @@ lm_status read_opened(OIIO::ImageInput &in, const char *name, size_t encoded, lm
     if (!strcmp(in.format_name(), "png") && raw > (uint64_t)encoded * 1100 + 65536)
         return lm_fail(LM_E_FORMAT, "image %s: %dx%d pixels cannot fit in %zu bytes of PNG", name,
                        spec.width, spec.height, encoded);
+    /* JPEG: at best about 2 bits per 8x8 block of a component (a DC difference of 0, an end of
+     * block), 256 pixels a byte; a 5 kB file claiming 30000x26000 pixels (found by fuzzing) would
+     * have 2.4 GB allocated for it here and as much again in libjpeg. */
+    uint64_t npix64 = (uint64_t)spec.width * (uint64_t)spec.height;
+    if (!strcmp(in.format_name(), "jpeg") && npix64 > (uint64_t)encoded * 256 + ((uint64_t)1 << 22))
+        return lm_fail(LM_E_FORMAT, "image %s: %dx%d pixels cannot fit in %zu bytes of JPEG", name,
+                       spec.width, spec.height, encoded);
     if (spec.nchannels < 1)
         return lm_fail(LM_E_FORMAT, "image %s has no channels", name);
     int nch = spec.nchannels < 4 ? spec.nchannels : 4;

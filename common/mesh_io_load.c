@@ -2,7 +2,8 @@
  * assimp would mis-handle (mesh_io_guard*.c), import through assimp's C API with our own file
  * system (mesh_io_aifs.c) or, for PLY, through lumesh's own reader (mesh_io_ply_read.c), convert
  * the scene (mesh_io_scene.c), validate, build adjacency; FBX and COLLADA in a child process
- * (mesh_io_isolate.c). Which format is read how, and why: common/MODEL_INPUT.md.
+ * (mesh_io_isolate.c), and so are glTF and GLB. Which input is read how, and why:
+ * common/INPUT_SAFETY.md.
  *
  * assimp runs in two steps: import with ValidateDataStructure only; then, once our own checks of
  * the raw scene pass (lm_io_check_scene: faces without indices make assimp's Triangulate abort),
@@ -169,6 +170,24 @@ static lm_status load_bytes(const uint8_t *data, size_t size, const char *ext, c
         return load_bytes_here(data, size, name, dir, opts, out);
     load_job j = {data, size, name, dir, opts};
     return lm_io_load_isolated(load_job_run, &j, name, opts, out);
+}
+
+lm_status lm_io_load_own_glb(const char *path, const lm_load_options *opts, lm_mesh **out)
+{
+    uint8_t *data;
+    size_t size;
+    lm_status s = lm_io_read_file(path, &data, &size);
+    if (s)
+        return s;
+    const char *slash = strrchr(path, '/');
+    char *dir = slash ? strndup(path, (size_t)(slash - path) + (slash == path)) : strdup(".");
+    s = lm_io_guard(data, size, "glb", path, max_tris_of(opts));
+    if (!s)
+        s = dir ? load_bytes_here(data, size, path, dir, opts, out)
+                : lm_fail(LM_E_NOMEM, "out of memory loading %s", path);
+    free(dir);
+    free(data);
+    return s;
 }
 
 lm_status lm_mesh_load(const char *path, const lm_load_options *opts, lm_mesh **out)
