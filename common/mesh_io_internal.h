@@ -51,7 +51,7 @@ void lm_io_ply_scene_destroy(struct aiScene *sc);
 /* ---- mesh_io_isolate.c: readers run in a child process ------------------------------------ */
 
 /* 1 for the formats read in a child process (their assimp readers are not fully guarded: FBX,
- * COLLADA, glTF, GLB). */
+ * COLLADA). */
 int lm_io_isolated_format(const char *ext);
 /* Load a GLB that lumesh itself just wrote (the hand-back of lm_io_load_isolated), in this
  * process: the byte guards still run, isolation does not. Not for files from outside. */

@@ -1,7 +1,6 @@
 /* common/mesh_io_isolate.c — runs a model reader in a child process, for the formats whose assimp
- * reader is not fully guarded (FBX, COLLADA, glTF and GLB): assimp 5.2 aborts on some malformed
- * FBX files (ai_assert), dereferences null on a GLB fuzzing found in seconds, and can crash or
- * exhaust memory on others; one that loops forever is stopped after
+ * reader is not fully guarded (FBX, COLLADA): assimp 5.2 aborts on some malformed FBX files
+ * (ai_assert) and can crash or exhaust memory on others; one that loops forever is stopped after
  * LM_IO_ISOLATED_CPU_SECONDS of CPU. The child (fork) loads the model and
  * writes it as GLB to a private temporary folder; the parent reads that file, lumesh's own, back
  * in process (lm_io_load_own_glb). A crash, an abort or the OOM killer in the child becomes a
@@ -25,8 +24,7 @@
 
 int lm_io_isolated_format(const char *ext)
 {
-    return !strcmp(ext, "fbx") || !strcmp(ext, "dae") || !strcmp(ext, "gltf") ||
-           !strcmp(ext, "glb");
+    return !strcmp(ext, "fbx") || !strcmp(ext, "dae");
 }
 
 /* In the child: load, save as GLB, report status and message on fd; never returns. A fault

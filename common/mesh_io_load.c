@@ -2,7 +2,7 @@
  * assimp would mis-handle (mesh_io_guard*.c), import through assimp's C API with our own file
  * system (mesh_io_aifs.c) or, for PLY, through lumesh's own reader (mesh_io_ply_read.c), convert
  * the scene (mesh_io_scene.c), validate, build adjacency; FBX and COLLADA in a child process
- * (mesh_io_isolate.c), and so are glTF and GLB. Which input is read how, and why:
+ * (mesh_io_isolate.c). Which input is read how, and why:
  * common/INPUT_SAFETY.md.
  *
  * assimp runs in two steps: import with ValidateDataStructure only; then, once our own checks of
