@@ -29,12 +29,6 @@ extern "C" {
 namespace
 {
 
-/* OpenImageIO without worker threads, from before main: models and textures may be decoded in a
- * forked child (mesh_io_isolate.c, image_read.c), which has none of its parent's threads, and a
- * reader that hands work to the pool there waits on them forever (seen: TIFF scanlines spinning in
- * task_set::wait). Textures are small; nothing lumesh reads or writes needs the pool. */
-const bool oiio_single_threaded = OIIO::attribute("threads", 1);
-
 /* First line of an OpenImageIO message, shortened, for a one-line lm_fail. */
 std::string one_line(std::string msg)
 {
