@@ -53,9 +53,6 @@ void lm_io_ply_scene_destroy(struct aiScene *sc);
 /* 1 for the formats read in a child process (their assimp readers are not fully guarded: FBX,
  * COLLADA). */
 int lm_io_isolated_format(const char *ext);
-/* Load a GLB that lumesh itself just wrote (the hand-back of lm_io_load_isolated), in this
- * process: the byte guards still run, isolation does not. Not for files from outside. */
-lm_status lm_io_load_own_glb(const char *path, const lm_load_options *opts, lm_mesh **out);
 typedef lm_status (*lm_io_loader)(void *ctx, lm_mesh **out);
 /* Run load(ctx) in a forked child that writes the mesh as GLB to a private temporary folder, then
  * read that back here with opts. A crash in the child is an LM_E_FORMAT error naming `name`. */

@@ -2,8 +2,8 @@
  * reader is not fully guarded (FBX, COLLADA): assimp 5.2 aborts on some malformed FBX files
  * (ai_assert) and can crash or exhaust memory on others; one that loops forever is stopped after
  * LM_IO_ISOLATED_CPU_SECONDS of CPU. The child (fork) loads the model and
- * writes it as GLB to a private temporary folder; the parent reads that file, lumesh's own, back
- * in process (lm_io_load_own_glb). A crash, an abort or the OOM killer in the child becomes a
+ * writes it as GLB to a private temporary folder; the parent reads that back through the guarded
+ * glTF path. A crash, an abort or the OOM killer in the child becomes a
  * one-line error, and the caller's process, its GL contexts and its work are untouched. The child
  * touches no GL state and leaves with _exit (no atexit handlers, no stdio flush of the parent's
  * buffers). */
@@ -109,7 +109,7 @@ lm_status lm_io_load_isolated(lm_io_loader load, void *ctx, const char *name,
         st = parent_wait(pid, fds[0], name);
         close(fds[0]);
     }
-    if (st == LM_OK && (st = lm_io_load_own_glb(glb, opts, out)) != LM_OK) {
+    if (st == LM_OK && (st = lm_mesh_load(glb, opts, out)) != LM_OK) {
         char msg[400];
         snprintf(msg, sizeof msg, "%s", lm_last_error());
         st = lm_fail(st, "%s: reading back the converted model: %s", name, msg);

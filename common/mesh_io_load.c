@@ -172,24 +172,6 @@ static lm_status load_bytes(const uint8_t *data, size_t size, const char *ext, c
     return lm_io_load_isolated(load_job_run, &j, name, opts, out);
 }
 
-lm_status lm_io_load_own_glb(const char *path, const lm_load_options *opts, lm_mesh **out)
-{
-    uint8_t *data;
-    size_t size;
-    lm_status s = lm_io_read_file(path, &data, &size);
-    if (s)
-        return s;
-    const char *slash = strrchr(path, '/');
-    char *dir = slash ? strndup(path, (size_t)(slash - path) + (slash == path)) : strdup(".");
-    s = lm_io_guard(data, size, "glb", path, max_tris_of(opts));
-    if (!s)
-        s = dir ? load_bytes_here(data, size, path, dir, opts, out)
-                : lm_fail(LM_E_NOMEM, "out of memory loading %s", path);
-    free(dir);
-    free(data);
-    return s;
-}
-
 lm_status lm_mesh_load(const char *path, const lm_load_options *opts, lm_mesh **out)
 {
     LM_ASSERT(path != NULL && out != NULL);
