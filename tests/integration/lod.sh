@@ -16,7 +16,7 @@ if [ "$light" = 1 ]; then
   tris=500
   common=(--levels 50%,25%,60 --views 4 --size 32 --evals 100 --device host)
 fi
-"$LUMESH" gen-frog -o "$tmp/frog.glb" --tris "$tris" >/dev/null 2>&1 || fail "gen-frog failed"
+"$LUMESH" gen-frog -o "$tmp/frog.glb" --tris "$tris" >/dev/null 2>"$tmp/err" || fail "gen-frog failed: $(tail -n 5 "$tmp/err")"
 
 out=$("$LUMESH" lod "$tmp/frog.glb" -o "$tmp/lod/frog.glb" "${common[@]}" 2>"$tmp/err") ||
   fail "lod failed: $(cat "$tmp/err")"

@@ -42,7 +42,7 @@ info=$("$LUMESH" pm-extract "$tmp/s.pm" --info) || fail "pm-extract --info faile
 printf '%s\n' "$info" | grep -q "\"min_verts\": 80, \"max_verts\": $full" || fail "pm range: $info"
 for n in $counts; do
   "$LUMESH" simplify "$spider" -o "$tmp/s$n/m.obj" --target-verts "$n" --method image \
-    "${common[@]}" >/dev/null 2>&1 || fail "simplify to $n failed"
+    "${common[@]}" >/dev/null 2>"$tmp/err" || fail "simplify to $n failed: $(tail -n 5 "$tmp/err")"
   expect_exit 0 "$LUMESH" pm-extract "$tmp/s.pm" -o "$tmp/p$n/m.obj" --verts "$n"
   for f in $(cd "$tmp/s$n" && ls); do
     checks=$((checks + 1))

@@ -79,7 +79,7 @@ fi
 
 # -- cluster mode: --listen alone starts no worker and waits, saying so, for one started by hand
 free_port() { python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])'; }
-"$LUMESH" keygen -o "$tmp/keys" >/dev/null 2>&1 || fail "keygen failed"
+"$LUMESH" keygen -o "$tmp/keys" >/dev/null 2>"$tmp/err" || fail "keygen failed: $(tail -n 5 "$tmp/err")"
 listened() { # listened NAME OUT_DIR CMD...: CMD (simplify or lod) with --listen, one worker by hand
   local name=$1 port
   port=$(free_port)
