@@ -3,7 +3,7 @@
  * PNG and JPEG (by their signatures) are decoded in this process, through OpenImageIO's readers
  * that the test gate fuzzes (tests/fuzz/fuzz_image.c); anything else OpenImageIO may know (TGA,
  * BMP, TIFF, DDS, PSD, EXR, ...: dozens of readers nobody here fuzzes) is decoded in a process of
- * its own (this program run afresh: fork, then exec) that hands the pixels back through a pipe,
+ * its own (this program run afresh: common/spawn_self.h) that hands the pixels back through a pipe,
  * so that a decoder crashing on a hostile file is a one-line error and the caller's heap, GL
  * contexts and work are untouched. */
 #include <errno.h>
@@ -17,6 +17,7 @@
 #include <unistd.h>
 
 #include "common/image.h"
+#include "common/spawn_self.h"
 
 /* CPU seconds a decoder process may use (a 16k x 16k texture decodes in a few). */
 #define IMAGE_DECODER_CPU_SECONDS 300
@@ -70,11 +71,11 @@ static int read_all(int fd, void *p, size_t n)
 /* ---- the decoder process ----------------------------------------------------------------------
  * A fork alone is not enough: the child would inherit locks and thread pools of threads it does
  * not have (OpenImageIO's TIFF reader spun forever in such a child, waiting on its parent's pool).
- * So the child execs this same program afresh, with DECODER_ENV set; before main runs, the
+ * So the decoder is this same program afresh, with DECODER_ENV set; before main runs, the
  * constructor below sees it, decodes (the file DECODER_ENV names, or the bytes on stdin), answers
  * on stdout with {status, width, height} and the pixels (or the message), and exits. */
-#define DECODER_ENV "LUMESH_IMAGE_DECODER"
-#define DECODER_HINT_ENV "LUMESH_IMAGE_DECODER_HINT"
+#define DECODER_ENV LM_SPAWN_ENV_PREFIX "IMAGE"
+#define DECODER_HINT_ENV LM_SPAWN_ENV_PREFIX "IMAGE_HINT"
 
 /* The bytes on stdin (at most IMAGE_MAX_FILE_BYTES). */
 static uint8_t *read_stdin(size_t *n)
@@ -126,27 +127,13 @@ __attribute__((constructor)) static void decoder_main(void)
     } else {
         size_t n = 0;
         uint8_t *data = read_stdin(&n);
-        st = data ? lm_image_decode_memory(data, n, getenv(DECODER_HINT_ENV), &img)
+        const char *hint = getenv(DECODER_HINT_ENV);
+        st = data ? lm_image_decode_memory(data, n, hint && *hint ? hint : NULL, &img)
                   : lm_fail(LM_E_NOMEM, "out of memory reading an image");
         free(data);
     }
     decoder_answer(st, img);
     _exit(0);
-}
-
-/* In the forked child: stdin and stdout on the pipes, then this program again, as a decoder. */
-static void child_exec(const decode_job *j, int in_fd, int out_fd)
-{
-    if (dup2(in_fd, 0) < 0 || dup2(out_fd, 1) < 0)
-        _exit(127);
-    setenv(DECODER_ENV, j->path ? j->path : "", 1);
-    if (j->hint)
-        setenv(DECODER_HINT_ENV, j->hint, 1);
-    else
-        unsetenv(DECODER_HINT_ENV);
-    char *argv[] = {"lumesh-image-decoder", NULL};
-    execv("/proc/self/exe", argv);
-    _exit(127);
 }
 
 /* In the parent: the decoder's answer, read whole before it is reaped. */
@@ -205,22 +192,23 @@ static lm_status decode_isolated(const decode_job *j, const char *name, lm_image
         close(in[0]), close(in[1]);
         return lm_fail(LM_E_IO, "cannot create a pipe: %s", strerror(errno));
     }
-    pid_t pid = fork();
-    if (pid < 0) {
-        close(in[0]), close(in[1]), close(res[0]), close(res[1]);
-        return lm_fail(LM_E_IO, "cannot start an image decoder process: %s", strerror(errno));
-    }
-    if (pid == 0) {
-        close(in[1]), close(res[0]);
-        child_exec(j, in[0], res[1]);
-    }
+    char what[4200], hint[64];
+    snprintf(what, sizeof what, DECODER_ENV "=%s", j->path ? j->path : "");
+    snprintf(hint, sizeof hint, DECODER_HINT_ENV "=%s", j->hint ? j->hint : "");
+    const char *env[] = {what, hint, NULL};
+    pid_t pid = 0;
+    lm_status st = lm_spawn_self("an image decoder process", env, in[0], res[1], &pid);
     close(in[0]), close(res[1]);
+    if (st) {
+        close(in[1]), close(res[0]);
+        return st;
+    }
     void (*old)(int) = signal(SIGPIPE, SIG_IGN); /* a decoder that died must not kill us */
     if (!j->path)
         write_all(in[1], j->data, j->size);
     close(in[1]);
     lm_image *img = NULL;
-    lm_status st = parent_read(res[0], name, &img);
+    st = parent_read(res[0], name, &img);
     close(res[0]);
     signal(SIGPIPE, old);
     st = reap(pid, st, name);

@@ -48,15 +48,21 @@ lm_status lm_io_ply_read(const uint8_t *data, size_t size, const char *name, uin
                          struct aiScene **out);
 void lm_io_ply_scene_destroy(struct aiScene *sc);
 
-/* ---- mesh_io_isolate.c: readers run in a child process ------------------------------------ */
+/* ---- mesh_io_load.c, mesh_io_isolate.c: where a model is read ------------------------------ */
 
-/* 1 for the formats read in a child process (their assimp readers are not fully guarded: FBX,
- * COLLADA). */
+/* Import, convert, validate bytes that passed lm_io_guard, in this process (data[size] is a NUL:
+ * assimp's text readers need it); `name` gives the format and the messages, `dir` is the folder
+ * of the files the model refers to (NULL for memory loads: then none is opened). */
+lm_status lm_io_load_bytes_here(const uint8_t *data, size_t size, const char *name, const char *dir,
+                                const lm_load_options *opts, lm_mesh **out);
+/* 1 for the formats read in a process of their own (their assimp readers are not proven safe:
+ * glTF, GLB, FBX, COLLADA). */
 int lm_io_isolated_format(const char *ext);
-typedef lm_status (*lm_io_loader)(void *ctx, lm_mesh **out);
-/* Run load(ctx) in a forked child that writes the mesh as GLB to a private temporary folder, then
- * read that back here with opts. A crash in the child is an LM_E_FORMAT error naming `name`. */
-lm_status lm_io_load_isolated(lm_io_loader load, void *ctx, const char *name,
+/* lm_io_load_bytes_here in a reader process (this program afresh) that writes the mesh as GLB to a
+ * private temporary folder; that GLB is read back here with opts. Blocks until the reader is done.
+ * A crash, abort or CPU limit in the reader is an LM_E_FORMAT error naming `name`; the reader's
+ * own errors come back with their status and message. */
+lm_status lm_io_load_isolated(const uint8_t *data, size_t size, const char *name, const char *dir,
                               const lm_load_options *opts, lm_mesh **out);
 
 /* ---- mesh_io_aifs.c: the only file system assimp gets -------------------------------------- */

@@ -1,12 +1,16 @@
-/* common/mesh_io_isolate.c — runs a model reader in a child process, for the formats whose assimp
- * reader is not fully guarded (FBX, COLLADA): assimp 5.2 aborts on some malformed FBX files
- * (ai_assert) and can crash or exhaust memory on others; one that loops forever is stopped after
- * LM_IO_ISOLATED_CPU_SECONDS of CPU. The child (fork) loads the model and
- * writes it as GLB to a private temporary folder; the parent reads that back through the guarded
- * glTF path. A crash, an abort or the OOM killer in the child becomes a
- * one-line error, and the caller's process, its GL contexts and its work are untouched. The child
- * touches no GL state and leaves with _exit (no atexit handlers, no stdio flush of the parent's
- * buffers). */
+/* common/mesh_io_isolate.c — reads a model in a process of its own, for the formats whose assimp
+ * reader is not proven safe under fuzzing: glTF and GLB (a 4 kB GLB makes assimp 5.2 read through
+ * a null pointer: tests/data/hostile/glb-assimp-null-read.glb), FBX (assimp aborts on some files,
+ * ai_assert) and COLLADA. Which format is read where, and why: common/INPUT_SAFETY.md.
+ *
+ * The reader is this program run afresh (common/spawn_self.h). Before main runs, the constructor
+ * below sees READER_ENV, reads the model's bytes on stdin, loads them as lm_mesh_load does in
+ * process (lm_io_load_bytes_here, with the caller's name, folder and options), writes the mesh as
+ * GLB to the private temporary file READER_ENV names, answers {status, message} on stdout and
+ * exits. The caller reads that GLB back in process: lumesh's own writer made it. A crash, an
+ * abort, the OOM killer or the CPU limit in the reader is a one-line error, and the caller's heap,
+ * GL contexts and work are untouched. (A fork without the exec is not enough: under ASan a forked
+ * reader hung in a child that had inherited the parent's locks; see spawn_self.h.) */
 #include <errno.h>
 #include <signal.h>
 #include <stdio.h>
@@ -17,43 +21,112 @@
 #include <unistd.h>
 
 #include "common/mesh_io_internal.h"
+#include "common/spawn_self.h"
 
 /* CPU seconds a reader process may use: far beyond any real model (a 2M-triangle OBJ loads in
  * 6 s here), short of a stuck job. */
 #define LM_IO_ISOLATED_CPU_SECONDS 900
 
+#define READER_ENV LM_SPAWN_ENV_PREFIX "MODEL"           /* the GLB to write */
+#define READER_NAME_ENV LM_SPAWN_ENV_PREFIX "MODEL_NAME" /* the model's name (and format) */
+#define READER_DIR_ENV LM_SPAWN_ENV_PREFIX "MODEL_DIR"   /* its folder; absent for memory */
+#define READER_OPTS_ENV LM_SPAWN_ENV_PREFIX "MODEL_OPTS" /* "max_tris keep_degenerate" */
+
 int lm_io_isolated_format(const char *ext)
 {
-    return !strcmp(ext, "fbx") || !strcmp(ext, "dae");
+    return !strcmp(ext, "gltf") || !strcmp(ext, "glb") || !strcmp(ext, "fbx") ||
+           !strcmp(ext, "dae");
 }
 
-/* In the child: load, save as GLB, report status and message on fd; never returns. A fault
- * kills the child by default action, whatever handlers the parent installed (test harnesses,
- * sanitizers would otherwise catch it and run on as a copy of the parent). */
-static void child_run(lm_io_loader load, void *ctx, const char *glb, int fd)
+static int write_all(int fd, const void *p, size_t n)
 {
-    const int faults[] = {SIGSEGV, SIGBUS, SIGILL, SIGFPE, SIGABRT, SIGXCPU};
-    for (size_t i = 0; i < sizeof faults / sizeof faults[0]; i++)
-        signal(faults[i], SIG_DFL);
+    for (const uint8_t *b = p; n > 0;) {
+        ssize_t w = write(fd, b, n);
+        if (w < 0 && errno == EINTR)
+            continue;
+        if (w <= 0)
+            return 0;
+        b += w, n -= (size_t)w;
+    }
+    return 1;
+}
+
+/* ---- the reader process ---------------------------------------------------------------------- */
+
+/* The bytes on stdin, at most LM_IO_MAX_FILE_BYTES, with a NUL after them (as lm_io_read_file). */
+static uint8_t *read_stdin(size_t *n)
+{
+    size_t cap = 1 << 16;
+    uint8_t *buf = malloc(cap + 1);
+    *n = 0;
+    for (ssize_t r; buf;) {
+        if (*n == cap) {
+            uint8_t *b = cap < LM_IO_MAX_FILE_BYTES ? realloc(buf, cap * 2 + 1) : NULL;
+            if (!b) {
+                free(buf);
+                return NULL;
+            }
+            buf = b, cap *= 2;
+        }
+        r = read(0, buf + *n, cap - *n);
+        if (r < 0 && errno == EINTR)
+            continue;
+        if (r <= 0)
+            break;
+        *n += (size_t)r;
+    }
+    if (buf)
+        buf[*n] = 0;
+    return buf;
+}
+
+/* Load the bytes on stdin as the environment says and write them as GLB. */
+static lm_status reader_run(const char *glb)
+{
+    const char *name = getenv(READER_NAME_ENV), *dir = getenv(READER_DIR_ENV),
+               *o = getenv(READER_OPTS_ENV);
+    lm_load_options opts = {0};
+    unsigned long max_tris = 0;
+    int keep = 0;
+    if (!name || !o || sscanf(o, "%lu %d", &max_tris, &keep) != 2)
+        return lm_fail(LM_E_INTERNAL, "model reader process started without its settings");
+    opts.max_tris = (uint32_t)max_tris, opts.keep_degenerate = keep;
+    size_t n = 0;
+    uint8_t *data = read_stdin(&n);
+    if (!data)
+        return lm_fail(LM_E_NOMEM, "%s: out of memory reading the model", name);
+    lm_mesh *m = NULL;
+    lm_status st = lm_io_load_bytes_here(data, n, name, dir, &opts, &m);
+    free(data);
+    if (st == LM_OK)
+        st = lm_mesh_save(glb, m);
+    lm_mesh_destroy(m);
+    return st;
+}
+
+__attribute__((constructor)) static void reader_main(void)
+{
+    const char *glb = getenv(READER_ENV);
+    if (!glb)
+        return;
+    int answer =
+        dup(1); /* stdout is the answer's alone: whatever a library prints goes to stderr */
+    dup2(2, 1);
     /* a reader that loops forever is killed (SIGXCPU) and reported like a crash */
     struct rlimit cpu = {LM_IO_ISOLATED_CPU_SECONDS, LM_IO_ISOLATED_CPU_SECONDS};
     setrlimit(RLIMIT_CPU, &cpu);
-    lm_mesh *m = NULL;
-    lm_status st = load(ctx, &m);
-    if (st == LM_OK)
-        st = lm_mesh_save(glb, m);
-    char msg[512];
-    snprintf(msg, sizeof msg, "%s", st == LM_OK ? "" : lm_last_error());
+    lm_status st = reader_run(glb);
     int32_t code = (int32_t)st;
-    ssize_t w = write(fd, &code, sizeof code);
-    if (w == (ssize_t)sizeof code)
-        w = write(fd, msg, strlen(msg));
-    (void)w;
+    const char *msg = st == LM_OK ? "" : lm_last_error();
+    if (answer >= 0 && write_all(answer, &code, sizeof code))
+        write_all(answer, msg, strlen(msg));
     _exit(0);
 }
 
-/* In the parent: the child's status and message, then its exit. */
-static lm_status parent_wait(pid_t pid, int fd, const char *name)
+/* ---- the caller's side ----------------------------------------------------------------------- */
+
+/* The reader's status and message (read whole before it is reaped), then its exit. */
+static lm_status reader_wait(pid_t pid, int fd, const char *name)
 {
     int32_t code = -1;
     char msg[512] = "";
@@ -70,6 +143,8 @@ static lm_status parent_wait(pid_t pid, int fd, const char *name)
         return lm_fail(LM_E_FORMAT,
                        "%s: the model reader crashed on this file (%s): it is malformed", name,
                        strsignal(WTERMSIG(ws)));
+    if (WIFEXITED(ws) && WEXITSTATUS(ws) == 127)
+        return lm_fail(LM_E_INTERNAL, "%s: cannot start a model reader process", name);
     if (got != (ssize_t)sizeof code)
         return lm_fail(LM_E_FORMAT, "%s: the model reader failed on this file (exit status %d)",
                        name, WIFEXITED(ws) ? WEXITSTATUS(ws) : -1);
@@ -80,41 +155,72 @@ static lm_status parent_wait(pid_t pid, int fd, const char *name)
     return LM_OK;
 }
 
-lm_status lm_io_load_isolated(lm_io_loader load, void *ctx, const char *name,
-                              const lm_load_options *opts, lm_mesh **out)
+/* Start the reader on `glb`, hand it the bytes, wait for its answer. */
+static lm_status run_reader(const uint8_t *data, size_t size, const char *name, const char *dir,
+                            const lm_load_options *opts, const char *glb)
 {
-    const char *tmp = getenv("TMPDIR");
-    char dir[512], glb[600];
-    snprintf(dir, sizeof dir, "%s/lumesh-load-XXXXXX", tmp && *tmp ? tmp : "/tmp");
-    if (!mkdtemp(dir))
-        return lm_fail(LM_E_IO, "cannot create a temporary folder in %s: %s",
-                       tmp && *tmp ? tmp : "/tmp", strerror(errno));
-    snprintf(glb, sizeof glb, "%s/model.glb", dir);
-    int fds[2];
-    lm_status st = LM_OK;
-    if (pipe(fds) != 0)
-        st = lm_fail(LM_E_IO, "cannot create a pipe: %s", strerror(errno));
-    pid_t pid = st == LM_OK ? fork() : -1;
-    if (st == LM_OK && pid < 0) {
-        st = lm_fail(LM_E_IO, "cannot start a model reader process: %s", strerror(errno));
-        close(fds[0]);
-        close(fds[1]);
+    char e_glb[700], e_name[4200], e_dir[4200], e_opts[64];
+    snprintf(e_glb, sizeof e_glb, READER_ENV "=%s", glb);
+    snprintf(e_name, sizeof e_name, READER_NAME_ENV "=%s", name);
+    snprintf(e_dir, sizeof e_dir, READER_DIR_ENV "=%s", dir ? dir : "");
+    snprintf(e_opts, sizeof e_opts, READER_OPTS_ENV "=%lu %d",
+             (unsigned long)(opts ? opts->max_tris : 0), opts ? opts->keep_degenerate : 0);
+    const char *env[] = {e_glb, e_name, e_opts, dir ? e_dir : NULL, NULL};
+    int in[2], res[2];
+    if (pipe(in) != 0)
+        return lm_fail(LM_E_IO, "cannot create a pipe: %s", strerror(errno));
+    if (pipe(res) != 0) {
+        close(in[0]), close(in[1]);
+        return lm_fail(LM_E_IO, "cannot create a pipe: %s", strerror(errno));
     }
-    if (pid == 0) {
-        close(fds[0]);
-        child_run(load, ctx, glb, fds[1]);
-    }
+    pid_t pid = 0;
+    lm_status st = lm_spawn_self("a model reader process", env, in[0], res[1], &pid);
+    close(in[0]), close(res[1]);
     if (st == LM_OK) {
-        close(fds[1]);
-        st = parent_wait(pid, fds[0], name);
-        close(fds[0]);
+        void (*old)(int) = signal(SIGPIPE, SIG_IGN); /* a reader that died must not kill us */
+        write_all(in[1], data, size);
+        close(in[1]);
+        st = reader_wait(pid, res[0], name);
+        signal(SIGPIPE, old);
+    } else {
+        close(in[1]);
     }
-    if (st == LM_OK && (st = lm_mesh_load(glb, opts, out)) != LM_OK) {
+    close(res[0]);
+    return st;
+}
+
+/* The reader's GLB, read here: lumesh's own writer made it. */
+static lm_status read_back(const char *glb, const char *name, const lm_load_options *opts,
+                           lm_mesh **out)
+{
+    uint8_t *data = NULL;
+    size_t size = 0;
+    lm_status st = lm_io_read_file(glb, &data, &size);
+    if (st == LM_OK)
+        st = lm_io_load_bytes_here(data, size, "model.glb", NULL, opts, out);
+    free(data);
+    if (st != LM_OK) {
         char msg[400];
         snprintf(msg, sizeof msg, "%s", lm_last_error());
         st = lm_fail(st, "%s: reading back the converted model: %s", name, msg);
     }
+    return st;
+}
+
+lm_status lm_io_load_isolated(const uint8_t *data, size_t size, const char *name, const char *dir,
+                              const lm_load_options *opts, lm_mesh **out)
+{
+    const char *tmp = getenv("TMPDIR");
+    char folder[512], glb[600];
+    snprintf(folder, sizeof folder, "%s/lumesh-load-XXXXXX", tmp && *tmp ? tmp : "/tmp");
+    if (!mkdtemp(folder))
+        return lm_fail(LM_E_IO, "cannot create a temporary folder in %s: %s",
+                       tmp && *tmp ? tmp : "/tmp", strerror(errno));
+    snprintf(glb, sizeof glb, "%s/model.glb", folder);
+    lm_status st = run_reader(data, size, name, dir, opts, glb);
+    if (st == LM_OK)
+        st = read_back(glb, name, opts, out);
     unlink(glb);
-    rmdir(dir);
+    rmdir(folder);
     return st;
 }

@@ -1,8 +1,8 @@
 /* common/mesh_io_load.c — lm_mesh_load / lm_mesh_load_memory: read the bytes, refuse hostile input
  * assimp would mis-handle (mesh_io_guard*.c), import through assimp's C API with our own file
  * system (mesh_io_aifs.c) or, for PLY, through lumesh's own reader (mesh_io_ply_read.c), convert
- * the scene (mesh_io_scene.c), validate, build adjacency; FBX and COLLADA in a child process
- * (mesh_io_isolate.c). Which input is read how, and why:
+ * the scene (mesh_io_scene.c), validate, build adjacency; glTF, GLB, FBX and COLLADA in a process
+ * of their own (mesh_io_isolate.c). Which input is read how, and why:
  * common/INPUT_SAFETY.md.
  *
  * assimp runs in two steps: import with ValidateDataStructure only; then, once our own checks of
@@ -105,10 +105,8 @@ static void release_scene(const struct aiScene *sc, lm_aifs *fs, int ours)
     lm_aifs_destroy(fs);
 }
 
-/* Import, convert, validate bytes that passed lm_io_guard, in this process; `dir` is NULL for
- * memory loads. */
-static lm_status load_bytes_here(const uint8_t *data, size_t size, const char *name,
-                                 const char *dir, const lm_load_options *opts, lm_mesh **out)
+lm_status lm_io_load_bytes_here(const uint8_t *data, size_t size, const char *name, const char *dir,
+                                const lm_load_options *opts, lm_mesh **out)
 {
     uint32_t max_tris = max_tris_of(opts);
     char ext[16];
@@ -144,22 +142,8 @@ static lm_status load_bytes_here(const uint8_t *data, size_t size, const char *n
     return LM_OK;
 }
 
-/* What a child process needs to run load_bytes_here. */
-typedef struct load_job {
-    const uint8_t *data;
-    size_t size;
-    const char *name, *dir;
-    const lm_load_options *opts;
-} load_job;
-
-static lm_status load_job_run(void *ctx, lm_mesh **out)
-{
-    const load_job *j = ctx;
-    return load_bytes_here(j->data, j->size, j->name, j->dir, j->opts, out);
-}
-
 /* The byte guards here, then the reader here or, for the formats whose assimp reader is not
- * fully guarded, in a child process (mesh_io_isolate.c). */
+ * proven safe, in a process of its own (mesh_io_isolate.c). */
 static lm_status load_bytes(const uint8_t *data, size_t size, const char *ext, const char *name,
                             const char *dir, const lm_load_options *opts, lm_mesh **out)
 {
@@ -167,9 +151,8 @@ static lm_status load_bytes(const uint8_t *data, size_t size, const char *ext, c
     if (s)
         return s;
     if (!lm_io_isolated_format(ext))
-        return load_bytes_here(data, size, name, dir, opts, out);
-    load_job j = {data, size, name, dir, opts};
-    return lm_io_load_isolated(load_job_run, &j, name, opts, out);
+        return lm_io_load_bytes_here(data, size, name, dir, opts, out);
+    return lm_io_load_isolated(data, size, name, dir, opts, out);
 }
 
 lm_status lm_mesh_load(const char *path, const lm_load_options *opts, lm_mesh **out)

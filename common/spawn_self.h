@@ -1,0 +1,30 @@
+/* common/spawn_self.h — this program run afresh as a helper process (fork, then exec of
+ * /proc/self/exe), for work whose crash must not take the caller down: decoding an image, reading
+ * a model. A fork alone is not enough: the child would inherit locks and thread pools of threads
+ * it does not have (OpenImageIO's TIFF reader spun forever in such a child). The helper is told
+ * what to do by environment variables that a constructor of the helper's code reads before main
+ * runs; it talks to the caller on its stdin and stdout. */
+#ifndef LM_COMMON_SPAWN_SELF_H
+#define LM_COMMON_SPAWN_SELF_H
+
+#include <sys/types.h>
+
+#include "common/error.h"
+
+/* The names of the variables that tell a helper what to do begin with this; a helper starts with
+ * only the ones its spawn sets (a model reader that decodes a texture in a helper of its own
+ * passes none of its own settings on). */
+#define LM_SPAWN_ENV_PREFIX "LUMESH_HELPER_"
+
+/* Start this program with `env` (NULL-terminated "NAME=VALUE" strings) added to the caller's
+ * environment less its LM_SPAWN_ENV_PREFIX variables (and with ASan's signal handlers off, so that
+ * a crash in a sanitizer build is the signal its caller reports), `in_fd` as its stdin
+ * and `out_fd` as its stdout; every other descriptor of the caller is closed in it. Everything is
+ * prepared before the fork: the child only calls dup2, close_range and execve (async-signal-safe),
+ * so a caller with threads is safe. Non-blocking. On success *pid is the helper (reap it with
+ * waitpid); an exec that fails ends the child with status 127. Errors: LM_E_NOMEM, LM_E_IO (fork
+ * failed); one line naming `what`. */
+lm_status lm_spawn_self(const char *what, const char *const *env, int in_fd, int out_fd,
+                        pid_t *pid);
+
+#endif
