@@ -1,9 +1,10 @@
 /* tests/fuzz/fuzz_mesh_load.c — libFuzzer target for model loading (lm_mesh_load_memory): the
  * first byte picks the format hint, the rest is the file. Any input must give LM_OK with a valid
  * mesh, or an error status with a one-line message; never a crash, a leak or a hang.
- * FBX and DAE inputs are read in a child process (common/mesh_io_isolate.c), as in the product:
- * a crash inside assimp's readers for them is an error status here, and what this target still
- * catches for them are faults of our guards, the hand-back and the parent's side.
+ * glTF, GLB, FBX and DAE inputs are read in a reader process (common/mesh_io_isolate.c: this
+ * fuzzer's own binary run afresh), as in the product: a crash inside assimp's readers for them is
+ * an error status here, and what this target catches for them are faults of our guards, the
+ * hand-back and the caller's side (libFuzzer does not see the reader process's coverage).
  * PLY is read by lumesh's own reader (common/mesh_io_ply_read.c), the other formats by assimp.
  * LUMESH_FUZZ_FORMAT=ply (or obj, off, ...) pins every input to one format, the first byte still
  * skipped, for the per-format campaigns of scripts/fuzz-explore.sh.
