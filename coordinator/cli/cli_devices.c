@@ -1,17 +1,18 @@
 /* coordinator/cli/cli_devices.c — `lumesh devices [--json] [--device SPEC]`: the EGL devices (GPUs
  * first, then Mesa's software renderer) with their node, renderer and whether a context works,
  * lumesh's CPU rasteriser ("cpu", always there), the USB devices with known accelerators flagged,
- * and the device a spec selects (worker/device_choice.h). */
+ * and the device a spec selects (worker/render/device_choice.h). */
 #include <getopt.h>
 #include <stdio.h>
 #include <string.h>
 
 #include "common/error.h"
 #include "coordinator/cli/cli_args.h"
-#include "worker/cpu_shade.h"
-#include "worker/device_choice.h"
-#include "worker/gl_context.h"
-#include "worker/usb_devices.h"
+#include "worker/render/cpu/cpu_shade.h"
+#include "worker/render/cpu/cpu_views.h"
+#include "worker/render/device_choice.h"
+#include "worker/render/gl/gl_context.h"
+#include "worker/render/usb_devices.h"
 
 #define CMD "devices"
 

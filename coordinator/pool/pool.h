@@ -33,7 +33,7 @@
 
 #include "common/error.h"
 #include "proto/wire.h"
-#include "worker/probe.h"
+#include "worker/render/probe.h"
 
 #define CO_POOL_SILENCE_S 3.0 /* a worker silent this long is presumed dead */
 /* losses (exited processes, silence, stuck requests) are looked for at most this often: their

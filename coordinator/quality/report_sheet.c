@@ -7,7 +7,7 @@
 #include <string.h>
 
 #include "coordinator/quality/report_internal.h"
-#include "worker/image_store.h"
+#include "worker/render/shared/image_store.h"
 
 #define SHEET_DIFF_GAIN 2
 

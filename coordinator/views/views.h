@@ -3,7 +3,7 @@
  * Every kind is made from one description: what the targets are (the original), which views (a
  * view set and the range of it this object serves), the current mesh's materials (and optionally
  * the mesh itself), and where the pixels are made:
- *   local   in this process, on an EGL device (worker/views_local.c);
+ *   local   in this process, on an EGL device (worker/render/views_local.c);
  *   split   `split` in-process children, each owning a contiguous range of the views, their int64
  *           results summed (coordinator/views/views_split.c): bit-identical to one local backend;
  *   remote  lumesh-worker processes of a pool (coordinator/pool/pool.h), each serving a share of

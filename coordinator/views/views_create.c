@@ -5,7 +5,7 @@
 
 #include "coordinator/views/views.h"
 #include "coordinator/views/views_remote.h"
-#include "worker/views_local.h"
+#include "worker/render/views_local.h"
 
 co_views_desc co_views_desc_defaults(const co_views_desc *d)
 {

@@ -19,7 +19,7 @@
 #include "common/view.h"
 #include "coordinator/optimizer/optimizer.h"
 #include "coordinator/optimizer/optimizer_tuning.h"
-#include "worker/views_local.h"
+#include "worker/render/views_local.h"
 
 typedef struct opts {
     const char *path, *device, *out, *initial;

@@ -14,8 +14,8 @@
 
 #include "common/mesh_io.h"
 #include "common/view.h"
-#include "worker/image_store.h"
-#include "worker/views_local.h"
+#include "worker/render/shared/image_store.h"
+#include "worker/render/views_local.h"
 
 typedef struct opts {
     const char *path, *a, *b;

@@ -53,7 +53,7 @@
 #include "coordinator/pool/pool.h"
 #include "coordinator/views/views.h"
 #include "proto/wire_records.h"
-#include "worker/replica.h"
+#include "common/replica.h"
 
 typedef struct opts {
     const char *model, *device;

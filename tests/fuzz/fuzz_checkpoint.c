@@ -30,7 +30,7 @@
 #include "common/view.h"
 #include "coordinator/job/checkpoint.h"
 #include "coordinator/optimizer/optimizer.h"
-#include "worker/views_local.h"
+#include "worker/render/views_local.h"
 
 int LLVMFuzzerInitialize(int *argc, char ***argv);
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);

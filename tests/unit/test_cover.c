@@ -6,7 +6,7 @@
 #include <string.h>
 
 #include "test_support.h"
-#include "worker/cover.h"
+#include "worker/render/shared/cover.h"
 
 #define W 64
 #define H 64

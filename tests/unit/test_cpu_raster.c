@@ -13,11 +13,11 @@
 
 #include "common/view.h"
 #include "test_support.h"
-#include "worker/cpu_raster.h"
-#include "worker/cpu_shade.h"
-#include "worker/cpu_simd.h"
-#include "worker/cpu_texture.h"
-#include "worker/views_local.h"
+#include "worker/render/cpu/cpu_raster.h"
+#include "worker/render/cpu/cpu_shade.h"
+#include "worker/render/cpu/cpu_simd.h"
+#include "worker/render/cpu/cpu_texture.h"
+#include "worker/render/views_local.h"
 
 #define W 64
 #define H 48
@@ -420,7 +420,7 @@ static uint64_t fnv1a(uint64_t h, const uint8_t *p, size_t n)
 
 /* The images of a fixed scene, hashed: the same bits on every host, compiler and build. A change
  * of the rasteriser's arithmetic changes this hash: then bump the version in WK_CPU_RASTERISER
- * (worker/device_choice.h), since images of two versions must not be compared, and update it. */
+ * (worker/render/device_choice.h), since images of two versions must not be compared, and update it. */
 #define GOLDEN_HASH 0xd5fc19749df55f46ull
 static uint64_t golden_hash(void)
 {

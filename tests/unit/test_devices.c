@@ -7,11 +7,11 @@
 #include <pthread.h>
 #include <string.h>
 
-#include "worker/cpu_self_test.h"
-#include "worker/device_choice.h"
-#include "worker/gl_context.h"
-#include "worker/self_test.h"
-#include "worker/usb_devices.h"
+#include "worker/render/cpu/cpu_self_test.h"
+#include "worker/render/device_choice.h"
+#include "worker/render/gl/gl_context.h"
+#include "worker/render/gl/self_test.h"
+#include "worker/render/usb_devices.h"
 
 static void test_list_devices(void **state)
 {

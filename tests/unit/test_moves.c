@@ -12,7 +12,7 @@
 #include "coordinator/optimizer/moves.h"
 #include "coordinator/optimizer/teleport.h"
 #include "test_support.h"
-#include "worker/views_local.h"
+#include "worker/render/views_local.h"
 
 #define N_VIEWS 12
 #define SIZE 64

@@ -17,7 +17,7 @@
 #include "coordinator/optimizer/optimizer_tuning.h"
 #include "coordinator/optimizer/surface_term.h"
 #include "test_support.h"
-#include "worker/views_local.h"
+#include "worker/render/views_local.h"
 
 #define N_VIEWS 12
 #define SIZE 64

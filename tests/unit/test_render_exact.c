@@ -18,7 +18,7 @@
 #include "common/simplify.h"
 #include "common/view.h"
 #include "test_support.h"
-#include "worker/views_local.h"
+#include "worker/render/views_local.h"
 
 #define N_VIEWS 20
 #define VIEW_SIZE 128

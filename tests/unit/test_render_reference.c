@@ -14,8 +14,8 @@
 #include "common/mesh_io.h"
 #include "common/view.h"
 #include "test_support.h"
-#include "worker/image_store.h"
-#include "worker/views_local.h"
+#include "worker/render/shared/image_store.h"
+#include "worker/render/views_local.h"
 
 #define N_VIEWS 4
 #define SIZE 128

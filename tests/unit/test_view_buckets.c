@@ -8,8 +8,8 @@
 
 #include "common/view.h"
 #include "test_support.h"
-#include "worker/buckets.h"
-#include "worker/image_store.h"
+#include "worker/render/shared/buckets.h"
+#include "worker/render/shared/image_store.h"
 
 static uint64_t rng_state = 88172645463325252ull;
 static double urand(void)

@@ -1,0 +1,101 @@
+/* common/replica.c — triangle records of the current mesh by id (see replica.h). */
+#include "common/replica.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+void wk_replica_init(wk_replica *r)
+{
+    memset(r, 0, sizeof *r);
+}
+
+void wk_replica_free(wk_replica *r)
+{
+    free(r->tris);
+    free(r->alive);
+    wk_replica_init(r);
+}
+
+void wk_replica_clear(wk_replica *r)
+{
+    if (r->cap)
+        memset(r->alive, 0, r->cap);
+    r->n_alive = 0;
+}
+
+static lm_status grow(wk_replica *r, uint32_t id)
+{
+    if (id >= LM_MESH_MAX_TRIS)
+        return lm_fail(LM_E_RANGE, "triangle id %u exceeds the limit %u", id, LM_MESH_MAX_TRIS);
+    size_t cap = r->cap ? r->cap : 1024;
+    while (cap <= id)
+        cap *= 2;
+    lm_tri_data *t = realloc(r->tris, cap * sizeof *t);
+    if (t)
+        r->tris = t;
+    uint8_t *a = realloc(r->alive, cap);
+    if (a)
+        r->alive = a;
+    if (!t || !a)
+        return lm_fail(LM_E_NOMEM, "out of memory growing the mesh replica to %zu triangles", cap);
+    memset(r->alive + r->cap, 0, cap - r->cap);
+    r->cap = cap;
+    return LM_OK;
+}
+
+lm_status wk_replica_put(wk_replica *r, const lm_tri_data *t)
+{
+    if (t->id >= r->cap) {
+        lm_status st = grow(r, t->id);
+        if (st != LM_OK)
+            return st;
+    }
+    LM_ASSERT(!r->alive[t->id]);
+    r->tris[t->id] = *t;
+    r->alive[t->id] = 1;
+    r->n_alive++;
+    return LM_OK;
+}
+
+void wk_replica_kill(wk_replica *r, uint32_t id)
+{
+    LM_ASSERT(wk_replica_alive(r, id));
+    r->alive[id] = 0;
+    r->n_alive--;
+}
+
+lm_status wk_replica_set(wk_replica *r, const lm_tri_data *tris, size_t n)
+{
+    wk_replica_clear(r);
+    lm_status st = LM_OK;
+    for (size_t i = 0; i < n && st == LM_OK; i++) {
+        if (wk_replica_alive(r, tris[i].id))
+            return lm_fail(LM_E_INVALID, "triangle id %u appears twice in the mesh", tris[i].id);
+        st = wk_replica_put(r, &tris[i]);
+    }
+    return st;
+}
+
+lm_status wk_replica_apply(wk_replica *r, const lm_patch *p)
+{
+    for (uint32_t i = 0; i < p->n_removed; i++)
+        if (!wk_replica_alive(r, p->removed[i]))
+            return lm_fail(LM_E_INVALID, "patch removes triangle %u which is not in the mesh",
+                           p->removed[i]);
+    for (uint32_t i = 0; i < p->n_removed; i++)
+        wk_replica_kill(r, p->removed[i]);
+    lm_status st = LM_OK;
+    for (uint32_t i = 0; i < p->n_added && st == LM_OK; i++) {
+        if (wk_replica_alive(r, p->added[i].id))
+            return lm_fail(LM_E_INVALID, "patch adds triangle %u which is alive and not removed",
+                           p->added[i].id);
+        st = wk_replica_put(r, &p->added[i]);
+    }
+    return st;
+}
+
+const lm_tri_data *wk_replica_current(const void *ctx, uint32_t id)
+{
+    const wk_replica *r = ctx;
+    return wk_replica_alive(r, id) ? &r->tris[id] : NULL;
+}

@@ -1,0 +1,351 @@
+/* worker/render/cpu/cpu_views.c — the CPU views backend's life cycle: creation (target images of
+ * the original), set_mesh and set_materials (full renders of the current mesh), energy, the
+ * oracle's potentials, images, info, the extras that wk_views_local_* dispatch to, and the ops
+ * table. Full renders are in cpu_render.c, evaluate and commit in cpu_eval.c. */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/mman.h>
+
+#include "worker/render/cpu/cpu_views_internal.h"
+
+/* Full renders of every view from src: keys, counts (current mesh only), luminance. */
+static lm_status render_all(wk_cpu_views *v, const wk_cpu_source *src, int table, int to_target)
+{
+    uint8_t *y = malloc(v->plane);
+    if (!y)
+        return lm_fail(LM_E_NOMEM, "out of memory rendering %zu pixels", v->plane);
+    lm_status st = to_target ? LM_OK : wk_cpu_count_reserve(v, src->rep->cap);
+    for (uint32_t h = 0; st == LM_OK && h < v->views.count; h++) {
+        st = wk_cpu_render_view(v, h, src, table, y, to_target ? NULL : v->count[h]);
+        if (st == LM_OK && to_target)
+            wk_image_store_set_target(v->img, h, y);
+        else if (st == LM_OK)
+            wk_image_store_set_current(v->img, h, y);
+    }
+    free(y);
+    return st;
+}
+
+static lm_status build_replica(wk_cpu_views *v, const lm_tri_data *tris, size_t n)
+{
+    wk_replica_clear(&v->rep);
+    for (size_t i = 0; i < n; i++) {
+        if (tris[i].id >= LM_MESH_MAX_TRIS)
+            return lm_fail(LM_E_RANGE, "triangle id %u exceeds the limit", tris[i].id);
+        if (tris[i].material >= v->mats[v->table].n)
+            return lm_fail(LM_E_RANGE, "triangle %u uses material %u of %u", tris[i].id,
+                           tris[i].material, v->mats[v->table].n);
+        if (wk_replica_alive(&v->rep, tris[i].id))
+            return lm_fail(LM_E_INVALID, "triangle id %u appears twice in the mesh", tris[i].id);
+        lm_status st = wk_replica_put(&v->rep, &tris[i]);
+        if (st != LM_OK)
+            return st;
+    }
+    return LM_OK;
+}
+
+static lm_status cv_set_mesh_records(wk_cpu_views *v, const lm_tri_data *tris, size_t n)
+{
+    if (n > LM_MESH_MAX_TRIS)
+        return lm_fail(LM_E_RANGE, "mesh of %zu triangles exceeds the limit", n);
+    v->mesh_set = 0;
+    v->buckets_ready = 0; /* built on the first evaluate/commit: energy alone needs none */
+    wk_cpu_subcache_clear(&v->subcache);
+    lm_status st = build_replica(v, tris, n);
+    if (st == LM_OK)
+        st = wk_cpu_subcache_reserve(&v->subcache, v->rep.cap);
+    if (st == LM_OK) {
+        wk_cpu_source src = {.rep = &v->rep};
+        st = render_all(v, &src, v->table, 0);
+    }
+    v->mesh_set = st == LM_OK;
+    return st;
+}
+
+static lm_status cv_set_mesh(lm_views *base, const lm_tri_data *tris, size_t n)
+{
+    wk_cpu_views *v = (wk_cpu_views *)base;
+    lm_status st = cv_set_mesh_records(v, tris, n);
+    v->seq += st == LM_OK;
+    return st;
+}
+
+/* Re-render the replica from scratch (after a material change). */
+static lm_status rerender_replica(wk_cpu_views *v)
+{
+    wk_cpu_source src = {.rep = &v->rep};
+    lm_status st = render_all(v, &src, v->table, 0);
+    v->mesh_set = st == LM_OK;
+    return st;
+}
+
+static lm_status cv_energy(lm_views *base, int64_t *total, int64_t *per_view)
+{
+    wk_cpu_views *v = (wk_cpu_views *)base;
+    if (!v->mesh_set)
+        return lm_fail(LM_E_INVALID, "energy asked before a mesh was set");
+    wk_image_store_energies(v->img, total, per_view);
+    return LM_OK;
+}
+
+static lm_status cv_potentials(lm_views *base, const float (*points)[3], size_t n, int64_t *out)
+{
+    wk_cpu_views *v = (wk_cpu_views *)base;
+    if (!v->mesh_set)
+        return lm_fail(LM_E_INVALID, "potentials asked before a mesh was set");
+    return wk_image_store_potentials(v->img, &v->views, WK_ORACLE_RADIUS, points, n, out);
+}
+
+static void cv_info(lm_views *base, lm_views_info *out)
+{
+    wk_cpu_views *v = (wk_cpu_views *)base;
+    memset(out, 0, sizeof *out);
+    out->n_views = v->views.count;
+    out->width = v->width;
+    out->height = v->height;
+    out->seq = v->seq;
+    out->evaluations = v->stats.evaluations;
+    out->regions = v->stats.regions;
+    out->region_pixels = v->stats.region_pixels;
+    out->tris_drawn = v->stats.tris_drawn;
+    snprintf(out->renderer, sizeof out->renderer, "%s", WK_CPU_RENDERER);
+}
+
+static void cv_destroy(lm_views *base)
+{
+    wk_cpu_views *v = (wk_cpu_views *)base;
+    for (uint32_t h = 0; h < LM_MAX_VIEWS; h++) {
+        wk_buckets_destroy(v->buckets[h]);
+        free(v->count[h]);
+    }
+    wk_image_store_destroy(v->img);
+    wk_replica_free(&v->rep);
+    wk_cpu_materials_free(&v->mats[0]);
+    wk_cpu_materials_free(&v->mats[1]);
+    wk_cpu_eval_free(&v->eval, v->views.count);
+    wk_cpu_subcache_free(&v->subcache);
+    free(v->keys);
+    free(v->tmax);
+    free(v->second);
+    free(v->texf);
+    free(v->rgba);
+    free(v);
+}
+
+static lm_status cv_set_materials(lm_views *base, const lm_material *mats, uint32_t n);
+static lm_status cv_read_image(lm_views *base, lm_image_kind kind, uint32_t view, uint8_t *out);
+
+static const lm_views_ops cv_ops = {
+    .set_mesh = cv_set_mesh,
+    .set_materials = cv_set_materials,
+    .evaluate = wk_cpu_evaluate,
+    .commit = wk_cpu_commit,
+    .energy = cv_energy,
+    .potentials = cv_potentials,
+    .read_image = cv_read_image,
+    .info = cv_info,
+    .destroy = cv_destroy,
+};
+
+int wk_cpu_views_is(const lm_views *v)
+{
+    return v && v->ops == &cv_ops;
+}
+
+/* A large per-view table: asked for on huge pages where the system has them (evaluations touch
+ * all views' tables in turn; with 4 KiB pages their address translations thrash). Free with
+ * free(). */
+static void *big_alloc(size_t bytes)
+{
+    void *p = NULL;
+    const size_t huge = (size_t)2 << 20;
+    if (bytes < huge || posix_memalign(&p, huge, (bytes + huge - 1) / huge * huge) != 0)
+        return malloc(bytes);
+#ifdef MADV_HUGEPAGE
+    madvise(p, (bytes + huge - 1) / huge * huge, MADV_HUGEPAGE); /* a hint: failure is harmless */
+#endif
+    return p;
+}
+
+/* The per-pixel texture factors (for twins that keep their texture), made once a textured
+ * material is in use. */
+static lm_status need_texture_factors(wk_cpu_views *v, const wk_cpu_materials *m)
+{
+    int textured = 0;
+    for (uint32_t i = 0; i < m->n; i++)
+        textured |= m->tex[i] != NULL;
+    if (!textured || v->texf)
+        return LM_OK;
+    v->texf = big_alloc(v->views.count * v->plane * 3 * sizeof *v->texf);
+    return v->texf ? LM_OK : lm_fail(LM_E_NOMEM, "out of memory for texture factors");
+}
+
+/* ---- creation ---------------------------------------------------------------------------- */
+
+static lm_status check_input(const lm_mesh *original, const lm_view_set *views, uint32_t first,
+                             uint32_t count)
+{
+    if (views->count < 1 || views->count > LM_MAX_VIEWS)
+        return lm_fail(LM_E_RANGE, "view count %u is outside 1..%d", views->count, LM_MAX_VIEWS);
+    if (first >= views->count || count < 1 || count > views->count - first)
+        return lm_fail(LM_E_RANGE, "views %u..%u are not among the %u views", first,
+                       first + count - 1, views->count);
+    for (uint32_t h = 0; h < views->count; h++)
+        if (views->views[h].width != views->views[0].width ||
+            views->views[h].height != views->views[0].height)
+            return lm_fail(LM_E_INVALID, "view %u differs in size from view 0", h);
+    int w = views->views[0].width, hgt = views->views[0].height;
+    if (w < 1 || hgt < 1 || w > LM_MAX_VIEW_SIZE || hgt > LM_MAX_VIEW_SIZE)
+        return lm_fail(LM_E_RANGE, "view size %dx%d is out of range", w, hgt);
+    for (uint32_t t = 0; t < original->n_tris; t++)
+        if (original->tri_alive[t] && original->tris[t].material >= original->n_materials)
+            return lm_fail(LM_E_RANGE, "original triangle %u uses material %u of %u", t,
+                           original->tris[t].material, original->n_materials);
+    return LM_OK;
+}
+
+static lm_status create_parts(wk_cpu_views *v, const lm_mesh *original)
+{
+    size_t n = v->views.count;
+    v->keys = big_alloc(n * v->plane * sizeof *v->keys);
+    v->tmax = malloc(n * v->tiles * sizeof *v->tmax);
+    v->second = big_alloc(n * v->plane * sizeof *v->second);
+    v->rgba = malloc(n * v->plane * 4);
+    if (!v->keys || !v->tmax || !v->second || !v->rgba)
+        return lm_fail(LM_E_NOMEM, "out of memory for %zu views of %dx%d", n, v->width, v->height);
+    lm_status st = wk_image_store_create(v->views.count, v->width, v->height, &v->img);
+    for (uint32_t h = 0; st == LM_OK && h < n; h++)
+        st = wk_buckets_create(v->width, v->height, 0, &v->buckets[h]);
+    if (st == LM_OK)
+        st = wk_cpu_materials_set(&v->mats[0], original->materials, original->n_materials);
+    if (st == LM_OK)
+        st = need_texture_factors(v, &v->mats[0]);
+    if (st == LM_OK)
+        st = wk_cpu_eval_init(v);
+    return st;
+}
+
+lm_status wk_cpu_views_create(const lm_mesh *original, const lm_view_set *views, uint32_t first,
+                              uint32_t count, lm_views **out)
+{
+    if (!count && first < views->count)
+        count = views->count - first;
+    lm_status st = check_input(original, views, first, count);
+    if (st != LM_OK)
+        return st;
+    wk_cpu_views *v = calloc(1, sizeof *v);
+    if (!v)
+        return lm_fail(LM_E_NOMEM, "out of memory creating the views");
+    v->base.ops = &cv_ops;
+    v->views.count = count;
+    memcpy(v->views.views, views->views + first, (size_t)count * sizeof *v->views.views);
+    for (uint32_t h = 0; h < count; h++)
+        wk_cpu_view_init(&v->views.views[h], &v->cviews[h]);
+    v->width = views->views[0].width;
+    v->height = views->views[0].height;
+    v->tiles_w = (v->width + WK_CPU_TILE - 1) / WK_CPU_TILE;
+    v->tiles_h = (v->height + WK_CPU_TILE - 1) / WK_CPU_TILE;
+    v->plane = (size_t)v->width * v->height;
+    v->tiles = (size_t)v->tiles_w * v->tiles_h;
+    v->occlusion = 1;
+    wk_replica_init(&v->rep);
+    wk_cpu_subcache_init(&v->subcache, count);
+    st = create_parts(v, original);
+    if (st == LM_OK) {
+        wk_cpu_source src = {.mesh = original};
+        st = render_all(v, &src, 0, 1);
+    }
+    if (st != LM_OK) {
+        cv_destroy(&v->base);
+        return st;
+    }
+    *out = &v->base;
+    return LM_OK;
+}
+
+/* ---- extras ------------------------------------------------------------------------------ */
+
+static lm_status set_materials(lm_views *base, const lm_material *mats, uint32_t n)
+{
+    wk_cpu_views *v = (wk_cpu_views *)base;
+    lm_status st = wk_cpu_materials_set(&v->mats[1], mats, n);
+    if (st == LM_OK)
+        st = need_texture_factors(v, &v->mats[1]);
+    if (st != LM_OK)
+        return st;
+    v->table = 1;
+    if (!v->mesh_set)
+        return LM_OK;
+    for (size_t id = 0; id < v->rep.cap; id++)
+        if (v->rep.alive[id] && v->rep.tris[id].material >= n) {
+            v->mesh_set = 0;
+            return lm_fail(LM_E_RANGE, "triangle %zu uses material %u of %u", id,
+                           v->rep.tris[id].material, n);
+        }
+    return rerender_replica(v);
+}
+
+static lm_status cv_set_materials(lm_views *base, const lm_material *mats, uint32_t n)
+{
+    lm_status st = set_materials(base, mats, n);
+    ((wk_cpu_views *)base)->seq += st == LM_OK;
+    return st;
+}
+
+lm_status wk_cpu_views_set_occlusion(lm_views *base, int on)
+{
+    ((wk_cpu_views *)base)->occlusion = on != 0;
+    return LM_OK;
+}
+
+void wk_cpu_views_get_stats(lm_views *base, wk_views_local_stats *out)
+{
+    *out = ((wk_cpu_views *)base)->stats;
+}
+
+static lm_status read_luma(lm_views *base, int which, uint32_t view, uint8_t *out)
+{
+    wk_cpu_views *v = (wk_cpu_views *)base;
+    if (view >= v->views.count)
+        return lm_fail(LM_E_RANGE, "view %u of %u", view, v->views.count);
+    const uint8_t *src =
+        which ? wk_image_store_target(v->img, view) : wk_image_store_current(v->img, view);
+    memcpy(out, src, v->plane);
+    return LM_OK;
+}
+
+static lm_status read_rgba(lm_views *base, uint32_t view, uint8_t *out)
+{
+    wk_cpu_views *v = (wk_cpu_views *)base;
+    if (view >= v->views.count)
+        return lm_fail(LM_E_RANGE, "view %u of %u", view, v->views.count);
+    memcpy(out, v->rgba + view * v->plane * 4, v->plane * 4);
+    return LM_OK;
+}
+
+static lm_status read_coverage(lm_views *base, uint32_t view, uint8_t *out)
+{
+    wk_cpu_views *v = (wk_cpu_views *)base;
+    if (view >= v->views.count)
+        return lm_fail(LM_E_RANGE, "view %u of %u", view, v->views.count);
+    const uint64_t *key = v->keys + view * v->plane;
+    for (size_t i = 0; i < v->plane; i++)
+        out[i] = key[i] != WK_CPU_KEY_BG;
+    return LM_OK;
+}
+
+static lm_status cv_read_image(lm_views *base, lm_image_kind kind, uint32_t view, uint8_t *out)
+{
+    switch (kind) {
+    case LM_IMAGE_TARGET_LUMA:
+        return read_luma(base, 1, view, out);
+    case LM_IMAGE_CURRENT_LUMA:
+        return read_luma(base, 0, view, out);
+    case LM_IMAGE_RGBA:
+        return read_rgba(base, view, out);
+    case LM_IMAGE_COVERAGE:
+        return read_coverage(base, view, out);
+    }
+    return lm_fail(LM_E_INVALID, "unknown image kind %d", (int)kind);
+}

@@ -1,0 +1,127 @@
+/* worker/render/views_local.c — the in-process views: which backend a --device spec makes (the GL
+ * one on an EGL context, worker/render/gl/gl_views.h, or the exact CPU rasteriser,
+ * worker/render/cpu/cpu_views.h), after the checks both share; and the extras, dispatched to the
+ * backend that made the views. */
+#include "worker/render/views_local.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+#include "worker/render/cpu/cpu_views.h"
+#include "worker/render/device_choice.h"
+#include "worker/render/gl/gl_views.h"
+
+static lm_status check_views(const lm_view_set *views, lm_view_deal deal)
+{
+    if (views->count < 1 || views->count > LM_MAX_VIEWS)
+        return lm_fail(LM_E_RANGE, "view count %u is outside 1..%d", views->count, LM_MAX_VIEWS);
+    if (!lm_view_deal_fits(deal, views->count))
+        return lm_fail(LM_E_RANGE, "%u views from view %u, %u apart, are not among the %u views",
+                       deal.count, deal.first, deal.stride ? deal.stride : 1, views->count);
+    for (uint32_t h = 0; h < views->count; h++)
+        if (views->views[h].width != views->views[0].width ||
+            views->views[h].height != views->views[0].height)
+            return lm_fail(LM_E_INVALID, "view %u differs in size from view 0", h);
+    return LM_OK;
+}
+
+static lm_status check_materials(const lm_mesh *original)
+{
+    for (uint32_t t = 0; t < original->n_tris; t++)
+        if (original->tri_alive[t] && original->tris[t].material >= original->n_materials)
+            return lm_fail(LM_E_RANGE, "original triangle %u uses material %u of %u", t,
+                           original->tris[t].material, original->n_materials);
+    return LM_OK;
+}
+
+/* The views of `deal`, in their order (malloc'ed). */
+static lm_view_set *deal_views(const lm_view_set *views, lm_view_deal deal)
+{
+    lm_view_set *out = malloc(sizeof *out);
+    if (!out)
+        return NULL;
+    out->count = deal.count;
+    for (uint32_t i = 0; i < deal.count; i++)
+        out->views[i] = views->views[lm_view_deal_view(deal, i)];
+    return out;
+}
+
+/* The CPU backend of the views of `deal` (it has no atlas: a view's pixels never depend on which
+ * others a backend holds). */
+static lm_status create_cpu(const lm_mesh *original, const lm_view_set *views, lm_view_deal deal,
+                            lm_views **out)
+{
+    if (deal.stride <= 1)
+        return wk_cpu_views_create(original, views, deal.first, deal.count, out);
+    lm_view_set *mine = deal_views(views, deal);
+    if (!mine)
+        return lm_fail(LM_E_NOMEM, "out of memory creating the views");
+    lm_status st = wk_cpu_views_create(original, mine, 0, deal.count, out);
+    free(mine);
+    return st;
+}
+
+/* The GL backend of the views of `deal` on ctx (its atlas places them among all of the job's). */
+static lm_status create_gl(const lm_mesh *original, const lm_view_set *views, lm_view_deal deal,
+                           wk_gl_context *ctx, lm_views **out)
+{
+    lm_view_set *mine = deal_views(views, deal);
+    if (!mine) {
+        wk_gl_context_destroy(ctx);
+        return lm_fail(LM_E_NOMEM, "out of memory creating the views");
+    }
+    lm_status st = wk_gl_views_create(original, mine, deal, views->count, ctx, out);
+    free(mine);
+    return st;
+}
+
+lm_status wk_views_local_create(const lm_mesh *original, const lm_view_set *views, uint32_t first,
+                                uint32_t count, const char *device_spec, lm_views **out)
+{
+    if (!count && first < views->count)
+        count = views->count - first;
+    return wk_views_local_create_dealt(original, views, (lm_view_deal){first, count, 1},
+                                       device_spec, out);
+}
+
+lm_status wk_views_local_create_dealt(const lm_mesh *original, const lm_view_set *views,
+                                      lm_view_deal deal, const char *device_spec, lm_views **out)
+{
+    lm_status st = check_views(views, deal);
+    if (st == LM_OK)
+        st = check_materials(original);
+    wk_gl_context *ctx = NULL;
+    if (st == LM_OK)
+        st = wk_device_open(device_spec, &ctx);
+    if (st != LM_OK)
+        return st;
+    if (!ctx) /* "cpu", or "auto" without a GPU */
+        return create_cpu(original, views, deal, out);
+    return create_gl(original, views, deal, ctx, out);
+}
+
+int wk_views_is_local(const lm_views *views)
+{
+    return wk_gl_views_is(views) || wk_cpu_views_is(views);
+}
+
+lm_status wk_views_local_set_occlusion(lm_views *views, int on)
+{
+    if (wk_cpu_views_is(views))
+        return wk_cpu_views_set_occlusion(views, on);
+    if (!wk_gl_views_is(views))
+        return lm_fail(LM_E_UNSUPPORTED, "occlusion is a setting of the in-process views only");
+    return wk_gl_views_set_occlusion(views, on);
+}
+
+lm_status wk_views_local_get_stats(lm_views *views, wk_views_local_stats *out)
+{
+    memset(out, 0, sizeof *out);
+    if (wk_cpu_views_is(views))
+        wk_cpu_views_get_stats(views, out);
+    else if (wk_gl_views_is(views))
+        wk_gl_views_get_stats(views, out);
+    else
+        return lm_fail(LM_E_UNSUPPORTED, "statistics are kept by the in-process views only");
+    return LM_OK;
+}
