@@ -2,8 +2,8 @@
  *
  * The optimizer (coordinator/) never renders: it holds the mesh, turns candidate moves into
  * patches (common/patch.h) and asks the views for exact integer energy changes. Behind this table
- * stand the in-process renderer (worker/render/views_local.c), a split over several backends that each
- * own a range of the views (coordinator/views/views_split.c), and lumesh-worker processes over
+ * stand the in-process renderer (worker/render/views_local.c), a split over several backends that
+ * each own a range of the views (coordinator/views/views_split.c), and lumesh-worker processes over
  * the wire (coordinator/views/views_remote.c). Because every number is an int64 sum over pixels,
  * results do not depend on how the views are split, nor on who computed which part.
  *

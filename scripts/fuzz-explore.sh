@@ -68,6 +68,12 @@ run() {
 }
 
 echo "fuzz-explore: ${formats[*]}; $minutes min each over seeds $seeds ($secs s a run), $jobs at a time; out: $out"
+# Findings of earlier campaigns move to FORMAT/earlier/: the counts below are this campaign's.
+for fmt in "${formats[@]}"; do
+  old=$(find "$out/$fmt" -maxdepth 1 -type f \( -name 'crash-*' -o -name 'leak-*' -o -name 'timeout-*' \
+    -o -name 'oom-*' -o -name 'slow-unit-*' \) 2>/dev/null || true)
+  [ -z "$old" ] || { mkdir -p "$out/$fmt/earlier"; mv $old "$out/$fmt/earlier/"; }
+done
 pids=()
 for fmt in "${formats[@]}"; do
   for seed in $seeds; do

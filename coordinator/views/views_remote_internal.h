@@ -6,11 +6,11 @@
 
 #include <stdint.h>
 
+#include "common/replica.h"
 #include "coordinator/pool/pool.h"
 #include "coordinator/views/views_remote.h"
 #include "proto/asset.h"
 #include "proto/wire_records.h"
-#include "common/replica.h"
 
 #define CO_REMOTE_TRIES 32  /* attempts of one operation (workers lost or stale in between) */
 #define CO_REMOTE_STRIKES 3 /* attempts whose workers died or failed on it: then it is poison */

@@ -47,13 +47,13 @@
 
 #include "common/mesh_io.h"
 #include "common/mesh_topology.h"
+#include "common/replica.h"
 #include "common/simplify.h"
 #include "common/view.h"
 #include "coordinator/optimizer/optimizer.h"
 #include "coordinator/pool/pool.h"
 #include "coordinator/views/views.h"
 #include "proto/wire_records.h"
-#include "common/replica.h"
 
 typedef struct opts {
     const char *model, *device;

@@ -420,7 +420,8 @@ static uint64_t fnv1a(uint64_t h, const uint8_t *p, size_t n)
 
 /* The images of a fixed scene, hashed: the same bits on every host, compiler and build. A change
  * of the rasteriser's arithmetic changes this hash: then bump the version in WK_CPU_RASTERISER
- * (worker/render/device_choice.h), since images of two versions must not be compared, and update it. */
+ * (worker/render/device_choice.h), since images of two versions must not be compared, and update
+ * it. */
 #define GOLDEN_HASH 0xd5fc19749df55f46ull
 static uint64_t golden_hash(void)
 {
