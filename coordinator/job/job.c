@@ -54,6 +54,7 @@ typedef struct co_job {
     double loop_limit_s; /* the loop's share of the time limit; 0 = none */
     uint64_t resumed_from_evals;
     double start_weight; /* the geometric term's weight the image start used; 0 = none */
+    double start_share;  /* the geometric term's share the image start prices with; 0 = none */
     char renderer[128];
 } co_job;
 
@@ -143,6 +144,18 @@ static lm_status check_output_path(const char *path)
     return check_writable("output", path);
 }
 
+/* The geometric term's share, the one place it is resolved: none (a negative weight or share)
+ * turns it off everywhere; a share of 0 is CO_JOB_IMAGE_START_SHARE for the image start's
+ * collapses and the optimizer's CO_SURFACE_SHARE after them, from a QEM start or --initial. */
+static void resolve_surface_term(co_job *j)
+{
+    co_job_options *o = &j->o;
+    int none = o->surface_weight < 0 || o->surface_share < 0;
+    j->start_share = none ? 0 : o->surface_share > 0 ? o->surface_share : CO_JOB_IMAGE_START_SHARE;
+    if (o->surface_share == 0)
+        o->surface_share = CO_SURFACE_SHARE;
+}
+
 static lm_status resolve_options(co_job *j, const co_job_options *in)
 {
     j->o = *in;
@@ -180,6 +193,7 @@ static lm_status resolve_options(co_job *j, const co_job_options *in)
         o->device_spec = "auto";
     if (!o->regrid_every)
         o->regrid_every = CO_JOB_DEFAULT_REGRID_EVERY;
+    resolve_surface_term(j);
     j->regrid_every = o->regrid_every == CO_JOB_NEVER ? 0 : o->regrid_every;
     j->checkpoint_path = o->checkpoint_path ? o->checkpoint_path : o->resume_path;
     lm_status st = check_output_path(o->output_path);
@@ -277,15 +291,12 @@ static lm_status load_original(co_job *j)
 static lm_status image_start(co_job *j, lm_mesh **out)
 {
     const co_job_options *o = &j->o;
-    int none = o->surface_weight < 0 || o->surface_share < 0;
     co_simplify_options so = {
         .target_verts = o->target_verts,
         .method = CO_PRICE_IMAGE,
         .device = o->device_spec,
         .surface_weight = o->surface_weight > 0 ? o->surface_weight : 0,
-        .surface_share = none                   ? 0
-                         : o->surface_share > 0 ? o->surface_share
-                                                : CO_JOB_IMAGE_START_SHARE,
+        .surface_share = j->start_share,
         .progress = j->rep.style == CO_REPORT_TTY,
     };
     int human = j->rep.style == CO_REPORT_TTY || j->rep.style == CO_REPORT_LINES;

@@ -59,19 +59,20 @@ typedef enum co_job_start {
 
 /* Zero means default for every field. */
 typedef struct co_job_options {
-    const char *original_path; /* required */
-    const char *output_path;   /* required: .obj, .ply or .glb */
-    const char *initial_path;  /* the coarse mesh to start from; NULL = `start`'s */
-    co_job_start start;        /* how the coarse mesh is made without initial_path */
-    uint32_t target_verts;     /* its vertices; 0 = 1% of the original's vertices, at least 100 */
-    uint32_t views;            /* 0 = 20 */
-    int size;                  /* image side in pixels; 0 = 256 */
-    uint64_t max_evals;        /* evaluation budget counted from the start of the job; 0 = 100000 */
-    double time_limit_s;       /* wall-clock limit for this process; 0 = none */
-    uint64_t seed;             /* 0 = 1 */
-    const char *attrs;         /* "pos,normal,uv,color" subset; NULL = uv if textured, color if
-                                  coloured; normals not listed are derived from geometry */
-    const char *checkpoint_path;     /* NULL = none (with resume_path: that file) */
+    const char *original_path;   /* required */
+    const char *output_path;     /* required: .obj, .ply or .glb */
+    const char *initial_path;    /* the coarse mesh to start from; NULL = `start`'s */
+    co_job_start start;          /* how the coarse mesh is made without initial_path */
+    uint32_t target_verts;       /* its vertices; 0 = 1% of the original's vertices, at least 100 */
+    uint32_t views;              /* 0 = CO_JOB_DEFAULT_VIEWS */
+    int size;                    /* image side in pixels; 0 = CO_JOB_DEFAULT_SIZE */
+    uint64_t max_evals;          /* evaluation budget counted from the start of the job; 0 =
+                                    CO_JOB_DEFAULT_EVALS */
+    double time_limit_s;         /* wall-clock limit for this process; 0 = none */
+    uint64_t seed;               /* 0 = 1 */
+    const char *attrs;           /* "pos,normal,uv,color" subset; NULL = uv if textured, color if
+                                    coloured; normals not listed are derived from geometry */
+    const char *checkpoint_path; /* NULL = none (with resume_path: that file) */
     uint64_t checkpoint_every_evals; /* 0 = by time only */
     double checkpoint_every_s;       /* 0 = 60 s unless checkpoint_every_evals is set */
     const char *resume_path;         /* continue from this checkpoint */
@@ -88,7 +89,8 @@ typedef struct co_job_options {
     double surface_weight; /* the optimizer's geometric term (co_tuning.surface_weight): 0 =
                               default, negative = none */
     double surface_share;  /* its weight relative to the start (co_tuning.surface_share): 0 =
-                              default, negative = none */
+                              default (CO_JOB_IMAGE_START_SHARE for the image start's collapses,
+                              CO_SURFACE_SHARE after), negative = none */
     uint64_t regrid_every; /* move the views' pixel grid every so many evaluations (regrid.h): 0 =
                               CO_JOB_DEFAULT_REGRID_EVERY, CO_JOB_NEVER = never */
     const char *initial_output_path; /* write the coarse mesh the optimisation starts from (after

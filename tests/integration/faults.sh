@@ -193,6 +193,11 @@ checks=$((checks + 1))
 grep -q "refused a worker: protocol version" "$tmp/poked.err" || fail "the wrong-version hello was not refused"
 
 # -- poison: a batch that kills (or fails on) every worker is refused after 3 tries --
+# (LUMESH_WORKER_FAULT makes the poison; only a build configured with -DLUMESH_TEST_HOOKS=ON, as
+# scripts/build.sh does, reads it)
+checks=$((checks + 1))
+[ "${LUMESH_TEST_HOOKS:-}" = ON ] ||
+  fail "lumesh-worker was built without its test hooks: configure with -DLUMESH_TEST_HOOKS=ON (scripts/build.sh does)"
 for fault in crash fail; do
   for run in a b; do
     LUMESH_WORKER_FAULT="$fault-on-tris=64" "$LUMESH" optimize "$bunny" -o "$tmp/poison-$fault-$run.glb" \

@@ -211,7 +211,9 @@ static lm_status server_init(wk_server *s, const wk_serve_options *o)
         s->o.silence_s = WK_COORDINATOR_SILENCE_S;
     lm_asset_set_init(&s->cache);
     lm_wire_arena_init(&s->arena);
+#ifdef LUMESH_TEST_HOOKS
     s->fault = getenv("LUMESH_WORKER_FAULT");
+#endif
     if (gethostname(s->host, sizeof s->host - 1) != 0)
         snprintf(s->host, sizeof s->host, "unknown");
     lm_status st = wk_probe_renderer(s->o.device, s->renderer_id, s->renderer);

@@ -41,7 +41,7 @@ typedef struct wk_server {
     char host[256], renderer[128], renderer_id[WK_RENDERER_ID_CHARS + 1];
     int welcomed, unheard_noted;
     uint32_t join;     /* the join Hello says: one more each time the worker drops its welcome */
-    const char *fault; /* LUMESH_WORKER_FAULT (fault-injection tests): serve_job.c */
+    const char *fault; /* LUMESH_WORKER_FAULT (test builds only, LUMESH_TEST_HOOKS): serve_job.c */
     double last_heard, last_hello, last_beat;
     /* assets */
     lm_asset_set cache;

@@ -274,9 +274,9 @@ static double cpu_now(void)
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
-/* Fault injection for tests (LUMESH_WORKER_FAULT): "crash-on-tris=N" aborts the process, and
- * "fail-on-tris=N" answers a Failure, on any batch with a patch adding more than N triangles — a
- * poison batch, the same on every worker and every retry. */
+/* Fault injection for tests (LUMESH_WORKER_FAULT, read only by builds with LUMESH_TEST_HOOKS):
+ * "crash-on-tris=N" aborts the process, and "fail-on-tris=N" answers a Failure, on any batch with a
+ * patch adding more than N triangles — a poison batch, the same on every worker and every retry. */
 static int faulty(const wk_server *s, const Lumesh__Evaluate *e, const char *kind)
 {
     size_t n = strlen(kind);
@@ -296,9 +296,9 @@ static lm_status evaluate(wk_server *s, const lm_msg *m)
         Lumesh__Stale r = LUMESH__STALE__INIT;
         return wk_serve_send(s, m->req, LUMESH__MSG__BODY_STALE, &r);
     }
-    if (faulty(s, e, "crash-on-tris"))
+    if (s->fault && faulty(s, e, "crash-on-tris"))
         abort();
-    if (faulty(s, e, "fail-on-tris"))
+    if (s->fault && faulty(s, e, "fail-on-tris"))
         return wk_serve_fail(s, m->req, LM_E_INTERNAL, "injected failure (LUMESH_WORKER_FAULT)");
     double t0 = cpu_now();
     lm_status st = reserve_patches(s, e->n_patches);
