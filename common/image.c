@@ -1,5 +1,5 @@
 /* common/image.c — lm_image ownership: creation (zeroed RGBA8), destruction and deep copy.
- * File I/O lives in common/image_io_oiio.cpp. */
+ * File I/O lives in common/io/image_io_oiio.cpp. */
 #include "common/image.h"
 
 #include <stdlib.h>

@@ -1,6 +1,5 @@
-/* common/image.h — 8-bit RGBA images in memory and their file I/O (through OpenImageIO, whose
- * C++ lives only in common/image_io_oiio.cpp behind this C header). Rows are stored top to bottom.
- */
+/* common/image.h — 8-bit RGBA images in memory. Rows are stored top to bottom. Reading and
+ * writing them (OpenImageIO) is common/io/image_io.h. */
 #ifndef LM_COMMON_IMAGE_H
 #define LM_COMMON_IMAGE_H
 
@@ -21,32 +20,5 @@ typedef struct lm_image {
 lm_status lm_image_create(int width, int height, lm_image **out);
 void lm_image_destroy(lm_image *img);
 lm_status lm_image_clone(const lm_image *src, lm_image **out);
-
-/* Read an image file; converted to RGBA8 (grey/RGB expanded, alpha 255 if absent). The bytes
- * decide the format, not the name: PNG and JPEG are decoded in this process (their readers are
- * fuzzed in the test gate, tests/fuzz/fuzz_image.c); any other format OpenImageIO knows is decoded
- * in a child process, so a decoder that crashes on a hostile file is a one-line LM_E_FORMAT error
- * and the caller is untouched (common/image_read.c). LM_E_IO: missing or not a regular file. */
-lm_status lm_image_read(const char *path, lm_image **out);
-
-/* Decode an image held in memory (e.g. a texture embedded in a glTF/GLB/FBX file), under the same
- * rule as lm_image_read. hint_ext ("png", "jpg", ... or NULL) names the format; the bytes'
- * signature wins when it is recognised. */
-lm_status lm_image_read_memory(const void *data, size_t size, const char *hint_ext, lm_image **out);
-
-/* The OpenImageIO decoders themselves, in this process, for any format: only for bytes lumesh
- * wrote itself or that lm_image_read* vetted (common/image_io_oiio.cpp). */
-lm_status lm_image_decode_file(const char *path, lm_image **out);
-lm_status lm_image_decode_memory(const void *data, size_t size, const char *hint_ext,
-                                 lm_image **out);
-
-/* Encode as PNG into a malloc'ed buffer (*out, *n bytes; the caller frees it with free()). */
-lm_status lm_image_encode_png_memory(const lm_image *img, uint8_t **out, size_t *n);
-
-/* Write PNG/JPEG/TGA/... chosen by extension; atomic (temp file + rename). */
-lm_status lm_image_write(const char *path, const lm_image *img);
-
-/* Write a single-channel 8-bit image (e.g. luminance or a difference map); atomic. */
-lm_status lm_image_write_gray(const char *path, const uint8_t *gray, int width, int height);
 
 #endif

@@ -14,7 +14,7 @@
 #include <time.h>
 #include <unistd.h>
 
-#include "common/mesh_io.h"
+#include "common/io/mesh_io.h"
 #include "common/mesh_topology.h"
 #include "common/patch.h"
 #include "common/simplify.h"

@@ -10,7 +10,8 @@
 
 #include "common/folders.h"
 #include "common/frog.h"
-#include "common/mesh_io.h"
+#include "common/io/image_io.h"
+#include "common/io/mesh_io.h"
 #include "common/simplify.h"
 #include "common/view.h"
 #include "coordinator/cli/cli_args.h"

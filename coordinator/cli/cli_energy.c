@@ -7,7 +7,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 
-#include "common/mesh_io.h"
+#include "common/io/mesh_io.h"
 #include "common/view.h"
 #include "coordinator/cli/cli_args.h"
 #include "coordinator/job/progress.h"

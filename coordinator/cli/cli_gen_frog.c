@@ -6,7 +6,7 @@
 
 #include "common/folders.h"
 #include "common/frog.h"
-#include "common/mesh_io.h"
+#include "common/io/mesh_io.h"
 #include "coordinator/cli/cli_args.h"
 
 #define CMD "gen-frog"

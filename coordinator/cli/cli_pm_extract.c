@@ -7,7 +7,7 @@
 #include <string.h>
 
 #include "common/folders.h"
-#include "common/mesh_io.h"
+#include "common/io/mesh_io.h"
 #include "coordinator/cli/cli_args.h"
 #include "coordinator/job/progress.h"
 #include "coordinator/simplify/pm.h"

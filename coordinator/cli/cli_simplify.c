@@ -13,7 +13,7 @@
 #include <unistd.h>
 
 #include "common/folders.h"
-#include "common/mesh_io.h"
+#include "common/io/mesh_io.h"
 #include "common/simplify.h"
 #include "coordinator/cli/cli_args.h"
 #include "coordinator/simplify/simplify_job.h"

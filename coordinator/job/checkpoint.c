@@ -7,7 +7,8 @@
 #include <string.h>
 #include <sys/stat.h>
 
-#include "common/mesh_io.h"
+#include "common/io/atomic_file.h"
+#include "common/io/mesh_io.h"
 
 static const char co_magic[8] = {'L', 'U', 'M', 'E', 'S', 'H', 'C', 'K'};
 

@@ -15,8 +15,8 @@
 #include <unistd.h>
 
 #include "common/folders.h"
+#include "common/io/mesh_io.h"
 #include "common/mesh.h"
-#include "common/mesh_io.h"
 #include "common/mesh_topology.h"
 #include "common/simplify.h"
 #include "common/view.h"

@@ -8,7 +8,9 @@
 #include <unistd.h>
 
 #include "common/folders.h"
-#include "common/mesh_io.h"
+#include "common/io/atomic_file.h"
+#include "common/io/image_io.h"
+#include "common/io/mesh_io.h"
 #include "coordinator/quality/report_internal.h"
 
 typedef struct report_paths {

@@ -6,7 +6,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "common/mesh_io.h"
+#include "common/io/atomic_file.h"
+#include "common/io/image_io.h"
+#include "common/io/mesh_io.h"
 #include "coordinator/quality/report_internal.h"
 
 static void html_text(FILE *fp, const char *s)

@@ -5,7 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "common/mesh_io.h"
+#include "common/io/mesh_io.h"
 #include "coordinator/quality/report_internal.h"
 #include "coordinator/quality/view_setup.h"
 

@@ -10,7 +10,7 @@
 
 #include <stdint.h>
 
-#include "common/mesh_io.h"
+#include "common/io/mesh_io.h"
 #include "coordinator/simplify/pricer.h"
 #include "coordinator/simplify/work.h"
 

@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "common/image.h"
+#include "common/io/image_io.h"
 #include "coordinator/simplify/pm_internal.h"
 
 struct co_pm {

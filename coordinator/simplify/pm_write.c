@@ -6,7 +6,9 @@
 #include <string.h>
 
 #include "common/image.h"
-#include "common/mesh_io.h"
+#include "common/io/atomic_file.h"
+#include "common/io/image_io.h"
+#include "common/io/mesh_io.h"
 #include "coordinator/optimizer/binio.h"
 #include "coordinator/simplify/pm_internal.h"
 

@@ -9,7 +9,7 @@
 #include <unistd.h>
 
 #include "common/folders.h"
-#include "common/mesh_io.h"
+#include "common/io/mesh_io.h"
 #include "common/simplify.h"
 #include "coordinator/optimizer/surface_term.h"
 #include "coordinator/pool/pool.h"

@@ -12,7 +12,7 @@
 #include <time.h>
 
 #include "common/bvh.h"
-#include "common/mesh_io.h"
+#include "common/io/mesh_io.h"
 #include "common/simplify.h"
 #include "coordinator/optimizer/rng.h"
 

@@ -16,7 +16,7 @@
 #include <unistd.h>
 
 #include "common/frog.h"
-#include "common/mesh_io.h"
+#include "common/io/mesh_io.h"
 #include "common/simplify.h"
 
 enum { PH_GENERATE, PH_SAVE, PH_LOAD_GLB, PH_LOAD_OBJ, PH_SIMPLIFY, PH_COUNT };

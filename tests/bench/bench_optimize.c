@@ -12,8 +12,8 @@
 #include <string.h>
 #include <time.h>
 
+#include "common/io/mesh_io.h"
 #include "common/log.h"
-#include "common/mesh_io.h"
 #include "common/mesh_topology.h"
 #include "common/simplify.h"
 #include "common/view.h"

@@ -12,7 +12,7 @@
 #include <string.h>
 #include <time.h>
 
-#include "common/mesh_io.h"
+#include "common/io/mesh_io.h"
 #include "common/view.h"
 #include "worker/render/shared/image_store.h"
 #include "worker/render/views_local.h"

@@ -45,7 +45,7 @@
 #include <time.h>
 #include <unistd.h>
 
-#include "common/mesh_io.h"
+#include "common/io/mesh_io.h"
 #include "common/mesh_topology.h"
 #include "common/replica.h"
 #include "common/simplify.h"

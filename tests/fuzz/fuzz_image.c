@@ -1,5 +1,5 @@
 /* tests/fuzz/fuzz_image.c — libFuzzer target for the textures lumesh decodes in its own process
- * (lm_image_read_memory; common/image_read.c): PNG and JPEG, by their signatures, through
+ * (lm_image_read_memory; common/io/image_read.c): PNG and JPEG, by their signatures, through
  * OpenImageIO and libpng / libjpeg. Every other format goes to a decoder process of its own
  * there, where a crash is an error status; inputs without a PNG or JPEG signature are skipped
  * here (each would start that process: ten runs a second instead of thousands), and the hand-back
@@ -12,6 +12,7 @@
 #include <string.h>
 
 #include "common/image.h"
+#include "common/io/image_io.h"
 #include "common/log.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);

@@ -1,11 +1,11 @@
 /* tests/fuzz/fuzz_mesh_load.c — libFuzzer target for model loading (lm_mesh_load_memory): the
  * first byte picks the format hint, the rest is the file. Any input must give LM_OK with a valid
  * mesh, or an error status with a one-line message; never a crash, a leak or a hang.
- * glTF, GLB, FBX and DAE inputs are read in a reader process (common/mesh_io_isolate.c: this
+ * glTF, GLB, FBX and DAE inputs are read in a reader process (common/io/mesh_io_isolate.c: this
  * fuzzer's own binary run afresh), as in the product: a crash inside assimp's readers for them is
  * an error status here, and what this target catches for them are faults of our guards, the
  * hand-back and the caller's side (libFuzzer does not see the reader process's coverage).
- * PLY is read by lumesh's own reader (common/mesh_io_ply_read.c), the other formats by assimp.
+ * PLY is read by lumesh's own reader (common/io/mesh_io_ply_read.c), the other formats by assimp.
  * LUMESH_FUZZ_FORMAT=ply (or obj, off, ...) pins every input to one format, the first byte still
  * skipped, for the per-format campaigns of scripts/fuzz-explore.sh.
  * Seeds: tests/fuzz/corpus/mesh_load/ (tiny OBJ, PLY, OFF, STL, glTF, GLB, DAE and FBX files, and
@@ -16,8 +16,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "common/io/mesh_io.h"
 #include "common/log.h"
-#include "common/mesh_io.h"
 
 /* assimp 5.2 leaks the mesh it was building when one of its readers throws part-way (its ASCII
  * STL reader on a facet cut short, for one): those are assimp's, not findings of this target.

@@ -9,6 +9,7 @@
 #include <sys/stat.h>
 
 #include "common/image.h"
+#include "common/io/image_io.h"
 
 static char *path_in(const char *dir, const char *name)
 {

@@ -9,7 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "common/mesh_io.h"
+#include "common/io/mesh_io.h"
 #include "common/simplify.h"
 #include "coordinator/quality/view_setup.h"
 #include "coordinator/simplify/isimp.h"

@@ -11,7 +11,8 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-#include "common/mesh_io.h"
+#include "common/io/atomic_file.h"
+#include "common/io/mesh_io.h"
 #include "common/mesh_topology.h"
 
 /* ---- helpers ----------------------------------------------------------------------------------

@@ -1,5 +1,5 @@
 /* tests/unit/test_mesh_io_isolate.c — models read in a process of their own
- * (common/mesh_io_isolate.c): a model read there comes back whole (the textured spider, its
+ * (common/io/mesh_io_isolate.c): a model read there comes back whole (the textured spider, its
  * textures found in its own folder, through the GLB hand-back), the reader's own errors come back
  * with their status and message (the options reach it), and files that crash assimp 5.2 (a GLB
  * that reads through null, an FBX that aborts) are one-line errors while this process goes on. */
@@ -10,8 +10,8 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "common/mesh_io.h"
-#include "common/mesh_io_internal.h"
+#include "common/io/mesh_io.h"
+#include "common/io/mesh_io_internal.h"
 
 static uint8_t *read_whole(const char *path, size_t *n)
 {

@@ -10,7 +10,7 @@
 #include <string.h>
 
 #include "common/frog.h"
-#include "common/mesh_io.h"
+#include "common/io/mesh_io.h"
 #include "common/mesh_topology.h"
 #include "common/simplify.h"
 

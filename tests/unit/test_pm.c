@@ -8,7 +8,7 @@
 #include <string.h>
 
 #include "common/folders.h"
-#include "common/mesh_io.h"
+#include "common/io/mesh_io.h"
 #include "common/simplify.h"
 #include "coordinator/simplify/isimp.h"
 #include "coordinator/simplify/pm.h"

@@ -11,7 +11,8 @@
 #include <string.h>
 
 #include "common/image.h"
-#include "common/mesh_io.h"
+#include "common/io/image_io.h"
+#include "common/io/mesh_io.h"
 #include "common/view.h"
 #include "test_support.h"
 #include "worker/render/shared/image_store.h"

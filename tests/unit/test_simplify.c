@@ -9,7 +9,7 @@
 
 #include "common/frog.h"
 #include "common/frog_internal.h"
-#include "common/mesh_io.h"
+#include "common/io/mesh_io.h"
 #include "common/mesh_topology.h"
 #include "common/simplify_internal.h"
 

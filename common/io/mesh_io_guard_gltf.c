@@ -1,15 +1,16 @@
-/* common/mesh_io_guard_gltf.c — checks the JSON of a glTF (.gltf, or a .glb's first chunk) before
- * assimp 5.2 sees it. assimp picks its glTF importer only if the JSON parses and names a version;
- * otherwise it falls back to guessing the format from the bytes and hands them to whichever of its
- * forty readers claims them (MD5, MD2, X...), several of which read out of bounds on hostile input.
- * So the JSON must parse under a strict parser (jansson: no NaN, comments, trailing commas, NUL or
- * invalid UTF-8, duplicate keys — all of which assimp's RapidJSON refuses or tolerates), and its
- * "asset" must say version 2.x. glTF 1.0 (obsolete since 2017: version "1.0" or the number 1, or
- * no version and its dictionaries where 2.0 has arrays) is named as such, with what to do. */
+/* common/io/mesh_io_guard_gltf.c — checks the JSON of a glTF (.gltf, or a .glb's first chunk)
+ * before assimp 5.2 sees it. assimp picks its glTF importer only if the JSON parses and names a
+ * version; otherwise it falls back to guessing the format from the bytes and hands them to
+ * whichever of its forty readers claims them (MD5, MD2, X...), several of which read out of bounds
+ * on hostile input. So the JSON must parse under a strict parser (jansson: no NaN, comments,
+ * trailing commas, NUL or invalid UTF-8, duplicate keys — all of which assimp's RapidJSON refuses
+ * or tolerates), and its "asset" must say version 2.x. glTF 1.0 (obsolete since 2017: version "1.0"
+ * or the number 1, or no version and its dictionaries where 2.0 has arrays) is named as such, with
+ * what to do. */
 #include <jansson.h>
 #include <string.h>
 
-#include "common/mesh_io_internal.h"
+#include "common/io/mesh_io_internal.h"
 
 /* glTF 1.0 keeps accessors, meshes and nodes in objects keyed by id; 2.0 in arrays. */
 static int looks_like_gltf1(const json_t *root, const json_t *version)

@@ -1,4 +1,4 @@
-/* common/mesh_io_aifs.c — the file system assimp reads through (its C aiFileIO interface). The
+/* common/io/mesh_io_aifs.c — the file system assimp reads through (its C aiFileIO interface). The
  * model itself is served from memory (already checked by mesh_io_guard*.c); files it refers to
  * (MTL libraries, glTF buffers) are read whole from regular files only, so a hostile model cannot
  * make assimp read /dev/zero, a FIFO or a directory; in memory mode they do not exist at all. */
@@ -8,7 +8,7 @@
 #include <string.h>
 #include <sys/stat.h>
 
-#include "common/mesh_io_internal.h"
+#include "common/io/mesh_io_internal.h"
 
 struct lm_aifs {
     struct aiFileIO io;

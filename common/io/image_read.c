@@ -1,11 +1,11 @@
-/* common/image_read.c — which decoder may see an image from outside (a model's texture, a texture
- * embedded in a model or a progressive-mesh file), and where. The bytes decide, never the name:
- * PNG and JPEG (by their signatures) are decoded in this process, through OpenImageIO's readers
- * that the test gate fuzzes (tests/fuzz/fuzz_image.c); anything else OpenImageIO may know (TGA,
- * BMP, TIFF, DDS, PSD, EXR, ...: dozens of readers nobody here fuzzes) is decoded in a process of
- * its own (this program run afresh: common/spawn_self.h) that hands the pixels back through a pipe,
- * so that a decoder crashing on a hostile file is a one-line error and the caller's heap, GL
- * contexts and work are untouched. */
+/* common/io/image_read.c — which decoder may see an image from outside (a model's texture, a
+ * texture embedded in a model or a progressive-mesh file), and where. The bytes decide, never the
+ * name: PNG and JPEG (by their signatures) are decoded in this process, through OpenImageIO's
+ * readers that the test gate fuzzes (tests/fuzz/fuzz_image.c); anything else OpenImageIO may know
+ * (TGA, BMP, TIFF, DDS, PSD, EXR, ...: dozens of readers nobody here fuzzes) is decoded in a
+ * process of its own (this program run afresh: common/io/spawn_self.h) that hands the pixels back
+ * through a pipe, so that a decoder crashing on a hostile file is a one-line error and the caller's
+ * heap, GL contexts and work are untouched. */
 #include <errno.h>
 #include <signal.h>
 #include <stdio.h>
@@ -17,7 +17,8 @@
 #include <unistd.h>
 
 #include "common/image.h"
-#include "common/spawn_self.h"
+#include "common/io/image_io.h"
+#include "common/io/spawn_self.h"
 
 /* CPU seconds a decoder process may use (a 16k x 16k texture decodes in a few). */
 #define IMAGE_DECODER_CPU_SECONDS 300

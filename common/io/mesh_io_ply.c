@@ -1,4 +1,4 @@
-/* common/mesh_io_ply.c — binary little-endian PLY writer: one PLY vertex per wedge (position,
+/* common/io/mesh_io_ply.c — binary little-endian PLY writer: one PLY vertex per wedge (position,
  * then nx ny nz, texture_u texture_v, red green blue alpha as uchar — each group only when the
  * mesh has that attribute), faces as uchar-counted uint lists. The bytes are little-endian on
  * any host. Written atomically. Materials and textures are not representable and are dropped.
@@ -6,7 +6,7 @@
 #include <math.h>
 #include <string.h>
 
-#include "common/mesh_io_internal.h"
+#include "common/io/mesh_io_internal.h"
 
 static void put_u32(uint8_t *p, uint32_t v)
 {

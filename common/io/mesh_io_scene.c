@@ -1,5 +1,5 @@
-/* common/mesh_io_scene.c — an assimp scene -> one lm_mesh. Every mesh instance reachable from the
- * root node is placed with its node's accumulated transform (normals by the inverse transpose,
+/* common/io/mesh_io_scene.c — an assimp scene -> one lm_mesh. Every mesh instance reachable from
+ * the root node is placed with its node's accumulated transform (normals by the inverse transpose,
  * winding flipped under mirroring). Vertices are welded by exact position across the whole scene;
  * each distinct attribute set (normal, uv channel 0, colour channel 0) of a vertex within one mesh
  * instance becomes a wedge. Triangles whose corners share a position are dropped, and so are
@@ -12,8 +12,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "common/io/mesh_io_internal.h"
 #include "common/log.h"
-#include "common/mesh_io_internal.h"
 
 typedef struct hash_table {
     uint32_t *slots; /* element ids, LM_NONE = empty */

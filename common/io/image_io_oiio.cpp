@@ -1,14 +1,16 @@
-/* common/image_io_oiio.cpp — the only C++ in lumesh: the OpenImageIO 2.4 shim behind the C header
- * common/image.h. Decodes any format OpenImageIO knows (file or memory) into RGBA8, rows top to
- * bottom (lm_image_decode_*: in this process; common/image_read.c decides which bytes may come
- * here and which are decoded in a child process); writes by extension, atomically (temp file beside
- * the target, fsync, rename); encodes PNG into memory for GLB export. No C++ exception crosses into
- * C: every entry point catches them and converts them, like OpenImageIO's own errors, into an
- * lm_status with a one-line message. */
+/* common/io/image_io_oiio.cpp — the only C++ in lumesh: the OpenImageIO 2.4 shim behind the C
+ * header common/image.h. Decodes any format OpenImageIO knows (file or memory) into RGBA8, rows top
+ * to bottom (lm_image_decode_*: in this process; common/io/image_read.c decides which bytes may
+ * come here and which are decoded in a child process); writes by extension, atomically (temp file
+ * beside the target, fsync, rename); encodes PNG into memory for GLB export. No C++ exception
+ * crosses into C: every entry point catches them and converts them, like OpenImageIO's own errors,
+ * into an lm_status with a one-line message. */
 #define _Noreturn [[noreturn]]
 extern "C" {
 #include "common/image.h"
-#include "common/mesh_io.h"
+#include "common/io/atomic_file.h"
+#include "common/io/image_io.h"
+#include "common/io/mesh_io.h"
 }
 #undef _Noreturn
 

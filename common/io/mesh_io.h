@@ -1,4 +1,4 @@
-/* common/mesh_io.h — model files. Loading goes through assimp (OBJ+MTL, PLY, OFF, STL, glTF/GLB,
+/* common/io/mesh_io.h — model files. Loading goes through assimp (OBJ+MTL, PLY, OFF, STL, glTF/GLB,
  * FBX, DAE, ...) keeping UVs, normals, colours and diffuse textures (read through OpenImageIO);
  * writing supports OBJ+MTL (textures copied beside it as PNG), PLY and GLB (chosen by extension).
  * Hostile input (NaN/Inf, out-of-range indices, truncated files, absurd counts, empty meshes) is
@@ -35,18 +35,5 @@ lm_status lm_mesh_save(const char *path, const lm_mesh *m);
 #define LM_MESH_MAX_LODS 32
 lm_status lm_mesh_save_glb_lods(const char *path, const lm_mesh *const *levels, uint32_t n,
                                 const float *coverage);
-
-/* Atomic file helpers shared by every writer: open "<path>.tmp.XXXXXX" beside path, then commit
- * (fflush, fsync, rename) or abort (unlink). A writer that must write tmp_path by name
- * (OpenImageIO) closes fp and sets it to NULL before writing; commit then syncs the file by name.
- */
-typedef struct lm_atomic_file {
-    char *final_path;
-    char *tmp_path;
-    void *fp; /* FILE* */
-} lm_atomic_file;
-lm_status lm_atomic_open(lm_atomic_file *f, const char *path);
-lm_status lm_atomic_commit(lm_atomic_file *f);
-void lm_atomic_abort(lm_atomic_file *f);
 
 #endif

@@ -1,9 +1,9 @@
-/* common/mesh_io_load.c — lm_mesh_load / lm_mesh_load_memory: read the bytes, refuse hostile input
- * assimp would mis-handle (mesh_io_guard*.c), import through assimp's C API with our own file
+/* common/io/mesh_io_load.c — lm_mesh_load / lm_mesh_load_memory: read the bytes, refuse hostile
+ * input assimp would mis-handle (mesh_io_guard*.c), import through assimp's C API with our own file
  * system (mesh_io_aifs.c) or, for PLY, through lumesh's own reader (mesh_io_ply_read.c), convert
  * the scene (mesh_io_scene.c), validate, build adjacency; glTF, GLB, FBX and COLLADA in a process
  * of their own (mesh_io_isolate.c). Which input is read how, and why:
- * common/INPUT_SAFETY.md.
+ * common/io/INPUT_SAFETY.md.
  *
  * assimp runs in two steps: import with ValidateDataStructure only; then, once our own checks of
  * the raw scene pass (lm_io_check_scene: faces without indices make assimp's Triangulate abort),
@@ -21,7 +21,7 @@
 #include <string.h>
 #include <sys/stat.h>
 
-#include "common/mesh_io_internal.h"
+#include "common/io/mesh_io_internal.h"
 #include "common/mesh_topology.h"
 
 /* Prefix the current error message with the model's name (one line). */

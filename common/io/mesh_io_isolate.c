@@ -1,9 +1,9 @@
-/* common/mesh_io_isolate.c — reads a model in a process of its own, for the formats whose assimp
+/* common/io/mesh_io_isolate.c — reads a model in a process of its own, for the formats whose assimp
  * reader is not proven safe under fuzzing: glTF and GLB (a 4 kB GLB makes assimp 5.2 read through
  * a null pointer: tests/data/hostile/glb-assimp-null-read.glb), FBX (assimp aborts on some files,
- * ai_assert) and COLLADA. Which format is read where, and why: common/INPUT_SAFETY.md.
+ * ai_assert) and COLLADA. Which format is read where, and why: common/io/INPUT_SAFETY.md.
  *
- * The reader is this program run afresh (common/spawn_self.h). Before main runs, the constructor
+ * The reader is this program run afresh (common/io/spawn_self.h). Before main runs, the constructor
  * below sees READER_ENV, reads the model's bytes on stdin, loads them as lm_mesh_load does in
  * process (lm_io_load_bytes_here, with the caller's name, folder and options), writes the mesh as
  * GLB to the private temporary file READER_ENV names, answers {status, message} on stdout and
@@ -20,8 +20,8 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include "common/mesh_io_internal.h"
-#include "common/spawn_self.h"
+#include "common/io/mesh_io_internal.h"
+#include "common/io/spawn_self.h"
 
 /* CPU seconds a reader process may use: far beyond any real model (a 2M-triangle OBJ loads in
  * 6 s here), short of a stuck job. */

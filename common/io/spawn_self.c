@@ -1,7 +1,7 @@
-/* common/spawn_self.c — lm_spawn_self: the environment built before the fork; after it, only
+/* common/io/spawn_self.c — lm_spawn_self: the environment built before the fork; after it, only
  * async-signal-safe calls. /proc/self/exe is the running program's own file, even when a newer
  * build has replaced it on disk. */
-#include "common/spawn_self.h"
+#include "common/io/spawn_self.h"
 
 #include <errno.h>
 #include <stdio.h>

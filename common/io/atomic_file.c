@@ -1,7 +1,8 @@
-/* common/atomic_file.c — atomic file replacement shared by every writer (meshes, images,
+/* common/io/atomic_file.c — atomic file replacement shared by every writer (meshes, images,
  * checkpoints): write "<path>.tmp.XXXXXX" in the same folder, fsync it, rename it over <path>,
  * fsync the folder. A failed or abandoned write leaves nothing behind. */
-#include "common/mesh_io.h"
+#include "common/io/atomic_file.h"
+#include "common/io/mesh_io.h"
 
 #include <errno.h>
 #include <fcntl.h>

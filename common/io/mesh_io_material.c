@@ -1,4 +1,4 @@
-/* common/mesh_io_material.c — assimp materials -> lm_material: name, diffuse colour (with
+/* common/io/mesh_io_material.c — assimp materials -> lm_material: name, diffuse colour (with
  * opacity), and the diffuse (or glTF base colour) texture, decoded through OpenImageIO. Textures
  * are embedded ("*N" or a name matching aiScene->mTextures) or files relative to the model's
  * folder. A texture that cannot be found or decoded is a warning, not an error: the material
@@ -11,8 +11,8 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "common/io/mesh_io_internal.h"
 #include "common/log.h"
-#include "common/mesh_io_internal.h"
 
 /* An uncompressed embedded texture (BGRA texels) as an RGBA image. */
 static lm_status texels_to_image(const struct aiTexture *t, lm_image **out)

@@ -1,4 +1,4 @@
-/* common/mesh_io_guard_dae.c — checks a COLLADA (.dae) file before assimp 5.2 reads it. assimp
+/* common/io/mesh_io_guard_dae.c — checks a COLLADA (.dae) file before assimp 5.2 reads it. assimp
  * trusts the file's numbers: it reserves `count` elements up front (an absurd count is an
  * out-of-memory), resizes skin weights to the sum of <vcount>, and reads accessor data at
  * offset + index * stride + param without checking the source array's size (a large stride is a
@@ -10,7 +10,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "common/mesh_io_internal.h"
+#include "common/io/mesh_io_internal.h"
 
 typedef struct dae_array {
     char id[64];

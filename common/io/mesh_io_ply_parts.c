@@ -1,11 +1,11 @@
-/* common/mesh_io_ply_parts.c — the part names a PLY file can carry. PLY has no groups or objects;
- * lumesh's writer puts each part's faces together and names the runs in header comments,
+/* common/io/mesh_io_ply_parts.c — the part names a PLY file can carry. PLY has no groups or
+ * objects; lumesh's writer puts each part's faces together and names the runs in header comments,
  * "comment lumesh part FIRST COUNT NAME" (FIRST and COUNT in faces, NAME to the end of the line),
  * which other readers skip as comments and lumesh's loader reads back. */
 #include <stdlib.h>
 #include <string.h>
 
-#include "common/mesh_io_internal.h"
+#include "common/io/mesh_io_internal.h"
 
 #define PLY_PARTS_MAX_HEADER ((size_t)1 << 20)
 #define PLY_PART_TAG "comment lumesh part "

@@ -1,10 +1,10 @@
-/* common/mesh_io_ply_header.h — the parsed header of a PLY file, shared by the two halves of
+/* common/io/mesh_io_ply_header.h — the parsed header of a PLY file, shared by the two halves of
  * lumesh's own PLY reader: mesh_io_ply_header.c (the header, and its counts checked against the
  * bytes that follow it) and mesh_io_ply_read.c (the body, into a scene). Not for other files. */
 #ifndef LM_COMMON_MESH_IO_PLY_HEADER_H
 #define LM_COMMON_MESH_IO_PLY_HEADER_H
 
-#include "common/mesh_io_internal.h"
+#include "common/io/mesh_io_internal.h"
 
 #define PLY_MAX_ELEMS 16
 #define PLY_MAX_PROPS 64

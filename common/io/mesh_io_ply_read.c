@@ -1,4 +1,4 @@
-/* common/mesh_io_ply_read.c — lumesh's own PLY reader (ASCII, binary little and big endian):
+/* common/io/mesh_io_ply_read.c — lumesh's own PLY reader (ASCII, binary little and big endian):
  * the body of a file whose header mesh_io_ply_header.c parsed, into a scene in assimp's C layout
  * (one mesh, one root node, one material) that lm_mesh_from_scene converts like any other.
  * assimp's PLY reader is not used: it corrupted the heap on a header that repeats its lines.
@@ -16,7 +16,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "common/mesh_io_ply_header.h"
+#include "common/io/mesh_io_ply_header.h"
 
 typedef struct ply_cursor {
     const uint8_t *d;

@@ -1,11 +1,11 @@
-/* common/mesh_io_ply_header.c — the header of a PLY file, for lumesh's own PLY reader
+/* common/io/mesh_io_ply_header.c — the header of a PLY file, for lumesh's own PLY reader
  * (mesh_io_ply_read.c): its format, elements, properties and the roles lumesh gives them, the
  * texture a "comment TextureFile" names, and every count checked against the limits and against
  * the bytes present before the body is read. */
 #include <stdlib.h>
 #include <string.h>
 
-#include "common/mesh_io_ply_header.h"
+#include "common/io/mesh_io_ply_header.h"
 
 #define PLY_MAX_HEADER 65536
 #define PLY_MAX_LINE 1024

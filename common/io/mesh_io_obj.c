@@ -1,4 +1,4 @@
-/* common/mesh_io_obj.c — Wavefront OBJ + MTL writer. Positions are written once per vertex, or
+/* common/io/mesh_io_obj.c — Wavefront OBJ + MTL writer. Positions are written once per vertex, or
  * once per wedge as extended "v x y z r g b" lines when the mesh has colours (OBJ binds colour
  * to the position); "vt" and "vn" once per wedge; faces as v/vt/vn triples grouped by part (an
  * "o NAME" line each, the unnamed part first and without one) and within a part by material.
@@ -9,7 +9,7 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "common/mesh_io_internal.h"
+#include "common/io/mesh_io_internal.h"
 
 typedef struct obj_names {
     char *mtl_path; /* "<stem>.mtl" */

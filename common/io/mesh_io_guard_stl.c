@@ -1,4 +1,4 @@
-/* common/mesh_io_guard_stl.c — checks an STL file before assimp 5.2 reads it. Binary: assimp
+/* common/io/mesh_io_guard_stl.c — checks an STL file before assimp 5.2 reads it. Binary: assimp
  * computes 84 + 50 * count in 32 bits, so a count that wraps around passes its size check and
  * makes it read far beyond the buffer. ASCII: a malformed number after "vertex" or "facet normal"
  * makes assimp throw from the middle of its parser and leak the mesh it was building; this walk
@@ -6,7 +6,7 @@
 #include <string.h>
 #include <strings.h>
 
-#include "common/mesh_io_internal.h"
+#include "common/io/mesh_io_internal.h"
 
 typedef struct stl_cursor {
     const char *p, *end; /* end = first NUL or end of data, like assimp's C string */

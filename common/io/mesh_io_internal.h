@@ -1,12 +1,14 @@
-/* common/mesh_io_internal.h — private interfaces between the mesh_io_*.c files: the pre-checks of
- * hostile bytes, the file system handed to assimp, the aiScene -> lm_mesh conversion, material
+/* common/io/mesh_io_internal.h — private interfaces between the mesh_io_*.c files: the pre-checks
+ * of hostile bytes, the file system handed to assimp, the aiScene -> lm_mesh conversion, material
  * and texture import, and the writers. Not for other folders. */
 #ifndef LM_COMMON_MESH_IO_INTERNAL_H
 #define LM_COMMON_MESH_IO_INTERNAL_H
 
 #include <stdio.h>
 
-#include "common/mesh_io.h"
+#include "common/io/atomic_file.h"
+#include "common/io/image_io.h"
+#include "common/io/mesh_io.h"
 
 /* Largest model file (and file it refers to) we read into memory. */
 #define LM_IO_MAX_FILE_BYTES ((size_t)2 << 30)

@@ -1,4 +1,4 @@
-/* common/mesh_io_glb.c — glTF 2.0 binary (GLB) writer: one node and one mesh per part, both with
+/* common/io/mesh_io_glb.c — glTF 2.0 binary (GLB) writer: one node and one mesh per part, both with
  * the part's name (none for the unnamed part), one primitive per material of the part (POSITION
  * with min/max, NORMAL, TEXCOORD_0, COLOR_0 as the mesh has them; uint32 indices),
  * pbrMetallicRoughness materials (baseColorFactor = diffuse, not metallic) whose textures are
@@ -11,7 +11,7 @@
 #include <string.h>
 
 #include "common/bytes.h"
-#include "common/mesh_io_internal.h"
+#include "common/io/mesh_io_internal.h"
 
 #define LM_GLB_MAX_LODS LM_MESH_MAX_LODS
 

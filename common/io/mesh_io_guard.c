@@ -1,4 +1,4 @@
-/* common/mesh_io_guard.c — checks on the raw bytes of a model before assimp sees them, for the
+/* common/io/mesh_io_guard.c — checks on the raw bytes of a model before assimp sees them, for the
  * input classes assimp 5.2 mis-handles: header counts far beyond what the file holds (assimp
  * allocates them up front), truncated GLB containers. OFF and STL have their own walkers
  * (mesh_io_guard_{off,stl,dae,gltf}.c); PLY is read by lumesh's own reader, which checks its
@@ -6,7 +6,7 @@
 #include <ctype.h>
 #include <string.h>
 
-#include "common/mesh_io_internal.h"
+#include "common/io/mesh_io_internal.h"
 
 static const char *const known_exts[] = {"obj", "ply", "off", "stl", "gltf", "glb", "fbx", "dae"};
 

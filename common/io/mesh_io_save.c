@@ -1,11 +1,11 @@
-/* common/mesh_io_save.c — lm_mesh_save: picks the writer from the extension (OBJ+MTL, PLY, GLB),
+/* common/io/mesh_io_save.c — lm_mesh_save: picks the writer from the extension (OBJ+MTL, PLY, GLB),
  * and what every writer shares: the output numbering (dead elements, and vertices or wedges no
  * alive triangle uses, are skipped; the order of ids is kept) and the triangles grouped by part and
  * material. */
 #include <stdlib.h>
 #include <string.h>
 
-#include "common/mesh_io_internal.h"
+#include "common/io/mesh_io_internal.h"
 
 lm_status lm_out_map_build(const lm_mesh *m, lm_out_map *map)
 {

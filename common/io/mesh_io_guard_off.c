@@ -1,11 +1,11 @@
-/* common/mesh_io_guard_off.c — walks an OFF file the way assimp 5.2's OFF reader does (same token
- * and line rules) before assimp reads it, because that reader allocates the header's counts up
- * front, silently clamps out-of-range vertex indices to the last vertex, silently accepts files
+/* common/io/mesh_io_guard_off.c — walks an OFF file the way assimp 5.2's OFF reader does (same
+ * token and line rules) before assimp reads it, because that reader allocates the header's counts
+ * up front, silently clamps out-of-range vertex indices to the last vertex, silently accepts files
  * with fewer lines than the header claims, loops past the face count on faces with 0 or > 9
  * corners, and overflows its 4096-byte line buffer by one byte on longer lines. */
 #include <string.h>
 
-#include "common/mesh_io_internal.h"
+#include "common/io/mesh_io_internal.h"
 
 #define OFF_LINE_MAX 4000 /* assimp copies lines into char[4096] */
 

@@ -1,4 +1,4 @@
-/* common/spawn_self.h — this program run afresh as a helper process (fork, then exec of
+/* common/io/spawn_self.h — this program run afresh as a helper process (fork, then exec of
  * /proc/self/exe), for work whose crash must not take the caller down: decoding an image, reading
  * a model. A fork alone is not enough: the child would inherit locks and thread pools of threads
  * it does not have (OpenImageIO's TIFF reader spun forever in such a child). The helper is told
