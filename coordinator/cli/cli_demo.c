@@ -12,13 +12,13 @@
 #include "common/frog.h"
 #include "common/io/image_io.h"
 #include "common/io/mesh_io.h"
-#include "common/simplify.h"
 #include "common/view.h"
 #include "coordinator/cli/cli_args.h"
 #include "coordinator/job/job.h"
 #include "coordinator/job/job_log.h"
 #include "coordinator/quality/compare.h"
 #include "coordinator/quality/report.h"
+#include "coordinator/simplify/simplify.h"
 
 #define CO_DEMO_TRIS 20000u
 #define CO_DEMO_TARGET 300u

@@ -14,8 +14,8 @@
 
 #include "common/folders.h"
 #include "common/io/mesh_io.h"
-#include "common/simplify.h"
 #include "coordinator/cli/cli_args.h"
+#include "coordinator/simplify/simplify.h"
 #include "coordinator/simplify/simplify_job.h"
 
 #define CMD "simplify"

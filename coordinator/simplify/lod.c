@@ -9,11 +9,11 @@
 
 #include "common/folders.h"
 #include "common/mesh_topology.h"
-#include "common/simplify.h"
 #include "coordinator/optimizer/optimizer.h"
 #include "coordinator/pool/pool.h"
 #include "coordinator/quality/view_setup.h"
 #include "coordinator/simplify/isimp.h"
+#include "coordinator/simplify/simplify.h"
 #include "coordinator/simplify/work.h"
 
 #define CO_LOD_DEFAULT_EVALS 20000

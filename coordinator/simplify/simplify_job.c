@@ -10,10 +10,10 @@
 
 #include "common/folders.h"
 #include "common/io/mesh_io.h"
-#include "common/simplify.h"
 #include "coordinator/optimizer/surface_term.h"
 #include "coordinator/pool/pool.h"
 #include "coordinator/quality/view_setup.h"
+#include "coordinator/simplify/simplify.h"
 #include "coordinator/simplify/work.h"
 
 typedef struct sjob {

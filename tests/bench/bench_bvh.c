@@ -13,8 +13,8 @@
 
 #include "common/bvh.h"
 #include "common/io/mesh_io.h"
-#include "common/simplify.h"
 #include "coordinator/optimizer/rng.h"
+#include "coordinator/simplify/simplify.h"
 
 static double now(void)
 {

@@ -17,7 +17,7 @@
 
 #include "common/frog.h"
 #include "common/io/mesh_io.h"
-#include "common/simplify.h"
+#include "coordinator/simplify/simplify.h"
 
 enum { PH_GENERATE, PH_SAVE, PH_LOAD_GLB, PH_LOAD_OBJ, PH_SIMPLIFY, PH_COUNT };
 static const char *const phase_names[PH_COUNT] = {"generate", "save_glb_obj", "load_glb",

@@ -15,10 +15,10 @@
 #include "common/io/mesh_io.h"
 #include "common/log.h"
 #include "common/mesh_topology.h"
-#include "common/simplify.h"
 #include "common/view.h"
 #include "coordinator/optimizer/optimizer.h"
 #include "coordinator/optimizer/optimizer_tuning.h"
+#include "coordinator/simplify/simplify.h"
 #include "worker/render/views_local.h"
 
 typedef struct opts {

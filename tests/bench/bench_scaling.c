@@ -48,10 +48,10 @@
 #include "common/io/mesh_io.h"
 #include "common/mesh_topology.h"
 #include "common/replica.h"
-#include "common/simplify.h"
 #include "common/view.h"
 #include "coordinator/optimizer/optimizer.h"
 #include "coordinator/pool/pool.h"
+#include "coordinator/simplify/simplify.h"
 #include "coordinator/views/views.h"
 #include "proto/wire_records.h"
 

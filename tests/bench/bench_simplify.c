@@ -13,10 +13,10 @@
 #include <string.h>
 
 #include "common/io/mesh_io.h"
-#include "common/simplify.h"
 #include "coordinator/pool/pool.h"
 #include "coordinator/quality/view_setup.h"
 #include "coordinator/simplify/isimp.h"
+#include "coordinator/simplify/simplify.h"
 #include "coordinator/simplify/work.h"
 
 typedef struct opts {

@@ -14,12 +14,12 @@
 
 #include "common/io/mesh_io.h"
 #include "common/mesh_topology.h"
-#include "common/simplify.h"
 #include "coordinator/pool/pool.h"
 #include "coordinator/simplify/candidates.h"
 #include "coordinator/simplify/collapse_op.h"
 #include "coordinator/simplify/isimp.h"
 #include "coordinator/simplify/pricer.h"
+#include "coordinator/simplify/simplify.h"
 #include "coordinator/simplify/work.h"
 #include "coordinator/views/views.h"
 #include "test_support.h"

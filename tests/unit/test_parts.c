@@ -12,7 +12,7 @@
 #include "common/frog.h"
 #include "common/io/mesh_io.h"
 #include "common/mesh_topology.h"
-#include "common/simplify.h"
+#include "coordinator/simplify/simplify.h"
 
 #define MAX_PARTS 64
 

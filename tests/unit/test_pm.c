@@ -9,9 +9,9 @@
 
 #include "common/folders.h"
 #include "common/io/mesh_io.h"
-#include "common/simplify.h"
 #include "coordinator/simplify/isimp.h"
 #include "coordinator/simplify/pm.h"
+#include "coordinator/simplify/simplify.h"
 #include "coordinator/simplify/work.h"
 #include "test_support.h"
 

@@ -15,8 +15,8 @@
 #include "common/io/mesh_io.h"
 #include "common/mesh_topology.h"
 #include "common/patch.h"
-#include "common/simplify.h"
 #include "common/view.h"
+#include "coordinator/simplify/simplify.h"
 #include "test_support.h"
 #include "worker/render/views_local.h"
 

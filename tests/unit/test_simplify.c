@@ -11,7 +11,7 @@
 #include "common/frog_internal.h"
 #include "common/io/mesh_io.h"
 #include "common/mesh_topology.h"
-#include "common/simplify_internal.h"
+#include "coordinator/simplify/simplify_internal.h"
 
 /* ---- helpers ----------------------------------------------------------------------------------
  */

@@ -11,8 +11,8 @@
 #include "common/bvh.h"
 #include "common/frog.h"
 #include "common/mesh_topology.h"
-#include "common/simplify.h"
 #include "coordinator/quality/surface_distance.h"
+#include "coordinator/simplify/simplify.h"
 
 static void test_point_triangle(void **state)
 {

@@ -11,10 +11,10 @@
 #include "common/io/mesh_io.h"
 #include "common/mesh_topology.h"
 #include "common/patch.h"
-#include "common/simplify.h"
 #include "coordinator/cli/bench_moves.h"
 #include "coordinator/optimizer/surface_term.h"
 #include "coordinator/pool/pool.h"
+#include "coordinator/simplify/simplify.h"
 #include "coordinator/views/views.h"
 #include "test_support.h"
 

@@ -10,8 +10,8 @@
 #include "common/io/mesh_io.h"
 #include "common/mesh_topology.h"
 #include "common/patch.h"
-#include "common/simplify.h"
 #include "coordinator/cli/bench_moves.h"
+#include "coordinator/simplify/simplify.h"
 #include "coordinator/views/views.h"
 #include "test_support.h"
 

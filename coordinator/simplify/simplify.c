@@ -1,14 +1,14 @@
-/* common/simplify.c — lm_simplify(): argument checks, the cases no simplifier is needed for
- * (target at or above the model's size: a compact copy; targets below 4), dispatch to QEM or
- * clustering, and the
- * helpers both simplifiers share to build their compact output meshes. */
-#include "common/simplify.h"
+/* coordinator/simplify/simplify.c — lm_simplify(): argument checks, the cases no simplifier is
+ * needed for (target at or above the model's size: a compact copy; targets below 4), dispatch to
+ * QEM or clustering, and the helpers both simplifiers share to build their compact output meshes.
+ */
+#include "coordinator/simplify/simplify.h"
 
 #include <stdlib.h>
 #include <string.h>
 
 #include "common/mesh_topology.h"
-#include "common/simplify_internal.h"
+#include "coordinator/simplify/simplify_internal.h"
 
 int lm_simplify_within(uint32_t live, uint32_t target)
 {

@@ -1,4 +1,5 @@
-/* common/simplify_cluster.c — Rossignac–Borrel vertex clustering, as the paper's Figure 7a input.
+/* coordinator/simplify/simplify_cluster.c — Rossignac–Borrel vertex clustering, as the paper's
+ * Figure 7a input.
  *
  * A uniform grid of cubic cells covers the bounding box; all vertices in a cell merge into one.
  * Its position is the point minimising the summed plane quadrics of the original triangles around
@@ -15,7 +16,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "common/simplify_internal.h"
+#include "coordinator/simplify/simplify_internal.h"
 
 #define CL_MAX_CELLS_PER_AXIS (1u << 20)
 #define CL_MAX_EVALS 48

@@ -1,6 +1,6 @@
-/* common/simplify_qem.c — QEM simplification through meshoptimizer 0.18 (meshopt_simplify: Garland–
- * Heckbert quadrics, edge collapses onto existing vertices, topology preserving, no attribute
- * metric in this version).
+/* coordinator/simplify/simplify_qem.c — QEM simplification through meshoptimizer 0.18
+ * (meshopt_simplify: Garland– Heckbert quadrics, edge collapses onto existing vertices, topology
+ * preserving, no attribute metric in this version).
  *
  * meshoptimizer sees one vertex per (wedge, material, part). Its seam detection treats vertices
  * that share a position as one point with several attribute sets and keeps the seam edges they
@@ -13,7 +13,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "common/simplify_internal.h"
+#include "coordinator/simplify/simplify_internal.h"
 
 #define QEM_NO_ERROR_LIMIT 1e10f /* relative error; anything above ~2 means "no limit" */
 #define QEM_MAX_PASSES 14

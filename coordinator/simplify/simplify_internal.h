@@ -1,12 +1,13 @@
-/* common/simplify_internal.h — the two initial simplifiers behind lm_simplify() (common/simplify.c)
- * and the small helpers they share. Private to common/ (and unit tests): other folders call
- * lm_simplify(). Both simplifiers follow the contract of lm_simplify(): *out is set on LM_OK and on
- * LM_E_RANGE (best mesh reached), NULL on any other status — and also NULL in the one LM_E_RANGE
- * case where no triangle at all survives (clustering so coarse that every face degenerates). */
+/* coordinator/simplify/simplify_internal.h — the two initial simplifiers behind lm_simplify()
+ * (coordinator/simplify/simplify.c) and the small helpers they share. Private to common/ (and unit
+ * tests): other folders call lm_simplify(). Both simplifiers follow the contract of lm_simplify():
+ * *out is set on LM_OK and on LM_E_RANGE (best mesh reached), NULL on any other status — and also
+ * NULL in the one LM_E_RANGE case where no triangle at all survives (clustering so coarse that
+ * every face degenerates). */
 #ifndef LM_COMMON_SIMPLIFY_INTERNAL_H
 #define LM_COMMON_SIMPLIFY_INTERNAL_H
 
-#include "common/simplify.h"
+#include "coordinator/simplify/simplify.h"
 
 /* The searches aim at |live - target| <= 5% of target; a result at most 5% above the target meets
  * it (the target is an upper bound, with that tolerance). */
@@ -32,7 +33,7 @@ lm_status lm_simplify_cluster(const lm_mesh *in, uint32_t target_verts, lm_simpl
 lm_status lm_simplify_cluster_grid(const lm_mesh *in, double cell_size, lm_simplify_stats *stats,
                                    lm_mesh **out);
 
-/* Helpers (common/simplify.c). */
+/* Helpers (coordinator/simplify/simplify.c). */
 /* 1 when live is within LM_SIMPLIFY_TOLERANCE of target (what the searches aim for). */
 int lm_simplify_within(uint32_t live, uint32_t target);
 /* 1 when live meets the target as an upper bound: at most LM_SIMPLIFY_TOLERANCE above it. */
