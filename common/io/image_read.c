@@ -43,32 +43,6 @@ typedef struct decode_job {
     const char *hint;
 } decode_job;
 
-static int write_all(int fd, const void *p, size_t n)
-{
-    for (const uint8_t *b = p; n > 0;) {
-        ssize_t w = write(fd, b, n);
-        if (w < 0 && errno == EINTR)
-            continue;
-        if (w <= 0)
-            return 0;
-        b += w, n -= (size_t)w;
-    }
-    return 1;
-}
-
-static int read_all(int fd, void *p, size_t n)
-{
-    for (uint8_t *b = p; n > 0;) {
-        ssize_t r = read(fd, b, n);
-        if (r < 0 && errno == EINTR)
-            continue;
-        if (r <= 0)
-            return 0;
-        b += r, n -= (size_t)r;
-    }
-    return 1;
-}
-
 /* ---- the decoder process ----------------------------------------------------------------------
  * A fork alone is not enough: the child would inherit locks and thread pools of threads it does
  * not have (OpenImageIO's TIFF reader spun forever in such a child, waiting on its parent's pool).
@@ -78,39 +52,14 @@ static int read_all(int fd, void *p, size_t n)
 #define DECODER_ENV LM_SPAWN_ENV_PREFIX "IMAGE"
 #define DECODER_HINT_ENV LM_SPAWN_ENV_PREFIX "IMAGE_HINT"
 
-/* The bytes on stdin (at most IMAGE_MAX_FILE_BYTES). */
-static uint8_t *read_stdin(size_t *n)
-{
-    size_t cap = 1 << 16;
-    uint8_t *buf = malloc(cap);
-    *n = 0;
-    for (ssize_t r; buf;) {
-        if (*n == cap) {
-            uint8_t *b = cap < IMAGE_MAX_FILE_BYTES ? realloc(buf, cap * 2) : NULL;
-            if (!b) {
-                free(buf);
-                return NULL;
-            }
-            buf = b, cap *= 2;
-        }
-        r = read(0, buf + *n, cap - *n);
-        if (r < 0 && errno == EINTR)
-            continue;
-        if (r <= 0)
-            break;
-        *n += (size_t)r;
-    }
-    return buf;
-}
-
-static void decoder_answer(lm_status st, const lm_image *img)
+static void decoder_answer(int fd, lm_status st, const lm_image *img)
 {
     int32_t head[3] = {(int32_t)st, img ? img->width : 0, img ? img->height : 0};
-    if (write_all(1, head, sizeof head)) {
+    if (fd >= 0 && lm_fd_write_all(fd, head, sizeof head)) {
         if (st == LM_OK)
-            write_all(1, img->pixels, (size_t)img->width * (size_t)img->height * 4);
+            lm_fd_write_all(fd, img->pixels, (size_t)img->width * (size_t)img->height * 4);
         else
-            write_all(1, lm_last_error(), strlen(lm_last_error()));
+            lm_fd_write_all(fd, lm_last_error(), strlen(lm_last_error()));
     }
 }
 
@@ -119,6 +68,9 @@ __attribute__((constructor)) static void decoder_main(void)
     const char *what = getenv(DECODER_ENV);
     if (!what)
         return;
+    int answer =
+        dup(1); /* stdout is the answer's alone: whatever a library prints goes to stderr */
+    dup2(2, 1);
     struct rlimit cpu = {IMAGE_DECODER_CPU_SECONDS, IMAGE_DECODER_CPU_SECONDS};
     setrlimit(RLIMIT_CPU, &cpu); /* a decoder that loops forever is killed, reported as a crash */
     lm_image *img = NULL;
@@ -127,13 +79,13 @@ __attribute__((constructor)) static void decoder_main(void)
         st = lm_image_decode_file(what, &img);
     } else {
         size_t n = 0;
-        uint8_t *data = read_stdin(&n);
+        uint8_t *data = lm_spawn_read_stdin(IMAGE_MAX_FILE_BYTES, &n);
         const char *hint = getenv(DECODER_HINT_ENV);
         st = data ? lm_image_decode_memory(data, n, hint && *hint ? hint : NULL, &img)
                   : lm_fail(LM_E_NOMEM, "out of memory reading an image");
         free(data);
     }
-    decoder_answer(st, img);
+    decoder_answer(answer, st, img);
     _exit(0);
 }
 
@@ -141,7 +93,7 @@ __attribute__((constructor)) static void decoder_main(void)
 static lm_status parent_read(int fd, const char *name, lm_image **out)
 {
     int32_t head[3];
-    if (!read_all(fd, head, sizeof head))
+    if (!lm_fd_read_all(fd, head, sizeof head))
         return lm_fail(LM_E_FORMAT, "image %s: the image decoder failed on this file", name);
     if (head[0] != LM_OK) {
         char msg[400] = "";
@@ -157,7 +109,7 @@ static lm_status parent_read(int fd, const char *name, lm_image **out)
     lm_status st = lm_image_create(head[1], head[2], &img);
     if (st)
         return st;
-    if (!read_all(fd, img->pixels, (size_t)head[1] * (size_t)head[2] * 4)) {
+    if (!lm_fd_read_all(fd, img->pixels, (size_t)head[1] * (size_t)head[2] * 4)) {
         lm_image_destroy(img);
         return lm_fail(LM_E_FORMAT, "image %s: the image decoder failed on this file", name);
     }
@@ -206,7 +158,7 @@ static lm_status decode_isolated(const decode_job *j, const char *name, lm_image
     }
     void (*old)(int) = signal(SIGPIPE, SIG_IGN); /* a decoder that died must not kill us */
     if (!j->path)
-        write_all(in[1], j->data, j->size);
+        lm_fd_write_all(in[1], j->data, j->size);
     close(in[1]);
     lm_image *img = NULL;
     st = parent_read(res[0], name, &img);

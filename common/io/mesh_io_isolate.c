@@ -38,47 +38,7 @@ int lm_io_isolated_format(const char *ext)
            !strcmp(ext, "dae");
 }
 
-static int write_all(int fd, const void *p, size_t n)
-{
-    for (const uint8_t *b = p; n > 0;) {
-        ssize_t w = write(fd, b, n);
-        if (w < 0 && errno == EINTR)
-            continue;
-        if (w <= 0)
-            return 0;
-        b += w, n -= (size_t)w;
-    }
-    return 1;
-}
-
 /* ---- the reader process ---------------------------------------------------------------------- */
-
-/* The bytes on stdin, at most LM_IO_MAX_FILE_BYTES, with a NUL after them (as lm_io_read_file). */
-static uint8_t *read_stdin(size_t *n)
-{
-    size_t cap = 1 << 16;
-    uint8_t *buf = malloc(cap + 1);
-    *n = 0;
-    for (ssize_t r; buf;) {
-        if (*n == cap) {
-            uint8_t *b = cap < LM_IO_MAX_FILE_BYTES ? realloc(buf, cap * 2 + 1) : NULL;
-            if (!b) {
-                free(buf);
-                return NULL;
-            }
-            buf = b, cap *= 2;
-        }
-        r = read(0, buf + *n, cap - *n);
-        if (r < 0 && errno == EINTR)
-            continue;
-        if (r <= 0)
-            break;
-        *n += (size_t)r;
-    }
-    if (buf)
-        buf[*n] = 0;
-    return buf;
-}
 
 /* Load the bytes on stdin as the environment says and write them as GLB. */
 static lm_status reader_run(const char *glb)
@@ -92,7 +52,7 @@ static lm_status reader_run(const char *glb)
         return lm_fail(LM_E_INTERNAL, "model reader process started without its settings");
     opts.max_tris = (uint32_t)max_tris, opts.keep_degenerate = keep;
     size_t n = 0;
-    uint8_t *data = read_stdin(&n);
+    uint8_t *data = lm_spawn_read_stdin(LM_IO_MAX_FILE_BYTES, &n);
     if (!data)
         return lm_fail(LM_E_NOMEM, "%s: out of memory reading the model", name);
     lm_mesh *m = NULL;
@@ -118,8 +78,8 @@ __attribute__((constructor)) static void reader_main(void)
     lm_status st = reader_run(glb);
     int32_t code = (int32_t)st;
     const char *msg = st == LM_OK ? "" : lm_last_error();
-    if (answer >= 0 && write_all(answer, &code, sizeof code))
-        write_all(answer, msg, strlen(msg));
+    if (answer >= 0 && lm_fd_write_all(answer, &code, sizeof code))
+        lm_fd_write_all(answer, msg, strlen(msg));
     _exit(0);
 }
 
@@ -178,7 +138,7 @@ static lm_status run_reader(const uint8_t *data, size_t size, const char *name, 
     close(in[0]), close(res[1]);
     if (st == LM_OK) {
         void (*old)(int) = signal(SIGPIPE, SIG_IGN); /* a reader that died must not kill us */
-        write_all(in[1], data, size);
+        lm_fd_write_all(in[1], data, size);
         close(in[1]);
         st = reader_wait(pid, res[0], name);
         signal(SIGPIPE, old);

@@ -84,3 +84,55 @@ lm_status lm_spawn_self(const char *what, const char *const *env, int in_fd, int
     *pid = p;
     return LM_OK;
 }
+
+int lm_fd_write_all(int fd, const void *p, size_t n)
+{
+    for (const uint8_t *b = p; n > 0;) {
+        ssize_t w = write(fd, b, n);
+        if (w < 0 && errno == EINTR)
+            continue;
+        if (w <= 0)
+            return 0;
+        b += w, n -= (size_t)w;
+    }
+    return 1;
+}
+
+int lm_fd_read_all(int fd, void *p, size_t n)
+{
+    for (uint8_t *b = p; n > 0;) {
+        ssize_t r = read(fd, b, n);
+        if (r < 0 && errno == EINTR)
+            continue;
+        if (r <= 0)
+            return 0;
+        b += r, n -= (size_t)r;
+    }
+    return 1;
+}
+
+uint8_t *lm_spawn_read_stdin(size_t max, size_t *n)
+{
+    size_t cap = 1 << 16;
+    uint8_t *buf = malloc(cap + 1);
+    *n = 0;
+    for (ssize_t r; buf;) {
+        if (*n == cap) {
+            uint8_t *b = cap < max ? realloc(buf, cap * 2 + 1) : NULL;
+            if (!b) {
+                free(buf);
+                return NULL;
+            }
+            buf = b, cap *= 2;
+        }
+        r = read(0, buf + *n, cap - *n);
+        if (r < 0 && errno == EINTR)
+            continue;
+        if (r <= 0)
+            break;
+        *n += (size_t)r;
+    }
+    if (buf)
+        buf[*n] = 0;
+    return buf;
+}

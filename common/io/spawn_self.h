@@ -7,6 +7,8 @@
 #ifndef LM_COMMON_SPAWN_SELF_H
 #define LM_COMMON_SPAWN_SELF_H
 
+#include <stddef.h>
+#include <stdint.h>
 #include <sys/types.h>
 
 #include "common/error.h"
@@ -26,5 +28,14 @@
  * failed); one line naming `what`. */
 lm_status lm_spawn_self(const char *what, const char *const *env, int in_fd, int out_fd,
                         pid_t *pid);
+
+/* Write (read) all n bytes on fd, retrying EINTR: 1, or 0 when the other end is gone (or the
+ * bytes ran out). Blocking. */
+int lm_fd_write_all(int fd, const void *p, size_t n);
+int lm_fd_read_all(int fd, void *p, size_t n);
+
+/* In a helper: all the bytes on stdin (*n of them, at most `max`) in a malloc'ed buffer with a NUL
+ * after them; NULL when out of memory or over `max`. */
+uint8_t *lm_spawn_read_stdin(size_t max, size_t *n);
 
 #endif
