@@ -16,6 +16,13 @@ typedef struct lm_image {
     uint8_t *pixels; /* width*height*channels bytes, owned by the image */
 } lm_image;
 
+/* Luminance from RGBA8 with fixed integer NTSC weights: Y = (77 R + 150 G + 29 B + 128) >> 8. The
+ * image energy is defined on it: the renderers and the report's pictures use this one. */
+static inline uint8_t lm_luma(const uint8_t *rgba)
+{
+    return (uint8_t)((77u * rgba[0] + 150u * rgba[1] + 29u * rgba[2] + 128u) >> 8);
+}
+
 /* Allocate a zeroed RGBA8 image. Sides must be 1..LM_IMAGE_MAX_SIDE. */
 lm_status lm_image_create(int width, int height, lm_image **out);
 void lm_image_destroy(lm_image *img);

@@ -22,6 +22,7 @@
 #define LM_WIRE_MAX_FRAME (64u << 20) /* bytes of one frame */
 #define LM_WIRE_MAX_IDENTITY 256u     /* bytes of a ROUTER routing id */
 #define LM_WIRE_CHUNK (4u << 20)      /* bytes of asset data per Asset message */
+#define LM_WIRE_RENDERER_ID_CHARS 16  /* hex digits of a renderer's fingerprint (its probe) */
 #define LM_WIRE_DECODE_BUDGET(n) (16 * (size_t)(n) + (1u << 20))
 
 typedef Lumesh__Msg lm_msg;

@@ -33,7 +33,6 @@
 
 #include "common/error.h"
 #include "proto/wire.h"
-#include "worker/render/probe.h"
 
 #define CO_POOL_SILENCE_S 3.0 /* a worker silent this long is presumed dead */
 /* losses (exited processes, silence, stuck requests) are looked for at most this often: their
@@ -56,7 +55,7 @@ typedef struct co_worker {
     uint32_t id; /* 1, 2, ... in the order they were welcomed */
     uint8_t rid[LM_WIRE_MAX_IDENTITY];
     size_t rid_len;
-    char host[128], device[64], renderer[128], renderer_id[WK_RENDERER_ID_CHARS + 1];
+    char host[128], device[64], renderer[128], renderer_id[LM_WIRE_RENDERER_ID_CHARS + 1];
     uint32_t pid;
     uint32_t join; /* the Hello's join number: a repeat of it is the same join, not a restart */
     int lost;

@@ -44,7 +44,7 @@ struct co_pool {
     void *monitor; /* PAIR socket of the ROUTER's events (handshake failures); NULL = none */
     char endpoint[512];
     char ipc_dir[256]; /* the private folder of an ipc endpoint ("" for tcp) */
-    char renderer_id[WK_RENDERER_ID_CHARS + 1];
+    char renderer_id[LM_WIRE_RENDERER_ID_CHARS + 1];
     co_worker **w;
     uint32_t n, cap;
     uint64_t next_req;

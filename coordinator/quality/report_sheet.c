@@ -7,7 +7,6 @@
 #include <string.h>
 
 #include "coordinator/quality/report_internal.h"
-#include "worker/render/shared/image_store.h"
 
 #define SHEET_DIFF_GAIN 2
 
@@ -66,7 +65,7 @@ static lm_status add_difference(const lm_image *grid, int cw, int ch, uint32_t r
             int yy = (int)row * (ch + CO_COMPARE_GAP) + y;
             uint8_t *line = img->pixels + (size_t)yy * (size_t)img->width * 4;
             for (int x = 0; x < cw; x++) {
-                int a = wk_luma(line + 4 * x), b = wk_luma(line + 4 * (x_last + x));
+                int a = lm_luma(line + 4 * x), b = lm_luma(line + 4 * (x_last + x));
                 heat((uint8_t)(a > b ? a - b : b - a), line + 4 * (x_diff + x));
             }
         }

@@ -86,7 +86,7 @@ static void compare_view(uint32_t h, const uint8_t *x, const uint8_t *y, size_t 
     int worst = 0;
     size_t off = 0;
     for (size_t i = 0; i < n; i++) {
-        int d = (int)wk_luma(x + 4 * i) - (int)wk_luma(y + 4 * i);
+        int d = (int)lm_luma(x + 4 * i) - (int)lm_luma(y + 4 * i);
         se += d * d;
         worst = abs(d) > worst ? abs(d) : worst;
         off += d > 2 || d < -2;

@@ -54,7 +54,7 @@ static long long view_sum(const lm_image *img, uint32_t h)
     long long s = 0;
     for (int y = 0; y < SIZE; y++)
         for (int x = 0; x < SIZE; x++)
-            s += wk_luma(img->pixels + (((size_t)(oy + y) * 2 * SIZE) + ox + x) * 4);
+            s += lm_luma(img->pixels + (((size_t)(oy + y) * 2 * SIZE) + ox + x) * 4);
     return s;
 }
 
@@ -73,7 +73,7 @@ static void compare(const lm_image *img, const lm_image *ref)
     assert_int_equal(ref->height, img->height);
     size_t n = (size_t)img->width * img->height, off = 0;
     for (size_t i = 0; i < n; i++) {
-        int d = (int)wk_luma(img->pixels + 4 * i) - (int)wk_luma(ref->pixels + 4 * i);
+        int d = (int)lm_luma(img->pixels + 4 * i) - (int)lm_luma(ref->pixels + 4 * i);
         off += (d > PIXEL_TOL || d < -PIXEL_TOL);
     }
     printf("# %zu of %zu pixels differ by more than %d levels\n", off, n, PIXEL_TOL);
@@ -148,7 +148,7 @@ static void test_cpu_looks_like_reference(void **state)
     size_t n = (size_t)img->width * img->height;
     double se = 0;
     for (size_t i = 0; i < n; i++) {
-        int d = (int)wk_luma(img->pixels + 4 * i) - (int)wk_luma(ref->pixels + 4 * i);
+        int d = (int)lm_luma(img->pixels + 4 * i) - (int)lm_luma(ref->pixels + 4 * i);
         se += d * d;
     }
     printf("# CPU rasteriser against the reference: mean squared luminance difference %.3f\n",

@@ -125,13 +125,13 @@ lm_status wk_probe_renderer(const char *device, char *id, char *desc)
     if (st == LM_OK)
         st = set_shifted(v, m);
     crypto_generichash_state h;
-    crypto_generichash_init(&h, NULL, 0, WK_RENDERER_ID_CHARS / 2);
+    crypto_generichash_init(&h, NULL, 0, LM_WIRE_RENDERER_ID_CHARS / 2);
     if (st == LM_OK)
         st = hash_images(v, &h);
     if (st == LM_OK) {
-        uint8_t out[WK_RENDERER_ID_CHARS / 2];
+        uint8_t out[LM_WIRE_RENDERER_ID_CHARS / 2];
         crypto_generichash_final(&h, out, sizeof out);
-        for (int i = 0; i < WK_RENDERER_ID_CHARS / 2; i++)
+        for (int i = 0; i < LM_WIRE_RENDERER_ID_CHARS / 2; i++)
             snprintf(id + 2 * i, 3, "%02x", out[i]);
         if (desc) {
             lm_views_info info;

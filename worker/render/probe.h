@@ -12,11 +12,11 @@
 #define LM_WORKER_PROBE_H
 
 #include "common/error.h"
+#include "proto/wire.h"
 
-#define WK_RENDERER_ID_CHARS 16 /* hex digits of the fingerprint */
-
-/* Render the probe on `device` ("auto", "host", "egl:N"): id gets WK_RENDERER_ID_CHARS hex digits
- * and a NUL (id must hold 17 bytes), desc (128 bytes, may be NULL) the renderer's description. */
+/* Render the probe on `device` ("auto", "host", "egl:N"): id gets LM_WIRE_RENDERER_ID_CHARS hex
+ * digits and a NUL (id must hold 17 bytes), desc (128 bytes, may be NULL) the renderer's
+ * description. */
 lm_status wk_probe_renderer(const char *device, char *id, char *desc);
 
 #endif

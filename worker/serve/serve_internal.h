@@ -38,7 +38,7 @@ typedef struct wk_server {
     void *health;      /* REP socket answering health queries (NULL = none) */
     wk_beat *beat;
     char id[320]; /* routing id */
-    char host[256], renderer[128], renderer_id[WK_RENDERER_ID_CHARS + 1];
+    char host[256], renderer[128], renderer_id[LM_WIRE_RENDERER_ID_CHARS + 1];
     int welcomed, unheard_noted;
     uint32_t join;     /* the join Hello says: one more each time the worker drops its welcome */
     const char *fault; /* LUMESH_WORKER_FAULT (test builds only, LUMESH_TEST_HOOKS): serve_job.c */

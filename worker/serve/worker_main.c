@@ -191,7 +191,7 @@ static lm_status self_test(const char *device)
         printf("self-test ok (32x32 clear + triangle, %d/1024 pixels covered)\n", red);
     }
     wk_gl_context_destroy(ctx);
-    char id[WK_RENDERER_ID_CHARS + 1];
+    char id[LM_WIRE_RENDERER_ID_CHARS + 1];
     if (st == LM_OK && (st = wk_probe_renderer(device, id, NULL)) == LM_OK)
         printf("renderer id %s (the fingerprint of a probe render: workers of one job share it)\n",
                id);

@@ -27,7 +27,7 @@ struct wk_image_store {
 void wk_luma_from_rgba(const uint8_t *rgba, size_t n_pixels, uint8_t *out)
 {
     for (size_t i = 0; i < n_pixels; i++)
-        out[i] = wk_luma(rgba + 4 * i);
+        out[i] = lm_luma(rgba + 4 * i);
 }
 
 lm_status wk_image_store_create(uint32_t n_views, int width, int height, wk_image_store **out)

@@ -13,14 +13,10 @@
 #include <stdint.h>
 
 #include "common/error.h"
+#include "common/image.h"
 #include "common/view.h"
 #include "worker/render/shared/buckets.h"
 
-/* Luminance from RGBA8 with fixed integer NTSC weights: Y = (77 R + 150 G + 29 B + 128) >> 8. */
-static inline uint8_t wk_luma(const uint8_t *rgba)
-{
-    return (uint8_t)((77u * rgba[0] + 150u * rgba[1] + 29u * rgba[2] + 128u) >> 8);
-}
 void wk_luma_from_rgba(const uint8_t *rgba, size_t n_pixels, uint8_t *out);
 
 typedef struct wk_image_store wk_image_store;
