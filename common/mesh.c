@@ -641,7 +641,7 @@ void lm_mesh_bounding_sphere(const lm_mesh *m, float centre[3], float *radius)
 }
 
 /* Face normal scaled by twice the triangle area. */
-static void face_normal(const lm_mesh *m, uint32_t t, double n[3])
+void lm_mesh_face_normal(const lm_mesh *m, uint32_t t, double n[3])
 {
     const float *a = m->pos[lm_tri_vertex(m, t, 0)];
     const float *b = m->pos[lm_tri_vertex(m, t, 1)];
@@ -664,7 +664,7 @@ void lm_mesh_compute_normals(lm_mesh *m)
         if (!m->tri_alive[t])
             continue;
         double n[3];
-        face_normal(m, t, n);
+        lm_mesh_face_normal(m, t, n);
         for (int k = 0; k < 3; k++) {
             double *a = acc + (size_t)lm_tri_vertex(m, t, k) * 3;
             a[0] += n[0];

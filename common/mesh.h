@@ -132,6 +132,10 @@ void lm_mesh_bounding_sphere(const lm_mesh *m, float centre[3], float *radius);
 /* Area-weighted smooth normals per vertex written into every wedge of that vertex
  * (used when the model has none and when normals are derived from geometry). */
 void lm_mesh_compute_normals(lm_mesh *m);
+/* Triangle t's normal scaled by twice its area, in double from the float positions: the one
+ * definition lm_mesh_compute_normals and the optimizer's normal moves share (their results must
+ * agree to the bit). */
+void lm_mesh_face_normal(const lm_mesh *m, uint32_t t, double n[3]);
 
 /* Number of connected components (through shared vertices) over alive triangles. */
 uint32_t lm_mesh_count_components(const lm_mesh *m);

@@ -194,22 +194,6 @@ void co_params_apply(co_moves *mv, const double *x)
             co_moves_derive_normal(mv->m, mv->R.ids[i], mv->j);
 }
 
-/* Face normal scaled by twice the area (as lm_mesh_compute_normals). */
-static void face_normal(const lm_mesh *m, uint32_t t, double n[3])
-{
-    const float *a = m->pos[lm_tri_vertex(m, t, 0)];
-    const float *b = m->pos[lm_tri_vertex(m, t, 1)];
-    const float *c = m->pos[lm_tri_vertex(m, t, 2)];
-    double u[3], w[3];
-    for (int k = 0; k < 3; k++) {
-        u[k] = (double)b[k] - a[k];
-        w[k] = (double)c[k] - a[k];
-    }
-    n[0] = u[1] * w[2] - u[2] * w[1];
-    n[1] = u[2] * w[0] - u[0] * w[2];
-    n[2] = u[0] * w[1] - u[1] * w[0];
-}
-
 static void set_normal(lm_mesh *m, uint32_t w, const float n[3], lm_journal *j)
 {
     if (memcmp(m->wedges[w].normal, n, sizeof m->wedges[w].normal) == 0)
@@ -231,7 +215,7 @@ void co_moves_derive_normal(lm_mesh *m, uint32_t v, lm_journal *j)
     double acc[3] = {0, 0, 0};
     for (uint32_t i = 0; i < n; i++) {
         double f[3];
-        face_normal(m, tris[i], f);
+        lm_mesh_face_normal(m, tris[i], f);
         for (int k = 0; k < 3; k++)
             acc[k] += f[k];
     }

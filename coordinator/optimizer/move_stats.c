@@ -180,3 +180,23 @@ double co_erfinv(double x)
     }
     return r;
 }
+
+void co_stat_save(co_bin *b, const co_stat *s)
+{
+    co_put_f64(b, s->w);
+    co_put_f64(b, s->sum_x);
+    co_put_f64(b, s->sum_x2);
+    co_put_f64(b, s->sum_t);
+    co_put_u64(b, s->time);
+    co_put_u64(b, s->count);
+}
+
+void co_stat_load(co_bin *b, co_stat *s)
+{
+    s->w = co_get_f64(b);
+    s->sum_x = co_get_f64(b);
+    s->sum_x2 = co_get_f64(b);
+    s->sum_t = co_get_f64(b);
+    s->time = co_get_u64(b);
+    s->count = co_get_u64(b);
+}

@@ -11,6 +11,7 @@
 
 #include <stdint.h>
 
+#include "coordinator/optimizer/binio.h"
 #include "coordinator/optimizer/optimizer.h"
 
 #define CO_LEVELS 4
@@ -34,6 +35,9 @@ typedef struct co_stat_view {
 
 void co_stat_add(co_stat *s, double x, double t, uint64_t now, double half_life);
 void co_stat_get(const co_stat *s, uint64_t now, double half_life, co_stat_view *out);
+/* A statistic in a saved state (the optimizer's checkpoint, the teleporter's), field by field. */
+void co_stat_save(co_bin *b, const co_stat *s);
+void co_stat_load(co_bin *b, co_stat *s);
 
 typedef struct co_move_stats {
     double half_life;  /* evaluations for a sample's weight to halve */

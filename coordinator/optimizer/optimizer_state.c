@@ -201,26 +201,6 @@ static lm_status load_mesh(co_bin *b, const lm_mesh *m, mesh_arrays *a)
 
 /* ---- statistics, oracle, iteration ---------------------------------------------------------- */
 
-static void put_stat(co_bin *b, const co_stat *s)
-{
-    co_put_f64(b, s->w);
-    co_put_f64(b, s->sum_x);
-    co_put_f64(b, s->sum_x2);
-    co_put_f64(b, s->sum_t);
-    co_put_u64(b, s->time);
-    co_put_u64(b, s->count);
-}
-
-static void get_stat(co_bin *b, co_stat *s)
-{
-    s->w = co_get_f64(b);
-    s->sum_x = co_get_f64(b);
-    s->sum_x2 = co_get_f64(b);
-    s->sum_t = co_get_f64(b);
-    s->time = co_get_u64(b);
-    s->count = co_get_u64(b);
-}
-
 static void save_counters(co_bin *b, const co_optimizer *o)
 {
     co_put_u64(b, co_moves_evals(o->mv));
@@ -253,7 +233,7 @@ static void save_stats(co_bin *b, const co_move_stats *st)
     co_put_f64(b, st->min_weight);
     for (int k = 0; k < CO_MOVE_KINDS; k++)
         for (int l = 0; l < CO_LEVELS; l++)
-            put_stat(b, &st->op[k][l]);
+            co_stat_save(b, &st->op[k][l]);
 }
 
 static void load_stats(co_bin *b, co_move_stats *st)
@@ -262,7 +242,7 @@ static void load_stats(co_bin *b, co_move_stats *st)
     st->min_weight = co_get_f64(b);
     for (int k = 0; k < CO_MOVE_KINDS; k++)
         for (int l = 0; l < CO_LEVELS; l++)
-            get_stat(b, &st->op[k][l]);
+            co_stat_load(b, &st->op[k][l]);
 }
 
 static void save_oracle(co_bin *b, const co_oracle *o)

@@ -278,26 +278,6 @@ lm_status co_teleport_try(co_teleport *tp, co_moves *mv, int level, uint32_t a, 
 
 #define TP_MAGIC 0x54504c54u /* "TLPT" */
 
-static void put_stat(co_bin *b, const co_stat *s)
-{
-    co_put_f64(b, s->w);
-    co_put_f64(b, s->sum_x);
-    co_put_f64(b, s->sum_x2);
-    co_put_f64(b, s->sum_t);
-    co_put_u64(b, s->time);
-    co_put_u64(b, s->count);
-}
-
-static void get_stat(co_bin *b, co_stat *s)
-{
-    s->w = co_get_f64(b);
-    s->sum_x = co_get_f64(b);
-    s->sum_x2 = co_get_f64(b);
-    s->sum_t = co_get_f64(b);
-    s->time = co_get_u64(b);
-    s->count = co_get_u64(b);
-}
-
 lm_status co_teleport_save(const co_teleport *tp, FILE *fp)
 {
     co_bin b;
@@ -309,7 +289,7 @@ lm_status co_teleport_save(const co_teleport *tp, FILE *fp)
     co_put_u64(&b, tp->searches_failed);
     co_put_u64(&b, tp->collapses_tried);
     for (int l = 0; l < CO_LEVELS; l++)
-        put_stat(&b, &tp->improve[l]);
+        co_stat_save(&b, &tp->improve[l]);
     co_cq_entry *e;
     uint32_t n;
     lm_status st = co_cq_export(tp->queue, &e, &n);
@@ -339,7 +319,7 @@ lm_status co_teleport_load(co_teleport *tp, FILE *fp)
     tp->searches_failed = co_get_u64(&b);
     tp->collapses_tried = co_get_u64(&b);
     for (int l = 0; l < CO_LEVELS; l++)
-        get_stat(&b, &tp->improve[l]);
+        co_stat_load(&b, &tp->improve[l]);
     uint32_t n = co_get_u32(&b);
     if (b.status)
         return b.status;
