@@ -16,11 +16,9 @@
 #include "common/view.h"
 #include "coordinator/job/progress.h"
 
-/* The optimizer's own views: 30 of 208² (about the pixels of 20 of 256²). Measured with
- * scripts/fidelity.sh on five models at 100,000 evaluations, with the geometric term's share
- * CO_SURFACE_SHARE: lower unseen-view energy than 20 of 256² on four models, even on the frog, and
- * far less drift off the surface (coordinator/OPTIMIZER.md, third round). `energy`, `render` and
- * the others keep LM_DEFAULT_VIEWS of LM_DEFAULT_VIEW_SIZE. */
+/* A job's defaults (resolved by resolve_options in job.c, nowhere else). The optimizer's own views
+ * are 30 of 208²; `energy`, `render` and the others keep LM_DEFAULT_VIEWS of LM_DEFAULT_VIEW_SIZE.
+ * Why these values: coordinator/OPTIMIZER.md (views: third round). */
 #define CO_JOB_DEFAULT_VIEWS 30u
 #define CO_JOB_DEFAULT_SIZE 208
 #define CO_JOB_DEFAULT_EVALS 100000ull
@@ -28,33 +26,24 @@
 #define CO_JOB_MIN_TARGET_VERTS 100u
 #define CO_JOB_DEFAULT_IN_FLIGHT 1u
 #define CO_JOB_NEVER UINT64_MAX
-/* A new sub-pixel grid of the views every 10,000 evaluations (regrid.h). Measured with
- * scripts/fidelity.sh on five models, two seeds, at 100,000 evaluations: the training energy ends
- * 0-7 points from the dense unseen-view energy instead of 2.5-16 (the optimizer no longer fits
- * edges to one set of pixel centres, a gain no other view keeps), the dense energy itself the same
- * on average (36.6-36.7 % of QEM's either way), for 0.06-0.35 s a draw (coordinator/OPTIMIZER.md,
- * ninth round). */
+/* A new sub-pixel grid of the views every so many evaluations (regrid.h; why 10,000:
+ * coordinator/OPTIMIZER.md, ninth round). */
 #define CO_JOB_DEFAULT_REGRID_EVERY 10000ull
 #define CO_JOB_IN_PROCESS UINT32_MAX /* workers: render in this process (no worker processes) */
 #define CO_JOB_WORKER_START_S 60.0   /* local workers must say hello within this */
 
 /* Where a job without --initial starts: QEM's mesh at the target, or the image-driven
  * simplification (coordinator/simplify/, QEM to 10 x the target first) with the geometric term of
- * CO_JOB_IMAGE_START_SHARE (below). The image start gives a lower unseen-view energy after the
- * optimisation on all five models of scripts/fidelity.sh, below QEM with twice the vertices
- * (coordinator/OPTIMIZER.md, sixth round), for a simplification about as long as 100,000
- * evaluations. */
+ * CO_JOB_IMAGE_START_SHARE (below), the default (why: coordinator/OPTIMIZER.md, sixth round). */
 typedef enum co_job_start {
     CO_JOB_START_DEFAULT = 0,
     CO_JOB_START_QEM,
     CO_JOB_START_IMAGE,
 } co_job_start;
 #define CO_JOB_DEFAULT_START CO_JOB_START_IMAGE
-/* The geometric term's share with the image start (surface_share 0): twice the optimizer's
- * CO_SURFACE_SHARE, which stays the share from a QEM start or --initial. On the five models of
- * scripts/fidelity.sh (two seeds) it keeps every result nearer the surface than the QEM start
- * (fandisk 73-83 % of its distance instead of 91-102 %, the others 0-7 points nearer) for 0.7
- * points of mean dense energy (coordinator/OPTIMIZER.md, seventh round). */
+/* The geometric term's share for the image start's collapses when the job's is 0 (the default);
+ * the optimizer's CO_SURFACE_SHARE stays the share after them, from a QEM start or --initial (why:
+ * coordinator/OPTIMIZER.md, seventh round). */
 #define CO_JOB_IMAGE_START_SHARE 0.2
 
 /* Zero means default for every field. */
