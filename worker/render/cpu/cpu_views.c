@@ -83,33 +83,19 @@ static lm_status rerender_replica(wk_cpu_views *v)
 static lm_status cv_energy(lm_views *base, int64_t *total, int64_t *per_view)
 {
     wk_cpu_views *v = (wk_cpu_views *)base;
-    if (!v->mesh_set)
-        return lm_fail(LM_E_INVALID, "energy asked before a mesh was set");
-    wk_image_store_energies(v->img, total, per_view);
-    return LM_OK;
+    return wk_views_answer_energy(v->mesh_set, v->img, total, per_view);
 }
 
 static lm_status cv_potentials(lm_views *base, const float (*points)[3], size_t n, int64_t *out)
 {
     wk_cpu_views *v = (wk_cpu_views *)base;
-    if (!v->mesh_set)
-        return lm_fail(LM_E_INVALID, "potentials asked before a mesh was set");
-    return wk_image_store_potentials(v->img, &v->views, WK_ORACLE_RADIUS, points, n, out);
+    return wk_views_answer_potentials(v->mesh_set, v->img, &v->views, points, n, out);
 }
 
 static void cv_info(lm_views *base, lm_views_info *out)
 {
     wk_cpu_views *v = (wk_cpu_views *)base;
-    memset(out, 0, sizeof *out);
-    out->n_views = v->views.count;
-    out->width = v->width;
-    out->height = v->height;
-    out->seq = v->seq;
-    out->evaluations = v->stats.evaluations;
-    out->regions = v->stats.regions;
-    out->region_pixels = v->stats.region_pixels;
-    out->tris_drawn = v->stats.tris_drawn;
-    snprintf(out->renderer, sizeof out->renderer, "%s", WK_CPU_RENDERER);
+    wk_views_answer_info(out, &v->views, v->width, v->height, v->seq, &v->stats, WK_CPU_RENDERER);
 }
 
 static void cv_destroy(lm_views *base)

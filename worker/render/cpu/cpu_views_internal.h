@@ -14,6 +14,7 @@
 #include "worker/render/cpu/cpu_views.h"
 #include "worker/render/shared/buckets.h"
 #include "worker/render/shared/image_store.h"
+#include "worker/render/shared/views_answers.h"
 
 /* Scratch of evaluate and commit (cpu_eval.c). Per-id arrays have cap_ids entries. */
 typedef struct wk_cpu_eval {

@@ -10,6 +10,7 @@
 #include "worker/render/shared/buckets.h"
 #include "worker/render/shared/cover.h"
 #include "worker/render/shared/image_store.h"
+#include "worker/render/shared/views_answers.h"
 
 #define WK_FULL_ATLAS 0      /* full renders (and the colour images they leave) */
 #define WK_SCRATCH_ATLASES 4 /* atlases 1..4: regions of up to 4 patches per readback */
