@@ -82,7 +82,7 @@ mkdir -p "$logs"
 seeds=$(mktemp -d)
 mkdir -p "$seeds/msg" "$seeds/asset" "$seeds/stream"
 "$dir/tests/make_wire_seeds" "$seeds/msg" "$seeds/asset" "$seeds/stream"
-fuzz fuzz_mesh_load "${LUMESH_FUZZ_RUNS:-15000}" tests/fuzz/corpus/mesh_load
+fuzz fuzz_mesh_load "${LUMESH_FUZZ_RUNS:-40000}" tests/fuzz/corpus/mesh_load
 fuzz fuzz_image "${LUMESH_FUZZ_RUNS:-6000}" tests/fuzz/corpus/image
 fuzz fuzz_wire_msg "${LUMESH_FUZZ_RUNS:-3000000}" "$seeds/msg"
 fuzz fuzz_wire_asset "${LUMESH_FUZZ_RUNS:-2000000}" "$seeds/asset"
