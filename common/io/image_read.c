@@ -7,11 +7,9 @@
  * through a pipe, so that a decoder crashing on a hostile file is a one-line error and the caller's
  * heap, GL contexts and work are untouched. */
 #include <errno.h>
-#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/resource.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -68,11 +66,7 @@ __attribute__((constructor)) static void decoder_main(void)
     const char *what = getenv(DECODER_ENV);
     if (!what)
         return;
-    int answer =
-        dup(1); /* stdout is the answer's alone: whatever a library prints goes to stderr */
-    dup2(2, 1);
-    struct rlimit cpu = {IMAGE_DECODER_CPU_SECONDS, IMAGE_DECODER_CPU_SECONDS};
-    setrlimit(RLIMIT_CPU, &cpu); /* a decoder that loops forever is killed, reported as a crash */
+    int answer = lm_spawn_helper_begin(IMAGE_DECODER_CPU_SECONDS);
     lm_image *img = NULL;
     lm_status st;
     if (what[0]) {
@@ -138,32 +132,19 @@ static lm_status reap(pid_t pid, lm_status st, const char *name)
  * naming `name`. Bytes in memory go to it on a pipe. */
 static lm_status decode_isolated(const decode_job *j, const char *name, lm_image **out)
 {
-    int in[2], res[2];
-    if (pipe(in) != 0)
-        return lm_fail(LM_E_IO, "cannot create a pipe: %s", strerror(errno));
-    if (pipe(res) != 0) {
-        close(in[0]), close(in[1]);
-        return lm_fail(LM_E_IO, "cannot create a pipe: %s", strerror(errno));
-    }
     char what[4200], hint[64];
     snprintf(what, sizeof what, DECODER_ENV "=%s", j->path ? j->path : "");
     snprintf(hint, sizeof hint, DECODER_HINT_ENV "=%s", j->hint ? j->hint : "");
     const char *env[] = {what, hint, NULL};
     pid_t pid = 0;
-    lm_status st = lm_spawn_self("an image decoder process", env, in[0], res[1], &pid);
-    close(in[0]), close(res[1]);
-    if (st) {
-        close(in[1]), close(res[0]);
+    int answer = -1;
+    lm_status st = lm_spawn_self("an image decoder process", env, j->path ? NULL : j->data, j->size,
+                                 &pid, &answer);
+    if (st)
         return st;
-    }
-    void (*old)(int) = signal(SIGPIPE, SIG_IGN); /* a decoder that died must not kill us */
-    if (!j->path)
-        lm_fd_write_all(in[1], j->data, j->size);
-    close(in[1]);
     lm_image *img = NULL;
-    st = parent_read(res[0], name, &img);
-    close(res[0]);
-    signal(SIGPIPE, old);
+    st = parent_read(answer, name, &img);
+    close(answer);
     st = reap(pid, st, name);
     if (st) {
         lm_image_destroy(img);

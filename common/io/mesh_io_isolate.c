@@ -12,11 +12,9 @@
  * GL contexts and work are untouched. (A fork without the exec is not enough: under ASan a forked
  * reader hung in a child that had inherited the parent's locks; see spawn_self.h.) */
 #include <errno.h>
-#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -69,12 +67,7 @@ __attribute__((constructor)) static void reader_main(void)
     const char *glb = getenv(READER_ENV);
     if (!glb)
         return;
-    int answer =
-        dup(1); /* stdout is the answer's alone: whatever a library prints goes to stderr */
-    dup2(2, 1);
-    /* a reader that loops forever is killed (SIGXCPU) and reported like a crash */
-    struct rlimit cpu = {LM_IO_ISOLATED_CPU_SECONDS, LM_IO_ISOLATED_CPU_SECONDS};
-    setrlimit(RLIMIT_CPU, &cpu);
+    int answer = lm_spawn_helper_begin(LM_IO_ISOLATED_CPU_SECONDS);
     lm_status st = reader_run(glb);
     int32_t code = (int32_t)st;
     const char *msg = st == LM_OK ? "" : lm_last_error();
@@ -126,26 +119,13 @@ static lm_status run_reader(const uint8_t *data, size_t size, const char *name, 
     snprintf(e_opts, sizeof e_opts, READER_OPTS_ENV "=%lu %d",
              (unsigned long)(opts ? opts->max_tris : 0), opts ? opts->keep_degenerate : 0);
     const char *env[] = {e_glb, e_name, e_opts, dir ? e_dir : NULL, NULL};
-    int in[2], res[2];
-    if (pipe(in) != 0)
-        return lm_fail(LM_E_IO, "cannot create a pipe: %s", strerror(errno));
-    if (pipe(res) != 0) {
-        close(in[0]), close(in[1]);
-        return lm_fail(LM_E_IO, "cannot create a pipe: %s", strerror(errno));
-    }
     pid_t pid = 0;
-    lm_status st = lm_spawn_self("a model reader process", env, in[0], res[1], &pid);
-    close(in[0]), close(res[1]);
+    int answer = -1;
+    lm_status st = lm_spawn_self("a model reader process", env, data, size, &pid, &answer);
     if (st == LM_OK) {
-        void (*old)(int) = signal(SIGPIPE, SIG_IGN); /* a reader that died must not kill us */
-        lm_fd_write_all(in[1], data, size);
-        close(in[1]);
-        st = reader_wait(pid, res[0], name);
-        signal(SIGPIPE, old);
-    } else {
-        close(in[1]);
+        st = reader_wait(pid, answer, name);
+        close(answer);
     }
-    close(res[0]);
     return st;
 }
 

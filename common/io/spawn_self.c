@@ -4,9 +4,11 @@
 #include "common/io/spawn_self.h"
 
 #include <errno.h>
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
 #include <sys/syscall.h>
 #include <unistd.h>
 
@@ -64,9 +66,9 @@ static void child_exec(char **envp, int in_fd, int out_fd)
     _exit(127);
 }
 
-lm_status lm_spawn_self(const char *what, const char *const *env, int in_fd, int out_fd, pid_t *pid)
+static lm_status spawn_on(const char *what, const char *const *env, int in_fd, int out_fd,
+                          pid_t *pid)
 {
-    LM_ASSERT(what != NULL && env != NULL && pid != NULL);
     char *asan = asan_options();
     char **envp = asan ? environment_with(env, asan) : NULL;
     if (!envp) {
@@ -83,6 +85,41 @@ lm_status lm_spawn_self(const char *what, const char *const *env, int in_fd, int
         return lm_fail(LM_E_IO, "cannot start %s: %s", what, strerror(err));
     *pid = p;
     return LM_OK;
+}
+
+lm_status lm_spawn_self(const char *what, const char *const *env, const void *data, size_t size,
+                        pid_t *pid, int *answer_fd)
+{
+    LM_ASSERT(what != NULL && env != NULL && pid != NULL && answer_fd != NULL);
+    int in[2], res[2];
+    if (pipe(in) != 0)
+        return lm_fail(LM_E_IO, "cannot start %s: no pipe: %s", what, strerror(errno));
+    if (pipe(res) != 0) {
+        close(in[0]), close(in[1]);
+        return lm_fail(LM_E_IO, "cannot start %s: no pipe: %s", what, strerror(errno));
+    }
+    lm_status st = spawn_on(what, env, in[0], res[1], pid);
+    close(in[0]), close(res[1]);
+    if (st == LM_OK && data) {
+        void (*old)(int) = signal(SIGPIPE, SIG_IGN); /* a helper that died must not kill us */
+        lm_fd_write_all(in[1], data, size);
+        signal(SIGPIPE, old);
+    }
+    close(in[1]);
+    if (st != LM_OK)
+        close(res[0]);
+    else
+        *answer_fd = res[0];
+    return st;
+}
+
+int lm_spawn_helper_begin(unsigned cpu_seconds)
+{
+    int answer = dup(1);
+    dup2(2, 1);
+    struct rlimit cpu = {cpu_seconds, cpu_seconds};
+    setrlimit(RLIMIT_CPU, &cpu);
+    return answer;
 }
 
 int lm_fd_write_all(int fd, const void *p, size_t n)

@@ -20,14 +20,21 @@
 
 /* Start this program with `env` (NULL-terminated "NAME=VALUE" strings) added to the caller's
  * environment less its LM_SPAWN_ENV_PREFIX variables (and with ASan's signal handlers off, so that
- * a crash in a sanitizer build is the signal its caller reports), `in_fd` as its stdin
- * and `out_fd` as its stdout; every other descriptor of the caller is closed in it. Everything is
- * prepared before the fork: the child only calls dup2, close_range and execve (async-signal-safe),
- * so a caller with threads is safe. Non-blocking. On success *pid is the helper (reap it with
- * waitpid); an exec that fails ends the child with status 127. Errors: LM_E_NOMEM, LM_E_IO (fork
- * failed); one line naming `what`. */
-lm_status lm_spawn_self(const char *what, const char *const *env, int in_fd, int out_fd,
-                        pid_t *pid);
+ * a crash in a sanitizer build is the signal its caller reports); every descriptor of the caller
+ * is closed in it. Everything is prepared before the fork: the child only calls dup2, close_range
+ * and execve (async-signal-safe), so a caller with threads is safe. Its stdin gets `size` bytes of
+ * `data` (none when data is NULL), then end of file; a helper that dies before reading them costs
+ * the caller nothing (SIGPIPE is ignored while they are written). Blocks until they are written.
+ * On success *pid is the helper and *answer_fd the read end of its stdout: the caller reads the
+ * answer, closes it, then reaps the helper (waitpid); an exec that fails ends the child with
+ * status 127. Errors: LM_E_NOMEM, LM_E_IO (no pipe, fork failed); one line naming `what`. */
+lm_status lm_spawn_self(const char *what, const char *const *env, const void *data, size_t size,
+                        pid_t *pid, int *answer_fd);
+
+/* In a helper, first thing: its stdout becomes the answer's alone (the descriptor returned, or -1;
+ * whatever a library prints goes to stderr from now on), and a CPU limit of `cpu_seconds`, so a
+ * helper that loops forever is killed (SIGXCPU) and reported like one that crashed. */
+int lm_spawn_helper_begin(unsigned cpu_seconds);
 
 /* Write (read) all n bytes on fd, retrying EINTR: 1, or 0 when the other end is gone (or the
  * bytes ran out). Blocking. */
