@@ -9,11 +9,11 @@
 #include <string.h>
 
 #include "common/folders.h"
-#include "common/frog.h"
 #include "common/io/image_io.h"
 #include "common/io/mesh_io.h"
 #include "common/view.h"
 #include "coordinator/cli/cli_args.h"
+#include "coordinator/frog/frog.h"
 #include "coordinator/job/job.h"
 #include "coordinator/job/job_log.h"
 #include "coordinator/quality/compare.h"

@@ -5,9 +5,9 @@
 #include <time.h>
 
 #include "common/folders.h"
-#include "common/frog.h"
 #include "common/io/mesh_io.h"
 #include "coordinator/cli/cli_args.h"
+#include "coordinator/frog/frog.h"
 
 #define CMD "gen-frog"
 

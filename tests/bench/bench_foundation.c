@@ -15,8 +15,8 @@
 #include <time.h>
 #include <unistd.h>
 
-#include "common/frog.h"
 #include "common/io/mesh_io.h"
+#include "coordinator/frog/frog.h"
 #include "coordinator/simplify/simplify.h"
 
 enum { PH_GENERATE, PH_SAVE, PH_LOAD_GLB, PH_LOAD_OBJ, PH_SIMPLIFY, PH_COUNT };

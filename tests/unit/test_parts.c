@@ -9,9 +9,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "common/frog.h"
 #include "common/io/mesh_io.h"
 #include "common/mesh_topology.h"
+#include "coordinator/frog/frog.h"
 #include "coordinator/simplify/simplify.h"
 
 #define MAX_PARTS 64

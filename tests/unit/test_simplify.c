@@ -7,10 +7,10 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "common/frog.h"
-#include "common/frog_internal.h"
 #include "common/io/mesh_io.h"
 #include "common/mesh_topology.h"
+#include "coordinator/frog/frog.h"
+#include "coordinator/frog/frog_internal.h"
 #include "coordinator/simplify/simplify_internal.h"
 
 /* ---- helpers ----------------------------------------------------------------------------------

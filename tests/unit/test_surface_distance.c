@@ -9,8 +9,8 @@
 #include <string.h>
 
 #include "common/bvh.h"
-#include "common/frog.h"
 #include "common/mesh_topology.h"
+#include "coordinator/frog/frog.h"
 #include "coordinator/quality/surface_distance.h"
 #include "coordinator/simplify/simplify.h"
 

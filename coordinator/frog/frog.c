@@ -1,16 +1,16 @@
-/* common/frog.c — geometry of the procedural frog (see frog.h): seven closed generalised
+/* coordinator/frog/frog.c — geometry of the procedural frog (see frog.h): seven closed generalised
  * cylinders ("parts") swept along Catmull–Rom spines with elliptical cross-sections and rounded
  * end caps that close into poles. Rings are spaced evenly along the meridian (arc length of the
  * profile), so a sphere gets even latitudes and a leg even segments; the triangle budget of each
  * part is split between rings and segments in proportion to its length and girth. */
-#include "common/frog.h"
+#include "coordinator/frog/frog.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include "common/frog_internal.h"
 #include "common/mesh_topology.h"
+#include "coordinator/frog/frog_internal.h"
 
 #define MAX_CTRL 6
 #define PROFILE_SAMPLES 4096

@@ -1,4 +1,4 @@
-/* common/frog_internal.h — what the frog's geometry (common/frog.c) and its texture
+/* coordinator/frog/frog_internal.h — what the frog's geometry (frog.c) and its texture
  * (common/frog_texture.c) must agree on: the texture atlas charts and the seeded random stream. */
 #ifndef LM_COMMON_FROG_INTERNAL_H
 #define LM_COMMON_FROG_INTERNAL_H

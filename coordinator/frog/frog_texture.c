@@ -1,11 +1,11 @@
-/* common/frog_texture.c — the frog's generated skin texture: one RGBA8 image holding three
- * charts (body, legs, eyes; see frog_internal.h). Every pattern edge is sharp (no blending), so
- * texture stretch and misplaced UVs show up clearly in rendered images. */
+/* coordinator/frog/frog_texture.c — the frog's generated skin texture: one RGBA8 image holding
+ * three charts (body, legs, eyes; see frog_internal.h). Every pattern edge is sharp (no blending),
+ * so texture stretch and misplaced UVs show up clearly in rendered images. */
 #include <math.h>
 #include <string.h>
 
-#include "common/frog.h"
-#include "common/frog_internal.h"
+#include "coordinator/frog/frog.h"
+#include "coordinator/frog/frog_internal.h"
 
 #define SPOTS 34
 

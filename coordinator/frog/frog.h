@@ -1,10 +1,11 @@
-/* common/frog.h — the project's own demo asset: a procedural frog-style model in the spirit of
- * the paper's Figure 10. Seven SEPARATE closed parts — body, two hind legs, two front legs (each a
- * bent tube from hip/shoulder through knee/elbow to a flattened foot), two eyes (spheres sticking
- * out of the head) — interpenetrate where they meet, which is what makes cracks appear after
- * simplification. Each part has its own UV chart (seam along one meridian, poles as fans) in one
- * generated 1024x1024 texture with sharp-edged patterns (dark spots on the back, a pale belly,
- * stripes on the legs, black pupils on yellow irises), so texture stretch is easy to see.
+/* coordinator/frog/frog.h — the project's own demo asset: a procedural frog-style model in the
+ * spirit of the paper's Figure 10. Seven SEPARATE closed parts — body, two hind legs, two front
+ * legs (each a bent tube from hip/shoulder through knee/elbow to a flattened foot), two eyes
+ * (spheres sticking out of the head) — interpenetrate where they meet, which is what makes cracks
+ * appear after simplification. Each part has its own UV chart (seam along one meridian, poles as
+ * fans) in one generated 1024x1024 texture with sharp-edged patterns (dark spots on the back, a
+ * pale belly, stripes on the legs, black pupils on yellow irises), so texture stretch is easy to
+ * see.
  *
  * Axes: y up, x forward (the head), z to the frog's left; about 2.4 units long, feet at y ~ 0.
  * UVs follow the OpenGL/OBJ convention: (0,0) is the bottom-left of the image (image rows are
