@@ -3,8 +3,7 @@
  *
  * Why not ZeroMQ there: a message over ZeroMQ crosses an I/O thread on each side, four thread
  * wake-ups per round trip, which on a machine whose cores are all rendering costs far more than
- * the message (measured by tests/bench/bench_scaling: 198 us over ipc against 28 us over a plain
- * Unix socket, on this 2-core machine). Workers that connect by address keep ZeroMQ (CURVE,
+ * the message (tests/bench/PERFORMANCE.md: round trips, from tests/bench/bench_scaling). Workers that connect by address keep ZeroMQ (CURVE,
  * reconnection, many peers on one socket).
  *
  * On the wire: each frame is its length (4 bytes, little-endian) then its bytes. A length of 0 or

@@ -29,8 +29,7 @@
 /* Generate the frog with about target_tris triangles (within ~2% for 2,000 and more; exact
  * shares per part), in [LM_FROG_MIN_TRIS, LM_FROG_MAX_TRIS] else LM_E_RANGE. The same seed gives
  * the same mesh (bit for bit); the seed varies spot and stripe placement and small shape jitter.
- * Memory is linear in target_tris: ~80 bytes per triangle with adjacency (2M triangles: 194 MB
- * peak resident for the whole process, see tests/bench/bench_foundation.c). */
+ * Memory is linear in target_tris (tests/bench/bench_foundation.c measures it). */
 lm_status lm_frog_generate(uint32_t target_tris, uint64_t seed, lm_mesh **out);
 
 /* The frog's texture alone (what lm_frog_generate puts in its material). */

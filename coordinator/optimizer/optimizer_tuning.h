@@ -12,7 +12,7 @@
 
 /* The geometric term's weight where co_tuning leaves it 0: none. Measured with scripts/fidelity.sh
  * (coordinator/OPTIMIZER.md) it helps scanned and CAD models and costs textured ones, so it is
- * an option (`optimize --surface-weight W`, 30 measured best), not a default. */
+ * an option (`optimize --surface-weight W`), not a default. */
 #define CO_SURFACE_WEIGHT 0.0
 
 /* Where co_tuning leaves the weight 0: the geometric term's share of the image energy at the start

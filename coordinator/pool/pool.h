@@ -42,13 +42,12 @@
 #define CO_POOL_REQUEST_S 120.0 /* a worker that leaves a request unanswered this long is stuck */
 /* How long a local worker looks for the next request after each reply before it sleeps
  * (lumesh-worker --spin-us), where the local workers fit on this machine's processors; 0 where
- * they do not (a worker waiting awake would take a processor from another). Measured on a 2-core
- * VM: bunny --workers 2, evaluations/s 1.50x in-process at 0, 1.60x at 60, 1.64x at 150. */
+ * they do not (a worker waiting awake would take a processor from another). Why 150:
+ * tests/bench/PERFORMANCE.md (local workers' spin). */
 #define CO_POOL_SPIN_US 150u
 /* How long the coordinator itself looks for its local workers' answers before it sleeps, where
  * they fit on the processors (as CO_POOL_SPIN_US): a processor that slept costs a wake-up per
- * answer. Measured on a 2-core VM, --workers 2, evaluations/s against sleeping at once, three
- * alternated runs each: bunny 1% ×1.07 at 100 µs (×1.04 at 30, ×1.00 at 300), frog ×1.06. */
+ * answer. Why 100: tests/bench/PERFORMANCE.md (local workers' spin). */
 #define CO_POOL_AWAIT_SPIN_US 100u
 
 typedef struct co_worker {
