@@ -3,8 +3,8 @@
  *
  * Why not ZeroMQ there: a message over ZeroMQ crosses an I/O thread on each side, four thread
  * wake-ups per round trip, which on a machine whose cores are all rendering costs far more than
- * the message (tests/bench/PERFORMANCE.md: round trips, from tests/bench/bench_scaling). Workers that connect by address keep ZeroMQ (CURVE,
- * reconnection, many peers on one socket).
+ * the message (tests/bench/PERFORMANCE.md: round trips, from tests/bench/bench_scaling). Workers
+ * that connect by address keep ZeroMQ (CURVE, reconnection, many peers on one socket).
  *
  * On the wire: each frame is its length (4 bytes, little-endian) then its bytes. A length of 0 or
  * above LM_WIRE_MAX_FRAME is refused before anything is read into memory for it.
