@@ -8,6 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "common/grow.h"
 #include "common/mesh_internal.h"
 #include "common/mesh_topology.h"
 
@@ -15,14 +16,8 @@
 
 lm_status lm_u32vec_push(lm_u32vec *v, uint32_t x)
 {
-    if (v->n == v->cap) {
-        uint32_t cap = v->cap ? v->cap * 2 : 8;
-        uint32_t *d = realloc(v->data, (size_t)cap * sizeof *d);
-        if (!d)
-            return lm_fail(LM_E_NOMEM, "out of memory growing an adjacency list");
-        v->data = d;
-        v->cap = cap;
-    }
+    if (v->n == v->cap && !LM_GROW32(&v->data, &v->cap, (size_t)v->n + 1, 8))
+        return lm_fail(LM_E_NOMEM, "out of memory growing an adjacency list");
     v->data[v->n++] = x;
     return LM_OK;
 }
@@ -105,20 +100,12 @@ static lm_status grow(void **arr, size_t elem, uint8_t **alive, uint32_t *cap, u
         return LM_OK;
     if (need > limit)
         return lm_fail(LM_E_RANGE, "mesh too large (%u elements, limit %u)", need, limit);
-    uint64_t c = *cap ? (uint64_t)*cap * 2 : 64;
-    while (c < need)
-        c *= 2;
-    if (c > limit)
-        c = limit;
-    void *a = realloc(*arr, (size_t)c * elem);
-    if (!a)
+    size_t c = lm_grow_cap(*cap, need, 64, limit);
+    if (!lm_resize(arr, c, elem))
         return lm_fail(LM_E_NOMEM, "out of memory growing a mesh to %llu elements",
                        (unsigned long long)c);
-    *arr = a;
-    uint8_t *f = realloc(*alive, (size_t)c);
-    if (!f)
+    if (!LM_RESIZE(alive, c))
         return lm_fail(LM_E_NOMEM, "out of memory growing a mesh");
-    *alive = f;
     *cap = (uint32_t)c;
     return LM_OK;
 }
@@ -273,15 +260,11 @@ static lm_status vtris_reserve(struct lm_mesh_internal *in, uint32_t n_verts)
 {
     if (n_verts <= in->cap_vtris)
         return LM_OK;
-    uint32_t cap = in->cap_vtris ? in->cap_vtris : 64;
-    while (cap < n_verts)
-        cap *= 2;
-    lm_u32vec *v = realloc(in->vtris, (size_t)cap * sizeof *v);
-    if (!v)
+    size_t cap = lm_grow_cap(in->cap_vtris, n_verts, 64, UINT32_MAX);
+    if (!LM_RESIZE(&in->vtris, cap))
         return lm_fail(LM_E_NOMEM, "out of memory growing adjacency");
-    memset(v + in->cap_vtris, 0, (size_t)(cap - in->cap_vtris) * sizeof *v);
-    in->vtris = v;
-    in->cap_vtris = cap;
+    memset(in->vtris + in->cap_vtris, 0, (cap - in->cap_vtris) * sizeof *in->vtris);
+    in->cap_vtris = (uint32_t)cap;
     return LM_OK;
 }
 

@@ -15,6 +15,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "common/grow.h"
 #include "common/mesh_internal.h"
 
 #define LM_TOPO_MAX_VALENCE 1024u
@@ -81,13 +82,9 @@ static lm_status journal_reserve(lm_journal *j, size_t extra)
 {
     if (!j || j->n + extra <= j->cap)
         return LM_OK;
-    size_t cap = j->cap ? j->cap : 256;
-    while (cap < j->n + extra)
-        cap *= 2;
-    jstep *s = realloc(j->steps, cap * sizeof *s);
-    if (!s)
+    size_t cap = lm_grow_cap(j->cap, j->n + extra, 256, SIZE_MAX);
+    if (!LM_RESIZE(&j->steps, cap))
         return lm_fail(LM_E_NOMEM, "out of memory growing the undo journal to %zu steps", cap);
-    j->steps = s;
     j->cap = cap;
     return LM_OK;
 }
@@ -123,14 +120,8 @@ static lm_status vec_reserve(lm_u32vec *v, uint32_t extra)
 {
     if (v->n + extra <= v->cap)
         return LM_OK;
-    uint32_t cap = v->cap ? v->cap : 8;
-    while (cap < v->n + extra)
-        cap *= 2;
-    uint32_t *d = realloc(v->data, (size_t)cap * sizeof *d);
-    if (!d)
+    if (!LM_GROW32(&v->data, &v->cap, (size_t)v->n + extra, 8))
         return lm_fail(LM_E_NOMEM, "out of memory growing an adjacency list");
-    v->data = d;
-    v->cap = cap;
     return LM_OK;
 }
 

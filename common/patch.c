@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "common/grow.h"
 #include "common/mesh_topology.h"
 #include "common/views_api.h"
 
@@ -58,16 +59,8 @@ void lm_patch_free(lm_patch *p)
 
 static lm_status reserve(void **arr, uint32_t *cap, uint32_t need, size_t elem)
 {
-    if (need <= *cap)
-        return LM_OK;
-    uint32_t c = *cap ? *cap : 16;
-    while (c < need)
-        c *= 2;
-    void *a = realloc(*arr, (size_t)c * elem);
-    if (!a)
+    if (!lm_grow32(arr, cap, need, elem, 16))
         return lm_fail(LM_E_NOMEM, "out of memory building a patch");
-    *arr = a;
-    *cap = c;
     return LM_OK;
 }
 
@@ -147,15 +140,9 @@ static void push_id(touched *t, uint32_t **a, size_t *n, size_t *cap, uint32_t i
 {
     if (t->st)
         return;
-    if (*n == *cap) {
-        size_t c = *cap ? *cap * 2 : 64;
-        uint32_t *p = realloc(*a, c * sizeof *p);
-        if (!p) {
-            t->st = lm_fail(LM_E_NOMEM, "out of memory gathering a change");
-            return;
-        }
-        *a = p;
-        *cap = c;
+    if (*n == *cap && !LM_GROW(a, cap, *n + 1, 64)) {
+        t->st = lm_fail(LM_E_NOMEM, "out of memory gathering a change");
+        return;
     }
     (*a)[(*n)++] = id;
 }

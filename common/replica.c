@@ -4,6 +4,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "common/grow.h"
+
 void wk_replica_init(wk_replica *r)
 {
     memset(r, 0, sizeof *r);
@@ -27,16 +29,8 @@ static lm_status grow(wk_replica *r, uint32_t id)
 {
     if (id >= LM_MESH_MAX_TRIS)
         return lm_fail(LM_E_RANGE, "triangle id %u exceeds the limit %u", id, LM_MESH_MAX_TRIS);
-    size_t cap = r->cap ? r->cap : 1024;
-    while (cap <= id)
-        cap *= 2;
-    lm_tri_data *t = realloc(r->tris, cap * sizeof *t);
-    if (t)
-        r->tris = t;
-    uint8_t *a = realloc(r->alive, cap);
-    if (a)
-        r->alive = a;
-    if (!t || !a)
+    size_t cap = lm_grow_cap(r->cap, (size_t)id + 1, 1024, SIZE_MAX);
+    if (!LM_RESIZE(&r->tris, cap) || !LM_RESIZE(&r->alive, cap))
         return lm_fail(LM_E_NOMEM, "out of memory growing the mesh replica to %zu triangles", cap);
     memset(r->alive + r->cap, 0, cap - r->cap);
     r->cap = cap;

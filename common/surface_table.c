@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "common/distance_memo.h"
+#include "common/grow.h"
 
 typedef struct tri_entry {
     float p[3][3];
@@ -90,15 +91,12 @@ static lm_status reserve(lm_surface_table *t, uint32_t id)
 {
     if (id < t->cap)
         return LM_OK;
-    uint32_t cap = t->cap ? t->cap : 1024;
-    while (cap <= id)
-        cap *= 2;
-    tri_entry *x = realloc(t->tri, (size_t)cap * sizeof *x);
-    if (!x)
-        return lm_fail(LM_E_NOMEM, "out of memory for the geometric term of %u triangles", cap);
-    memset(x + t->cap, 0, (size_t)(cap - t->cap) * sizeof *x);
-    t->tri = x;
-    t->cap = cap;
+    size_t cap = lm_grow_cap(t->cap, (size_t)id + 1, 1024, UINT32_MAX);
+    if (!LM_RESIZE(&t->tri, cap))
+        return lm_fail(LM_E_NOMEM, "out of memory for the geometric term of %u triangles",
+                       (uint32_t)cap);
+    memset(t->tri + t->cap, 0, (cap - t->cap) * sizeof *t->tri);
+    t->cap = (uint32_t)cap;
     return LM_OK;
 }
 

@@ -3,6 +3,7 @@
 #include "proto/asset.h"
 
 #include "common/bytes.h"
+#include "common/grow.h"
 
 #include <math.h>
 #include <sodium.h>
@@ -58,15 +59,10 @@ lm_status lm_asset_set_put(lm_asset_set *s, uint8_t *data, size_t size, lm_asset
         free(data);
         return LM_OK;
     }
-    if (s->n == s->cap) {
-        uint32_t cap = s->cap ? s->cap * 2 : 8;
-        lm_asset *a = realloc(s->items, cap * sizeof *a);
-        if (!a) {
-            free(data);
-            return lm_fail(LM_E_NOMEM, "out of memory for %u assets", cap);
-        }
-        s->items = a;
-        s->cap = cap;
+    if (s->n == s->cap && !LM_GROW32(&s->items, &s->cap, (size_t)s->n + 1, 8)) {
+        free(data);
+        return lm_fail(LM_E_NOMEM, "out of memory for %u assets",
+                       (uint32_t)lm_grow_cap(s->cap, (size_t)s->n + 1, 8, UINT32_MAX));
     }
     s->items[s->n++] = (lm_asset){h, data, size};
     return LM_OK;

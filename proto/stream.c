@@ -9,6 +9,8 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include "common/grow.h"
+
 #define STREAM_READ_CHUNK (64u << 10)
 #define STREAM_KEEP_BYTES (1u << 20) /* a larger read buffer is given back once it is empty */
 
@@ -43,16 +45,8 @@ lm_status lm_stream_share(lm_stream *s, int shm_fd, int side)
 
 static lm_status reserve(uint8_t **buf, size_t *cap, size_t need)
 {
-    if (need <= *cap)
-        return LM_OK;
-    size_t c = *cap ? *cap : 4096;
-    while (c < need)
-        c *= 2;
-    uint8_t *b = realloc(*buf, c);
-    if (!b)
+    if (!LM_GROW(buf, cap, need, 4096))
         return lm_fail(LM_E_NOMEM, "out of memory for %zu bytes of a connection's buffer", need);
-    *buf = b;
-    *cap = c;
     return LM_OK;
 }
 

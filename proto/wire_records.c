@@ -6,6 +6,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "common/grow.h"
+
 /* ---- arena ----------------------------------------------------------------------------------- */
 
 void lm_wire_arena_init(lm_wire_arena *a)
@@ -32,22 +34,15 @@ void lm_wire_arena_free(lm_wire_arena *a)
 /* A bigger block; the current one is kept until the next reset (pointers into it live on). */
 static int arena_grow(lm_wire_arena *a, size_t need)
 {
-    size_t cap = a->cap ? a->cap * 2 : 65536;
-    while (cap < need)
-        cap *= 2;
-    uint8_t *b = malloc(cap);
+    /* the next block twice the last at least, and as big as need */
+    size_t cap = lm_grow_cap(a->cap, need > a->cap ? need : a->cap + 1, 65536, SIZE_MAX);
+    uint8_t *b = cap ? malloc(cap) : NULL;
     if (!b)
         return 0;
     if (a->block && a->used) {
-        if (a->n_old == a->cap_old) {
-            size_t c = a->cap_old ? a->cap_old * 2 : 8;
-            void **o = realloc(a->old, c * sizeof *o);
-            if (!o) {
-                free(b);
-                return 0;
-            }
-            a->old = o;
-            a->cap_old = c;
+        if (a->n_old == a->cap_old && !LM_GROW(&a->old, &a->cap_old, a->n_old + 1, 8)) {
+            free(b);
+            return 0;
         }
         a->old[a->n_old++] = a->block;
     } else {

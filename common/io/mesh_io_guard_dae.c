@@ -10,6 +10,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "common/grow.h"
 #include "common/io/mesh_io_internal.h"
 
 typedef struct dae_array {
@@ -90,17 +91,6 @@ static void copy_id(char dst[64], const char *v, size_t len)
         len = 63;
     memcpy(dst, v, len);
     dst[len] = '\0';
-}
-
-static void *grow(void *items, size_t *cap, size_t need, size_t item_size)
-{
-    if (need <= *cap)
-        return items;
-    size_t next = *cap ? *cap * 2 : 16;
-    void *bigger = realloc(items, next * item_size);
-    if (bigger)
-        *cap = next;
-    return bigger;
 }
 
 /* Text between the current position and the next '<': how many values it can hold at most. */
@@ -226,21 +216,18 @@ static lm_status record_tag(dae_scan *s, const dae_tag *t)
                            "%s: <%.*s id=\"%s\"> claims %llu values but holds at most %llu",
                            s->name, (int)t->len, t->name, t->id, (unsigned long long)t->count,
                            (unsigned long long)room);
-        dae_array *a = grow(s->arrays, &s->cap_arrays, s->n_arrays + 1, sizeof *a);
-        if (!a)
+        if (!LM_GROW(&s->arrays, &s->cap_arrays, s->n_arrays + 1, 16))
             return lm_fail(LM_E_NOMEM, "%s: out of memory checking the file", s->name);
-        s->arrays = a;
+        dae_array *a = s->arrays;
         memcpy(a[s->n_arrays].id, t->id, sizeof t->id);
         a[s->n_arrays].strings =
             tag_is(t->name, t->len, "Name_array") || tag_is(t->name, t->len, "IDREF_array") ||
             tag_is(t->name, t->len, "SIDREF_array") || tag_is(t->name, t->len, "token_array");
         a[s->n_arrays++].count = t->has_count ? t->count : 0; /* assimp's default */
     } else if (tag_is(t->name, t->len, "accessor")) {
-        dae_accessor *a = grow(s->accessors, &s->cap_accessors, s->n_accessors + 1, sizeof *a);
-        if (!a)
+        if (!LM_GROW(&s->accessors, &s->cap_accessors, s->n_accessors + 1, 16))
             return lm_fail(LM_E_NOMEM, "%s: out of memory checking the file", s->name);
-        s->accessors = a;
-        dae_accessor *acc = &a[s->n_accessors++];
+        dae_accessor *acc = &s->accessors[s->n_accessors++];
         memcpy(acc->source, t->source, sizeof t->source);
         memcpy(acc->owner, s->open_source, sizeof s->open_source);
         acc->count = t->count;
@@ -251,11 +238,9 @@ static lm_status record_tag(dae_scan *s, const dae_tag *t)
     } else if (tag_is(t->name, t->len, "source")) {
         memcpy(s->open_source, t->id, sizeof t->id);
     } else if (tag_is(t->name, t->len, "input") && is_geometry_semantic(t->semantic)) {
-        dae_ref *r = grow(s->geometry_inputs, &s->cap_inputs, s->n_inputs + 1, sizeof *r);
-        if (!r)
+        if (!LM_GROW(&s->geometry_inputs, &s->cap_inputs, s->n_inputs + 1, 16))
             return lm_fail(LM_E_NOMEM, "%s: out of memory checking the file", s->name);
-        s->geometry_inputs = r;
-        memcpy(r[s->n_inputs++].id, t->source, sizeof t->source);
+        memcpy(s->geometry_inputs[s->n_inputs++].id, t->source, sizeof t->source);
     } else if (tag_is(t->name, t->len, "param") && s->open_accessor) {
         s->open_accessor->params++;
     } else if (tag_is(t->name, t->len, "vcount") && text_sum(s) > s->size) {

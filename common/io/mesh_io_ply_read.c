@@ -16,6 +16,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "common/grow.h"
 #include "common/io/mesh_io_ply_header.h"
 
 typedef struct ply_cursor {
@@ -195,13 +196,9 @@ static lm_status grow(void **p, uint64_t *cap, uint64_t need, size_t elem, const
 {
     if (need <= *cap)
         return LM_OK;
-    uint64_t n = *cap ? *cap : 64;
-    while (n < need)
-        n *= 2;
-    void *q = n <= SIZE_MAX / elem ? realloc(*p, (size_t)(n * elem)) : NULL;
-    if (!q)
+    size_t n = need <= SIZE_MAX ? lm_grow_cap(*cap, need, 64, SIZE_MAX / elem) : 0;
+    if (!n || !lm_resize(p, n, elem))
         return lm_fail(LM_E_NOMEM, "%s: out of memory reading PLY faces", name);
-    *p = q;
     *cap = n;
     return LM_OK;
 }

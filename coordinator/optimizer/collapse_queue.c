@@ -1,26 +1,23 @@
-/* coordinator/optimizer/collapse_queue.c — an indexed binary min-heap over an open-addressing hash
- * map (linear probing with backward-shift deletion) of edge entries. */
+/* coordinator/optimizer/collapse_queue.c — an indexed binary min-heap (common/indexed_heap.h) over
+ * an open-addressing hash map (linear probing with backward-shift deletion) of edge entries. */
 #include "coordinator/optimizer/collapse_queue.h"
 
 #include <stdlib.h>
 #include <string.h>
 
-typedef struct slot {
-    co_cq_entry e;
-    uint32_t heap_pos; /* index in heap, or UINT32_MAX */
-} slot;
+#include "common/grow.h"
+#include "common/indexed_heap.h"
 
 struct co_cq {
     uint64_t *keys; /* 0 = empty; else key of the edge */
     uint32_t *vals; /* index into slots */
     uint32_t cap;   /* power of two */
     uint32_t count;
-    slot *slots;
+    co_cq_entry *slots;
     uint32_t n_slots, cap_slots;
     uint32_t *free_slots;
     uint32_t n_free;
-    uint32_t *heap;
-    uint32_t n_heap;
+    lm_iheap heap; /* slots by (est, a, b) */
 };
 
 static uint64_t key_of(uint32_t a, uint32_t b)
@@ -41,6 +38,7 @@ lm_status co_cq_create(co_cq **out)
     co_cq *q = calloc(1, sizeof *q);
     if (!q)
         return lm_fail(LM_E_NOMEM, "out of memory creating the collapse queue");
+    lm_iheap_init(&q->heap);
     *out = q;
     return LM_OK;
 }
@@ -53,7 +51,7 @@ void co_cq_destroy(co_cq *q)
     free(q->vals);
     free(q->slots);
     free(q->free_slots);
-    free(q->heap);
+    lm_iheap_free(&q->heap);
     free(q);
 }
 
@@ -61,7 +59,8 @@ void co_cq_clear(co_cq *q)
 {
     if (q->keys)
         memset(q->keys, 0, (size_t)q->cap * sizeof *q->keys);
-    q->count = q->n_slots = q->n_free = q->n_heap = 0;
+    q->count = q->n_slots = q->n_free = 0;
+    lm_iheap_clear(&q->heap);
 }
 
 static int find(const co_cq *q, uint64_t k, uint32_t *pos)
@@ -112,97 +111,23 @@ static lm_status reserve(co_cq *q)
             return s;
     }
     if (q->n_free == 0 && q->n_slots == q->cap_slots) {
-        uint32_t c = q->cap_slots ? q->cap_slots * 2 : 1024;
-        slot *s = realloc(q->slots, (size_t)c * sizeof *s);
-        uint32_t *f = s ? realloc(q->free_slots, (size_t)c * sizeof *f) : NULL;
-        uint32_t *h = f ? realloc(q->heap, (size_t)c * sizeof *h) : NULL;
-        if (s)
-            q->slots = s;
-        if (f)
-            q->free_slots = f;
-        if (h)
-            q->heap = h;
-        if (!h)
+        size_t c = lm_grow_cap(q->cap_slots, q->n_slots + 1, 1024, UINT32_MAX);
+        if (!c || !LM_RESIZE(&q->slots, c) || !LM_RESIZE(&q->free_slots, c) ||
+            !lm_iheap_reserve(&q->heap, (uint32_t)c))
             return lm_fail(LM_E_NOMEM, "out of memory growing the collapse queue");
-        q->cap_slots = c;
+        q->cap_slots = (uint32_t)c;
     }
     return LM_OK;
 }
 
-/* ---- heap -------------------------------------------------------------------------------- */
-
-static int less(const co_cq *q, uint32_t x, uint32_t y)
+/* An entry's place in the heap: by (est, a, b), in it while poppable. */
+static void heap_update(co_cq *q, uint32_t s)
 {
-    const co_cq_entry *a = &q->slots[x].e, *b = &q->slots[y].e;
-    if (a->est != b->est)
-        return a->est < b->est;
-    if (a->a != b->a)
-        return a->a < b->a;
-    return a->b < b->b;
-}
-
-static void place(co_cq *q, uint32_t pos, uint32_t s)
-{
-    q->heap[pos] = s;
-    q->slots[s].heap_pos = pos;
-}
-
-static void sift_up(co_cq *q, uint32_t pos)
-{
-    uint32_t s = q->heap[pos];
-    while (pos > 0) {
-        uint32_t parent = (pos - 1) / 2;
-        if (!less(q, s, q->heap[parent]))
-            break;
-        place(q, pos, q->heap[parent]);
-        pos = parent;
-    }
-    place(q, pos, s);
-}
-
-static void sift_down(co_cq *q, uint32_t pos)
-{
-    uint32_t s = q->heap[pos];
-    for (;;) {
-        uint32_t c = 2 * pos + 1;
-        if (c >= q->n_heap)
-            break;
-        if (c + 1 < q->n_heap && less(q, q->heap[c + 1], q->heap[c]))
-            c++;
-        if (!less(q, q->heap[c], s))
-            break;
-        place(q, pos, q->heap[c]);
-        pos = c;
-    }
-    place(q, pos, s);
-}
-
-static void heap_remove(co_cq *q, uint32_t s)
-{
-    uint32_t pos = q->slots[s].heap_pos;
-    if (pos == UINT32_MAX)
-        return;
-    q->slots[s].heap_pos = UINT32_MAX;
-    uint32_t last = q->heap[--q->n_heap];
-    if (pos == q->n_heap)
-        return;
-    place(q, pos, last);
-    sift_down(q, pos);
-    sift_up(q, q->slots[last].heap_pos);
-}
-
-static void heap_update(co_cq *q, uint32_t s, int in_heap)
-{
-    if (!in_heap) {
-        heap_remove(q, s);
-        return;
-    }
-    if (q->slots[s].heap_pos == UINT32_MAX) {
-        q->slots[s].heap_pos = q->n_heap;
-        q->heap[q->n_heap++] = s;
-    }
-    sift_up(q, q->slots[s].heap_pos);
-    sift_down(q, q->slots[s].heap_pos);
+    const co_cq_entry *e = &q->slots[s];
+    if (e->in_heap)
+        lm_iheap_set(&q->heap, s, e->est, (uint64_t)e->a << 32 | e->b);
+    else
+        lm_iheap_remove(&q->heap, s);
 }
 
 /* ---- map ----------------------------------------------------------------------------------- */
@@ -224,15 +149,14 @@ lm_status co_cq_set(co_cq *q, uint32_t a, uint32_t b, int64_t est, int level, in
         q->keys[i] = k;
         q->vals[i] = s;
         q->count++;
-        q->slots[s].heap_pos = UINT32_MAX;
     }
-    co_cq_entry *e = &q->slots[s].e;
+    co_cq_entry *e = &q->slots[s];
     e->a = (uint32_t)(k >> 32);
     e->b = (uint32_t)k;
     e->est = est;
     e->level = level;
     e->in_heap = in_heap ? 1 : 0;
-    heap_update(q, s, in_heap);
+    heap_update(q, s);
     return LM_OK;
 }
 
@@ -247,7 +171,7 @@ void co_cq_remove(co_cq *q, uint32_t a, uint32_t b)
     if (!find(q, key_of(a, b), &pos))
         return;
     uint32_t s = q->vals[pos];
-    heap_remove(q, s);
+    lm_iheap_remove(&q->heap, s);
     q->free_slots[q->n_free++] = s;
     q->count--;
     /* backward-shift deletion keeps probe chains intact */
@@ -269,27 +193,27 @@ int co_cq_get(const co_cq *q, uint32_t a, uint32_t b, co_cq_entry *out)
     uint32_t pos;
     if (!find(q, key_of(a, b), &pos))
         return 0;
-    *out = q->slots[q->vals[pos]].e;
+    *out = q->slots[q->vals[pos]];
     return 1;
 }
 
 int co_cq_peek(const co_cq *q, co_cq_entry *out)
 {
-    if (!q->n_heap)
+    uint32_t s = lm_iheap_top(&q->heap);
+    if (s == LM_IHEAP_OUT)
         return 0;
-    *out = q->slots[q->heap[0]].e;
+    *out = q->slots[s];
     return 1;
 }
 
 int co_cq_pop(co_cq *q, co_cq_entry *out)
 {
-    if (!q->n_heap)
+    uint32_t s = lm_iheap_top(&q->heap);
+    if (s == LM_IHEAP_OUT)
         return 0;
-    uint32_t s = q->heap[0];
-    *out = q->slots[s].e;
-    heap_remove(q, s);
-    q->slots[s].e.in_heap = 0;
-    out->in_heap = 0;
+    lm_iheap_remove(&q->heap, s);
+    q->slots[s].in_heap = 0;
+    *out = q->slots[s];
     return 1;
 }
 
@@ -314,7 +238,7 @@ lm_status co_cq_export(const co_cq *q, co_cq_entry **out, uint32_t *n)
     uint32_t k = 0;
     for (uint32_t i = 0; i < q->cap; i++)
         if (q->keys[i])
-            e[k++] = q->slots[q->vals[i]].e;
+            e[k++] = q->slots[q->vals[i]];
     qsort(e, k, sizeof *e, cmp_entry);
     *out = e;
     *n = k;

@@ -4,6 +4,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "common/grow.h"
+
 void co_idset_init(co_idset *s)
 {
     memset(s, 0, sizeof *s);
@@ -29,17 +31,11 @@ void co_idset_clear(co_idset *s)
 
 static lm_status grow_range(co_idset *s, uint32_t id)
 {
-    uint64_t r = s->range ? s->range : 256;
-    while (r <= id)
-        r *= 2;
-    if (r > UINT32_MAX)
-        r = UINT32_MAX;
-    uint32_t *st = realloc(s->stamp, (size_t)r * sizeof *st);
-    if (!st)
+    size_t r = lm_grow_cap(s->range, (size_t)id + 1, 256, UINT32_MAX);
+    if (!r || !LM_RESIZE(&s->stamp, r))
         return lm_fail(LM_E_NOMEM, "out of memory growing an id set to %llu ids",
                        (unsigned long long)r);
-    memset(st + s->range, 0, (size_t)(r - s->range) * sizeof *st);
-    s->stamp = st;
+    memset(s->stamp + s->range, 0, (r - s->range) * sizeof *s->stamp);
     s->range = (uint32_t)r;
     return LM_OK;
 }
@@ -53,14 +49,9 @@ lm_status co_idset_add(co_idset *s, uint32_t id)
     }
     if (s->stamp[id] == s->gen)
         return LM_OK;
-    if (s->n == s->cap) {
-        uint32_t c = s->cap ? s->cap * 2 : 64;
-        uint32_t *a = realloc(s->ids, (size_t)c * sizeof *a);
-        if (!a)
-            return lm_fail(LM_E_NOMEM, "out of memory growing an id set to %u members", c);
-        s->ids = a;
-        s->cap = c;
-    }
+    if (s->n == s->cap && !LM_GROW32(&s->ids, &s->cap, (size_t)s->n + 1, 64))
+        return lm_fail(LM_E_NOMEM, "out of memory growing an id set to %u members",
+                       (uint32_t)lm_grow_cap(s->cap, (size_t)s->n + 1, 64, UINT32_MAX));
     s->stamp[id] = s->gen;
     s->ids[s->n++] = id;
     return LM_OK;

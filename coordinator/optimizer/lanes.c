@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "common/grow.h"
 #include "common/log.h"
 #include "common/mesh_topology.h"
 #include "coordinator/optimizer/edge.h"
@@ -157,22 +158,9 @@ static void on_accepted(void *ctx, const co_move_record *r)
     lane->views.pending = r->delta;
     if (r->kind == CO_MOVE_COLLAPSE)
         claim_collapse(lane, r->a, r->b);
-    if (lane->n_recs == lane->cap_recs) {
-        uint32_t cap = lane->cap_recs ? lane->cap_recs * 2 : 16;
-        lane_record *p = realloc(lane->recs, cap * sizeof *p);
-        LM_ASSERT(p);
-        lane->recs = p;
-        lane->cap_recs = cap;
-    }
-    if (lane->n_xs + r->dim > lane->cap_xs) {
-        size_t cap = lane->cap_xs ? lane->cap_xs * 2 : 1024;
-        while (cap < lane->n_xs + r->dim)
-            cap *= 2;
-        double *x = realloc(lane->xs, cap * sizeof *x);
-        LM_ASSERT(x);
-        lane->xs = x;
-        lane->cap_xs = cap;
-    }
+    bool grown = LM_GROW32(&lane->recs, &lane->cap_recs, (size_t)lane->n_recs + 1, 16) &&
+                 LM_GROW(&lane->xs, &lane->cap_xs, lane->n_xs + r->dim, 1024);
+    LM_ASSERT(grown);
     memcpy(lane->xs + lane->n_xs, r->x, (size_t)r->dim * sizeof *r->x);
     lane->recs[lane->n_recs++] = (lane_record){*r, lane->n_xs, lane->views.d_acc};
     lane->n_xs += r->dim;

@@ -7,6 +7,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "common/grow.h"
+
 void co_oracle_init(co_oracle *o)
 {
     memset(o, 0, sizeof *o);
@@ -183,16 +185,8 @@ static int cmp_stale(const void *x, const void *y)
 
 static lm_status reserve_stale(co_oracle *o, uint32_t n)
 {
-    if (n <= o->cap_stale)
-        return LM_OK;
-    uint32_t c = o->cap_stale ? o->cap_stale : 256;
-    while (c < n)
-        c *= 2;
-    co_stale_edge *p = realloc(o->stale, (size_t)c * sizeof *p);
-    if (!p)
+    if (!LM_GROW32(&o->stale, &o->cap_stale, n, 256))
         return lm_fail(LM_E_NOMEM, "out of memory in the oracle");
-    o->stale = p;
-    o->cap_stale = c;
     return LM_OK;
 }
 

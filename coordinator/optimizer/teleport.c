@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "common/grow.h"
 #include "common/mesh_topology.h"
 #include "coordinator/optimizer/binio.h"
 
@@ -96,14 +97,9 @@ static lm_status note_last(co_teleport *tp, const co_moves *mv, const lm_mesh *m
 
 static lm_status park(search *s, const co_cq_entry *e)
 {
-    if (s->n_parked == s->cap_parked) {
-        uint32_t c = s->cap_parked ? s->cap_parked * 2 : 64;
-        co_cq_entry *p = realloc(s->parked, (size_t)c * sizeof *p);
-        if (!p)
-            return lm_fail(LM_E_NOMEM, "out of memory in the collapse search");
-        s->parked = p;
-        s->cap_parked = c;
-    }
+    if (s->n_parked == s->cap_parked &&
+        !LM_GROW32(&s->parked, &s->cap_parked, (size_t)s->n_parked + 1, 64))
+        return lm_fail(LM_E_NOMEM, "out of memory in the collapse search");
     s->parked[s->n_parked++] = *e;
     return LM_OK;
 }

@@ -15,6 +15,7 @@
 #include <unistd.h>
 #include <zmq.h>
 
+#include "common/grow.h"
 #include "common/log.h"
 #include "coordinator/pool/pool_internal.h"
 
@@ -29,16 +30,10 @@ static co_link *link_of(co_pool *p, const uint8_t *id, size_t len)
 static lm_status add_link(co_pool *p, co_link **out)
 {
     if (p->n_links == p->cap_links) {
-        uint32_t cap = p->cap_links ? 2 * p->cap_links : 8;
-        co_link *l = realloc(p->links, cap * sizeof *l);
-        if (l)
-            p->links = l;
-        struct pollfd *it = realloc(p->poll_fds, (cap + 1) * sizeof *it);
-        if (it)
-            p->poll_fds = it;
-        if (!l || !it)
+        size_t cap = lm_grow_cap(p->cap_links, (size_t)p->n_links + 1, 8, UINT32_MAX);
+        if (!cap || !LM_RESIZE(&p->links, cap) || !LM_RESIZE(&p->poll_fds, cap + 1))
             return lm_fail(LM_E_NOMEM, "out of memory for workers' connections");
-        p->cap_links = cap;
+        p->cap_links = (uint32_t)cap;
     }
     *out = &p->links[p->n_links];
     memset(*out, 0, sizeof **out);

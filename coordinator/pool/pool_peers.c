@@ -7,6 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "common/grow.h"
 #include "common/log.h"
 #include "coordinator/pool/pool_internal.h"
 
@@ -56,14 +57,8 @@ static void refuse(co_pool *p, const lm_wire_frame *f, const char *why)
 
 static lm_status add_worker(co_pool *p, co_worker **out)
 {
-    if (p->n == p->cap) {
-        uint32_t cap = p->cap ? p->cap * 2 : 8;
-        co_worker **w = realloc(p->w, cap * sizeof *w);
-        if (!w)
-            return lm_fail(LM_E_NOMEM, "out of memory for workers");
-        p->w = w;
-        p->cap = cap;
-    }
+    if (p->n == p->cap && !LM_GROW32(&p->w, &p->cap, (size_t)p->n + 1, 8))
+        return lm_fail(LM_E_NOMEM, "out of memory for workers");
     *out = p->w[p->n] = calloc(1, sizeof **out);
     if (!*out)
         return lm_fail(LM_E_NOMEM, "out of memory for a worker");
@@ -248,14 +243,8 @@ uint32_t co_pool_respawns_left(co_pool *p, double now)
 
 static void note_respawns(co_pool *p, uint32_t n, double now)
 {
-    if (p->n_respawns + n > p->cap_respawns) {
-        uint32_t cap = p->cap_respawns * 2 + n + 8;
-        double *r = realloc(p->respawns, cap * sizeof *r);
-        if (!r)
-            return;
-        p->respawns = r;
-        p->cap_respawns = cap;
-    }
+    if (!LM_GROW32(&p->respawns, &p->cap_respawns, (size_t)p->n_respawns + n, 8))
+        return;
     for (uint32_t i = 0; i < n; i++)
         p->respawns[p->n_respawns++] = now;
 }

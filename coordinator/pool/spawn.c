@@ -11,6 +11,8 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "common/grow.h"
+
 const char *co_spawn_find_worker(const char *path, char *buf)
 {
     if (path && *path)
@@ -38,14 +40,8 @@ const char *co_spawn_find_worker(const char *path, char *buf)
 
 static lm_status remember(co_spawned *s, pid_t pid)
 {
-    if (s->n == s->cap) {
-        uint32_t cap = s->cap ? s->cap * 2 : 8;
-        pid_t *p = realloc(s->pids, cap * sizeof *p);
-        if (!p)
-            return lm_fail(LM_E_NOMEM, "out of memory for worker processes");
-        s->pids = p;
-        s->cap = cap;
-    }
+    if (s->n == s->cap && !LM_GROW32(&s->pids, &s->cap, (size_t)s->n + 1, 8))
+        return lm_fail(LM_E_NOMEM, "out of memory for worker processes");
     s->pids[s->n++] = pid;
     return LM_OK;
 }

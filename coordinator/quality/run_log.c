@@ -8,6 +8,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "common/grow.h"
+
 #define RUN_LOG_MAX_LINE (1u << 20)
 
 void co_run_log_init(co_run_log *log)
@@ -34,14 +36,8 @@ lm_status co_run_log_set_kinds(co_run_log *log, const char *const *names, uint32
 lm_status co_run_log_add(co_run_log *log, uint64_t evals, double energy_rel,
                          const uint64_t *accepted)
 {
-    if (log->n == log->cap) {
-        uint32_t cap = log->cap ? 2 * log->cap : 256;
-        co_run_sample *s = realloc(log->samples, (size_t)cap * sizeof *s);
-        if (!s)
-            return lm_fail(LM_E_NOMEM, "out of memory for the run log");
-        log->samples = s;
-        log->cap = cap;
-    }
+    if (log->n == log->cap && !LM_GROW32(&log->samples, &log->cap, (size_t)log->n + 1, 256))
+        return lm_fail(LM_E_NOMEM, "out of memory for the run log");
     co_run_sample *s = &log->samples[log->n++];
     memset(s, 0, sizeof *s);
     s->evals = evals;

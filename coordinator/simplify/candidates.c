@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "common/grow.h"
 #include "coordinator/simplify/collapse_op.h"
 
 lm_status co_cands_init(co_cands *c)
@@ -32,16 +33,11 @@ static lm_status grow(void **p, uint32_t *cap, uint32_t need, size_t elem, int z
 {
     if (need <= *cap)
         return LM_OK;
-    uint32_t n = *cap ? *cap : 64;
-    while (n < need)
-        n *= 2;
-    void *q = realloc(*p, (size_t)n * elem);
-    if (!q)
+    uint32_t old = *cap;
+    if (!lm_grow32(p, cap, need, elem, 64))
         return lm_fail(LM_E_NOMEM, "out of memory for collapse candidates");
     if (zero)
-        memset((char *)q + (size_t)*cap * elem, 0, (size_t)(n - *cap) * elem);
-    *p = q;
-    *cap = n;
+        memset((char *)*p + (size_t)old * elem, 0, (size_t)(*cap - old) * elem);
     return LM_OK;
 }
 

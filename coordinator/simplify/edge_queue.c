@@ -1,9 +1,12 @@
-/* coordinator/simplify/edge_queue.c — entries, an open-addressing hash (edge -> entry) and a
- * binary min-heap over (cost, a, b). */
+/* coordinator/simplify/edge_queue.c — entries, an open-addressing hash (edge -> entry) and an
+ * indexed binary min-heap (common/indexed_heap.h) over (cost, a, b). */
 #include "coordinator/simplify/edge_queue.h"
 
 #include <stdlib.h>
 #include <string.h>
+
+#include "common/grow.h"
+#include "common/indexed_heap.h"
 
 #define CO_EQ_EMPTY UINT32_MAX
 #define CO_EQ_GONE (UINT32_MAX - 1) /* a hash slot whose entry was removed */
@@ -15,8 +18,7 @@ struct co_eq {
     uint32_t n, cap;
     uint32_t *slots; /* hash: entry index, CO_EQ_EMPTY or CO_EQ_GONE */
     uint32_t n_slots, used_slots;
-    uint32_t *heap;
-    uint32_t n_heap;
+    lm_iheap heap; /* the live entries by (cost, a, b) */
 };
 
 static uint64_t edge_hash(uint32_t a, uint32_t b)
@@ -31,6 +33,7 @@ lm_status co_eq_create(uint32_t n_views, co_eq **out)
     if (!q)
         return lm_fail(LM_E_NOMEM, "out of memory for the edge queue");
     q->n_views = n_views ? n_views : 1;
+    lm_iheap_init(&q->heap);
     *out = q;
     return LM_OK;
 }
@@ -44,7 +47,7 @@ void co_eq_destroy(co_eq *q)
     free(q->e);
     free(q->rects);
     free(q->slots);
-    free(q->heap);
+    lm_iheap_free(&q->heap);
     free(q);
 }
 
@@ -60,7 +63,7 @@ co_rect *co_eq_rects(co_eq *q, uint32_t i)
 
 uint32_t co_eq_live(const co_eq *q)
 {
-    return q->n_heap;
+    return lm_iheap_count(&q->heap);
 }
 
 uint32_t co_eq_size(const co_eq *q)
@@ -119,50 +122,17 @@ uint32_t co_eq_find(const co_eq *q, uint32_t a, uint32_t b)
 
 /* ---- heap ---------------------------------------------------------------------------------- */
 
-static int less(const co_eq *q, uint32_t x, uint32_t y)
+/* Entry i into the heap at its cost, or moved to it. */
+static void heap_set(co_eq *q, uint32_t i)
 {
-    const co_eq_entry *p = &q->e[x], *r = &q->e[y];
-    if (p->cost != r->cost)
-        return p->cost < r->cost;
-    return p->a != r->a ? p->a < r->a : p->b < r->b;
-}
-
-static void put(co_eq *q, uint32_t pos, uint32_t i)
-{
-    q->heap[pos] = i;
-    q->e[i].heap = pos;
-}
-
-static void sift_up(co_eq *q, uint32_t pos)
-{
-    uint32_t i = q->heap[pos];
-    while (pos > 0 && less(q, i, q->heap[(pos - 1) / 2])) {
-        put(q, pos, q->heap[(pos - 1) / 2]);
-        pos = (pos - 1) / 2;
-    }
-    put(q, pos, i);
-}
-
-static void sift_down(co_eq *q, uint32_t pos)
-{
-    uint32_t i = q->heap[pos];
-    for (;;) {
-        uint32_t c = 2 * pos + 1;
-        if (c >= q->n_heap)
-            break;
-        if (c + 1 < q->n_heap && less(q, q->heap[c + 1], q->heap[c]))
-            c++;
-        if (!less(q, q->heap[c], i))
-            break;
-        put(q, pos, q->heap[c]);
-        pos = c;
-    }
-    put(q, pos, i);
+    const co_eq_entry *e = &q->e[i];
+    lm_iheap_set(&q->heap, i, e->cost, (uint64_t)e->a << 32 | e->b);
 }
 
 uint32_t co_eq_top(const co_eq *q)
 {
-    return q->n_heap ? q->heap[0] : UINT32_MAX;
+    uint32_t i = lm_iheap_top(&q->heap);
+    return i == LM_IHEAP_OUT ? UINT32_MAX : i;
 }
 
 void co_eq_set_cost(co_eq *q, uint32_t i, int64_t cost)
@@ -170,32 +140,13 @@ void co_eq_set_cost(co_eq *q, uint32_t i, int64_t cost)
     co_eq_entry *e = &q->e[i];
     LM_ASSERT(e->state != CO_EQ_DEAD);
     e->cost = cost;
-    if (e->heap == UINT32_MAX) {
-        put(q, q->n_heap++, i);
-        sift_up(q, q->n_heap - 1);
-        return;
-    }
-    sift_up(q, e->heap);
-    sift_down(q, e->heap);
-}
-
-/* Take entry i out of the heap array (the hole filled by the last one). */
-static void unheap(co_eq *q, uint32_t i)
-{
-    uint32_t pos = q->e[i].heap;
-    uint32_t last = q->heap[--q->n_heap];
-    if (last != i) {
-        put(q, pos, last);
-        sift_up(q, pos);
-        sift_down(q, q->e[last].heap);
-    }
-    q->e[i].heap = UINT32_MAX;
+    heap_set(q, i);
 }
 
 void co_eq_detach(co_eq *q, uint32_t i)
 {
-    if (q->e[i].state != CO_EQ_DEAD && q->e[i].heap != UINT32_MAX)
-        unheap(q, i);
+    if (q->e[i].state != CO_EQ_DEAD)
+        lm_iheap_remove(&q->heap, i);
 }
 
 /* ---- insert / remove ----------------------------------------------------------------------- */
@@ -204,17 +155,10 @@ static lm_status grow(co_eq *q)
 {
     if (q->n < q->cap)
         return LM_OK;
-    uint32_t cap = q->cap ? 2 * q->cap : 1024;
-    co_eq_entry *e = realloc(q->e, (size_t)cap * sizeof *e);
-    if (e)
-        q->e = e;
-    co_rect *r = realloc(q->rects, (size_t)cap * q->n_views * sizeof *r);
-    if (r)
-        q->rects = r;
-    uint32_t *h = realloc(q->heap, (size_t)cap * sizeof *h);
-    if (h)
-        q->heap = h;
-    if (!e || !r || !h)
+    uint32_t cap = (uint32_t)lm_grow_cap(q->cap, q->n + 1, 1024, UINT32_MAX);
+    if (!cap || !LM_RESIZE(&q->e, cap) ||
+        !lm_resize((void **)&q->rects, (size_t)cap * q->n_views, sizeof *q->rects) ||
+        !lm_iheap_reserve(&q->heap, cap))
         return lm_fail(LM_E_NOMEM, "out of memory for %u edges", cap);
     q->cap = cap;
     return LM_OK;
@@ -239,8 +183,7 @@ lm_status co_eq_insert(co_eq *q, uint32_t a, uint32_t b, int64_t cost, uint32_t 
     uint32_t *s = slot_of(q, a, b, 1);
     q->used_slots += *s == CO_EQ_EMPTY;
     *s = i;
-    put(q, q->n_heap++, i);
-    sift_up(q, q->n_heap - 1);
+    heap_set(q, i);
     if (out)
         *out = i;
     return LM_OK;
@@ -252,8 +195,7 @@ void co_eq_remove(co_eq *q, uint32_t i)
     if (e->state == CO_EQ_DEAD)
         return;
     *slot_of(q, e->a, e->b, 0) = CO_EQ_GONE;
-    if (e->heap != UINT32_MAX)
-        unheap(q, i);
+    lm_iheap_remove(&q->heap, i);
     e->state = CO_EQ_DEAD;
     free(e->verts);
     e->verts = NULL;

@@ -22,7 +22,6 @@ typedef struct co_eq_entry {
     uint8_t state;      /* CO_EQ_CLEAN / DIRTY / DEAD */
     uint8_t priced;     /* priced at least once */
     uint32_t priced_at; /* commits done when it was priced */
-    uint32_t heap;      /* position in the heap (UINT32_MAX: not in it) */
     uint32_t *verts;    /* vertices of the triangles its changes removed (owned) */
     uint32_t n_verts, cap_verts;
 } co_eq_entry;

@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "common/grow.h"
 #include "common/image.h"
 #include "common/io/image_io.h"
 #include "coordinator/simplify/pm_internal.h"
@@ -464,14 +465,9 @@ lm_status co_pm_read(const char *path, co_pm **out)
     size_t n = 0, cap = 0;
     lm_status st = LM_OK;
     for (;;) {
-        if (n == cap) {
-            cap = cap ? 2 * cap : 1 << 16;
-            uint8_t *p = cap <= ((size_t)1 << 32) ? realloc(buf, cap) : NULL;
-            if (!p) {
-                st = lm_fail(LM_E_NOMEM, "'%s' is too large to read", path);
-                break;
-            }
-            buf = p;
+        if (n == cap && (cap >= (size_t)1 << 32 || !LM_GROW(&buf, &cap, n + 1, 1 << 16))) {
+            st = lm_fail(LM_E_NOMEM, "'%s' is too large to read", path);
+            break;
         }
         size_t k = fread(buf + n, 1, cap - n, fp);
         n += k;

@@ -3,6 +3,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "common/grow.h"
 #include "coordinator/simplify/pm.h"
 #include "coordinator/simplify/pm_internal.h"
 
@@ -28,15 +29,9 @@ static void push(touched *t, id_list *l, uint32_t id)
 {
     if (t->st)
         return;
-    if (l->n == l->cap) {
-        size_t cap = l->cap ? 2 * l->cap : 32;
-        uint32_t *p = realloc(l->ids, cap * sizeof *p);
-        if (!p) {
-            t->st = lm_fail(LM_E_NOMEM, "out of memory recording a vertex split");
-            return;
-        }
-        l->ids = p;
-        l->cap = cap;
+    if (l->n == l->cap && !LM_GROW(&l->ids, &l->cap, l->n + 1, 32)) {
+        t->st = lm_fail(LM_E_NOMEM, "out of memory recording a vertex split");
+        return;
     }
     l->ids[l->n++] = id;
 }
@@ -146,14 +141,8 @@ void co_pm_recorder_destroy(co_pm_recorder *r)
 
 lm_status co_pm_recorder_take(co_pm_recorder *r, co_pm_split *s)
 {
-    if (r->n == r->cap) {
-        uint32_t cap = r->cap ? 2 * r->cap : 256;
-        co_pm_split *p = realloc(r->s, (size_t)cap * sizeof *p);
-        if (!p)
-            return lm_fail(LM_E_NOMEM, "out of memory for the progressive mesh");
-        r->s = p;
-        r->cap = cap;
-    }
+    if (r->n == r->cap && !LM_GROW32(&r->s, &r->cap, (size_t)r->n + 1, 256))
+        return lm_fail(LM_E_NOMEM, "out of memory for the progressive mesh");
     r->s[r->n++] = *s;
     memset(s, 0, sizeof *s);
     return LM_OK;

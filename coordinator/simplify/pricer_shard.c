@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "common/grow.h"
 #include "coordinator/simplify/pricer_internal.h"
 
 void co_shard_free(co_pricer *p)
@@ -19,16 +20,8 @@ void co_shard_free(co_pricer *p)
 
 static lm_status reserve(void **ptr, uint32_t *cap, uint32_t need, size_t elem)
 {
-    if (need <= *cap)
-        return LM_OK;
-    uint32_t n = *cap ? *cap : 64;
-    while (n < need)
-        n *= 2;
-    void *q = realloc(*ptr, (size_t)n * elem);
-    if (!q)
+    if (!lm_grow32(ptr, cap, need, elem, 64))
         return lm_fail(LM_E_NOMEM, "out of memory for shard groups");
-    *ptr = q;
-    *cap = n;
     return LM_OK;
 }
 

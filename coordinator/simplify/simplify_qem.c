@@ -13,6 +13,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "common/grow.h"
 #include "coordinator/simplify/simplify_internal.h"
 
 #define QEM_NO_ERROR_LIMIT 1e10f /* relative error; anything above ~2 means "no limit" */
@@ -55,22 +56,11 @@ static void qem_input_free(qem_input *q)
 static lm_status entry_add(qem_input *q, const lm_mesh *in, uint32_t w, const lm_tri *t)
 {
     if (q->n_entries == q->cap) {
-        uint32_t cap = q->cap ? q->cap * 2 : 1024;
-        float(*p)[3] = realloc(q->pos, (size_t)cap * sizeof *p);
-        if (p)
-            q->pos = p;
-        uint32_t *a = realloc(q->wedge, (size_t)cap * sizeof *a);
-        if (a)
-            q->wedge = a;
-        uint32_t *b = realloc(q->mat, (size_t)cap * sizeof *b);
-        if (b)
-            q->mat = b;
-        uint32_t *c = realloc(q->part, (size_t)cap * sizeof *c);
-        if (c)
-            q->part = c;
-        if (!p || !a || !b || !c)
+        size_t cap = lm_grow_cap(q->cap, (size_t)q->n_entries + 1, 1024, UINT32_MAX);
+        if (!cap || !LM_RESIZE(&q->pos, cap) || !LM_RESIZE(&q->wedge, cap) ||
+            !LM_RESIZE(&q->mat, cap) || !LM_RESIZE(&q->part, cap))
             return lm_fail(LM_E_NOMEM, "out of memory preparing QEM input");
-        q->cap = cap;
+        q->cap = (uint32_t)cap;
     }
     memcpy(q->pos[q->n_entries], in->pos[in->wedges[w].vertex], sizeof q->pos[0]);
     q->wedge[q->n_entries] = w;

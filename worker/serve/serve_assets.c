@@ -4,6 +4,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "common/grow.h"
+
 #include "worker/serve/serve_internal.h"
 
 static wk_upload *find_upload(wk_server *s, const lm_asset_hash *h)
@@ -25,14 +27,8 @@ static lm_status hash_of(const ProtobufCBinaryData *b, lm_asset_hash *h)
 
 static lm_status add_upload(wk_server *s, const lm_asset_hash *h)
 {
-    if (s->n_up == s->cap_up) {
-        uint32_t cap = s->cap_up ? s->cap_up * 2 : 8;
-        wk_upload *u = realloc(s->up, cap * sizeof *u);
-        if (!u)
-            return lm_fail(LM_E_NOMEM, "out of memory for uploads");
-        s->up = u;
-        s->cap_up = cap;
-    }
+    if (s->n_up == s->cap_up && !LM_GROW32(&s->up, &s->cap_up, (size_t)s->n_up + 1, 8))
+        return lm_fail(LM_E_NOMEM, "out of memory for uploads");
     s->up[s->n_up++] = (wk_upload){.hash = *h};
     return LM_OK;
 }
