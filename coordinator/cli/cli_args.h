@@ -1,14 +1,17 @@
-/* coordinator/cli/cli_args.h — small helpers every `lumesh` subcommand uses: strict number parsing
- * with ranges, one-line error reporting, and the common exit-code rule (0 ok, 1 user error,
- * 2 internal). Subcommands parse flags with getopt_long and call these for values and errors. */
+/* coordinator/cli/cli_args.h — what every `lumesh` subcommand parses its command line with: a
+ * table of its options (co_opt: long name, one-letter form, kind, where the value goes; the shared
+ * options — output, views, size, device, seed, evals, workers — written once below) that
+ * co_cli_parse turns into getopt_long's arrays and loop, strict number parsing with ranges,
+ * one-line error reporting, and the common exit-code rule (0 ok, 1 user error, 2 internal). */
 #ifndef LM_COORDINATOR_CLI_ARGS_H
 #define LM_COORDINATOR_CLI_ARGS_H
 
+#include <stddef.h>
 #include <stdint.h>
+#include <stdio.h>
 
 #include "common/error.h"
-
-typedef struct co_simplify_workers co_simplify_workers; /* coordinator/simplify/work.h */
+#include "common/view.h"
 
 /* Parse a whole decimal string into [lo, hi]. On failure prints
  * "lumesh CMD: --FLAG expects an integer in [lo, hi], got 'VAL'" and returns LM_E_INVALID. */
@@ -19,14 +22,123 @@ lm_status co_arg_u32(const char *cmd, const char *flag, const char *val, uint32_
 lm_status co_arg_double(const char *cmd, const char *flag, const char *val, double lo, double hi,
                         double *out);
 
-/* --views N and --size PIXELS, with the same ranges in every subcommand that renders views. */
-lm_status co_arg_views(const char *cmd, const char *val, uint32_t *out);
-lm_status co_arg_size(const char *cmd, const char *val, uint32_t *out);
+/* What an option's value is and where it goes (co_opt.to). */
+typedef enum co_opt_kind {
+    CO_OPT_KIND_STR,       /* const char *: the value as given */
+    CO_OPT_KIND_FLAG,      /* int: set to 1; takes no value */
+    CO_OPT_KIND_U32,       /* uint32_t: a whole number in [lo, hi] */
+    CO_OPT_KIND_INT,       /* int: the same (an image side) */
+    CO_OPT_KIND_U64,       /* uint64_t: a whole number in [lo, hi] */
+    CO_OPT_KIND_DOUBLE,    /* double: a number in [dlo, dhi] */
+    CO_OPT_KIND_CALL,      /* call(to, value) */
+    CO_OPT_KIND_CALL_FLAG, /* call(to, NULL); takes no value */
+} co_opt_kind;
 
-/* Where simplify and lod render: getopt code c with value val if it is one of their worker
- * options ('w' --workers N, 'L' --listen, 'K' --keys, 'I' --renderer). Returns -1 when taken,
- * 1 when val was wrong (said on stderr), -2 when c is none of them. */
-int co_arg_simplify_workers(const char *cmd, int c, const char *val, co_simplify_workers *w);
+/* One option of a subcommand. Numbers out of range say so on one line (co_arg_u64). */
+typedef struct co_opt {
+    const char *name; /* the long name, without "--"; the messages call it --name */
+    char letter;      /* its one-letter form (-o), or 0 */
+    co_opt_kind kind;
+    void *to;         /* where the value goes; the CALL kinds: the callback's context */
+    uint64_t lo, hi;  /* whole numbers: the range */
+    double dlo, dhi;  /* CO_OPT_KIND_DOUBLE: the range */
+    const void *zero; /* numbers: what a 0 given stands for (of the type of *to); NULL: 0 */
+    int (*call)(void *to, const char *val); /* -1 when taken, else the exit code (said) */
+    const char *needed; /* the whole message when the option is not given; NULL: optional */
+} co_opt;
+
+/* Table rows; `to` must point to the type the kind writes (checked by the compiler). CO_OPT_ROW
+ * starts a row of any kind: {CO_OPT_ROW(...), .lo = 1, .hi = 9, .needed = "missing --x N"}. */
+#define CO_OPT_TO(type, p) ((void *)(1 ? (p) : (type *)0))
+#define CO_OPT_ROW(n, l, k, type, p)                                                               \
+    .name = (n), .letter = (l), .kind = (k), .to = CO_OPT_TO(type, p)
+#define CO_OPT_STR(n, l, p)                                                                        \
+    {                                                                                              \
+        CO_OPT_ROW(n, l, CO_OPT_KIND_STR, const char *, p)                                         \
+    }
+#define CO_OPT_FLAG(n, l, p)                                                                       \
+    {                                                                                              \
+        CO_OPT_ROW(n, l, CO_OPT_KIND_FLAG, int, p)                                                 \
+    }
+#define CO_OPT_U32(n, l, p, a, b)                                                                  \
+    {                                                                                              \
+        CO_OPT_ROW(n, l, CO_OPT_KIND_U32, uint32_t, p), .lo = (a), .hi = (b)                       \
+    }
+#define CO_OPT_INT(n, l, p, a, b)                                                                  \
+    {                                                                                              \
+        CO_OPT_ROW(n, l, CO_OPT_KIND_INT, int, p), .lo = (a), .hi = (b)                            \
+    }
+#define CO_OPT_U64(n, l, p, a, b)                                                                  \
+    {                                                                                              \
+        CO_OPT_ROW(n, l, CO_OPT_KIND_U64, uint64_t, p), .lo = (a), .hi = (b)                       \
+    }
+#define CO_OPT_DOUBLE(n, p, a, b)                                                                  \
+    {                                                                                              \
+        CO_OPT_ROW(n, 0, CO_OPT_KIND_DOUBLE, double, p), .dlo = (a), .dhi = (b)                    \
+    }
+#define CO_OPT_CALL(n, l, f, ctx)                                                                  \
+    {                                                                                              \
+        CO_OPT_ROW(n, l, CO_OPT_KIND_CALL, void, ctx), .call = (f)                                 \
+    }
+#define CO_OPT_CALL_FLAG(n, f, ctx)                                                                \
+    {                                                                                              \
+        CO_OPT_ROW(n, 0, CO_OPT_KIND_CALL_FLAG, void, ctx), .call = (f)                            \
+    }
+
+/* The shared options, the same in every subcommand that has them. */
+#define CO_OPT_OUTPUT(p) CO_OPT_STR("output", 'o', p)
+#define CO_OPT_OUTPUT_NEEDED(p, msg)                                                               \
+    {                                                                                              \
+        CO_OPT_ROW("output", 'o', CO_OPT_KIND_STR, const char *, p), .needed = (msg)               \
+    }
+#define CO_OPT_DEVICE(p) CO_OPT_STR("device", 0, p)
+#define CO_OPT_VIEWS(p) CO_OPT_U32("views", 0, p, 1, LM_MAX_VIEWS)
+#define CO_OPT_SIZE(p) CO_OPT_U32("size", 0, p, 16, LM_MAX_VIEW_SIZE)
+#define CO_OPT_SIZE_INT(p) CO_OPT_INT("size", 0, p, 16, LM_MAX_VIEW_SIZE)
+#define CO_OPT_SEED(p, lo) CO_OPT_U64("seed", 0, p, lo, UINT64_MAX)
+#define CO_OPT_EVALS(p) CO_OPT_U64("evals", 0, p, 1, UINT64_MAX / 2)
+/* --workers N of optimize and demo: up to 4096; 0 renders in this process (CO_JOB_IN_PROCESS). */
+extern const uint32_t co_opt_job_in_process;
+#define CO_OPT_JOB_WORKERS(p)                                                                      \
+    {                                                                                              \
+        CO_OPT_ROW("workers", 0, CO_OPT_KIND_U32, uint32_t, p), .lo = 0, .hi = 4096,               \
+                                                                .zero = &co_opt_job_in_process     \
+    }
+/* Where simplify and lod render (a co_simplify_workers *, coordinator/simplify/work.h): --workers
+ * N (up to 256), --listen ADDR, --keys DIR, --renderer ID. Four rows. */
+#define CO_OPT_SIMPLIFY_WORKERS(w)                                                                 \
+    CO_OPT_U32("workers", 0, &(w)->local, 0, 256), CO_OPT_STR("listen", 0, &(w)->listen),          \
+        CO_OPT_STR("keys", 0, &(w)->keys), CO_OPT_STR("renderer", 0, &(w)->renderer)
+
+/* A subcommand's command line as a whole: its name (for the messages), its --help (-h) text, and
+ * how many operands (words that are not options) it takes. */
+typedef struct co_cli_spec {
+    const char *cmd;
+    void (*usage)(FILE *f); /* prints the help; called with stdout */
+    int min, max;           /* operands; max -1: any number, unchecked */
+    const char *missing;    /* the whole message when there are fewer than min */
+    const char *too_many;   /* ... when there are more than max; NULL: "unexpected argument 'A'" */
+    int see_help;           /* "unexpected argument 'A'" ends with " (see --help)" */
+} co_cli_spec;
+
+/* A number macro as text, for messages written as literals ("at most " CO_STR(MAX) " models"). */
+#define CO_STR(x) CO_STR_(x)
+#define CO_STR_(x) #x
+
+/* The most options one table may have. */
+#define CO_OPTS_MAX 40
+#define CO_OPTS_N(t) (sizeof(t) / sizeof((t)[0]))
+
+/* Parse argv's options from getopt_long's optind on (the caller resets it: co_cli_reset_getopt)
+ * by the table opts[0..n) plus --help/-h, in order, the first wrong one said on one line ("option
+ * --x needs a value (see --help)", "unknown option '--x' (see --help)", a number's range, a
+ * callback's reason), then the operands' count, then the needed options not given (in the
+ * table's order). Returns -1 to go on (the operands are argv[optind..argc)), 0 after --help, else
+ * the exit code. */
+int co_cli_parse(const co_cli_spec *s, const co_opt *opts, size_t n, int argc, char **argv);
+
+typedef struct co_simplify_workers co_simplify_workers; /* coordinator/simplify/work.h */
+
 /* Whether w asks for workers at all (any of those options given). */
 int co_simplify_workers_given(const co_simplify_workers *w);
 /* -1 when w makes sense, else 1 with the one-line reason on stderr (--keys or --renderer with
@@ -38,10 +150,6 @@ int co_cli_usage_error(const char *cmd, const char *fmt, ...) __attribute__((for
 
 /* Print "lumesh CMD: <lm_last_error() or lm_strerror(s)>" and return lm_exit_code(s). */
 int co_cli_fail(const char *cmd, lm_status s);
-
-/* What getopt_long's ':' (a flag without its value) or '?' (an unknown flag) means for the user:
- * one line on stderr; returns 1. */
-int co_cli_bad_option(const char *cmd, int c, char **argv);
 
 /* getopt_long state is global in libc: call before each subcommand's parse (resets optind). */
 void co_cli_reset_getopt(void);

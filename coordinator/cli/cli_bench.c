@@ -70,66 +70,29 @@ static void usage(FILE *f)
             LM_DEFAULT_VIEWS, LM_DEFAULT_VIEW_SIZE, BENCH_ROUNDS);
 }
 
-static int parse_option(int c, char **argv, bench_args *a)
-{
-    switch (c) {
-    case 'm':
-        a->model = optarg;
-        return -1;
-    case 'v':
-        return co_arg_views(CMD, optarg, &a->views) ? 1 : -1;
-    case 's':
-        return co_arg_size(CMD, optarg, &a->size) ? 1 : -1;
-    case 'n':
-        return co_arg_u32(CMD, "--evals", optarg, 1, 100000000, &a->evals) ? 1 : -1;
-    case 'S':
-        return co_arg_u64(CMD, "--seed", optarg, 0, UINT64_MAX, &a->seed) ? 1 : -1;
-    case 'd':
-        a->device = optarg;
-        return -1;
-    case 'j':
-        a->json = 1;
-        return -1;
-    case 'w':
-        return co_arg_u32(CMD, "--workers", optarg, 1, 256, &a->workers) ? 1 : -1;
-    case 'r':
-        return co_arg_u32(CMD, "--rounds", optarg, 1, BENCH_MAX_ROUNDS, &a->rounds) ? 1 : -1;
-    case 'h':
-        usage(stdout);
-        return 0;
-    default:
-        return co_cli_bad_option(CMD, c, argv);
-    }
-}
+static const co_cli_spec spec = {CMD, usage, 0, 0, NULL, NULL, 1};
 
 static int parse(int argc, char **argv, bench_args *a)
 {
-    static const struct option opts[] = {{"model", required_argument, NULL, 'm'},
-                                         {"views", required_argument, NULL, 'v'},
-                                         {"size", required_argument, NULL, 's'},
-                                         {"evals", required_argument, NULL, 'n'},
-                                         {"seed", required_argument, NULL, 'S'},
-                                         {"device", required_argument, NULL, 'd'},
-                                         {"json", no_argument, NULL, 'j'},
-                                         {"workers", required_argument, NULL, 'w'},
-                                         {"rounds", required_argument, NULL, 'r'},
-                                         {"help", no_argument, NULL, 'h'},
-                                         {NULL, 0, NULL, 0}};
+    const co_opt opts[] = {
+        CO_OPT_STR("model", 0, &a->model),
+        CO_OPT_VIEWS(&a->views),
+        CO_OPT_SIZE(&a->size),
+        CO_OPT_U32("evals", 0, &a->evals, 1, 100000000),
+        CO_OPT_SEED(&a->seed, 0),
+        CO_OPT_DEVICE(&a->device),
+        CO_OPT_FLAG("json", 0, &a->json),
+        CO_OPT_U32("workers", 0, &a->workers, 1, 256),
+        CO_OPT_U32("rounds", 0, &a->rounds, 1, BENCH_MAX_ROUNDS),
+    };
     if (argc < 2 || (strcmp(argv[1], "eval") && strcmp(argv[1], "--help") && strcmp(argv[1], "-h")))
         return co_cli_usage_error(CMD, "expects a benchmark name: eval (see --help)");
-    int c, rc;
-    opterr = 0;
-    optind = 2;
     if (strcmp(argv[1], "eval")) {
         usage(stdout);
         return 0;
     }
-    while ((c = getopt_long(argc, argv, ":h", opts, NULL)) != -1)
-        if ((rc = parse_option(c, argv, a)) >= 0)
-            return rc;
-    if (optind < argc)
-        return co_cli_usage_error(CMD, "unexpected argument '%s' (see --help)", argv[optind]);
-    return -1;
+    optind = 2;
+    return co_cli_parse(&spec, opts, CO_OPTS_N(opts), argc, argv);
 }
 
 /* The bunny of the test data. LUMESH_TEST_DATA, when set, is the only place looked at; otherwise
@@ -294,9 +257,7 @@ static void report(const bench_args *a, const char *model, const bench_result *r
            r->evals_per_s, r->evals_per_cpu_s, r->evals_per_s_batch, r->commits_per_s,
            r->tris_per_eval, r->regions_per_eval, r->pixels_per_region, r->full_ms, speedup);
     co_json_string(stdout, lp ? lp : "");
-    printf(", \"renderer\": ");
-    co_json_string(stdout, r->renderer);
-    printf("}\n");
+    co_json_end_with_renderer(stdout, r->renderer);
 }
 
 /* One line (or JSON record) per worker count, with the ratio to one worker. */

@@ -6,12 +6,10 @@
  * window where the first model shows the most cracks and holes. */
 #include <getopt.h>
 #include <stdio.h>
-#include <stdlib.h>
 
 #include "common/folders.h"
 #include "common/image.h"
 #include "common/io/image_io.h"
-#include "common/io/mesh_io.h"
 #include "common/view.h"
 #include "coordinator/cli/cli_args.h"
 #include "coordinator/job/progress.h"
@@ -20,6 +18,7 @@
 
 #define CMD "compare"
 #define MAX_MODELS 16
+#define TOO_MANY "at most " CO_STR(MAX_MODELS) " models"
 
 typedef struct compare_args {
     const char *original, *output, *device;
@@ -51,50 +50,21 @@ static void usage(FILE *f)
         LM_DEFAULT_VIEW_SIZE);
 }
 
-static int parse_option(int c, char **argv, compare_args *a)
-{
-    switch (c) {
-    case 'o':
-        a->output = optarg;
-        return -1;
-    case 'v':
-        return co_arg_views(CMD, optarg, &a->views) ? 1 : -1;
-    case 'H':
-        a->heldout = 1;
-        return -1;
-    case 's':
-        return co_arg_size(CMD, optarg, &a->size) ? 1 : -1;
-    case 'c':
-        return co_arg_u32(CMD, "--closeup", optarg, 8, LM_MAX_VIEW_SIZE, &a->closeup) ? 1 : -1;
-    case 'd':
-        a->device = optarg;
-        return -1;
-    case 'h':
-        usage(stdout);
-        return 0;
-    default:
-        return co_cli_bad_option(CMD, c, argv);
-    }
-}
+static const co_cli_spec spec = {
+    CMD,      usage, 2, 1 + MAX_MODELS, "expects ORIGINAL and at least one MODEL (see --help)",
+    TOO_MANY, 0};
 
 static int parse(int argc, char **argv, compare_args *a)
 {
-    static const struct option opts[] = {
-        {"output", required_argument, NULL, 'o'},  {"views", required_argument, NULL, 'v'},
-        {"heldout", no_argument, NULL, 'H'},       {"size", required_argument, NULL, 's'},
-        {"closeup", required_argument, NULL, 'c'}, {"device", required_argument, NULL, 'd'},
-        {"help", no_argument, NULL, 'h'},          {NULL, 0, NULL, 0}};
-    int c, rc;
-    opterr = 0;
-    while ((c = getopt_long(argc, argv, ":o:h", opts, NULL)) != -1)
-        if ((rc = parse_option(c, argv, a)) >= 0)
-            return rc;
-    if (optind + 2 > argc)
-        return co_cli_usage_error(CMD, "expects ORIGINAL and at least one MODEL (see --help)");
-    if (argc - optind - 1 > MAX_MODELS)
-        return co_cli_usage_error(CMD, "at most %d models", MAX_MODELS);
-    if (!a->output)
-        return co_cli_usage_error(CMD, "needs -o IMAGE (see --help)");
+    const co_opt opts[] = {CO_OPT_OUTPUT_NEEDED(&a->output, "needs -o IMAGE (see --help)"),
+                           CO_OPT_VIEWS(&a->views),
+                           CO_OPT_FLAG("heldout", 0, &a->heldout),
+                           CO_OPT_SIZE(&a->size),
+                           CO_OPT_U32("closeup", 0, &a->closeup, 8, LM_MAX_VIEW_SIZE),
+                           CO_OPT_DEVICE(&a->device)};
+    int rc = co_cli_parse(&spec, opts, CO_OPTS_N(opts), argc, argv);
+    if (rc >= 0)
+        return rc;
     if (a->closeup > a->size)
         return co_cli_usage_error(CMD, "--closeup %u is larger than --size %u", a->closeup,
                                   a->size);
@@ -123,15 +93,14 @@ static void print_json(const compare_args *a, uint32_t n_views, const int64_t *e
         printf(", \"closeup\": {\"view\": %u, \"x\": %d, \"y\": %d, \"side\": %d, "
                "\"cracks_px\": %llu}",
                crop->view, crop->x, crop->y, crop->w, (unsigned long long)crop_cracks);
-    printf(", \"renderer\": ");
-    co_json_string(stdout, renderer);
-    printf("}\n");
+    co_json_end_with_renderer(stdout, renderer);
 }
 
 /* Energies and coverage, then the grid (whole views or the close-up), then the JSON. */
-static lm_status run(const compare_args *a, const lm_mesh *orig, const lm_mesh *const *models,
+static lm_status run(void *ctx, const lm_mesh *orig, const lm_mesh *const *models,
                      const lm_view_set *vs)
 {
+    const compare_args *a = ctx;
     int64_t energy[MAX_MODELS];
     co_coverage cov[MAX_MODELS];
     char renderer[128] = "";
@@ -162,19 +131,8 @@ int co_cli_compare(int argc, char **argv)
     int rc = parse(argc, argv, &a);
     if (rc >= 0)
         return rc;
-    lm_mesh *orig = NULL, *models[MAX_MODELS] = {NULL};
-    lm_view_set *vs = NULL;
-    lm_status st = lm_mesh_load(a.original, NULL, &orig);
-    for (uint32_t i = 0; st == LM_OK && i < a.n_models; i++)
-        st = lm_mesh_load(a.models[i], NULL, &models[i]);
-    if (st == LM_OK)
-        st = co_view_set_around(orig, a.views, (int)a.size,
-                                a.heldout ? LM_VIEWS_HELDOUT : LM_VIEWS_TRAINING, &vs);
-    if (st == LM_OK)
-        st = run(&a, orig, (const lm_mesh *const *)models, vs);
-    free(vs);
-    lm_mesh_destroy(orig);
-    for (uint32_t i = 0; i < a.n_models; i++)
-        lm_mesh_destroy(models[i]);
+    lm_view_set_kind kind = a.heldout ? LM_VIEWS_HELDOUT : LM_VIEWS_TRAINING;
+    lm_status st =
+        co_judge_files(a.original, a.models, a.n_models, a.views, (int)a.size, kind, run, &a);
     return st ? co_cli_fail(CMD, st) : 0;
 }

@@ -2,7 +2,6 @@
  * coarse mesh, and write the three models, a before/after picture grid, a close-up of the coarse
  * mesh's worst cracks, a summary with held-out energies and crack pixels (views not used by
  * the optimisation), and the quality report (DIR/report/index.html). */
-#include <getopt.h>
 #include <inttypes.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -38,7 +37,7 @@ typedef struct demo_paths {
     char frog[4096], coarse[4096], optimized[4096], grid[4096], closeup[4096], report[4096];
 } demo_paths;
 
-static const char *co_cmd = "demo";
+#define CMD "demo"
 
 static const char co_demo_help[] =
     "usage: lumesh demo [-o DIR] [--evals N] [--tris N] [--target-verts N] [--views N]\n"
@@ -69,63 +68,15 @@ static const char co_demo_help[] =
     "                       core; 0 = in this process); the result is the same for any N\n"
     "  -h, --help           this help\n";
 
-enum {
-    OPT_EVALS = 256,
-    OPT_TRIS,
-    OPT_TARGET,
-    OPT_VIEWS,
-    OPT_SIZE,
-    OPT_SEED,
-    OPT_DEVICE,
-    OPT_WORKERS
-};
-
-static const struct option co_demo_opts[] = {
-    {"output", required_argument, NULL, 'o'},
-    {"evals", required_argument, NULL, OPT_EVALS},
-    {"tris", required_argument, NULL, OPT_TRIS},
-    {"target-verts", required_argument, NULL, OPT_TARGET},
-    {"views", required_argument, NULL, OPT_VIEWS},
-    {"size", required_argument, NULL, OPT_SIZE},
-    {"seed", required_argument, NULL, OPT_SEED},
-    {"device", required_argument, NULL, OPT_DEVICE},
-    {"workers", required_argument, NULL, OPT_WORKERS},
-    {"help", no_argument, NULL, 'h'},
-    {NULL, 0, NULL, 0},
-};
-
-static lm_status parse_value(int c, const char *val, demo_options *o)
+static void usage(FILE *f)
 {
-    switch (c) {
-    case 'o':
-        o->dir = val;
-        return LM_OK;
-    case OPT_EVALS:
-        return co_arg_u64(co_cmd, "--evals", val, 1, UINT64_MAX / 2, &o->evals);
-    case OPT_TRIS:
-        return co_arg_u32(co_cmd, "--tris", val, LM_FROG_MIN_TRIS, LM_FROG_MAX_TRIS, &o->tris);
-    case OPT_TARGET:
-        return co_arg_u32(co_cmd, "--target-verts", val, 4, LM_MESH_MAX_VERTS, &o->target_verts);
-    case OPT_VIEWS:
-        return co_arg_views(co_cmd, val, &o->views);
-    case OPT_SIZE:
-        return co_arg_size(co_cmd, val, &o->size);
-    case OPT_SEED:
-        return co_arg_u64(co_cmd, "--seed", val, 1, UINT64_MAX, &o->seed);
-    case OPT_DEVICE:
-        o->device = val;
-        return LM_OK;
-    case OPT_WORKERS: {
-        lm_status st = co_arg_u32(co_cmd, "--workers", val, 0, 4096, &o->workers);
-        if (st == LM_OK && o->workers == 0)
-            o->workers = CO_JOB_IN_PROCESS;
-        return st;
-    }
-    }
-    return LM_E_INTERNAL;
+    fprintf(f, co_demo_help, (unsigned long long)CO_DEMO_EVALS, CO_DEMO_TRIS, CO_DEMO_TARGET,
+            CO_JOB_DEFAULT_VIEWS, CO_JOB_DEFAULT_SIZE);
 }
 
-/* Returns 0 to go on, -1 after --help, or an exit code. */
+static const co_cli_spec spec = {CMD, usage, 0, 0, NULL, NULL, 0};
+
+/* Returns -1 to go on, 0 after --help, or an exit code. */
 static int parse_args(int argc, char **argv, demo_options *o)
 {
     *o = (demo_options){.dir = "lumesh-demo",
@@ -136,22 +87,18 @@ static int parse_args(int argc, char **argv, demo_options *o)
                         .size = CO_JOB_DEFAULT_SIZE,
                         .seed = 1,
                         .device = "auto"};
-    opterr = 0;
-    int c;
-    while ((c = getopt_long(argc, argv, ":o:h", co_demo_opts, NULL)) != -1) {
-        if (c == 'h') {
-            printf(co_demo_help, (unsigned long long)CO_DEMO_EVALS, CO_DEMO_TRIS, CO_DEMO_TARGET,
-                   CO_JOB_DEFAULT_VIEWS, CO_JOB_DEFAULT_SIZE);
-            return -1;
-        }
-        if (c == '?' || c == ':')
-            return co_cli_bad_option(co_cmd, c, argv);
-        if (parse_value(c, optarg, o) != LM_OK)
-            return 1;
-    }
-    if (optind < argc)
-        return co_cli_usage_error(co_cmd, "unexpected argument '%s'", argv[optind]);
-    return 0;
+    const co_opt opts[] = {
+        CO_OPT_OUTPUT(&o->dir),
+        CO_OPT_EVALS(&o->evals),
+        CO_OPT_U32("tris", 0, &o->tris, LM_FROG_MIN_TRIS, LM_FROG_MAX_TRIS),
+        CO_OPT_U32("target-verts", 0, &o->target_verts, 4, LM_MESH_MAX_VERTS),
+        CO_OPT_VIEWS(&o->views),
+        CO_OPT_SIZE(&o->size),
+        CO_OPT_SEED(&o->seed, 1),
+        CO_OPT_DEVICE(&o->device),
+        CO_OPT_JOB_WORKERS(&o->workers),
+    };
+    return co_cli_parse(&spec, opts, CO_OPTS_N(opts), argc, argv);
 }
 
 static lm_status make_paths(const char *dir, demo_paths *p)
@@ -347,8 +294,8 @@ int co_cli_demo(int argc, char **argv)
 {
     demo_options o;
     int rc = parse_args(argc, argv, &o);
-    if (rc)
-        return rc < 0 ? 0 : rc;
+    if (rc >= 0)
+        return rc;
     demo_paths p;
     co_job_summary s;
     demo_judgement j = {0};
@@ -366,7 +313,7 @@ int co_cli_demo(int argc, char **argv)
         st = report(&o, &p, &s, &log, page, sizeof page);
     co_run_log_free(&log);
     if (st != LM_OK)
-        return co_cli_fail(co_cmd, st);
+        return co_cli_fail(CMD, st);
     print_summary(&o, &p, &s, &j);
     printf("\nquality report: %s  (open it in a browser)\n", page);
     return 0;

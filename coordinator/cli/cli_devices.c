@@ -2,7 +2,6 @@
  * first, then Mesa's software renderer) with their node, renderer and whether a context works,
  * lumesh's CPU rasteriser ("cpu", always there), the USB devices with known accelerators flagged,
  * and the device a spec selects (worker/render/device_choice.h). */
-#include <getopt.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -172,30 +171,13 @@ static void usage(FILE *f)
           f);
 }
 
+static const co_cli_spec spec = {CMD, usage, 0, 0, NULL, NULL, 1};
+
 /* Returns -1 to go on, else the exit code. */
-static int parse(int argc, char **argv, int *json, const char **spec)
+static int parse(int argc, char **argv, int *json, const char **device)
 {
-    static const struct option opts[] = {{"json", no_argument, NULL, 'j'},
-                                         {"device", required_argument, NULL, 'd'},
-                                         {"help", no_argument, NULL, 'h'},
-                                         {NULL, 0, NULL, 0}};
-    int c;
-    opterr = 0;
-    while ((c = getopt_long(argc, argv, ":jd:h", opts, NULL)) != -1) {
-        if (c == 'j') {
-            *json = 1;
-        } else if (c == 'd') {
-            *spec = optarg;
-        } else if (c == 'h') {
-            usage(stdout);
-            return 0;
-        } else {
-            return co_cli_bad_option(CMD, c, argv);
-        }
-    }
-    if (optind < argc)
-        return co_cli_usage_error(CMD, "unexpected argument '%s' (see --help)", argv[optind]);
-    return -1;
+    const co_opt opts[] = {CO_OPT_FLAG("json", 'j', json), CO_OPT_STR("device", 'd', device)};
+    return co_cli_parse(&spec, opts, CO_OPTS_N(opts), argc, argv);
 }
 
 int co_cli_devices(int argc, char **argv)

@@ -7,7 +7,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 
-#include "common/io/mesh_io.h"
 #include "common/view.h"
 #include "coordinator/cli/cli_args.h"
 #include "coordinator/job/progress.h"
@@ -17,6 +16,7 @@
 
 #define CMD "energy"
 #define MAX_MODELS 64
+#define TOO_MANY "at most " CO_STR(MAX_MODELS) " models at once"
 
 typedef struct energy_args {
     const char *original, *device;
@@ -56,49 +56,41 @@ static void usage(FILE *f)
             LM_DEFAULT_VIEWS, LM_DEFAULT_VIEW_SIZE, LM_DENSE_VIEWS, CO_DISTANCE_SAMPLES);
 }
 
-static int parse_option(int c, char **argv, energy_args *a)
+/* --heldout or --dense: one of them, once. */
+static int set_kind(energy_args *a, lm_view_set_kind kind)
 {
-    switch (c) {
-    case 'v':
-        return co_arg_views(CMD, optarg, &a->views) ? 1 : -1;
-    case 's':
-        return co_arg_size(CMD, optarg, &a->size) ? 1 : -1;
-    case 'H':
-    case 'D':
-        if (a->kind != LM_VIEWS_TRAINING)
-            return co_cli_usage_error(CMD, "--heldout and --dense exclude each other");
-        a->kind = c == 'H' ? LM_VIEWS_HELDOUT : LM_VIEWS_DENSE;
-        return -1;
-    case 'S':
-        a->distance = 1;
-        return -1;
-    case 'd':
-        a->device = optarg;
-        return -1;
-    case 'h':
-        usage(stdout);
-        return 0;
-    default:
-        return co_cli_bad_option(CMD, c, argv);
-    }
+    if (a->kind != LM_VIEWS_TRAINING)
+        return co_cli_usage_error(CMD, "--heldout and --dense exclude each other");
+    a->kind = kind;
+    return -1;
 }
+
+static int heldout(void *a, const char *val)
+{
+    (void)val;
+    return set_kind(a, LM_VIEWS_HELDOUT);
+}
+
+static int dense(void *a, const char *val)
+{
+    (void)val;
+    return set_kind(a, LM_VIEWS_DENSE);
+}
+
+static const co_cli_spec spec = {
+    CMD, usage, 2, 1 + MAX_MODELS, "expects ORIGINAL and MODEL (see --help)", TOO_MANY, 0};
 
 static int parse(int argc, char **argv, energy_args *a)
 {
-    static const struct option opts[] = {
-        {"views", required_argument, NULL, 'v'}, {"size", required_argument, NULL, 's'},
-        {"heldout", no_argument, NULL, 'H'},     {"dense", no_argument, NULL, 'D'},
-        {"distance", no_argument, NULL, 'S'},    {"device", required_argument, NULL, 'd'},
-        {"help", no_argument, NULL, 'h'},        {NULL, 0, NULL, 0}};
-    int c, rc;
-    opterr = 0;
-    while ((c = getopt_long(argc, argv, ":h", opts, NULL)) != -1)
-        if ((rc = parse_option(c, argv, a)) >= 0)
-            return rc;
-    if (optind + 2 > argc)
-        return co_cli_usage_error(CMD, "expects ORIGINAL and MODEL (see --help)");
-    if (argc - optind - 1 > MAX_MODELS)
-        return co_cli_usage_error(CMD, "at most %d models at once", MAX_MODELS);
+    const co_opt opts[] = {CO_OPT_VIEWS(&a->views),
+                           CO_OPT_SIZE(&a->size),
+                           CO_OPT_CALL_FLAG("heldout", heldout, a),
+                           CO_OPT_CALL_FLAG("dense", dense, a),
+                           CO_OPT_FLAG("distance", 0, &a->distance),
+                           CO_OPT_DEVICE(&a->device)};
+    int rc = co_cli_parse(&spec, opts, CO_OPTS_N(opts), argc, argv);
+    if (rc >= 0)
+        return rc;
     a->original = argv[optind];
     for (int i = optind + 1; i < argc; i++)
         a->model[a->n_models++] = argv[i];
@@ -131,15 +123,14 @@ static void print_json(const energy_args *a, uint32_t i, const lm_view_set *vs, 
     co_coverage_print_json(stdout, cov);
     if (dist)
         print_distance(dist);
-    printf(", \"renderer\": ");
-    co_json_string(stdout, renderer);
-    printf("}\n");
+    co_json_end_with_renderer(stdout, renderer);
 }
 
 /* Energies (and distances) of every model, one JSON line each. */
-static lm_status measure(const energy_args *a, const lm_mesh *orig, const lm_mesh *const *models,
+static lm_status measure(void *ctx, const lm_mesh *orig, const lm_mesh *const *models,
                          const lm_view_set *vs)
 {
+    const energy_args *a = ctx;
     uint32_t n = a->n_models;
     int64_t *total = calloc(n, sizeof *total);
     int64_t *per = calloc((size_t)n * vs->count, sizeof *per);
@@ -168,18 +159,7 @@ int co_cli_energy(int argc, char **argv)
     int rc = parse(argc, argv, &a);
     if (rc >= 0)
         return rc;
-    lm_mesh *orig = NULL, *models[MAX_MODELS] = {NULL};
-    lm_view_set *vs = NULL;
-    lm_status st = lm_mesh_load(a.original, NULL, &orig);
-    for (uint32_t i = 0; i < a.n_models && st == LM_OK; i++)
-        st = lm_mesh_load(a.model[i], NULL, &models[i]);
-    if (st == LM_OK)
-        st = co_view_set_around(orig, a.views, (int)a.size, a.kind, &vs);
-    if (st == LM_OK)
-        st = measure(&a, orig, (const lm_mesh *const *)models, vs);
-    free(vs);
-    lm_mesh_destroy(orig);
-    for (uint32_t i = 0; i < a.n_models; i++)
-        lm_mesh_destroy(models[i]);
+    lm_status st =
+        co_judge_files(a.original, a.model, a.n_models, a.views, (int)a.size, a.kind, measure, &a);
     return st ? co_cli_fail(CMD, st) : 0;
 }

@@ -1,6 +1,5 @@
 /* coordinator/cli/cli_gen_frog.c — `lumesh gen-frog -o OUT [--tris N] [--seed S]`: write the
  * procedural frog-style demo model (common/frog.h) with its texture, atomically. */
-#include <getopt.h>
 #include <stdio.h>
 #include <time.h>
 
@@ -31,43 +30,14 @@ static void usage(FILE *f)
             LM_FROG_MIN_TRIS, LM_FROG_MAX_TRIS);
 }
 
-/* Returns -1 to go on, else the exit code. */
-static int parse_option(int c, char **argv, frog_args *a)
-{
-    switch (c) {
-    case 'o':
-        a->output = optarg;
-        return -1;
-    case 't':
-        return co_arg_u32(CMD, "--tris", optarg, LM_FROG_MIN_TRIS, LM_FROG_MAX_TRIS, &a->tris) ? 1
-                                                                                               : -1;
-    case 's':
-        return co_arg_u64(CMD, "--seed", optarg, 0, UINT64_MAX, &a->seed) ? 1 : -1;
-    case 'h':
-        usage(stdout);
-        return 0;
-    default:
-        return co_cli_bad_option(CMD, c, argv);
-    }
-}
+static const co_cli_spec spec = {CMD, usage, 0, 0, NULL, NULL, 1};
 
 static int parse(int argc, char **argv, frog_args *a)
 {
-    static const struct option opts[] = {{"output", required_argument, NULL, 'o'},
-                                         {"tris", required_argument, NULL, 't'},
-                                         {"seed", required_argument, NULL, 's'},
-                                         {"help", no_argument, NULL, 'h'},
-                                         {NULL, 0, NULL, 0}};
-    int c, rc;
-    opterr = 0;
-    while ((c = getopt_long(argc, argv, ":o:t:s:h", opts, NULL)) != -1)
-        if ((rc = parse_option(c, argv, a)) >= 0)
-            return rc;
-    if (optind < argc)
-        return co_cli_usage_error(CMD, "unexpected argument '%s' (see --help)", argv[optind]);
-    if (!a->output)
-        return co_cli_usage_error(CMD, "missing -o OUT (see --help)");
-    return -1;
+    const co_opt opts[] = {CO_OPT_OUTPUT_NEEDED(&a->output, "missing -o OUT (see --help)"),
+                           CO_OPT_U32("tris", 't', &a->tris, LM_FROG_MIN_TRIS, LM_FROG_MAX_TRIS),
+                           CO_OPT_U64("seed", 's', &a->seed, 0, UINT64_MAX)};
+    return co_cli_parse(&spec, opts, CO_OPTS_N(opts), argc, argv);
 }
 
 static double now_s(void)

@@ -23,23 +23,15 @@ static void usage(FILE *f)
           f);
 }
 
+static const co_cli_spec spec = {CMD, usage, 0, -1, NULL, NULL, 0};
+
 int co_cli_keygen(int argc, char **argv)
 {
-    static const struct option opts[] = {{"output", required_argument, NULL, 'o'},
-                                         {"help", no_argument, NULL, 'h'},
-                                         {NULL, 0, NULL, 0}};
     const char *dir = NULL;
-    int c;
-    opterr = 0;
-    while ((c = getopt_long(argc, argv, ":o:h", opts, NULL)) != -1) {
-        if (c == 'h') {
-            usage(stdout);
-            return 0;
-        }
-        if (c != 'o')
-            return co_cli_bad_option(CMD, c, argv);
-        dir = optarg;
-    }
+    const co_opt opts[] = {CO_OPT_OUTPUT(&dir)};
+    int rc = co_cli_parse(&spec, opts, CO_OPTS_N(opts), argc, argv);
+    if (rc >= 0)
+        return rc;
     if (!dir)
         return co_cli_usage_error(CMD, "missing -o DIR (see --help)");
     if (optind < argc)

@@ -51,8 +51,9 @@ static void usage(FILE *f)
             LM_DEFAULT_VIEWS, LM_DEFAULT_VIEW_SIZE);
 }
 
-static int parse_method(const char *v, co_lod_options *o)
+static int parse_method(void *to, const char *v)
 {
+    co_lod_options *o = to;
     o->qem = !strcmp(v, "qem");
     o->method = !strcmp(v, "shard") ? CO_PRICE_SHARD : CO_PRICE_IMAGE;
     if (!o->qem && strcmp(v, "image") && strcmp(v, "shard"))
@@ -60,74 +61,16 @@ static int parse_method(const char *v, co_lod_options *o)
     return -1;
 }
 
-static int parse_option(int c, char **argv, co_lod_options *o)
+static int parse_levels(void *o, const char *v)
 {
-    uint32_t x;
-    switch (c) {
-    case 'o':
-        o->output_path = optarg;
+    if (co_lod_parse_levels(v, o) == LM_OK)
         return -1;
-    case 'l':
-        if (co_lod_parse_levels(optarg, o) == LM_OK)
-            return -1;
-        return co_cli_usage_error(CMD, "%s", lm_last_error());
-    case 'm':
-        return parse_method(optarg, o);
-    case 'e':
-        return co_arg_u64(CMD, "--evals", optarg, 1, UINT64_MAX / 2, &o->evals) ? 1 : -1;
-    case 'N':
-        o->no_optimize = 1;
-        return -1;
-    case 'p':
-        o->per_level = 1;
-        return -1;
-    case 'v':
-        return co_arg_views(CMD, optarg, &o->views) ? 1 : -1;
-    case 's':
-        if (co_arg_size(CMD, optarg, &x))
-            return 1;
-        o->size = (int)x;
-        return -1;
-    case 'd':
-        o->device = optarg;
-        return -1;
-    case 'S':
-        return co_arg_u64(CMD, "--seed", optarg, 1, UINT64_MAX, &o->seed) ? 1 : -1;
-    case 'h':
-        usage(stdout);
-        return 0;
-    default: {
-        int rc = co_arg_simplify_workers(CMD, c, optarg, &o->workers);
-        return rc != -2 ? rc : co_cli_bad_option(CMD, c, argv);
-    }
-    }
+    return co_cli_usage_error(CMD, "%s", lm_last_error());
 }
 
-static int parse(int argc, char **argv, co_lod_options *o)
+/* -1 when OUT's name suits --per-level (or its absence), else 1 (said). */
+static int check_output(const co_lod_options *o)
 {
-    static const struct option opts[] = {
-        {"output", required_argument, NULL, 'o'},   {"levels", required_argument, NULL, 'l'},
-        {"method", required_argument, NULL, 'm'},   {"evals", required_argument, NULL, 'e'},
-        {"no-optimize", no_argument, NULL, 'N'},    {"per-level", no_argument, NULL, 'p'},
-        {"views", required_argument, NULL, 'v'},    {"size", required_argument, NULL, 's'},
-        {"device", required_argument, NULL, 'd'},   {"workers", required_argument, NULL, 'w'},
-        {"listen", required_argument, NULL, 'L'},   {"keys", required_argument, NULL, 'K'},
-        {"renderer", required_argument, NULL, 'I'}, {"seed", required_argument, NULL, 'S'},
-        {"help", no_argument, NULL, 'h'},           {NULL, 0, NULL, 0}};
-    int c, rc;
-    opterr = 0;
-    while ((c = getopt_long(argc, argv, ":o:h", opts, NULL)) != -1)
-        if ((rc = parse_option(c, argv, o)) >= 0)
-            return rc;
-    if (optind >= argc)
-        return co_cli_usage_error(CMD, "missing ORIGINAL model (see --help)");
-    if (optind + 1 < argc)
-        return co_cli_usage_error(CMD, "unexpected argument '%s' (see --help)", argv[optind + 1]);
-    o->input_path = argv[optind];
-    if (!o->output_path)
-        return co_cli_usage_error(CMD, "missing -o OUT (see --help)");
-    if (!o->n_levels)
-        return co_cli_usage_error(CMD, "missing --levels LIST (see --help)");
     const char *dot = strrchr(o->output_path, '.'), *slash = strrchr(o->output_path, '/');
     dot = dot && (!slash || dot > slash) ? dot : "";
     if (o->per_level && strcmp(dot, ".glb") && strcmp(dot, ".obj") && strcmp(dot, ".ply"))
@@ -135,6 +78,33 @@ static int parse(int argc, char **argv, co_lod_options *o)
     if (!o->per_level && strcmp(dot, ".glb"))
         return co_cli_usage_error(CMD, "one file of levels is a .glb: use OUT.glb, or "
                                        "--per-level for .obj or .ply files");
+    return -1;
+}
+
+static const co_cli_spec spec = {CMD, usage, 1, 1, "missing ORIGINAL model (see --help)", NULL, 1};
+
+static int parse(int argc, char **argv, co_lod_options *o)
+{
+    const co_opt opts[] = {
+        CO_OPT_OUTPUT_NEEDED(&o->output_path, "missing -o OUT (see --help)"),
+        {CO_OPT_ROW("levels", 0, CO_OPT_KIND_CALL, void, o), .call = parse_levels,
+         .needed = "missing --levels LIST (see --help)"},
+        CO_OPT_CALL("method", 0, parse_method, o),
+        CO_OPT_EVALS(&o->evals),
+        CO_OPT_FLAG("no-optimize", 0, &o->no_optimize),
+        CO_OPT_FLAG("per-level", 0, &o->per_level),
+        CO_OPT_VIEWS(&o->views),
+        CO_OPT_SIZE_INT(&o->size),
+        CO_OPT_DEVICE(&o->device),
+        CO_OPT_SIMPLIFY_WORKERS(&o->workers),
+        CO_OPT_SEED(&o->seed, 1),
+    };
+    int rc = co_cli_parse(&spec, opts, CO_OPTS_N(opts), argc, argv);
+    if (rc >= 0)
+        return rc;
+    o->input_path = argv[optind];
+    if ((rc = check_output(o)) >= 0)
+        return rc;
     if (o->method == CO_PRICE_SHARD && co_simplify_workers_given(&o->workers))
         return co_cli_usage_error(CMD, "--method shard renders in this process: no --workers, "
                                        "--listen, --keys or --renderer");

@@ -114,64 +114,7 @@ static const char co_optimize_help[] =
     "Exit status: 0 success, 1 bad input or flag (one line on stderr), 2 internal failure,\n"
     "75 suspended by SIGUSR1, 130 interrupted.\n";
 
-enum {
-    OPT_INITIAL = 256,
-    OPT_TARGET,
-    OPT_VIEWS,
-    OPT_SIZE,
-    OPT_EVALS,
-    OPT_TIME,
-    OPT_SEED,
-    OPT_CHECKPOINT,
-    OPT_CHECKPOINT_EVERY,
-    OPT_RESUME,
-    OPT_ATTRS,
-    OPT_DEVICE,
-    OPT_JSON,
-    OPT_WORKERS,
-    OPT_LISTEN,
-    OPT_RENDERER,
-    OPT_REPORT,
-    OPT_IN_FLIGHT,
-    OPT_KEYS,
-    OPT_SAVE_INITIAL,
-    OPT_SURFACE_WEIGHT,
-    OPT_SURFACE_SHARE,
-    OPT_START,
-    OPT_REGRID,
-};
-
-static const struct option co_optimize_opts[] = {
-    {"output", required_argument, NULL, 'o'},
-    {"initial", required_argument, NULL, OPT_INITIAL},
-    {"target-verts", required_argument, NULL, OPT_TARGET},
-    {"views", required_argument, NULL, OPT_VIEWS},
-    {"size", required_argument, NULL, OPT_SIZE},
-    {"evals", required_argument, NULL, OPT_EVALS},
-    {"time", required_argument, NULL, OPT_TIME},
-    {"seed", required_argument, NULL, OPT_SEED},
-    {"checkpoint", required_argument, NULL, OPT_CHECKPOINT},
-    {"checkpoint-every", required_argument, NULL, OPT_CHECKPOINT_EVERY},
-    {"resume", required_argument, NULL, OPT_RESUME},
-    {"attrs", required_argument, NULL, OPT_ATTRS},
-    {"device", required_argument, NULL, OPT_DEVICE},
-    {"json", no_argument, NULL, OPT_JSON},
-    {"workers", required_argument, NULL, OPT_WORKERS},
-    {"listen", required_argument, NULL, OPT_LISTEN},
-    {"renderer", required_argument, NULL, OPT_RENDERER},
-    {"report", required_argument, NULL, OPT_REPORT},
-    {"edges-in-flight", required_argument, NULL, OPT_IN_FLIGHT},
-    {"keys", required_argument, NULL, OPT_KEYS},
-    {"save-initial", required_argument, NULL, OPT_SAVE_INITIAL},
-    {"surface-weight", required_argument, NULL, OPT_SURFACE_WEIGHT},
-    {"surface-share", required_argument, NULL, OPT_SURFACE_SHARE},
-    {"start", required_argument, NULL, OPT_START},
-    {"regrid-every", required_argument, NULL, OPT_REGRID},
-    {"help", no_argument, NULL, 'h'},
-    {NULL, 0, NULL, 0},
-};
-
-static const char *co_cmd = "optimize";
+#define CMD "optimize"
 
 /* Exit status of a run suspended by SIGUSR1 (EX_TEMPFAIL: try again, here with --resume). */
 #define CO_EXIT_SUSPENDED 75
@@ -189,147 +132,121 @@ static lm_status parse_every(const char *val, co_job_options *o)
     if (n > 1 && val[n - 1] == 's') {
         char num[64];
         if (n - 1 >= sizeof num)
-            return co_cli_usage_error(co_cmd, "--checkpoint-every: '%s' is too long", val),
+            return co_cli_usage_error(CMD, "--checkpoint-every: '%s' is too long", val),
                    LM_E_INVALID;
         memcpy(num, val, n - 1);
         num[n - 1] = '\0';
-        return co_arg_double(co_cmd, "--checkpoint-every", num, 0.001, 1e9, &o->checkpoint_every_s);
+        return co_arg_double(CMD, "--checkpoint-every", num, 0.001, 1e9, &o->checkpoint_every_s);
     }
-    return co_arg_u64(co_cmd, "--checkpoint-every", val, 1, UINT64_MAX / 2,
+    return co_arg_u64(CMD, "--checkpoint-every", val, 1, UINT64_MAX / 2,
                       &o->checkpoint_every_evals);
 }
 
-static lm_status parse_value(int c, const char *val, co_job_options *o)
+static int parse_start(void *to, const char *val)
 {
-    uint32_t views, size;
-    lm_status st = LM_OK;
-    switch (c) {
-    case 'o':
-        o->output_path = val;
-        break;
-    case OPT_INITIAL:
-        o->initial_path = val;
-        break;
-    case OPT_START:
-        if (!strcmp(val, "image"))
-            o->start = CO_JOB_START_IMAGE;
-        else if (!strcmp(val, "qem"))
-            o->start = CO_JOB_START_QEM;
-        else
-            return co_cli_usage_error(co_cmd, "--start expects image or qem, got '%s'", val),
-                   LM_E_INVALID;
-        break;
-    case OPT_TARGET:
-        return co_arg_u32(co_cmd, "--target-verts", val, 4, LM_MESH_MAX_VERTS, &o->target_verts);
-    case OPT_VIEWS:
-        st = co_arg_views(co_cmd, val, &views);
-        o->views = views;
-        break;
-    case OPT_SIZE:
-        st = co_arg_size(co_cmd, val, &size);
-        o->size = (int)size;
-        break;
-    case OPT_EVALS:
-        return co_arg_u64(co_cmd, "--evals", val, 1, UINT64_MAX / 2, &o->max_evals);
-    case OPT_TIME:
-        return co_arg_double(co_cmd, "--time", val, 0.001, 1e9, &o->time_limit_s);
-    case OPT_SEED:
-        return co_arg_u64(co_cmd, "--seed", val, 1, UINT64_MAX, &o->seed);
-    case OPT_CHECKPOINT:
-        o->checkpoint_path = val;
-        break;
-    case OPT_CHECKPOINT_EVERY:
-        return parse_every(val, o);
-    case OPT_RESUME:
-        o->resume_path = val;
-        break;
-    case OPT_ATTRS: {
-        uint32_t attrs;
-        o->attrs = val;
-        if (co_job_parse_attrs(val, &attrs) != LM_OK)
-            return co_cli_fail(co_cmd, LM_E_INVALID), LM_E_INVALID;
-        break;
-    }
-    case OPT_DEVICE:
-        o->device_spec = val;
-        break;
-    case OPT_WORKERS:
-        st = co_arg_u32(co_cmd, "--workers", val, 0, 4096, &o->workers);
-        if (st == LM_OK && o->workers == 0)
-            o->workers = CO_JOB_IN_PROCESS;
-        break;
-    case OPT_LISTEN:
-        o->listen = val;
-        break;
-    case OPT_RENDERER:
-        o->renderer = val;
-        break;
-    case OPT_KEYS:
-        o->keys = val;
-        break;
-    case OPT_SAVE_INITIAL:
-        o->initial_output_path = val;
-        break;
-    case OPT_SURFACE_WEIGHT:
-        st = co_arg_double(co_cmd, "--surface-weight", val, 0, 1e9, &o->surface_weight);
-        if (st == LM_OK && o->surface_weight == 0)
-            o->surface_weight = -1; /* 0 on the command line: no geometric term */
-        break;
-    case OPT_SURFACE_SHARE:
-        st = co_arg_double(co_cmd, "--surface-share", val, 0, 1e6, &o->surface_share);
-        if (st == LM_OK && o->surface_share == 0)
-            o->surface_share = -1; /* 0 on the command line: no relative term */
-        break;
-    case OPT_REGRID:
-        st = co_arg_u64(co_cmd, "--regrid-every", val, 0, UINT64_MAX - 1, &o->regrid_every);
-        if (st == LM_OK && o->regrid_every == 0)
-            o->regrid_every = CO_JOB_NEVER; /* 0 on the command line: one grid all along */
-        break;
-    case OPT_IN_FLIGHT:
-        return co_arg_u32(co_cmd, "--edges-in-flight", val, 1, CO_MAX_EDGES_IN_FLIGHT,
-                          &o->edges_in_flight);
-    }
-    return st;
+    co_job_options *o = to;
+    if (!strcmp(val, "image"))
+        o->start = CO_JOB_START_IMAGE;
+    else if (!strcmp(val, "qem"))
+        o->start = CO_JOB_START_QEM;
+    else
+        return co_cli_usage_error(CMD, "--start expects image or qem, got '%s'", val);
+    return -1;
 }
 
-/* Returns 0 to go on, -1 after --help, or the exit code of a flag error. */
+static int parse_attrs(void *to, const char *val)
+{
+    co_job_options *o = to;
+    uint32_t attrs;
+    o->attrs = val;
+    if (co_job_parse_attrs(val, &attrs) == LM_OK)
+        return -1;
+    co_cli_fail(CMD, LM_E_INVALID);
+    return 1;
+}
+
+static int parse_checkpoint_every(void *o, const char *val)
+{
+    return parse_every(val, o) == LM_OK ? -1 : 1;
+}
+
+static void usage(FILE *f)
+{
+    fprintf(f, co_optimize_help, CO_JOB_MIN_TARGET_VERTS, CO_JOB_DEFAULT_VIEWS, CO_JOB_DEFAULT_SIZE,
+            (unsigned long long)CO_JOB_DEFAULT_EVALS, CO_JOB_DEFAULT_CHECKPOINT_S,
+            CO_JOB_IMAGE_START_SHARE, CO_SURFACE_SHARE,
+            (unsigned long long)CO_JOB_DEFAULT_REGRID_EVERY, CO_JOB_DEFAULT_IN_FLIGHT);
+}
+
+/* What a 0 given stands for: no geometric term (--surface-weight, --surface-share), one grid all
+ * along (--regrid-every). */
+static const double no_term = -1;
+static const uint64_t never = CO_JOB_NEVER;
+
+/* The rows of the optimiser's own options (o: the job's). */
+#define OPT_SURFACE(n, p, hi)                                                                      \
+    {                                                                                              \
+        CO_OPT_ROW(n, 0, CO_OPT_KIND_DOUBLE, double, p), .dlo = 0, .dhi = (hi), .zero = &no_term   \
+    }
+#define OPT_REGRID(p)                                                                              \
+    {                                                                                              \
+        CO_OPT_ROW("regrid-every", 0, CO_OPT_KIND_U64, uint64_t, p),                               \
+            .lo = 0, .hi = UINT64_MAX - 1, .zero = &never                                          \
+    }
+
+static const co_cli_spec spec = {
+    CMD, usage, 1, 1, "missing ORIGINAL model (try lumesh optimize --help)", NULL, 0};
+
+/* -1 when the options given go together, else 1 (said). */
+static int check_options(const optimize_args *a)
+{
+    const co_job_options *o = &a->o;
+    if (o->initial_path && o->target_verts)
+        return co_cli_usage_error(CMD, "--initial and --target-verts exclude each other");
+    if (o->initial_path && o->start)
+        return co_cli_usage_error(CMD, "--initial and --start exclude each other");
+    if (o->initial_output_path && a->report_dir)
+        return co_cli_usage_error(CMD, "--save-initial and --report exclude each other (the "
+                                       "report keeps the start as DIR/initial.obj)");
+    return -1;
+}
+
+/* Returns -1 to go on, 0 after --help, or the exit code of a flag error. */
 static int parse_args(int argc, char **argv, optimize_args *a)
 {
     co_job_options *o = &a->o;
-    opterr = 0;
-    int c;
-    while ((c = getopt_long(argc, argv, ":o:h", co_optimize_opts, NULL)) != -1) {
-        if (c == 'h') {
-            printf(co_optimize_help, CO_JOB_MIN_TARGET_VERTS, CO_JOB_DEFAULT_VIEWS,
-                   CO_JOB_DEFAULT_SIZE, (unsigned long long)CO_JOB_DEFAULT_EVALS,
-                   CO_JOB_DEFAULT_CHECKPOINT_S, CO_JOB_IMAGE_START_SHARE, CO_SURFACE_SHARE,
-                   (unsigned long long)CO_JOB_DEFAULT_REGRID_EVERY, CO_JOB_DEFAULT_IN_FLIGHT);
-            return -1;
-        }
-        if (c == '?' || c == ':')
-            return co_cli_bad_option(co_cmd, c, argv);
-        if (c == OPT_JSON)
-            o->json = 1;
-        else if (c == OPT_REPORT)
-            a->report_dir = optarg;
-        else if (parse_value(c, optarg, o) != LM_OK)
-            return 1;
-    }
-    if (optind >= argc)
-        return co_cli_usage_error(co_cmd, "missing ORIGINAL model (try lumesh optimize --help)");
-    if (argc - optind > 1)
-        return co_cli_usage_error(co_cmd, "unexpected argument '%s'", argv[optind + 1]);
+    const co_opt opts[] = {
+        CO_OPT_OUTPUT_NEEDED(&o->output_path, "missing -o OUT"),
+        CO_OPT_STR("initial", 0, &o->initial_path),
+        CO_OPT_U32("target-verts", 0, &o->target_verts, 4, LM_MESH_MAX_VERTS),
+        CO_OPT_VIEWS(&o->views),
+        CO_OPT_SIZE_INT(&o->size),
+        CO_OPT_EVALS(&o->max_evals),
+        CO_OPT_DOUBLE("time", &o->time_limit_s, 0.001, 1e9),
+        CO_OPT_SEED(&o->seed, 1),
+        CO_OPT_STR("checkpoint", 0, &o->checkpoint_path),
+        CO_OPT_CALL("checkpoint-every", 0, parse_checkpoint_every, o),
+        CO_OPT_STR("resume", 0, &o->resume_path),
+        CO_OPT_CALL("attrs", 0, parse_attrs, o),
+        CO_OPT_DEVICE(&o->device_spec),
+        CO_OPT_FLAG("json", 0, &o->json),
+        CO_OPT_JOB_WORKERS(&o->workers),
+        CO_OPT_STR("listen", 0, &o->listen),
+        CO_OPT_STR("renderer", 0, &o->renderer),
+        CO_OPT_STR("report", 0, &a->report_dir),
+        CO_OPT_U32("edges-in-flight", 0, &o->edges_in_flight, 1, CO_MAX_EDGES_IN_FLIGHT),
+        CO_OPT_STR("keys", 0, &o->keys),
+        CO_OPT_STR("save-initial", 0, &o->initial_output_path),
+        OPT_SURFACE("surface-weight", &o->surface_weight, 1e9),
+        OPT_SURFACE("surface-share", &o->surface_share, 1e6),
+        CO_OPT_CALL("start", 0, parse_start, o),
+        OPT_REGRID(&o->regrid_every),
+    };
+    int rc = co_cli_parse(&spec, opts, CO_OPTS_N(opts), argc, argv);
+    if (rc >= 0)
+        return rc;
     o->original_path = argv[optind];
-    if (!o->output_path)
-        return co_cli_usage_error(co_cmd, "missing -o OUT");
-    if (o->initial_path && o->target_verts)
-        return co_cli_usage_error(co_cmd, "--initial and --target-verts exclude each other");
-    if (o->initial_path && o->start)
-        return co_cli_usage_error(co_cmd, "--initial and --start exclude each other");
-    if (o->initial_output_path && a->report_dir)
-        return co_cli_usage_error(co_cmd, "--save-initial and --report exclude each other (the "
-                                          "report keeps the start as DIR/initial.obj)");
-    return 0;
+    return check_options(a);
 }
 
 /* The report of the finished job: its coarse start, its output, the log gathered while it ran. */
@@ -371,8 +288,8 @@ int co_cli_optimize(int argc, char **argv)
 {
     optimize_args a = {.o = {0}};
     int rc = parse_args(argc, argv, &a);
-    if (rc)
-        return rc < 0 ? 0 : rc;
+    if (rc >= 0)
+        return rc;
     co_run_log log;
     co_run_log_init(&log);
     co_job_summary s;
@@ -384,7 +301,7 @@ int co_cli_optimize(int argc, char **argv)
         st = write_report(&a, &s, &log);
     co_run_log_free(&log);
     if (st != LM_OK) { /* a signal before the optimisation began (the start): nothing written */
-        int code = co_cli_fail(co_cmd, st);
+        int code = co_cli_fail(CMD, st);
         if (!co_pool_interrupted())
             return code;
         int suspend =

@@ -16,8 +16,8 @@
 
 typedef struct pm_args {
     const char *input, *output;
-    uint32_t verts;
-    int have_verts, info;
+    uint32_t verts; /* 0: --verts not given */
+    int info;
 } pm_args;
 
 static void usage(FILE *f)
@@ -37,48 +37,22 @@ static void usage(FILE *f)
         f);
 }
 
-static int parse_option(int c, char **argv, pm_args *a)
-{
-    switch (c) {
-    case 'o':
-        a->output = optarg;
-        return -1;
-    case 'n':
-        a->have_verts = 1;
-        return co_arg_u32(CMD, "--verts", optarg, 1, LM_MESH_MAX_VERTS, &a->verts) ? 1 : -1;
-    case 'i':
-        a->info = 1;
-        return -1;
-    case 'h':
-        usage(stdout);
-        return 0;
-    default:
-        return co_cli_bad_option(CMD, c, argv);
-    }
-}
+static const co_cli_spec spec = {CMD, usage, 1, 1, "missing FILE.pm (see --help)", NULL, 1};
 
 static int parse(int argc, char **argv, pm_args *a)
 {
-    static const struct option opts[] = {{"output", required_argument, NULL, 'o'},
-                                         {"verts", required_argument, NULL, 'n'},
-                                         {"info", no_argument, NULL, 'i'},
-                                         {"help", no_argument, NULL, 'h'},
-                                         {NULL, 0, NULL, 0}};
-    int c, rc;
-    opterr = 0;
-    while ((c = getopt_long(argc, argv, ":o:n:h", opts, NULL)) != -1)
-        if ((rc = parse_option(c, argv, a)) >= 0)
-            return rc;
-    if (optind >= argc)
-        return co_cli_usage_error(CMD, "missing FILE.pm (see --help)");
-    if (optind + 1 < argc)
-        return co_cli_usage_error(CMD, "unexpected argument '%s' (see --help)", argv[optind + 1]);
+    const co_opt opts[] = {CO_OPT_OUTPUT(&a->output),
+                           CO_OPT_U32("verts", 'n', &a->verts, 1, LM_MESH_MAX_VERTS),
+                           CO_OPT_FLAG("info", 0, &a->info)};
+    int rc = co_cli_parse(&spec, opts, CO_OPTS_N(opts), argc, argv);
+    if (rc >= 0)
+        return rc;
     a->input = argv[optind];
     if (a->info)
         return -1;
     if (!a->output)
         return co_cli_usage_error(CMD, "missing -o OUT (see --help)");
-    if (!a->have_verts)
+    if (!a->verts) /* --verts is at least 1 */
         return co_cli_usage_error(CMD, "missing --verts N (see --help)");
     return -1;
 }

@@ -40,51 +40,17 @@ static void usage(FILE *f)
             LM_DEFAULT_VIEWS, LM_DEFAULT_VIEW_SIZE);
 }
 
-static int parse_option(int c, char **argv, render_args *a)
-{
-    switch (c) {
-    case 'o':
-        a->dir = optarg;
-        return -1;
-    case 'v':
-        return co_arg_views(CMD, optarg, &a->views) ? 1 : -1;
-    case 's':
-        return co_arg_size(CMD, optarg, &a->size) ? 1 : -1;
-    case 'a':
-        a->against = optarg;
-        return -1;
-    case 'd':
-        a->device = optarg;
-        return -1;
-    case 'h':
-        usage(stdout);
-        return 0;
-    default:
-        return co_cli_bad_option(CMD, c, argv);
-    }
-}
+static const co_cli_spec spec = {CMD, usage, 1, 1, "missing MODEL (see --help)", NULL, 1};
 
 static int parse(int argc, char **argv, render_args *a)
 {
-    static const struct option opts[] = {{"output", required_argument, NULL, 'o'},
-                                         {"views", required_argument, NULL, 'v'},
-                                         {"size", required_argument, NULL, 's'},
-                                         {"against", required_argument, NULL, 'a'},
-                                         {"device", required_argument, NULL, 'd'},
-                                         {"help", no_argument, NULL, 'h'},
-                                         {NULL, 0, NULL, 0}};
-    int c, rc;
-    opterr = 0;
-    while ((c = getopt_long(argc, argv, ":o:h", opts, NULL)) != -1)
-        if ((rc = parse_option(c, argv, a)) >= 0)
-            return rc;
-    if (optind >= argc)
-        return co_cli_usage_error(CMD, "missing MODEL (see --help)");
-    if (optind + 1 < argc)
-        return co_cli_usage_error(CMD, "unexpected argument '%s' (see --help)", argv[optind + 1]);
+    const co_opt opts[] = {CO_OPT_OUTPUT_NEEDED(&a->dir, "missing -o DIR (see --help)"),
+                           CO_OPT_VIEWS(&a->views), CO_OPT_SIZE(&a->size),
+                           CO_OPT_STR("against", 0, &a->against), CO_OPT_DEVICE(&a->device)};
+    int rc = co_cli_parse(&spec, opts, CO_OPTS_N(opts), argc, argv);
+    if (rc >= 0)
+        return rc;
     a->model = argv[optind];
-    if (!a->dir)
-        return co_cli_usage_error(CMD, "missing -o DIR (see --help)");
     return -1;
 }
 

@@ -37,51 +37,17 @@ static void usage(FILE *f)
           f);
 }
 
-static int parse_option(int c, char **argv, report_args *a)
-{
-    switch (c) {
-    case 'o':
-        a->o.dir = optarg;
-        return -1;
-    case 'i':
-        a->o.initial = optarg;
-        return -1;
-    case 'l':
-        a->log = optarg;
-        return -1;
-    case 's':
-        return co_arg_size(CMD, optarg, &a->size) ? 1 : -1;
-    case 'd':
-        a->o.device = optarg;
-        return -1;
-    case 'h':
-        usage(stdout);
-        return 0;
-    default:
-        return co_cli_bad_option(CMD, c, argv);
-    }
-}
+static const co_cli_spec spec = {CMD,  usage, 2, 2, "expects ORIGINAL and OPTIMIZED (see --help)",
+                                 NULL, 1};
 
 static int parse(int argc, char **argv, report_args *a)
 {
-    static const struct option opts[] = {{"output", required_argument, NULL, 'o'},
-                                         {"initial", required_argument, NULL, 'i'},
-                                         {"log", required_argument, NULL, 'l'},
-                                         {"size", required_argument, NULL, 's'},
-                                         {"device", required_argument, NULL, 'd'},
-                                         {"help", no_argument, NULL, 'h'},
-                                         {NULL, 0, NULL, 0}};
-    int c, rc;
-    opterr = 0;
-    while ((c = getopt_long(argc, argv, ":o:h", opts, NULL)) != -1)
-        if ((rc = parse_option(c, argv, a)) >= 0)
-            return rc;
-    if (optind + 2 > argc)
-        return co_cli_usage_error(CMD, "expects ORIGINAL and OPTIMIZED (see --help)");
-    if (optind + 2 < argc)
-        return co_cli_usage_error(CMD, "unexpected argument '%s' (see --help)", argv[optind + 2]);
-    if (!a->o.dir)
-        return co_cli_usage_error(CMD, "needs -o DIR (see --help)");
+    const co_opt opts[] = {CO_OPT_OUTPUT_NEEDED(&a->o.dir, "needs -o DIR (see --help)"),
+                           CO_OPT_STR("initial", 0, &a->o.initial), CO_OPT_STR("log", 0, &a->log),
+                           CO_OPT_SIZE(&a->size), CO_OPT_DEVICE(&a->o.device)};
+    int rc = co_cli_parse(&spec, opts, CO_OPTS_N(opts), argc, argv);
+    if (rc >= 0)
+        return rc;
     a->o.original = argv[optind];
     a->o.optimized = argv[optind + 1];
     return -1;

@@ -23,7 +23,6 @@
 typedef struct simplify_args {
     const char *input, *output;
     uint32_t target;
-    int have_target;
     lm_simplify_method method;
     int image; /* --method image or shard: coordinator/simplify */
     co_simplify_options image_opts;
@@ -88,8 +87,9 @@ static void usage(FILE *f)
         f);
 }
 
-static int parse_method(const char *val, simplify_args *a)
+static int parse_method(void *to, const char *val)
 {
+    simplify_args *a = to;
     a->image = !strcmp(val, "image") || !strcmp(val, "shard");
     a->image_opts.method = !strcmp(val, "shard") ? CO_PRICE_SHARD : CO_PRICE_IMAGE;
     if (!strcmp(val, "qem"))
@@ -102,95 +102,9 @@ static int parse_method(const char *val, simplify_args *a)
     return -1;
 }
 
-/* The options of the image-driven methods; -2 when c is none of them. */
-static int parse_image_option(int c, simplify_args *a)
+/* -1 when the options given go with the method, else 1 (said). */
+static int check_method(const simplify_args *a)
 {
-    co_simplify_options *o = &a->image_opts;
-    uint32_t x;
-    switch (c) {
-    case 'v':
-        return co_arg_views(CMD, optarg, &o->views) ? 1 : -1;
-    case 's':
-        if (co_arg_size(CMD, optarg, &x))
-            return 1;
-        o->size = (int)x;
-        return -1;
-    case 'd':
-        o->device = optarg;
-        return -1;
-    case 'P':
-        return co_arg_u32(CMD, "--presimplify", optarg, 4, LM_MESH_MAX_VERTS, &o->presimplify) ? 1
-                                                                                               : -1;
-    case 'r':
-        o->reference_path = optarg;
-        return -1;
-    case 'p':
-        o->pm_path = optarg;
-        return -1;
-    case 'g':
-        return co_arg_double(CMD, "--surface-weight", optarg, 0, 1e9, &o->surface_weight) ? 1 : -1;
-    case 'G':
-        return co_arg_double(CMD, "--surface-share", optarg, 0, 1e9, &o->surface_share) ? 1 : -1;
-    default:
-        return co_arg_simplify_workers(CMD, c, optarg, &o->workers);
-    }
-}
-
-/* Returns -1 to go on, else the exit code. */
-static int parse_option(int c, char **argv, simplify_args *a)
-{
-    switch (c) {
-    case 'o':
-        a->output = optarg;
-        return -1;
-    case 'n':
-        a->have_target = 1;
-        return co_arg_u32(CMD, "--target-verts", optarg, 1, LM_MESH_MAX_VERTS, &a->target) ? 1 : -1;
-    case 'm':
-        return parse_method(optarg, a);
-    case 'h':
-        usage(stdout);
-        return 0;
-    default: {
-        int rc = parse_image_option(c, a);
-        return rc != -2 ? rc : co_cli_bad_option(CMD, c, argv);
-    }
-    }
-}
-
-static int parse(int argc, char **argv, simplify_args *a)
-{
-    static const struct option opts[] = {{"output", required_argument, NULL, 'o'},
-                                         {"target-verts", required_argument, NULL, 'n'},
-                                         {"method", required_argument, NULL, 'm'},
-                                         {"views", required_argument, NULL, 'v'},
-                                         {"size", required_argument, NULL, 's'},
-                                         {"device", required_argument, NULL, 'd'},
-                                         {"workers", required_argument, NULL, 'w'},
-                                         {"listen", required_argument, NULL, 'L'},
-                                         {"keys", required_argument, NULL, 'K'},
-                                         {"renderer", required_argument, NULL, 'I'},
-                                         {"presimplify", required_argument, NULL, 'P'},
-                                         {"reference", required_argument, NULL, 'r'},
-                                         {"pm", required_argument, NULL, 'p'},
-                                         {"surface-weight", required_argument, NULL, 'g'},
-                                         {"surface-share", required_argument, NULL, 'G'},
-                                         {"help", no_argument, NULL, 'h'},
-                                         {NULL, 0, NULL, 0}};
-    int c, rc;
-    opterr = 0;
-    while ((c = getopt_long(argc, argv, ":o:n:m:h", opts, NULL)) != -1)
-        if ((rc = parse_option(c, argv, a)) >= 0)
-            return rc;
-    if (optind >= argc)
-        return co_cli_usage_error(CMD, "missing ORIGINAL model (see --help)");
-    if (optind + 1 < argc)
-        return co_cli_usage_error(CMD, "unexpected argument '%s' (see --help)", argv[optind + 1]);
-    a->input = argv[optind];
-    if (!a->output)
-        return co_cli_usage_error(CMD, "missing -o OUT (see --help)");
-    if (!a->have_target)
-        return co_cli_usage_error(CMD, "missing --target-verts N (see --help)");
     const co_simplify_options *o = &a->image_opts;
     int workers = co_simplify_workers_given(&o->workers);
     if (!a->image && (o->views || o->size || o->device || workers || o->presimplify ||
@@ -206,6 +120,33 @@ static int parse(int argc, char **argv, simplify_args *a)
         return co_cli_usage_error(CMD, "--method shard renders in this process: no --workers, "
                                        "--listen, --keys or --renderer");
     return co_cli_check_simplify_workers(CMD, &o->workers);
+}
+
+static const co_cli_spec spec = {CMD, usage, 1, 1, "missing ORIGINAL model (see --help)", NULL, 1};
+
+static int parse(int argc, char **argv, simplify_args *a)
+{
+    co_simplify_options *o = &a->image_opts;
+    const co_opt opts[] = {
+        CO_OPT_OUTPUT_NEEDED(&a->output, "missing -o OUT (see --help)"),
+        {CO_OPT_ROW("target-verts", 'n', CO_OPT_KIND_U32, uint32_t, &a->target), .lo = 1,
+         .hi = LM_MESH_MAX_VERTS, .needed = "missing --target-verts N (see --help)"},
+        CO_OPT_CALL("method", 'm', parse_method, a),
+        CO_OPT_VIEWS(&o->views),
+        CO_OPT_SIZE_INT(&o->size),
+        CO_OPT_DEVICE(&o->device),
+        CO_OPT_SIMPLIFY_WORKERS(&o->workers),
+        CO_OPT_U32("presimplify", 0, &o->presimplify, 4, LM_MESH_MAX_VERTS),
+        CO_OPT_STR("reference", 0, &o->reference_path),
+        CO_OPT_STR("pm", 0, &o->pm_path),
+        CO_OPT_DOUBLE("surface-weight", &o->surface_weight, 0, 1e9),
+        CO_OPT_DOUBLE("surface-share", &o->surface_share, 0, 1e9),
+    };
+    int rc = co_cli_parse(&spec, opts, CO_OPTS_N(opts), argc, argv);
+    if (rc >= 0)
+        return rc;
+    a->input = argv[optind];
+    return check_method(a);
 }
 
 static double now_s(void)

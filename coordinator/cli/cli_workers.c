@@ -1,6 +1,5 @@
 /* coordinator/cli/cli_workers.c — `lumesh workers --connect ADDR [--keys DIR] [--json]`: how a
  * running coordinator's pool stands (coordinator/pool/status.h). */
-#include <getopt.h>
 #include <stdio.h>
 
 #include "common/view.h"
@@ -61,32 +60,19 @@ static void print_table(const Lumesh__StatusResult *r)
     }
 }
 
+static const co_cli_spec spec = {CMD, usage, 0, -1, NULL, NULL, 0};
+
 int co_cli_workers(int argc, char **argv)
 {
-    static const struct option opts[] = {{"connect", required_argument, NULL, 'c'},
-                                         {"keys", required_argument, NULL, 'k'},
-                                         {"json", no_argument, NULL, 'j'},
-                                         {"help", no_argument, NULL, 'h'},
-                                         {NULL, 0, NULL, 0}};
     const char *addr = NULL, *keys = NULL;
-    int c, json = 0;
-    opterr = 0;
-    while ((c = getopt_long(argc, argv, ":h", opts, NULL)) != -1) {
-        if (c == 'h') {
-            usage(stdout);
-            return 0;
-        } else if (c == 'c') {
-            addr = optarg;
-        } else if (c == 'k') {
-            keys = optarg;
-        } else if (c == 'j') {
-            json = 1;
-        } else {
-            return co_cli_bad_option(CMD, c, argv);
-        }
-    }
-    if (!addr)
-        return co_cli_usage_error(CMD, "missing --connect ADDR (see --help)");
+    int json = 0;
+    const co_opt opts[] = {{CO_OPT_ROW("connect", 0, CO_OPT_KIND_STR, const char *, &addr),
+                            .needed = "missing --connect ADDR (see --help)"},
+                           CO_OPT_STR("keys", 0, &keys),
+                           CO_OPT_FLAG("json", 0, &json)};
+    int rc = co_cli_parse(&spec, opts, CO_OPTS_N(opts), argc, argv);
+    if (rc >= 0)
+        return rc;
     lm_wire_in in;
     lm_status st = co_pool_status_query(addr, keys, 3.0, &in);
     if (st != LM_OK)

@@ -71,6 +71,13 @@ void co_json_string(FILE *fp, const char *s)
     fputc('"', fp);
 }
 
+void co_json_end_with_renderer(FILE *fp, const char *renderer)
+{
+    fputs(", \"renderer\": ", fp);
+    co_json_string(fp, renderer);
+    fputs("}\n", fp);
+}
+
 static double relative(const co_progress *p)
 {
     return p->energy_start > 0 ? (double)p->energy / (double)p->energy_start : 1.0;

@@ -80,6 +80,8 @@ void co_reporter_summary(co_reporter *r, const co_job_summary *s);
 
 /* JSON string literal (quoted and escaped) to fp. */
 void co_json_string(FILE *fp, const char *s);
+/* The end of a JSON record that names its renderer: `, "renderer": "R"}` and a newline. */
+void co_json_end_with_renderer(FILE *fp, const char *renderer);
 /* Name of a move kind for reports: "noop", "swap", "split", "collapse". */
 const char *co_report_move_name(co_move_kind k);
 

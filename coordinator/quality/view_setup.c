@@ -1,10 +1,11 @@
-/* coordinator/quality/view_setup.c — view sets around a model and in-process views with a model
- * set. */
+/* coordinator/quality/view_setup.c — view sets around a model, in-process views with a model
+ * set, and models loaded from their files to be judged. */
 #include "coordinator/quality/view_setup.h"
 
 #include <stdlib.h>
 #include <time.h>
 
+#include "common/io/mesh_io.h"
 #include "coordinator/views/views.h"
 
 lm_status co_view_set_around(const lm_mesh *framing, uint32_t n, int size, lm_view_set_kind kind,
@@ -39,6 +40,27 @@ lm_status co_views_with_model(const lm_mesh *original, const lm_mesh *model,
         d.n_materials = model->n_materials;
     }
     return co_views_create(&d, out);
+}
+
+lm_status co_judge_files(const char *original, const char *const *models, uint32_t n,
+                         uint32_t n_views, int size, lm_view_set_kind kind, co_judge_fn judge,
+                         void *ctx)
+{
+    lm_mesh *orig = NULL, **m = calloc(n ? n : 1, sizeof *m);
+    lm_view_set *vs = NULL;
+    lm_status st = m ? lm_mesh_load(original, NULL, &orig) : lm_fail(LM_E_NOMEM, "out of memory");
+    for (uint32_t i = 0; st == LM_OK && i < n; i++)
+        st = lm_mesh_load(models[i], NULL, &m[i]);
+    if (st == LM_OK)
+        st = co_view_set_around(orig, n_views, size, kind, &vs);
+    if (st == LM_OK)
+        st = judge(ctx, orig, (const lm_mesh *const *)m, vs);
+    free(vs);
+    lm_mesh_destroy(orig);
+    for (uint32_t i = 0; m && i < n; i++)
+        lm_mesh_destroy(m[i]);
+    free(m);
+    return st;
 }
 
 double co_now_s(void)

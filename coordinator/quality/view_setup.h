@@ -1,6 +1,6 @@
-/* coordinator/quality/view_setup.h — what `energy`, `render` and `bench` share: the view set framed
- * by the original's bounding sphere, and in-process views holding the original's target images and
- * a model as the current mesh. */
+/* coordinator/quality/view_setup.h — what `energy`, `compare`, `render` and `bench` share: the view
+ * set framed by the original's bounding sphere, in-process views holding the original's target
+ * images and a model as the current mesh, and an original and its models loaded from files. */
 #ifndef LM_COORDINATOR_VIEW_SETUP_H
 #define LM_COORDINATOR_VIEW_SETUP_H
 
@@ -17,6 +17,17 @@ lm_status co_view_set_around(const lm_mesh *framing, uint32_t n, int size, lm_vi
  * is not the original its own materials are used for its triangles. */
 lm_status co_views_with_model(const lm_mesh *original, const lm_mesh *model,
                               const lm_view_set *views, const char *device, lm_views **out);
+
+/* Judges models against their original over views: what co_judge_files calls. */
+typedef lm_status (*co_judge_fn)(void *ctx, const lm_mesh *original, const lm_mesh *const *models,
+                                 const lm_view_set *views);
+
+/* Loads the original and the n models from their files, makes n_views views of size x size of
+ * `kind` around the original (co_view_set_around), calls judge(ctx, ...) with them and frees them
+ * all; returns the first failure. */
+lm_status co_judge_files(const char *original, const char *const *models, uint32_t n,
+                         uint32_t n_views, int size, lm_view_set_kind kind, co_judge_fn judge,
+                         void *ctx);
 
 /* Seconds on a monotonic clock. */
 double co_now_s(void);
