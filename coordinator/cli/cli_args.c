@@ -15,7 +15,7 @@
 #include "coordinator/job/job.h"
 #include "coordinator/simplify/work.h"
 
-const uint32_t co_opt_job_in_process = CO_JOB_IN_PROCESS;
+const uint32_t co_opt_job_in_process = CO_JOB_NONE;
 
 lm_status co_arg_u64(const char *cmd, const char *flag, const char *val, uint64_t lo, uint64_t hi,
                      uint64_t *out)

@@ -97,7 +97,7 @@ typedef struct co_opt {
 #define CO_OPT_SIZE_INT(p) CO_OPT_INT("size", 0, p, 16, LM_MAX_VIEW_SIZE)
 #define CO_OPT_SEED(p, lo) CO_OPT_U64("seed", 0, p, lo, UINT64_MAX)
 #define CO_OPT_EVALS(p) CO_OPT_U64("evals", 0, p, 1, UINT64_MAX / 2)
-/* --workers N of optimize and demo: up to 4096; 0 renders in this process (CO_JOB_IN_PROCESS). */
+/* --workers N of optimize and demo: up to 4096; 0 renders in this process (CO_JOB_NONE). */
 extern const uint32_t co_opt_job_in_process;
 #define CO_OPT_JOB_WORKERS(p)                                                                      \
     {                                                                                              \

@@ -180,8 +180,8 @@ static void usage(FILE *f)
 
 /* What a 0 given stands for: no geometric term (--surface-weight, --surface-share), one grid all
  * along (--regrid-every). */
-static const double no_term = -1;
-static const uint64_t never = CO_JOB_NEVER;
+static const double no_term = CO_JOB_NONE;
+static const uint64_t never = CO_JOB_NONE;
 
 /* The rows of the optimiser's own options (o: the job's). */
 #define OPT_SURFACE(n, p, hi)                                                                      \

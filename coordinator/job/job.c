@@ -75,7 +75,7 @@ static double seconds_since(const struct timespec *t0)
 
 uint32_t co_job_local_workers(const co_job_options *o)
 {
-    if (o->workers == CO_JOB_IN_PROCESS)
+    if (co_job_is_none(o->workers))
         return 0;
     if (o->workers)
         return o->workers;
@@ -150,7 +150,7 @@ static lm_status check_output_path(const char *path)
 static void resolve_surface_term(co_job *j)
 {
     co_job_options *o = &j->o;
-    int none = o->surface_weight < 0 || o->surface_share < 0;
+    int none = co_job_is_none(o->surface_weight) || co_job_is_none(o->surface_share);
     j->start_share = none ? 0 : o->surface_share > 0 ? o->surface_share : CO_JOB_IMAGE_START_SHARE;
     if (o->surface_share == 0)
         o->surface_share = CO_SURFACE_SHARE;
@@ -194,7 +194,7 @@ static lm_status resolve_options(co_job *j, const co_job_options *in)
     if (!o->regrid_every)
         o->regrid_every = CO_JOB_DEFAULT_REGRID_EVERY;
     resolve_surface_term(j);
-    j->regrid_every = o->regrid_every == CO_JOB_NEVER ? 0 : o->regrid_every;
+    j->regrid_every = co_job_is_none(o->regrid_every) ? 0 : o->regrid_every;
     j->checkpoint_path = o->checkpoint_path ? o->checkpoint_path : o->resume_path;
     lm_status st = check_output_path(o->output_path);
     if (st == LM_OK && j->checkpoint_path)
@@ -366,7 +366,7 @@ static lm_status prepare_coarse(co_job *j, lm_mesh *m)
  * of them from the start. */
 static lm_status make_pool(co_job *j)
 {
-    if (j->o.workers == CO_JOB_IN_PROCESS)
+    if (co_job_is_none(j->o.workers))
         return LM_OK;
     uint32_t local = co_job_local_workers(&j->o);
     co_pool_options po = {.listen = j->o.listen,

@@ -25,12 +25,32 @@
 #define CO_JOB_DEFAULT_CHECKPOINT_S 60.0
 #define CO_JOB_MIN_TARGET_VERTS 100u
 #define CO_JOB_DEFAULT_IN_FLIGHT 1u
-#define CO_JOB_NEVER UINT64_MAX
 /* A new sub-pixel grid of the views every so many evaluations (regrid.h; why 10,000:
  * coordinator/OPTIMIZER.md, ninth round). */
 #define CO_JOB_DEFAULT_REGRID_EVERY 10000ull
-#define CO_JOB_IN_PROCESS UINT32_MAX /* workers: render in this process (no worker processes) */
-#define CO_JOB_WORKER_START_S 60.0   /* local workers must say hello within this */
+#define CO_JOB_WORKER_START_S 60.0 /* local workers must say hello within this */
+
+/* "None" for the options whose 0 means the default (no geometric term, no regrid, no worker
+ * processes): one spelling for all of them. Set a field to CO_JOB_NONE; co_job_is_none(field) tells
+ * (an unsigned field holds it as its largest value, a double as -1). */
+#define CO_JOB_NONE (-1)
+static inline int co_job_none_u32(uint32_t x)
+{
+    return x == UINT32_MAX;
+}
+static inline int co_job_none_u64(uint64_t x)
+{
+    return x == UINT64_MAX;
+}
+static inline int co_job_none_double(double x)
+{
+    return x < 0;
+}
+#define co_job_is_none(field)                                                                      \
+    _Generic((field), uint32_t                                                                     \
+             : co_job_none_u32, uint64_t                                                           \
+             : co_job_none_u64, double                                                             \
+             : co_job_none_double)(field)
 
 /* Where a job without --initial starts: QEM's mesh at the target, or the image-driven
  * simplification (coordinator/simplify/, QEM to 10 x the target first) with the geometric term of
@@ -69,19 +89,19 @@ typedef struct co_job_options {
     int quiet;                       /* no progress and no summary (callers that report) */
     const char *device_spec;         /* renderer device: "auto" (NULL), "cpu", "host", "egl:N" */
     uint32_t workers;     /* local lumesh-worker processes to spawn; 0 = one per core (none with
-                             listen), CO_JOB_IN_PROCESS = render in this process */
+                             listen), CO_JOB_NONE = render in this process */
     const char *listen;   /* also take workers that connect here ("tcp://ADDR:PORT") */
     const char *renderer; /* accept only workers of this renderer id; NULL = the first one's */
     const char *keys;     /* CURVE key folder for the workers' connections (proto/keys.h) */
     uint32_t
         edges_in_flight;   /* edges optimised at once (co_params); 0 = CO_JOB_DEFAULT_IN_FLIGHT */
     double surface_weight; /* the optimizer's geometric term (co_tuning.surface_weight): 0 =
-                              default, negative = none */
+                              default, CO_JOB_NONE = none */
     double surface_share;  /* its weight relative to the start (co_tuning.surface_share): 0 =
                               default (CO_JOB_IMAGE_START_SHARE for the image start's collapses,
-                              CO_SURFACE_SHARE after), negative = none */
+                              CO_SURFACE_SHARE after), CO_JOB_NONE = none */
     uint64_t regrid_every; /* move the views' pixel grid every so many evaluations (regrid.h): 0 =
-                              CO_JOB_DEFAULT_REGRID_EVERY, CO_JOB_NEVER = never */
+                              CO_JOB_DEFAULT_REGRID_EVERY, CO_JOB_NONE = never */
     const char *initial_output_path; /* write the coarse mesh the optimisation starts from (after
                                         its preparation) here; NULL = not */
     /* Called with the counters at the start, after every optimizer step and at the end (the
