@@ -7,19 +7,13 @@
 
 #include "common/error.h"
 #include "coordinator/cli/cli_args.h"
-#include "worker/render/cpu/cpu_shade.h"
-#include "worker/render/cpu/cpu_views.h"
 #include "worker/render/device_choice.h"
-#include "worker/render/gl/gl_context.h"
-#include "worker/render/usb_devices.h"
+#include "worker/render/device_survey.h"
 
 #define CMD "devices"
 
 typedef struct devices_report {
-    wk_device_info egl[WK_MAX_DEVICES];
-    int egl_count;
-    wk_usb_device usb[WK_MAX_USB_DEVICES];
-    int usb_count;
+    wk_device_survey dev;
     const char *spec;
     int selected; /* index into egl[], -1 for the CPU rasteriser (when select_status is LM_OK) */
     lm_status select_status;
@@ -68,8 +62,8 @@ static void json_str(FILE *f, const char *str)
 static void print_json_egl(FILE *f, const devices_report *r)
 {
     fputs("  \"egl_devices\": [", f);
-    for (int i = 0; i < r->egl_count; i++) {
-        const wk_device_info *d = &r->egl[i];
+    for (int i = 0; i < r->dev.egl_count; i++) {
+        const wk_device_info *d = &r->dev.egl[i];
         fprintf(f, "%s\n    {\"index\": %d, \"spec\": \"egl:%d\", \"kind\": \"%s\", \"node\": ",
                 i ? "," : "", d->index, d->index, d->is_software ? "software" : "gpu");
         json_str(f, d->node);
@@ -79,14 +73,14 @@ static void print_json_egl(FILE *f, const devices_report *r)
         json_str(f, d->renderer);
         fprintf(f, ", \"usable\": %s}", d->usable ? "true" : "false");
     }
-    fputs(r->egl_count ? "\n  ],\n" : "],\n", f);
+    fputs(r->dev.egl_count ? "\n  ],\n" : "],\n", f);
 }
 
 static void print_json_usb(FILE *f, const devices_report *r)
 {
     fputs("  \"usb_devices\": [", f);
-    for (int i = 0; i < r->usb_count; i++) {
-        const wk_usb_device *u = &r->usb[i];
+    for (int i = 0; i < r->dev.usb_count; i++) {
+        const wk_usb_device *u = &r->dev.usb[i];
         fprintf(f,
                 "%s\n    {\"bus\": %u, \"address\": %u, \"id\": \"%04x:%04x\", \"class\": %u, "
                 "\"product\": ",
@@ -97,7 +91,7 @@ static void print_json_usb(FILE *f, const devices_report *r)
         json_str(f, u->accelerator);
         fputc('}', f);
     }
-    fputs(r->usb_count ? "\n  ],\n" : "],\n", f);
+    fputs(r->dev.usb_count ? "\n  ],\n" : "],\n", f);
 }
 
 static void print_json(FILE *f, const devices_report *r)
@@ -105,19 +99,19 @@ static void print_json(FILE *f, const devices_report *r)
     fputs("{\n", f);
     print_json_egl(f, r);
     fputs("  \"cpu_device\": {\"spec\": \"cpu\", \"kind\": \"cpu\", \"renderer\": ", f);
-    json_str(f, WK_CPU_RASTERISER);
-    fprintf(f, ", \"pixel_lanes\": %d, \"usable\": true},\n", wk_cpu_shade_lanes());
+    json_str(f, r->dev.cpu_rasteriser);
+    fprintf(f, ", \"pixel_lanes\": %d, \"usable\": true},\n", r->dev.cpu_pixel_lanes);
     print_json_usb(f, r);
     fputs("  \"selection\": {\"spec\": ", f);
     json_str(f, r->spec);
     if (r->select_status == LM_OK && r->selected >= 0) {
-        const wk_device_info *d = &r->egl[r->selected];
+        const wk_device_info *d = &r->dev.egl[r->selected];
         fprintf(f, ", \"selected\": \"egl:%d\", \"kind\": \"%s\", \"renderer\": ", d->index,
                 d->is_software ? "software" : "gpu");
         json_str(f, d->renderer);
     } else if (r->select_status == LM_OK) {
         fputs(", \"selected\": \"cpu\", \"kind\": \"cpu\", \"renderer\": ", f);
-        json_str(f, WK_CPU_RASTERISER);
+        json_str(f, r->dev.cpu_rasteriser);
     } else {
         fputs(", \"selected\": null, \"error\": ", f);
         json_str(f, r->select_error);
@@ -127,33 +121,33 @@ static void print_json(FILE *f, const devices_report *r)
 
 static void print_text(FILE *f, const devices_report *r)
 {
-    fprintf(f, "EGL devices: %d (GPUs first)\n", r->egl_count);
-    if (r->egl_count)
+    fprintf(f, "EGL devices: %d (GPUs first)\n", r->dev.egl_count);
+    if (r->dev.egl_count)
         fprintf(f, "  %-7s %-9s %-22s %-7s %s\n", "DEVICE", "KIND", "NODE", "USABLE", "RENDERER");
-    for (int i = 0; i < r->egl_count; i++) {
-        const wk_device_info *d = &r->egl[i];
+    for (int i = 0; i < r->dev.egl_count; i++) {
+        const wk_device_info *d = &r->dev.egl[i];
         char spec[16];
         snprintf(spec, sizeof spec, "egl:%d", d->index);
         fprintf(f, "  %-7s %-9s %-22s %-7s %s\n", spec, d->is_software ? "software" : "gpu",
                 d->node[0] ? d->node : "-", d->usable ? "yes" : "no",
                 d->renderer[0] ? d->renderer : "(no context)");
     }
-    fprintf(f, "CPU renderer: cpu (%s), always usable; pixels %d at a time\n", WK_CPU_RASTERISER,
-            wk_cpu_shade_lanes());
-    fprintf(f, "USB devices: %d\n", r->usb_count);
-    for (int i = 0; i < r->usb_count; i++) {
-        const wk_usb_device *u = &r->usb[i];
+    fprintf(f, "CPU renderer: cpu (%s), always usable; pixels %d at a time\n",
+            r->dev.cpu_rasteriser, r->dev.cpu_pixel_lanes);
+    fprintf(f, "USB devices: %d\n", r->dev.usb_count);
+    for (int i = 0; i < r->dev.usb_count; i++) {
+        const wk_usb_device *u = &r->dev.usb[i];
         fprintf(f, "  bus %03u addr %03u  %04x:%04x  %s%s%s%s%s\n", u->bus, u->address,
                 u->vendor_id, u->product_id, u->is_accelerator ? "ACCELERATOR: " : "",
                 u->accelerator, u->is_accelerator && u->product[0] ? " — " : "", u->product,
                 !u->is_accelerator && !u->product[0] ? "(unrecognised)" : "");
     }
     if (r->select_status == LM_OK && r->selected >= 0) {
-        const wk_device_info *d = &r->egl[r->selected];
+        const wk_device_info *d = &r->dev.egl[r->selected];
         fprintf(f, "selected: egl:%d (%s, %s) for --device %s\n", d->index,
                 d->is_software ? "software" : "gpu", d->renderer, r->spec);
     } else if (r->select_status == LM_OK) {
-        fprintf(f, "selected: cpu (cpu, %s) for --device %s\n", WK_CPU_RASTERISER, r->spec);
+        fprintf(f, "selected: cpu (cpu, %s) for --device %s\n", r->dev.cpu_rasteriser, r->spec);
     } else {
         fprintf(f, "selected: none for --device %s (%s)\n", r->spec, r->select_error);
     }
@@ -191,13 +185,11 @@ int co_cli_devices(int argc, char **argv)
     lm_status st = wk_device_check_spec(r.spec);
     if (st != LM_OK) /* a malformed spec is a usage error before any probing */
         return co_cli_fail(CMD, st);
-    st = wk_egl_list_devices(r.egl, WK_MAX_DEVICES, &r.egl_count);
-    if (st == LM_OK)
-        st = wk_usb_list_devices(r.usb, WK_MAX_USB_DEVICES, &r.usb_count);
+    st = wk_device_survey_take(&r.dev);
     if (st != LM_OK)
         return co_cli_fail(CMD, st);
     r.selected = -1;
-    r.select_status = wk_device_choose(r.spec, r.egl, r.egl_count, &r.selected);
+    r.select_status = wk_device_choose(r.spec, r.dev.egl, r.dev.egl_count, &r.selected);
     if (r.select_status != LM_OK)
         snprintf(r.select_error, sizeof r.select_error, "%s", lm_last_error());
     if (json)
