@@ -393,7 +393,7 @@ static lm_status run(const bench_args *a, const char *model_path, bench_result *
                       : lm_fail(LM_E_NOMEM, "out of memory for the results");
     if (st == LM_OK) {
         uint32_t target = orig->live_verts / 100 > 4 ? orig->live_verts / 100 : 4;
-        st = lm_simplify(orig, LM_SIMPLIFY_QEM, target, &coarse);
+        st = co_simplify(orig, CO_SIMPLIFY_QEM, target, &coarse);
         if (st == LM_E_RANGE && coarse)
             st = LM_OK; /* near enough for a benchmark */
     }

@@ -129,7 +129,7 @@ static lm_status make_inputs(const demo_options *o, const demo_paths *p)
     if (st == LM_OK)
         st = lm_mesh_save(p->frog, frog);
     if (st == LM_OK) {
-        st = lm_simplify(frog, LM_SIMPLIFY_QEM, o->target_verts, &coarse);
+        st = co_simplify(frog, CO_SIMPLIFY_QEM, o->target_verts, &coarse);
         if (st == LM_E_RANGE && coarse) /* close enough: the best QEM could do */
             st = LM_OK;
     }

@@ -23,7 +23,7 @@
 typedef struct simplify_args {
     const char *input, *output;
     uint32_t target;
-    lm_simplify_method method;
+    co_simplify_method method;
     int image; /* --method image or shard: coordinator/simplify */
     co_simplify_options image_opts;
 } simplify_args;
@@ -93,9 +93,9 @@ static int parse_method(void *to, const char *val)
     a->image = !strcmp(val, "image") || !strcmp(val, "shard");
     a->image_opts.method = !strcmp(val, "shard") ? CO_PRICE_SHARD : CO_PRICE_IMAGE;
     if (!strcmp(val, "qem"))
-        a->method = LM_SIMPLIFY_QEM;
+        a->method = CO_SIMPLIFY_QEM;
     else if (!strcmp(val, "cluster"))
-        a->method = LM_SIMPLIFY_CLUSTER;
+        a->method = CO_SIMPLIFY_CLUSTER;
     else if (!a->image)
         return co_cli_usage_error(CMD, "--method expects qem, cluster, image or shard, got '%s'",
                                   val);
@@ -219,7 +219,7 @@ static int run_image(simplify_args *a)
 
 int co_cli_simplify(int argc, char **argv)
 {
-    simplify_args a = {.method = LM_SIMPLIFY_QEM};
+    simplify_args a = {.method = CO_SIMPLIFY_QEM};
     int rc = parse(argc, argv, &a);
     if (rc >= 0)
         return rc;
@@ -231,7 +231,7 @@ int co_cli_simplify(int argc, char **argv)
     lm_status s = lm_mesh_load(a.input, NULL, &in), reach = LM_OK;
     double t1 = now_s();
     if (!s)
-        s = reach = lm_simplify(in, a.method, a.target, &out);
+        s = reach = co_simplify(in, a.method, a.target, &out);
     if (s == LM_E_RANGE && out) { /* the best mesh reached: written, with a warning */
         snprintf(why, sizeof why, "%s", lm_last_error());
         s = LM_OK;
@@ -244,7 +244,7 @@ int co_cli_simplify(int argc, char **argv)
         printf("lumesh simplify: %s %u vertices / %u triangles -> %u vertices / %u triangles "
                "(%s, load %.2f s, simplify %.2f s) -> %s\n",
                a.input, in->live_verts, in->live_tris, out->live_verts, out->live_tris,
-               a.method == LM_SIMPLIFY_QEM ? "qem" : "cluster", t1 - t0, t2 - t1, a.output);
+               a.method == CO_SIMPLIFY_QEM ? "qem" : "cluster", t1 - t0, t2 - t1, a.output);
     }
     lm_mesh_destroy(in);
     lm_mesh_destroy(out);

@@ -332,7 +332,7 @@ static lm_status make_coarse(co_job *j, lm_mesh **out)
         return image_start(j, out);
     int short_of;
     lm_status st =
-        lm_simplify_best(j->original, LM_SIMPLIFY_QEM, j->o.target_verts, out, &short_of);
+        co_simplify_best(j->original, CO_SIMPLIFY_QEM, j->o.target_verts, out, &short_of);
     if (short_of)
         note(j, "warning", "%s; going on with %" PRIu32 " vertices", lm_last_error(),
              (*out)->live_verts);

@@ -116,7 +116,7 @@ static lm_status simplify_level(lod *L, uint32_t k, lm_mesh **out)
     uint32_t start = L->o->qem ? t : co_simplify_start_verts(prev->live_verts, t, 0);
     int short_of = 0;
     lm_status st = start < prev->live_verts
-                       ? lm_simplify_best(prev, LM_SIMPLIFY_QEM, start, out, &short_of)
+                       ? co_simplify_best(prev, CO_SIMPLIFY_QEM, start, out, &short_of)
                        : lm_mesh_clone(prev, out);
     if (short_of)
         lm_clear_error();

@@ -1,4 +1,4 @@
-/* coordinator/simplify/simplify.c — lm_simplify(): argument checks, the cases no simplifier is
+/* coordinator/simplify/simplify.c — co_simplify(): argument checks, the cases no simplifier is
  * needed for (target at or above the model's size: a compact copy; targets below 4), dispatch to
  * QEM or clustering, and the helpers both simplifiers share to build their compact output meshes.
  */
@@ -10,18 +10,18 @@
 #include "common/mesh_topology.h"
 #include "coordinator/simplify/simplify_internal.h"
 
-int lm_simplify_within(uint32_t live, uint32_t target)
+int co_simplify_within(uint32_t live, uint32_t target)
 {
     double d = (double)live - (double)target;
-    return (d < 0 ? -d : d) <= LM_SIMPLIFY_TOLERANCE * (double)target;
+    return (d < 0 ? -d : d) <= CO_SIMPLIFY_TOLERANCE * (double)target;
 }
 
-int lm_simplify_reached(uint32_t live, uint32_t target)
+int co_simplify_reached(uint32_t live, uint32_t target)
 {
-    return (double)live <= (1.0 + LM_SIMPLIFY_TOLERANCE) * (double)target;
+    return (double)live <= (1.0 + CO_SIMPLIFY_TOLERANCE) * (double)target;
 }
 
-lm_status lm_simplify_copy_materials(const lm_mesh *src, lm_mesh *dst)
+lm_status co_simplify_copy_materials(const lm_mesh *src, lm_mesh *dst)
 {
     for (uint32_t i = 0; i < src->n_materials; i++) {
         const lm_material *mat = &src->materials[i];
@@ -39,7 +39,7 @@ lm_status lm_simplify_copy_materials(const lm_mesh *src, lm_mesh *dst)
     return LM_OK;
 }
 
-lm_status lm_simplify_finish(lm_mesh **m)
+lm_status co_simplify_finish(lm_mesh **m)
 {
     lm_status s = lm_mesh_validate(*m);
     if (!s)
@@ -89,7 +89,7 @@ static int repeats_vertex(const lm_mesh *in, const lm_tri *t)
     return a == b || b == c || a == c;
 }
 
-lm_status lm_simplify_build_from_tris(const lm_mesh *in, const lm_tri *tris, size_t n,
+lm_status co_simplify_build_from_tris(const lm_mesh *in, const lm_tri *tris, size_t n,
                                       uint32_t *dropped, lm_mesh **out)
 {
     *out = NULL;
@@ -101,7 +101,7 @@ lm_status lm_simplify_build_from_tris(const lm_mesh *in, const lm_tri *tris, siz
     if (!s) {
         m->attrs = in->attrs;
         mark_used(in, tris, n, vmap, wmap);
-        s = lm_simplify_copy_materials(in, m);
+        s = co_simplify_copy_materials(in, m);
     }
     if (!s)
         s = lm_mesh_copy_parts(in, m);
@@ -124,11 +124,11 @@ lm_status lm_simplify_build_from_tris(const lm_mesh *in, const lm_tri *tris, siz
     if (!s && drop) {
         /* Vertices used only by dropped triangles must go too: rebuild without them. */
         lm_mesh *again = NULL;
-        s = lm_simplify_build_from_tris(m, m->tris, m->n_tris, NULL, &again);
+        s = co_simplify_build_from_tris(m, m->tris, m->n_tris, NULL, &again);
         lm_mesh_destroy(m);
         m = again;
     } else if (!s) {
-        s = lm_simplify_finish(&m);
+        s = co_simplify_finish(&m);
     }
     if (s) {
         lm_mesh_destroy(m);
@@ -148,39 +148,39 @@ static lm_status copy_whole(const lm_mesh *in, lm_mesh **out)
     for (uint32_t t = 0; t < in->n_tris; t++)
         if (in->tri_alive[t])
             tris[n++] = in->tris[t];
-    lm_status s = lm_simplify_build_from_tris(in, tris, n, NULL, out);
+    lm_status s = co_simplify_build_from_tris(in, tris, n, NULL, out);
     free(tris);
     return s;
 }
 
-lm_status lm_simplify(const lm_mesh *in, lm_simplify_method method, uint32_t target_verts,
+lm_status co_simplify(const lm_mesh *in, co_simplify_method method, uint32_t target_verts,
                       lm_mesh **out)
 {
     if (!out)
-        return lm_fail(LM_E_INVALID, "lm_simplify: no output pointer");
+        return lm_fail(LM_E_INVALID, "co_simplify: no output pointer");
     *out = NULL;
     if (!in || in->live_tris == 0)
-        return lm_fail(LM_E_INVALID, "lm_simplify: the input mesh has no triangles");
-    if (method != LM_SIMPLIFY_QEM && method != LM_SIMPLIFY_CLUSTER)
-        return lm_fail(LM_E_INVALID, "lm_simplify: unknown method %d", (int)method);
+        return lm_fail(LM_E_INVALID, "co_simplify: the input mesh has no triangles");
+    if (method != CO_SIMPLIFY_QEM && method != CO_SIMPLIFY_CLUSTER)
+        return lm_fail(LM_E_INVALID, "co_simplify: unknown method %d", (int)method);
     lm_status s = lm_mesh_validate(in);
     if (s)
         return s;
     if (target_verts >= in->live_verts)
         return copy_whole(in, out);
     uint32_t aim = target_verts < 4 ? 4 : target_verts;
-    s = method == LM_SIMPLIFY_QEM ? lm_simplify_qem(in, aim, NULL, out)
-                                  : lm_simplify_cluster(in, aim, NULL, out);
-    if (target_verts < 4 && *out && !lm_simplify_reached((*out)->live_verts, target_verts))
+    s = method == CO_SIMPLIFY_QEM ? co_simplify_qem(in, aim, NULL, out)
+                                  : co_simplify_cluster(in, aim, NULL, out);
+    if (target_verts < 4 && *out && !co_simplify_reached((*out)->live_verts, target_verts))
         return lm_fail(LM_E_RANGE, "a target of %u vertices is below the minimum of 4 (best: %u)",
                        target_verts, (*out)->live_verts);
     return s;
 }
 
-lm_status lm_simplify_best(const lm_mesh *in, lm_simplify_method method, uint32_t target_verts,
+lm_status co_simplify_best(const lm_mesh *in, co_simplify_method method, uint32_t target_verts,
                            lm_mesh **out, int *short_of)
 {
-    lm_status st = lm_simplify(in, method, target_verts, out);
+    lm_status st = co_simplify(in, method, target_verts, out);
     *short_of = st == LM_E_RANGE && *out;
     if (*short_of)
         return LM_OK;

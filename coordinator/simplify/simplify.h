@@ -6,19 +6,19 @@
 
 #include "common/mesh.h"
 
-typedef enum lm_simplify_method { LM_SIMPLIFY_QEM, LM_SIMPLIFY_CLUSTER } lm_simplify_method;
+typedef enum co_simplify_method { CO_SIMPLIFY_QEM, CO_SIMPLIFY_CLUSTER } co_simplify_method;
 
 /* At most target_verts live vertices (an upper bound, as meshoptimizer and gltfpack treat it; the
  * searches aim within 5% of it and a result up to 5% above meets it). A model already at or below
  * the target comes back as a compact copy (LM_OK). When the target cannot be reached, LM_E_RANGE
  * with a message saying why (topology stops the simplifier) and the best mesh reached in *out;
  * any other error leaves *out NULL. */
-lm_status lm_simplify(const lm_mesh *in, lm_simplify_method method, uint32_t target_verts,
+lm_status co_simplify(const lm_mesh *in, co_simplify_method method, uint32_t target_verts,
                       lm_mesh **out);
-/* lm_simplify that settles for the best mesh reached: LM_OK with *short_of 1 where the target
+/* co_simplify that settles for the best mesh reached: LM_OK with *short_of 1 where the target
  * could not be reached (why, in lm_last_error(), for a warning; the caller clears it), 0 where it
- * was. Any other error as lm_simplify's. */
-lm_status lm_simplify_best(const lm_mesh *in, lm_simplify_method method, uint32_t target_verts,
+ * was. Any other error as co_simplify's. */
+lm_status co_simplify_best(const lm_mesh *in, co_simplify_method method, uint32_t target_verts,
                            lm_mesh **out, int *short_of);
 
 #endif

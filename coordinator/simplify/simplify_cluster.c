@@ -11,7 +11,7 @@
  * are kept once, and double-sided faces (the same three cells in opposite orientations, e.g. the
  * two sides of a thin sheet) are removed altogether, as the paper does, which opens a few holes.
  * The grid resolution is searched (bisection on log cell size) until the live vertex count is
- * within LM_SIMPLIFY_TOLERANCE of the target. */
+ * within CO_SIMPLIFY_TOLERANCE of the target. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -94,7 +94,7 @@ typedef struct cluster_ctx {
     uint8_t *keep;   /* [n_tris] 1 when the input triangle survives */
     uint32_t *stamp; /* [live_verts] pass that last counted the cell */
     uint32_t pass;
-    lm_simplify_stats st;
+    co_simplify_stats st;
 } cluster_ctx;
 
 static uint64_t cell_key(const cluster_ctx *C, const float p[3])
@@ -443,7 +443,7 @@ static lm_status build_output(const cluster_ctx *C, lm_mesh **out)
     if (!s) {
         m->attrs = C->in->attrs;
         accumulate_cells(C, acc);
-        s = lm_simplify_copy_materials(C->in, m);
+        s = co_simplify_copy_materials(C->in, m);
     }
     if (!s)
         s = lm_mesh_copy_parts(C->in, m);
@@ -455,7 +455,7 @@ static lm_status build_output(const cluster_ctx *C, lm_mesh **out)
     if (!s && !(C->in->attrs & LM_ATTR_NORMAL))
         lm_mesh_compute_normals(m);
     if (!s)
-        s = lm_simplify_finish(&m);
+        s = co_simplify_finish(&m);
     else
         lm_mesh_destroy(m);
     if (!s)
@@ -509,7 +509,7 @@ static void search_h(cluster_ctx *C, cl_search *S)
     }
 }
 
-static void fill_stats(const cluster_ctx *C, uint32_t evals, lm_simplify_stats *stats)
+static void fill_stats(const cluster_ctx *C, uint32_t evals, co_simplify_stats *stats)
 {
     if (!stats)
         return;
@@ -517,7 +517,7 @@ static void fill_stats(const cluster_ctx *C, uint32_t evals, lm_simplify_stats *
     stats->passes = evals;
 }
 
-lm_status lm_simplify_cluster_grid(const lm_mesh *in, double cell_size, lm_simplify_stats *stats,
+lm_status co_simplify_cluster_grid(const lm_mesh *in, double cell_size, co_simplify_stats *stats,
                                    lm_mesh **out)
 {
     *out = NULL;
@@ -535,7 +535,7 @@ lm_status lm_simplify_cluster_grid(const lm_mesh *in, double cell_size, lm_simpl
     return s;
 }
 
-lm_status lm_simplify_cluster(const lm_mesh *in, uint32_t target_verts, lm_simplify_stats *stats,
+lm_status co_simplify_cluster(const lm_mesh *in, uint32_t target_verts, co_simplify_stats *stats,
                               lm_mesh **out)
 {
     *out = NULL;
@@ -552,7 +552,7 @@ lm_status lm_simplify_cluster(const lm_mesh *in, uint32_t target_verts, lm_simpl
         fill_stats(&C, S.evals, stats);
     }
     ctx_free(&C);
-    if (s || lm_simplify_reached((*out)->live_verts, target_verts))
+    if (s || co_simplify_reached((*out)->live_verts, target_verts))
         return s;
     return lm_fail(LM_E_RANGE,
                    "vertex clustering reached %u vertices at best (cell side %g), above the "

@@ -50,7 +50,7 @@ static lm_status start_mesh(sjob *j)
     lm_status st;
     if (start < j->in->live_verts) {
         int short_of;
-        st = lm_simplify_best(j->in, LM_SIMPLIFY_QEM, start, &j->work, &short_of);
+        st = co_simplify_best(j->in, CO_SIMPLIFY_QEM, start, &j->work, &short_of);
         if (short_of)
             lm_clear_error();
     } else {
@@ -70,7 +70,7 @@ static lm_status share_weight(sjob *j, double *w)
     lm_mesh *qem = NULL;
     int derived;
     int short_of;
-    lm_status st = lm_simplify_best(j->in, LM_SIMPLIFY_QEM, j->o->target_verts, &qem, &short_of);
+    lm_status st = co_simplify_best(j->in, CO_SIMPLIFY_QEM, j->o->target_verts, &qem, &short_of);
     if (short_of)
         lm_clear_error();
     if (st == LM_OK)

@@ -6,7 +6,7 @@
  * that share a position as one point with several attribute sets and keeps the seam edges they
  * form, so UV/normal seams, material and part boundaries survive. It aims at an index count; we
  * want a number of live vertices, so the index budget is searched (secant steps inside a bracket)
- * until the vertex count is within LM_SIMPLIFY_TOLERANCE. No error limit is used. For large inputs
+ * until the vertex count is within CO_SIMPLIFY_TOLERANCE. No error limit is used. For large inputs
  * a first pass cuts the mesh to about three times the target, and the search runs on that. */
 #include <float.h>
 #include <meshoptimizer.h>
@@ -164,7 +164,7 @@ static int close_enough(uint32_t v, uint32_t target, uint32_t pass)
 {
     double d = (double)v - (double)target;
     d = d < 0 ? -d : d;
-    return d <= 1.0 || d <= 0.015 * target || (pass >= 5 && lm_simplify_within(v, target));
+    return d <= 1.0 || d <= 0.015 * target || (pass >= 5 && co_simplify_within(v, target));
 }
 
 /* Next budget: secant step inside the bracket, kept away from its ends so the bracket shrinks. */
@@ -222,7 +222,7 @@ static lm_status emit(const lm_mesh *in, const qem_input *q, const uint32_t *idx
         tris[t].material = q->mat[idx[3 * t]];
         tris[t].part = q->part[idx[3 * t]];
     }
-    lm_status s = lm_simplify_build_from_tris(in, tris, n / 3, dropped, out);
+    lm_status s = co_simplify_build_from_tris(in, tris, n / 3, dropped, out);
     free(tris);
     if (!s && !(in->attrs & LM_ATTR_NORMAL))
         lm_mesh_compute_normals(*out);
@@ -253,7 +253,7 @@ static lm_status search_all(qem_search *S, size_t n_full, int *stuck)
     return LM_OK;
 }
 
-lm_status lm_simplify_qem(const lm_mesh *in, uint32_t target_verts, lm_simplify_stats *stats,
+lm_status co_simplify_qem(const lm_mesh *in, uint32_t target_verts, co_simplify_stats *stats,
                           lm_mesh **out)
 {
     *out = NULL;
@@ -282,7 +282,7 @@ lm_status lm_simplify_qem(const lm_mesh *in, uint32_t target_verts, lm_simplify_
     free(S.scratch);
     free(S.best);
     qem_input_free(&q);
-    if (s || lm_simplify_reached((*out)->live_verts, target_verts))
+    if (s || co_simplify_reached((*out)->live_verts, target_verts))
         return s;
     if (stuck)
         return lm_fail(LM_E_RANGE,

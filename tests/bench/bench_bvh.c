@@ -80,7 +80,7 @@ int main(int argc, char **argv)
         return 1;
     }
     uint32_t target = orig->live_verts / 100 > 100 ? orig->live_verts / 100 : 100;
-    if (lm_simplify(orig, LM_SIMPLIFY_QEM, target, &coarse) != LM_OK) {
+    if (co_simplify(orig, CO_SIMPLIFY_QEM, target, &coarse) != LM_OK) {
         fprintf(stderr, "bench_bvh: %s\n", lm_last_error());
         return 1;
     }

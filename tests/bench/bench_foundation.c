@@ -88,7 +88,7 @@ static void run_phase(const bench *b, int phase, result *r)
             s = lm_mesh_save(b->obj, m);
         r->seconds2 = now_s() - t2;
     } else if (!s && phase == PH_SIMPLIFY) {
-        s = lm_simplify(m, LM_SIMPLIFY_QEM, m->live_verts / 100, &out);
+        s = co_simplify(m, CO_SIMPLIFY_QEM, m->live_verts / 100, &out);
         r->seconds = now_s() - t1;
     }
     note(r, s, out ? out : m);

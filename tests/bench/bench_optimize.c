@@ -154,7 +154,7 @@ static lm_status make_coarse(const opts *o, const lm_mesh *orig, lm_mesh **out)
         st = lm_mesh_load(o->initial, NULL, out);
     } else {
         uint32_t target = o->verts ? o->verts : (uint32_t)(o->frac * orig->live_verts + 0.5);
-        st = lm_simplify(orig, o->cluster ? LM_SIMPLIFY_CLUSTER : LM_SIMPLIFY_QEM, target, out);
+        st = co_simplify(orig, o->cluster ? CO_SIMPLIFY_CLUSTER : CO_SIMPLIFY_QEM, target, out);
         if (st == LM_E_RANGE && *out)
             st = LM_OK;
     }

@@ -555,7 +555,7 @@ static lm_status setup(const opts *o, lm_mesh **orig, lm_mesh **coarse, lm_view_
     lm_status st = lm_mesh_load(o->model, NULL, orig);
     if (st == LM_OK) {
         uint32_t target = (*orig)->live_verts / 100 > 100 ? (*orig)->live_verts / 100 : 100;
-        st = lm_simplify(*orig, LM_SIMPLIFY_QEM, target, coarse);
+        st = co_simplify(*orig, CO_SIMPLIFY_QEM, target, coarse);
         if (st == LM_E_RANGE && *coarse)
             st = LM_OK;
     }

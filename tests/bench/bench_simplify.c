@@ -129,7 +129,7 @@ int main(int argc, char **argv)
     lm_status st = lm_mesh_load(o.path, NULL, &orig);
     uint32_t n = st ? 0 : co_simplify_start_verts(orig->live_verts, o.target, o.start);
     if (!st && n < orig->live_verts) {
-        st = lm_simplify(orig, LM_SIMPLIFY_QEM, n, &start);
+        st = co_simplify(orig, CO_SIMPLIFY_QEM, n, &start);
         st = st == LM_E_RANGE && start ? LM_OK : st;
     } else if (!st) {
         st = lm_mesh_clone(orig, &start);

@@ -220,7 +220,7 @@ static void test_simplified_parts(void **state)
     part_census in, c;
     census(frog, &in);
     for (int method = 0; method < 2; method++) {
-        lm_status s = lm_simplify(frog, (lm_simplify_method)method, 400, &out);
+        lm_status s = co_simplify(frog, (co_simplify_method)method, 400, &out);
         assert_true(s == LM_OK || s == LM_E_RANGE);
         census(out, &c);
         for (uint32_t i = 0; i < c.n; i++) {
@@ -230,7 +230,7 @@ static void test_simplified_parts(void **state)
             if (j == in.n)
                 fail_msg("method %d: part '%s' is not the frog's", method, c.name[i]);
         }
-        if (method == LM_SIMPLIFY_QEM)
+        if (method == CO_SIMPLIFY_QEM)
             assert_int_equal(c.n, LM_FROG_PARTS);
         else
             assert_true(c.n >= 2);

@@ -93,7 +93,7 @@ static void simplify_recorded(run *r, char *pm_path, size_t cap)
 {
     lm_mesh *orig, *m;
     assert_int_equal(lm_mesh_load(lmt_spider_path(), NULL, &orig), LM_OK);
-    lm_status st = lm_simplify(orig, LM_SIMPLIFY_QEM, 160, &m);
+    lm_status st = co_simplify(orig, CO_SIMPLIFY_QEM, 160, &m);
     assert_true(st == LM_OK || (st == LM_E_RANGE && m));
     lm_clear_error();
     int derived;

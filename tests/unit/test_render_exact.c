@@ -461,7 +461,7 @@ static lm_mesh *load_or_skip(const char *path)
 static lm_mesh *qem(const lm_mesh *m, uint32_t target)
 {
     lm_mesh *out = NULL;
-    lm_status st = lm_simplify(m, LM_SIMPLIFY_QEM, target, &out);
+    lm_status st = co_simplify(m, CO_SIMPLIFY_QEM, target, &out);
     assert_true(st == LM_OK || (st == LM_E_RANGE && out));
     assert_int_equal(lm_mesh_build_adjacency(out), LM_OK);
     return out;

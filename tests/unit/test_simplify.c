@@ -60,14 +60,14 @@ static void check_output(const lm_mesh *m)
     free(used_w);
 }
 
-static void check_target(const lm_mesh *in, lm_simplify_method method, uint32_t target)
+static void check_target(const lm_mesh *in, co_simplify_method method, uint32_t target)
 {
     lm_mesh *out = NULL;
-    lm_status s = lm_simplify(in, method, target, &out);
+    lm_status s = co_simplify(in, method, target, &out);
     if (s)
         fail_msg("simplify to %u: %s", target, lm_last_error());
     print_message("%s: %u -> %u vertices (target %u), %u triangles\n",
-                  method == LM_SIMPLIFY_QEM ? "qem" : "cluster", in->live_verts, out->live_verts,
+                  method == CO_SIMPLIFY_QEM ? "qem" : "cluster", in->live_verts, out->live_verts,
                   target, out->live_tris);
     assert_true(fabs((double)out->live_verts - target) <= 0.05 * target);
     check_output(out);
@@ -82,8 +82,8 @@ static void test_qem_bunny(void **state)
     (void)state;
     lm_mesh *m = load_or_skip(lmt_bunny_path());
     assert_true(m->live_verts > 30000);
-    check_target(m, LM_SIMPLIFY_QEM, m->live_verts / 100);
-    check_target(m, LM_SIMPLIFY_QEM, m->live_verts / 10);
+    check_target(m, CO_SIMPLIFY_QEM, m->live_verts / 100);
+    check_target(m, CO_SIMPLIFY_QEM, m->live_verts / 10);
     lm_mesh_destroy(m);
 }
 
@@ -91,8 +91,8 @@ static void test_cluster_bunny(void **state)
 {
     (void)state;
     lm_mesh *m = load_or_skip(lmt_bunny_path());
-    check_target(m, LM_SIMPLIFY_CLUSTER, m->live_verts / 100);
-    check_target(m, LM_SIMPLIFY_CLUSTER, m->live_verts / 10);
+    check_target(m, CO_SIMPLIFY_CLUSTER, m->live_verts / 100);
+    check_target(m, CO_SIMPLIFY_CLUSTER, m->live_verts / 10);
     lm_mesh_destroy(m);
 }
 
@@ -112,7 +112,7 @@ static void test_qem_spider_components(void **state)
     for (uint32_t div = 2; div <= 4; div *= 2) {
         uint32_t target = m->live_verts / div;
         lm_mesh *out = NULL;
-        lm_status s = lm_simplify(m, LM_SIMPLIFY_QEM, target, &out);
+        lm_status s = co_simplify(m, CO_SIMPLIFY_QEM, target, &out);
         if (s)
             fail_msg("spider to %u: %s", target, lm_last_error());
         uint32_t got = lm_mesh_count_components(out);
@@ -142,7 +142,7 @@ static void test_qem_frog_seams(void **state)
     lm_mesh *frog = NULL, *out = NULL;
     assert_int_equal(lm_frog_generate(20000, 1, &frog), LM_OK);
     uint32_t target = frog->live_verts / 20;
-    lm_status s = lm_simplify(frog, LM_SIMPLIFY_QEM, target, &out);
+    lm_status s = co_simplify(frog, CO_SIMPLIFY_QEM, target, &out);
     if (s)
         fail_msg("frog to %u: %s", target, lm_last_error());
     check_output(out);
@@ -176,7 +176,7 @@ static void test_qem_material_boundary(void **state)
         m->tris[t].material = z > 0 ? 1 : 0;
         upper += z > 0;
     }
-    assert_int_equal(lm_simplify(m, LM_SIMPLIFY_QEM, m->live_verts / 8, &out), LM_OK);
+    assert_int_equal(co_simplify(m, CO_SIMPLIFY_QEM, m->live_verts / 8, &out), LM_OK);
     check_output(out);
     uint32_t first[2] = {0, 0};
     for (uint32_t t = 0; t < out->n_tris; t++) {
@@ -241,16 +241,16 @@ static void test_cluster_double_sided(void **state)
     add_slab(both, 21);
     assert_int_equal(lm_mesh_validate(both), LM_OK);
     assert_int_equal(lm_mesh_build_adjacency(both), LM_OK);
-    lm_simplify_stats st;
+    co_simplify_stats st;
     /* Control: the sphere alone, cells of 0.2, has nothing double-sided. */
-    assert_int_equal(lm_simplify_cluster_grid(sphere, 0.2, &st, &out), LM_OK);
+    assert_int_equal(co_simplify_cluster_grid(sphere, 0.2, &st, &out), LM_OK);
     assert_int_equal(st.double_sided_removed, 0);
     uint32_t sphere_tris = out->live_tris;
     lm_mesh_destroy(out);
     /* With the slab: its top and bottom land in the same cells with opposite orientations, so
      * every one of its triangles is dropped (double-sided or degenerate) and only the sphere's
      * triangles remain. */
-    assert_int_equal(lm_simplify_cluster_grid(both, 0.2, &st, &out), LM_OK);
+    assert_int_equal(co_simplify_cluster_grid(both, 0.2, &st, &out), LM_OK);
     print_message("double-sided removed: %u, duplicates %u, degenerate %u\n",
                   st.double_sided_removed, st.duplicates_removed, st.degenerate_removed);
     assert_true(st.double_sided_removed >= 2 * 25);
@@ -270,8 +270,8 @@ static void test_cluster_frog_wedges(void **state)
     (void)state;
     lm_mesh *frog = NULL, *out = NULL;
     assert_int_equal(lm_frog_generate(20000, 3, &frog), LM_OK);
-    lm_simplify_stats st;
-    assert_int_equal(lm_simplify_cluster(frog, 800, &st, &out), LM_OK);
+    co_simplify_stats st;
+    assert_int_equal(co_simplify_cluster(frog, 800, &st, &out), LM_OK);
     check_output(out);
     print_message("frog cluster: %u verts, %u tris, %u passes, cell %.4f, double-sided %u\n",
                   out->live_verts, out->live_tris, st.passes, st.cell_size,
@@ -289,18 +289,18 @@ static void test_unreachable(void **state)
     (void)state;
     lm_mesh *m = lmt_make_sphere(2), *out = NULL;
     /* The target is an upper bound: a model below it is the answer as it is. */
-    assert_int_equal(lm_simplify(m, LM_SIMPLIFY_QEM, m->live_verts * 2, &out), LM_OK);
+    assert_int_equal(co_simplify(m, CO_SIMPLIFY_QEM, m->live_verts * 2, &out), LM_OK);
     assert_non_null(out);
     assert_int_equal(out->live_verts, m->live_verts);
     assert_int_equal(out->live_tris, m->live_tris);
     lm_mesh_destroy(out);
     for (int method = 0; method < 2; method++) {
-        assert_int_equal(lm_simplify(m, (lm_simplify_method)method, 2, &out), LM_E_RANGE);
+        assert_int_equal(co_simplify(m, (co_simplify_method)method, 2, &out), LM_E_RANGE);
         assert_non_null(out);
         check_output(out);
         lm_mesh_destroy(out);
     }
-    assert_int_equal(lm_simplify(m, LM_SIMPLIFY_QEM, m->live_verts, &out), LM_OK);
+    assert_int_equal(co_simplify(m, CO_SIMPLIFY_QEM, m->live_verts, &out), LM_OK);
     lm_mesh_destroy(out);
     lm_mesh_destroy(m);
 }

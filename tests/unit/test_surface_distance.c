@@ -147,7 +147,7 @@ static void test_deterministic(void **state)
     (void)state;
     lm_mesh *frog = NULL, *coarse = NULL;
     assert_int_equal(lm_frog_generate(6000, 1, &frog), LM_OK);
-    assert_int_equal(lm_simplify(frog, LM_SIMPLIFY_QEM, 300, &coarse), LM_OK);
+    assert_int_equal(co_simplify(frog, CO_SIMPLIFY_QEM, 300, &coarse), LM_OK);
     co_surface_distance d1, d2;
     assert_int_equal(co_surface_distance_measure(frog, coarse, 0, &d1), LM_OK);
     assert_int_equal(co_surface_distance_measure(frog, coarse, 0, &d2), LM_OK);

@@ -33,7 +33,7 @@ static void rig_init(rig *r, const char *path, uint32_t views, uint32_t workers)
     memset(r, 0, sizeof *r);
     assert_int_equal(lm_mesh_load(path, NULL, &r->orig), LM_OK);
     uint32_t target = r->orig->live_verts / 100 > 60 ? r->orig->live_verts / 100 : 60;
-    lm_status st = lm_simplify(r->orig, LM_SIMPLIFY_QEM, target, &r->coarse);
+    lm_status st = co_simplify(r->orig, CO_SIMPLIFY_QEM, target, &r->coarse);
     assert_true(st == LM_OK || (st == LM_E_RANGE && r->coarse));
     assert_int_equal(lm_mesh_build_adjacency(r->coarse), LM_OK);
     float c[3], rad;

@@ -30,7 +30,7 @@ static void load_pair(pair *p, const char *path)
     memset(p, 0, sizeof *p);
     assert_int_equal(lm_mesh_load(path, NULL, &p->orig), LM_OK);
     uint32_t target = p->orig->live_verts / 100 > 60 ? p->orig->live_verts / 100 : 60;
-    lm_status st = lm_simplify(p->orig, LM_SIMPLIFY_QEM, target, &p->coarse);
+    lm_status st = co_simplify(p->orig, CO_SIMPLIFY_QEM, target, &p->coarse);
     assert_true(st == LM_OK || (st == LM_E_RANGE && p->coarse));
     assert_int_equal(lm_mesh_build_adjacency(p->coarse), LM_OK);
     float c[3], r;
