@@ -1,7 +1,7 @@
 /* worker/render/views_local.c — the in-process views: which backend a --device spec makes (the GL
  * one on an EGL context, worker/render/gl/gl_views.h, or the exact CPU rasteriser,
- * worker/render/cpu/cpu_views.h), after the checks both share; and the extras, dispatched to the
- * backend that made the views. */
+ * worker/render/cpu/cpu_views.h), after the checks both share; and the extras, answered through
+ * the seam both backends share (worker/render/shared/views_seam.h). */
 #include "worker/render/views_local.h"
 
 #include <stdlib.h>
@@ -10,6 +10,7 @@
 #include "worker/render/cpu/cpu_views.h"
 #include "worker/render/device_choice.h"
 #include "worker/render/gl/gl_views.h"
+#include "worker/render/shared/views_seam.h"
 
 static lm_status check_views(const lm_view_set *views, lm_view_deal deal)
 {
@@ -102,26 +103,22 @@ lm_status wk_views_local_create_dealt(const lm_mesh *original, const lm_view_set
 
 int wk_views_is_local(const lm_views *views)
 {
-    return wk_gl_views_is(views) || wk_cpu_views_is(views);
+    return wk_views_seam_is(views);
 }
 
 lm_status wk_views_local_set_occlusion(lm_views *views, int on)
 {
-    if (wk_cpu_views_is(views))
-        return wk_cpu_views_set_occlusion(views, on);
-    if (!wk_gl_views_is(views))
+    if (!wk_views_seam_is(views))
         return lm_fail(LM_E_UNSUPPORTED, "occlusion is a setting of the in-process views only");
-    return wk_gl_views_set_occlusion(views, on);
+    wk_views_core *c = (wk_views_core *)views;
+    return c->backend->set_occlusion(c, on);
 }
 
 lm_status wk_views_local_get_stats(lm_views *views, wk_views_local_stats *out)
 {
     memset(out, 0, sizeof *out);
-    if (wk_cpu_views_is(views))
-        wk_cpu_views_get_stats(views, out);
-    else if (wk_gl_views_is(views))
-        wk_gl_views_get_stats(views, out);
-    else
+    if (!wk_views_seam_is(views))
         return lm_fail(LM_E_UNSUPPORTED, "statistics are kept by the in-process views only");
+    *out = ((wk_views_core *)views)->stats;
     return LM_OK;
 }

@@ -22,6 +22,7 @@
 #include <string.h>
 
 #include "worker/render/cpu/cpu_views_internal.h"
+#include "worker/render/shared/grow.h"
 
 enum { F_HOLE = 1, F_RESHADE = 2, F_NEW = 3 };
 
@@ -45,7 +46,7 @@ lm_status wk_cpu_eval_init(wk_cpu_views *v)
     e->tile_mask = calloc(v->tiles, 1);
     e->mask_idx = malloc(v->tiles * sizeof *e->mask_idx);
     e->cmax = malloc(v->tiles * sizeof *e->cmax);
-    e->holes = calloc(v->views.count, sizeof *e->holes);
+    e->holes = calloc(v->core.views.count, sizeof *e->holes);
     if (!e->log.stamp || !e->log.idx || !e->log.xy || !e->log.old || !e->log.flag || !e->owned ||
         !e->luma || !e->rgb || !e->texl || !e->tile_old || !e->tile_idx || !e->tile_stamp ||
         !e->tile_mask || !e->mask_idx || !e->cmax || !e->holes)
@@ -60,11 +61,12 @@ void wk_cpu_eval_free(wk_cpu_eval *e, uint32_t n_views)
         wk_cpu_holes_free(&e->holes[h]);
     free(e->holes);
     free(e->removed_twin);
-    void *p[] = {e->log.stamp,   e->log.idx,    e->log.xy,   e->log.old,       e->log.flag,
-                 e->owned,       e->luma,       e->rgb,      e->tile_old,      e->tile_idx,
-                 e->tile_stamp,  e->tile_mask,  e->mask_idx, e->cmax,          e->removed_stamp,
-                 e->added_stamp, e->twin_stamp, e->twin_of,  e->textwin_stamp, e->texl,
-                 e->loc_stamp,   e->loc_first,  e->loc_n,    e->cand.ids};
+    wk_patch_marks_free(&e->marks);
+    void *p[] = {e->log.stamp,  e->log.idx,       e->log.xy,   e->log.old,   e->log.flag,
+                 e->owned,      e->luma,          e->rgb,      e->tile_old,  e->tile_idx,
+                 e->tile_stamp, e->tile_mask,     e->mask_idx, e->cmax,      e->twin_stamp,
+                 e->twin_of,    e->textwin_stamp, e->texl,     e->loc_stamp, e->loc_first,
+                 e->loc_n,      e->cand.ids};
     for (size_t i = 0; i < sizeof p / sizeof *p; i++)
         free(p[i]);
     wk_cpu_setups_free(&e->set);
@@ -85,12 +87,9 @@ static lm_status ids_reserve(wk_cpu_eval *e, size_t need)
 {
     if (need <= e->cap_ids)
         return LM_OK;
-    size_t cap = e->cap_ids ? e->cap_ids : 1024, old = e->cap_ids;
-    while (cap < need)
-        cap *= 2;
-    void **u32[] = {(void **)&e->removed_stamp, (void **)&e->added_stamp, (void **)&e->twin_stamp,
-                    (void **)&e->textwin_stamp, (void **)&e->twin_of,     (void **)&e->loc_stamp,
-                    (void **)&e->loc_first};
+    size_t cap = wk_grown_cap(e->cap_ids, need, 1024), old = e->cap_ids;
+    void **u32[] = {(void **)&e->twin_stamp, (void **)&e->textwin_stamp, (void **)&e->twin_of,
+                    (void **)&e->loc_stamp, (void **)&e->loc_first};
     for (size_t i = 0; i < sizeof u32 / sizeof *u32; i++)
         if (grow_ids(u32[i], sizeof(uint32_t), old, cap) != LM_OK)
             return LM_E_NOMEM;
@@ -121,64 +120,29 @@ static int same_texturing(const lm_tri_data *a, const lm_tri_data *b)
     return 1;
 }
 
-static lm_status check_added(const wk_cpu_views *v, const lm_patch *p, size_t *need)
-{
-    uint32_t n_mat = v->mats[v->table].n;
-    for (uint32_t i = 0; i < p->n_added; i++) {
-        if (p->added[i].id >= LM_MESH_MAX_TRIS)
-            return lm_fail(LM_E_RANGE, "patch adds triangle id %u beyond the limit",
-                           p->added[i].id);
-        if (p->added[i].material >= n_mat)
-            return lm_fail(LM_E_RANGE, "patch triangle %u uses material %u of %u", p->added[i].id,
-                           p->added[i].material, n_mat);
-        *need = p->added[i].id + 1u > *need ? p->added[i].id + 1u : *need;
-    }
-    return LM_OK;
-}
-
-static uint32_t next_patch_stamp(wk_cpu_eval *e)
-{
-    if (++e->patch_now == 0) {
-        size_t bytes = e->cap_ids * sizeof(uint32_t);
-        memset(e->removed_stamp, 0, bytes);
-        memset(e->added_stamp, 0, bytes);
-        memset(e->twin_stamp, 0, bytes);
-        memset(e->textwin_stamp, 0, bytes);
-        e->patch_now = 1;
-    }
-    return e->patch_now;
-}
-
-/* Validates p against the replica, stamps its removed and added ids and finds the twins. */
+/* Validates p against the replica (patch_prepare.h), marks its removed and added ids and finds
+ * the twins. */
 static lm_status prepare_patch(wk_cpu_views *v, const lm_patch *p)
 {
     wk_cpu_eval *e = &v->eval;
-    size_t need = v->rep.cap;
-    lm_status st = check_added(v, p, &need);
+    lm_status st = wk_patch_prepare(&e->marks, &v->core.rep, v->mats[v->core.table].n, p);
     if (st == LM_OK)
-        st = ids_reserve(e, need);
+        st = ids_reserve(e, e->marks.cap);
     if (st != LM_OK)
         return st;
-    uint32_t now = next_patch_stamp(e);
-    for (uint32_t i = 0; i < p->n_removed; i++) {
-        uint32_t id = p->removed[i];
-        if (!wk_replica_alive(&v->rep, id) || e->removed_stamp[id] == now)
-            return lm_fail(LM_E_INVALID, "patch removes triangle %u which is %s", id,
-                           wk_replica_alive(&v->rep, id) ? "listed twice" : "not in the mesh");
-        e->removed_stamp[id] = now;
+    uint32_t now = e->marks.now;
+    if (now == 1) { /* the marks' stamps (re)started: so do the twins' */
+        memset(e->twin_stamp, 0, e->cap_ids * sizeof *e->twin_stamp);
+        memset(e->textwin_stamp, 0, e->cap_ids * sizeof *e->textwin_stamp);
     }
     wk_cpu_box_clear(&e->box);
     for (uint32_t i = 0; i < p->n_added; i++) {
         uint32_t id = p->added[i].id;
-        int twice = e->added_stamp[id] == now, removed = e->removed_stamp[id] == now;
-        if (twice || (wk_replica_alive(&v->rep, id) && !removed))
-            return lm_fail(LM_E_INVALID, "patch adds triangle %u which is %s", id,
-                           twice ? "listed twice" : "alive and not removed");
-        e->added_stamp[id] = now;
-        if (v->occlusion && removed && same_corners(&p->added[i], &v->rep.tris[id])) {
+        if (v->core.occlusion && wk_patch_removes(&e->marks, id) &&
+            same_corners(&p->added[i], &v->core.rep.tris[id])) {
             e->twin_stamp[id] = now;
             e->twin_of[id] = i;
-            if (same_texturing(&p->added[i], &v->rep.tris[id]))
+            if (same_texturing(&p->added[i], &v->core.rep.tris[id]))
                 e->textwin_stamp[id] = now;
         } else {
             wk_cpu_box_add(&e->box, &p->added[i]);
@@ -198,7 +162,7 @@ static lm_status prepare_patch(wk_cpu_views *v, const lm_patch *p)
 
 static int is_twin(const wk_cpu_eval *e, uint32_t id)
 {
-    return e->twin_stamp[id] == e->patch_now;
+    return e->twin_stamp[id] == e->marks.now;
 }
 
 /* ---- one (patch, view) pass --------------------------------------------------------------- */
@@ -283,7 +247,7 @@ static void raise_tiles(wk_cpu_views *v, wk_cpu_keys *k, const wk_cpu_sub *s)
 static lm_status punch(wk_cpu_views *v, const lm_patch *p, uint32_t h, uint32_t id, wk_cpu_keys *k)
 {
     wk_cpu_eval *e = &v->eval;
-    size_t limit = v->occlusion ? v->count[h][id] : v->plane, found = 0;
+    size_t limit = v->core.occlusion ? v->count[h][id] : v->plane, found = 0;
     if (limit == 0)
         return LM_OK; /* it shows nowhere */
     int twin = is_twin(e, id);
@@ -297,7 +261,8 @@ static lm_status punch(wk_cpu_views *v, const lm_patch *p, uint32_t h, uint32_t 
         reg = e->set.sub + first;
     } else {
         int kn = 0;
-        subs = wk_cpu_subcache_get(&v->subcache, &v->cviews[h], h, &v->rep.tris[id], local, &kn);
+        subs =
+            wk_cpu_subcache_get(&v->subcache, &v->cviews[h], h, &v->core.rep.tris[id], local, &kn);
         n = (uint32_t)kn;
     }
     for (uint32_t i = 0; i < n && found < limit; i++) {
@@ -319,11 +284,11 @@ static lm_status punch_all(wk_cpu_views *v, const lm_patch *p, uint32_t h, wk_cp
     wk_cpu_eval *e = &v->eval;
     wk_cpu_holes *c = &e->holes[h];
     lm_status st = LM_OK;
-    if (keep &&
-        wk_cpu_holes_match(c, v->seq, v->occlusion, p->removed, e->removed_twin, p->n_removed)) {
+    if (keep && wk_cpu_holes_match(c, v->core.seq, v->core.occlusion, p->removed, e->removed_twin,
+                                   p->n_removed)) {
         for (uint32_t i = 0; st == LM_OK && i < p->n_removed; i++) {
             uint32_t id = p->removed[i], first, n; /* twins are registered as punch does */
-            if (e->removed_twin[i] && (!v->occlusion || v->count[h][id]))
+            if (e->removed_twin[i] && (!v->core.occlusion || v->count[h][id]))
                 st = register_tri(v, h, &p->added[e->twin_of[id]], 1, &first, &n);
         }
         if (st != LM_OK)
@@ -340,8 +305,8 @@ static lm_status punch_all(wk_cpu_views *v, const lm_patch *p, uint32_t h, wk_cp
     for (uint32_t i = 0; st == LM_OK && i < p->n_removed; i++)
         st = punch(v, p, h, p->removed[i], k);
     if (st == LM_OK && keep)
-        wk_cpu_holes_keep(c, v->seq, v->occlusion, p->removed, e->removed_twin, p->n_removed,
-                          &e->log, e->log.n, e->tile_idx, e->n_raised);
+        wk_cpu_holes_keep(c, v->core.seq, v->core.occlusion, p->removed, e->removed_twin,
+                          p->n_removed, &e->log, e->log.n, e->tile_idx, e->n_raised);
     else
         wk_cpu_holes_forget(c);
     return st;
@@ -351,7 +316,7 @@ static lm_status punch_all(wk_cpu_views *v, const lm_patch *p, uint32_t h, wk_cp
 static lm_status draw_added(wk_cpu_views *v, const lm_patch *p, uint32_t h, wk_cpu_keys *k)
 {
     wk_cpu_eval *e = &v->eval;
-    const wk_cpu_clip all = {{0, 0, v->width, v->height}, NULL};
+    const wk_cpu_clip all = {{0, 0, v->core.width, v->core.height}, NULL};
     for (uint32_t i = 0; i < p->n_added; i++) {
         if (is_twin(e, p->added[i].id))
             continue;
@@ -361,7 +326,7 @@ static lm_status draw_added(wk_cpu_views *v, const lm_patch *p, uint32_t h, wk_c
             return st;
         for (uint32_t j = 0; j < n; j++)
             wk_cpu_draw(e->set.sub[first + j], k, &all, &e->log, F_NEW);
-        v->stats.tris_drawn += n;
+        v->core.stats.tris_drawn += n;
     }
     return LM_OK;
 }
@@ -382,8 +347,8 @@ static void update_tile(const wk_cpu_views *v, wk_cpu_keys *k, uint32_t t)
 static int unresolved(wk_cpu_views *v, uint32_t h, const wk_cpu_keys *k, wk_rect *box)
 {
     wk_cpu_eval *e = &v->eval;
-    const uint32_t *bound = v->occlusion ? v->second + h * v->plane : NULL;
-    *box = (wk_rect){v->width, v->height, 0, 0};
+    const uint32_t *bound = v->core.occlusion ? v->second + h * v->plane : NULL;
+    *box = (wk_rect){v->core.width, v->core.height, 0, 0};
     e->n_mask = 0;
     for (size_t j = 0; j < e->log.n; j++) {
         uint32_t q = e->log.idx[j];
@@ -398,7 +363,7 @@ static int unresolved(wk_cpu_views *v, uint32_t h, const wk_cpu_keys *k, wk_rect
         box->x1 = x + 1 > box->x1 ? x + 1 : box->x1;
         box->y1 = y + 1 > box->y1 ? y + 1 : box->y1;
         uint32_t t = tile_of(v, e->log.xy[j]);
-        if (!v->occlusion)
+        if (!v->core.occlusion)
             continue;
         if (!e->tile_mask[t]) {
             e->tile_mask[t] = 1;
@@ -438,9 +403,9 @@ static int masked_tiles_behind(const wk_cpu_views *v, const wk_rect *r, uint64_t
 /* Whether candidate id (a kept triangle) may show in front somewhere in the masked tiles. */
 static int candidate_may_show(const wk_cpu_views *v, uint32_t h, uint32_t id)
 {
-    if (!v->occlusion)
+    if (!v->core.occlusion)
         return 1;
-    const wk_footprint *f = wk_buckets_footprint(v->buckets[h], id);
+    const wk_footprint *f = wk_buckets_footprint(v->core.buckets[h], id);
     return masked_tiles_behind(v, &f->rect, footprint_bound(f));
 }
 
@@ -456,19 +421,19 @@ static void prefetch_sub(const wk_cpu_sub *s)
 static lm_status fill_unresolved(wk_cpu_views *v, const lm_patch *p, uint32_t h, wk_cpu_keys *k)
 {
     wk_cpu_eval *e = &v->eval;
-    wk_cpu_clip clip = {{0, 0, 0, 0}, v->occlusion ? e->tile_mask : NULL};
+    wk_cpu_clip clip = {{0, 0, 0, 0}, v->core.occlusion ? e->tile_mask : NULL};
     if (!unresolved(v, h, k, &clip.rect))
         return LM_OK;
     wk_cpu_keys kc = *k; /* depth rejection against the unresolved pixels' maxima */
-    if (v->occlusion)
+    if (v->core.occlusion)
         kc.tmax = e->cmax;
     e->cand.n = 0;
-    lm_status st = wk_buckets_query(v->buckets[h], &clip.rect, &e->cand);
+    lm_status st = wk_buckets_query(v->core.buckets[h], &clip.rect, &e->cand);
     size_t m = 0; /* the candidates kept, registered first: their subs' loads then overlap */
     for (size_t i = 0; st == LM_OK && i < e->cand.n; i++) {
         uint32_t id = e->cand.ids[i], first, n;
-        const lm_tri_data *t = &v->rep.tris[id];
-        if (e->removed_stamp[id] == e->patch_now) {
+        const lm_tri_data *t = &v->core.rep.tris[id];
+        if (wk_patch_removes(&e->marks, id)) {
             if (!is_twin(e, id))
                 continue;
             t = &p->added[e->twin_of[id]];
@@ -484,7 +449,7 @@ static lm_status fill_unresolved(wk_cpu_views *v, const lm_patch *p, uint32_t h,
         uint32_t id = e->cand.ids[i], first = e->loc_first[id], n = e->loc_n[id];
         for (uint32_t j = 0; j < n; j++)
             wk_cpu_draw(e->set.sub[first + j], &kc, &clip, &e->log, F_NEW);
-        v->stats.tris_drawn += n;
+        v->core.stats.tris_drawn += n;
     }
     for (size_t i = 0; i < e->n_mask; i++)
         e->tile_mask[e->mask_idx[i]] = 0;
@@ -510,8 +475,8 @@ static const wk_cpu_shade *shade_of(wk_cpu_views *v, uint32_t h, uint32_t j)
 {
     wk_cpu_setups *set = &v->eval.set;
     if (!set->shade_ready[j]) {
-        wk_cpu_shade_setup(set->sub[j], set->tri[j], v->views.views[h].dir, &v->mats[v->table],
-                           &set->shade[j]);
+        wk_cpu_shade_setup(set->sub[j], set->tri[j], v->core.views.views[h].dir,
+                           &v->mats[v->core.table], &set->shade[j]);
         set->shade_ready[j] = 1;
     }
     return &set->shade[j];
@@ -537,7 +502,7 @@ static void shade_run(wk_cpu_views *v, uint32_t h, uint32_t j, size_t i, size_t 
 {
     wk_cpu_eval *e = &v->eval;
     float *texl = e->texl + 3 * i;
-    int reuse = v->texf && unchanged && e->textwin_stamp[e->set.tri[j]->id] == e->patch_now;
+    int reuse = v->texf && unchanged && e->textwin_stamp[e->set.tri[j]->id] == e->marks.now;
     for (size_t r = i; reuse && r < end; r++)
         memcpy(texl + 3 * (r - i), v->texf + 3 * (h * v->plane + e->log.idx[r]), 3 * sizeof *texl);
     wk_cpu_shade_pixels(e->set.sub[j], shade_of(v, h, j), e->log.xy + i, end - i, e->rgb,
@@ -564,7 +529,8 @@ static lm_status shade_log(wk_cpu_views *v, uint32_t h, const wk_cpu_keys *k, in
         }
         i = end;
     }
-    const uint8_t *tgt = wk_image_store_target(v->img, h), *cur = wk_image_store_current(v->img, h);
+    const uint8_t *tgt = wk_image_store_target(v->core.img, h),
+                  *cur = wk_image_store_current(v->core.img, h);
     int64_t d = 0;
     for (size_t i = 0; i < e->log.n; i++) {
         uint32_t q = e->log.idx[i];
@@ -612,10 +578,11 @@ static uint64_t touch_rows(const wk_cpu_views *v, uint32_t h, const wk_rect *box
 {
     const uint64_t *keys = v->keys + h * v->plane;
     const uint32_t *second = v->second + h * v->plane;
-    const uint8_t *tgt = wk_image_store_target(v->img, h), *cur = wk_image_store_current(v->img, h);
+    const uint8_t *tgt = wk_image_store_target(v->core.img, h),
+                  *cur = wk_image_store_current(v->core.img, h);
     uint64_t sum = 0;
     for (int y = box->y0; y < box->y1; y++) {
-        size_t row = (size_t)y * (size_t)v->width;
+        size_t row = (size_t)y * (size_t)v->core.width;
         for (int x = box->x0 & ~7; x < box->x1; x += 8)
             sum += keys[row + x];
         for (int x = box->x0 & ~15; x < box->x1; x += 16)
@@ -631,7 +598,7 @@ static uint64_t touch_rows(const wk_cpu_views *v, uint32_t h, const wk_rect *box
 static int view_unchanged(const wk_cpu_views *v, const lm_patch *p, uint32_t h,
                           const wk_cpu_keys *k)
 {
-    if (!v->occlusion)
+    if (!v->core.occlusion)
         return 0;
     for (uint32_t i = 0; i < p->n_removed; i++)
         if (v->count[h][p->removed[i]])
@@ -646,10 +613,10 @@ static lm_status view_pass(wk_cpu_views *v, const lm_patch *p, uint32_t h, wk_cp
 {
     pass_begin(v);
     if (view_unchanged(v, p, h, k)) {
-        v->stats.views_skipped++;
+        v->core.stats.views_skipped++;
         return LM_OK;
     }
-    if (!v->occlusion)
+    if (!v->core.occlusion)
         k->tmax = NULL;
     lm_status st = punch_all(v, p, h, k, keep);
     if (st == LM_OK)
@@ -659,9 +626,9 @@ static lm_status view_pass(wk_cpu_views *v, const lm_patch *p, uint32_t h, wk_cp
     if (st == LM_OK)
         st = shade_log(v, h, k, delta);
     wk_cpu_log *log = &v->eval.log;
-    v->stats.regions += log->n > 0;
-    v->stats.region_pixels += log->n;
-    v->stats.views_skipped += log->n == 0;
+    v->core.stats.regions += log->n > 0;
+    v->core.stats.region_pixels += log->n;
+    v->core.stats.views_skipped += log->n == 0;
     return st;
 }
 
@@ -691,10 +658,10 @@ static void keep_second(wk_cpu_views *v, uint32_t h, const lm_patch *p)
         if (old == WK_CPU_KEY_BG || old == k.key[q])
             continue;
         uint32_t id = WK_CPU_KEY_ID(old);
-        if (e->removed_stamp[id] != e->patch_now || is_twin(e, id))
+        if (!wk_patch_removes(&e->marks, id) || is_twin(e, id))
             k.second[q] = wk_cpu_second_of(old) < k.second[q] ? wk_cpu_second_of(old) : k.second[q];
     }
-    const wk_cpu_clip all = {{0, 0, v->width, v->height}, NULL};
+    const wk_cpu_clip all = {{0, 0, v->core.width, v->core.height}, NULL};
     for (uint32_t i = 0; i < p->n_added; i++) {
         uint32_t id = p->added[i].id;
         if (is_twin(e, id) || e->loc_stamp[id] != e->log.now)
@@ -709,7 +676,7 @@ static void keep(wk_cpu_views *v, uint32_t h, const lm_patch *p)
 {
     wk_cpu_eval *e = &v->eval;
     wk_cpu_keys k = wk_cpu_view_keys(v, h);
-    wk_image_store_commit_pixels(v->img, h, e->log.idx, e->luma, e->log.n);
+    wk_image_store_commit_pixels(v->core.img, h, e->log.idx, e->luma, e->log.n);
     for (size_t j = 0; v->texf && j < e->log.n; j++) /* (unused where the surface is untextured) */
         memcpy(v->texf + 3 * (h * v->plane + e->log.idx[j]), e->texl + 3 * j, 3 * sizeof(float));
     uint32_t *count = v->count[h];
@@ -734,92 +701,50 @@ static void keep(wk_cpu_views *v, uint32_t h, const lm_patch *p)
 
 /* ---- evaluate and commit ------------------------------------------------------------------ */
 
-lm_status wk_cpu_build_buckets(wk_cpu_views *v)
-{
-    for (uint32_t h = 0; h < v->views.count; h++) {
-        lm_status st = wk_buckets_fill(v->buckets[h], &v->views.views[h], &v->rep);
-        if (st != LM_OK)
-            return st;
-    }
-    v->buckets_ready = 1;
-    return LM_OK;
-}
-
-static lm_status ready(wk_cpu_views *v)
-{
-    if (!v->mesh_set)
-        return lm_fail(LM_E_INVALID, "no mesh set: call set_mesh before evaluate/commit");
-    return v->buckets_ready ? LM_OK : wk_cpu_build_buckets(v);
-}
-
 static void gather_view(wk_cpu_views *v, const lm_patch *p, uint32_t h)
 {
-    if (!v->occlusion) /* no visible-pixel counts: every removed triangle is searched */
+    if (!v->core.occlusion) /* no visible-pixel counts: every removed triangle is searched */
         return;
-    if (h + 1 < v->views.count)
+    if (h + 1 < v->core.views.count)
         prefetch_subs(v, p, h + 1);
     wk_rect box = removed_box(v, p, h);
     if (box.x0 < box.x1 && (box.x1 - box.x0) * (box.y1 - box.y0) <= GATHER_MAX_PIXELS)
         v->eval.gathered += touch_rows(v, h, &box);
 }
 
-lm_status wk_cpu_evaluate(lm_views *base, const lm_patch *patches, uint32_t n, int64_t *delta)
+lm_status wk_cpu_evaluate(wk_views_core *c, const lm_patch *patches, uint32_t n, int64_t *delta)
 {
-    wk_cpu_views *v = (wk_cpu_views *)base;
-    lm_status st = ready(v);
-    if (st != LM_OK)
-        return st;
-    memset(delta, 0, n * sizeof *delta);
+    wk_cpu_views *v = (wk_cpu_views *)c;
+    lm_status st = LM_OK;
     for (uint32_t i = 0; st == LM_OK && i < n; i++) {
         st = prepare_patch(v, &patches[i]);
-        for (uint32_t h = 0; st == LM_OK && h < v->views.count; h++) {
+        for (uint32_t h = 0; st == LM_OK && h < v->core.views.count; h++) {
             gather_view(v, &patches[i], h);
             wk_cpu_keys k = wk_cpu_view_keys(v, h);
             st = view_pass(v, &patches[i], h, &k, &delta[i], 1);
             roll_back(v, h);
         }
-        v->stats.evaluations++;
+        v->core.stats.evaluations++;
     }
-    v->stats.batches++;
+    v->core.stats.batches++;
     return st;
 }
 
-/* Replica and buckets follow the committed patch. */
-static lm_status apply_patch(wk_cpu_views *v, const lm_patch *p)
+/* What the views keep of triangle id: its kept subs. */
+static void forget_tri(wk_views_core *c, uint32_t id)
 {
-    for (uint32_t i = 0; i < p->n_removed; i++) {
-        for (uint32_t h = 0; h < v->views.count; h++)
-            wk_buckets_remove(v->buckets[h], p->removed[i]);
-        wk_replica_kill(&v->rep, p->removed[i]);
-        wk_cpu_subcache_forget(&v->subcache, p->removed[i]);
-    }
-    for (uint32_t i = 0; i < p->n_added; i++) {
-        wk_cpu_subcache_forget(&v->subcache, p->added[i].id);
-        lm_status st = wk_replica_put(&v->rep, &p->added[i]);
-        if (st == LM_OK)
-            st = wk_cpu_subcache_reserve(&v->subcache, v->rep.cap);
-        for (uint32_t h = 0; st == LM_OK && h < v->views.count; h++) {
-            wk_footprint f;
-            wk_tri_footprint(&v->views.views[h], &p->added[i], &f);
-            st = wk_buckets_insert(v->buckets[h], p->added[i].id, &f);
-        }
-        if (st != LM_OK)
-            return st;
-    }
-    return LM_OK;
+    wk_cpu_subcache_forget(&((wk_cpu_views *)c)->subcache, id);
 }
 
-lm_status wk_cpu_commit(lm_views *base, const lm_patch *patch)
+lm_status wk_cpu_commit(wk_views_core *c, const lm_patch *patch)
 {
-    wk_cpu_views *v = (wk_cpu_views *)base;
-    lm_status st = ready(v);
-    if (st == LM_OK)
-        st = prepare_patch(v, patch);
+    wk_cpu_views *v = (wk_cpu_views *)c;
+    lm_status st = prepare_patch(v, patch);
     if (st == LM_OK)
         st = wk_cpu_count_reserve(v, v->eval.cap_ids);
     if (st != LM_OK)
         return st; /* nothing changed yet */
-    for (uint32_t h = 0; st == LM_OK && h < v->views.count; h++) {
+    for (uint32_t h = 0; st == LM_OK && h < v->core.views.count; h++) {
         gather_view(v, patch, h);
         wk_cpu_keys k = wk_cpu_view_keys(v, h);
         int64_t unused = 0;
@@ -829,12 +754,13 @@ lm_status wk_cpu_commit(lm_views *base, const lm_patch *patch)
         else
             roll_back(v, h);
     }
+    if (st == LM_OK) /* replica and buckets follow the patch */
+        st = wk_views_core_apply(c, patch, forget_tri);
     if (st == LM_OK)
-        st = apply_patch(v, patch);
-    v->seq += st == LM_OK;
+        st = wk_cpu_subcache_reserve(&v->subcache, v->core.rep.cap);
     if (st != LM_OK) {
-        v->mesh_set = 0; /* half-applied: refuse further work until set_mesh */
-        v->buckets_ready = 0;
+        v->core.mesh_set = 0; /* half-applied: refuse further work until set_mesh */
+        v->core.buckets_ready = 0;
     }
     return st;
 }

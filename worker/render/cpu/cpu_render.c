@@ -7,15 +7,14 @@
 #include <string.h>
 
 #include "worker/render/cpu/cpu_views_internal.h"
+#include "worker/render/shared/grow.h"
 
 lm_status wk_cpu_count_reserve(wk_cpu_views *v, size_t need)
 {
     if (need <= v->cap_count)
         return LM_OK;
-    size_t cap = v->cap_count ? v->cap_count : 1024;
-    while (cap < need)
-        cap *= 2;
-    for (uint32_t h = 0; h < v->views.count; h++) {
+    size_t cap = wk_grown_cap(v->cap_count, need, 1024);
+    for (uint32_t h = 0; h < v->core.views.count; h++) {
         uint32_t *c = realloc(v->count[h], cap * sizeof *c);
         if (!c)
             return lm_fail(LM_E_NOMEM, "out of memory for %zu visible-pixel counts", cap);
@@ -52,7 +51,7 @@ static void draw_all(wk_cpu_views *v, uint32_t h, const wk_cpu_source *src)
         k.key[p] = WK_CPU_KEY_BG;
         k.second[p] = WK_CPU_SECOND_NONE;
     }
-    const wk_cpu_clip all = {{0, 0, v->width, v->height}, NULL};
+    const wk_cpu_clip all = {{0, 0, v->core.width, v->core.height}, NULL};
     wk_cpu_sub subs[WK_CPU_MAX_SUBS];
     lm_tri_data tmp;
     size_t n_ids = source_ids(src);
@@ -75,8 +74,8 @@ static void shade_all(wk_cpu_views *v, uint32_t h, const wk_cpu_source *src, int
         rgba[4 * p + 3] = 255;
         y[p] = WK_CPU_BACKGROUND;
     }
-    const lm_view *view = &v->views.views[h];
-    const wk_rect all = {0, 0, v->width, v->height};
+    const lm_view *view = &v->core.views.views[h];
+    const wk_rect all = {0, 0, v->core.width, v->core.height};
     wk_cpu_sub subs[WK_CPU_MAX_SUBS];
     wk_cpu_shade sh;
     lm_tri_data tmp;
@@ -93,7 +92,7 @@ static void shade_all(wk_cpu_views *v, uint32_t h, const wk_cpu_source *src, int
             wk_cpu_shade_pixels(&subs[i], &sh, v->eval.owned, m, rgb, lum, texl, 0);
             for (size_t j = 0; j < m; j++) {
                 uint32_t xy = v->eval.owned[j];
-                size_t p = (size_t)WK_CPU_Y(xy) * v->width + WK_CPU_X(xy);
+                size_t p = (size_t)WK_CPU_Y(xy) * v->core.width + WK_CPU_X(xy);
                 if (v->texf && sh.tex)
                     memcpy(v->texf + 3 * (h * v->plane + p), texl + 3 * j, 3 * sizeof *texl);
                 rgba[4 * p] = rgb[j];
@@ -121,7 +120,7 @@ lm_status wk_cpu_render_view(wk_cpu_views *v, uint32_t h, const wk_cpu_source *s
             cnt[WK_CPU_KEY_ID(key[p])]++;
     shade_all(v, h, src, table, y, cnt);
     wk_cpu_keys k = wk_cpu_view_keys(v, h);
-    const wk_rect all = {0, 0, v->width, v->height};
+    const wk_rect all = {0, 0, v->core.width, v->core.height};
     wk_cpu_keys_update_tiles(&k, &all);
     if (!count)
         free(cnt);

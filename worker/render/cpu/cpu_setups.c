@@ -5,6 +5,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "worker/render/shared/grow.h"
+
 void wk_cpu_setups_reset(wk_cpu_setups *s)
 {
     s->n = 0;
@@ -49,9 +51,7 @@ static lm_status reserve(wk_cpu_setups *s, size_t need)
 {
     if (need <= s->cap)
         return LM_OK;
-    size_t cap = s->cap ? s->cap : 256;
-    while (cap < need)
-        cap *= 2;
+    size_t cap = wk_grown_cap(s->cap, need, 256);
     const wk_cpu_sub **a = realloc(s->sub, cap * sizeof *a);
     if (a)
         s->sub = a;

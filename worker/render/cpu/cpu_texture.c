@@ -1,10 +1,13 @@
 /* worker/render/cpu/cpu_texture.c — mip pyramids (box-filtered in integers, texels packed),
  * trilinear sampling of four points at a time with repeat wrapping (cpu_sample_lanes.h), and the
- * CPU backend's material tables (see cpu_texture.h). */
+ * CPU backend's material tables (see cpu_texture.h; filled as the GL one is, shared/materials.h).
+ */
 #include "worker/render/cpu/cpu_texture.h"
 
 #include <stdlib.h>
 #include <string.h>
+
+#include "worker/render/shared/materials.h"
 
 /* Level l + 1 (w x h, into dst) from level l (src bytes, above's size): each texel the rounded
  * mean of the 2x2 block above it (the last row or column repeated where a side is odd or 1). */
@@ -119,22 +122,18 @@ void wk_cpu_materials_free(wk_cpu_materials *t)
     memset(t, 0, sizeof *t);
 }
 
+static lm_status make_texture(const lm_image *img, void *handle)
+{
+    return wk_cpu_texture_create(img, handle);
+}
+
 lm_status wk_cpu_materials_set(wk_cpu_materials *t, const lm_material *mats, uint32_t n)
 {
     wk_cpu_materials_free(t);
-    t->tex = calloc(n ? n : 1, sizeof *t->tex);
-    t->diffuse = calloc(n ? n : 1, sizeof *t->diffuse);
-    if (!t->tex || !t->diffuse) {
-        wk_cpu_materials_free(t);
-        return lm_fail(LM_E_NOMEM, "out of memory for %u materials", n);
-    }
-    t->n = n;
-    lm_status st = LM_OK;
-    for (uint32_t i = 0; st == LM_OK && i < n; i++) {
-        memcpy(t->diffuse[i], mats[i].diffuse, sizeof t->diffuse[i]);
-        if (mats[i].texture)
-            st = wk_cpu_texture_create(mats[i].texture, &t->tex[i]);
-    }
+    void *tex;
+    lm_status st =
+        wk_materials_fill(mats, n, sizeof *t->tex, make_texture, &t->n, &t->diffuse, &tex);
+    t->tex = tex;
     if (st != LM_OK)
         wk_cpu_materials_free(t);
     return st;

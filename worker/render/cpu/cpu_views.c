@@ -1,13 +1,14 @@
 /* worker/render/cpu/cpu_views.c — the CPU views backend's life cycle: creation (target images of
- * the original), set_mesh and set_materials (full renders of the current mesh), energy, the
- * oracle's potentials, images, info, the extras that wk_views_local_* dispatch to, and the ops
- * table. Full renders are in cpu_render.c, evaluate and commit in cpu_eval.c. */
+ * the original), set_mesh and set_materials (full renders of the current mesh), its colour and
+ * coverage images, occlusion, and the backend table through which views_seam.c answers
+ * views_api.h. Full renders are in cpu_render.c, evaluate and commit in cpu_eval.c. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/mman.h>
 
 #include "worker/render/cpu/cpu_views_internal.h"
+#include "worker/render/shared/views_seam.h"
 
 /* Full renders of every view from src: keys, counts (current mesh only), luminance. */
 static lm_status render_all(wk_cpu_views *v, const wk_cpu_source *src, int table, int to_target)
@@ -16,12 +17,12 @@ static lm_status render_all(wk_cpu_views *v, const wk_cpu_source *src, int table
     if (!y)
         return lm_fail(LM_E_NOMEM, "out of memory rendering %zu pixels", v->plane);
     lm_status st = to_target ? LM_OK : wk_cpu_count_reserve(v, src->rep->cap);
-    for (uint32_t h = 0; st == LM_OK && h < v->views.count; h++) {
+    for (uint32_t h = 0; st == LM_OK && h < v->core.views.count; h++) {
         st = wk_cpu_render_view(v, h, src, table, y, to_target ? NULL : v->count[h]);
         if (st == LM_OK && to_target)
-            wk_image_store_set_target(v->img, h, y);
+            wk_image_store_set_target(v->core.img, h, y);
         else if (st == LM_OK)
-            wk_image_store_set_current(v->img, h, y);
+            wk_image_store_set_current(v->core.img, h, y);
     }
     free(y);
     return st;
@@ -29,115 +30,89 @@ static lm_status render_all(wk_cpu_views *v, const wk_cpu_source *src, int table
 
 static lm_status build_replica(wk_cpu_views *v, const lm_tri_data *tris, size_t n)
 {
-    wk_replica_clear(&v->rep);
+    wk_replica_clear(&v->core.rep);
     for (size_t i = 0; i < n; i++) {
         if (tris[i].id >= LM_MESH_MAX_TRIS)
             return lm_fail(LM_E_RANGE, "triangle id %u exceeds the limit", tris[i].id);
-        if (tris[i].material >= v->mats[v->table].n)
+        if (tris[i].material >= v->mats[v->core.table].n)
             return lm_fail(LM_E_RANGE, "triangle %u uses material %u of %u", tris[i].id,
-                           tris[i].material, v->mats[v->table].n);
-        if (wk_replica_alive(&v->rep, tris[i].id))
+                           tris[i].material, v->mats[v->core.table].n);
+        if (wk_replica_alive(&v->core.rep, tris[i].id))
             return lm_fail(LM_E_INVALID, "triangle id %u appears twice in the mesh", tris[i].id);
-        lm_status st = wk_replica_put(&v->rep, &tris[i]);
+        lm_status st = wk_replica_put(&v->core.rep, &tris[i]);
         if (st != LM_OK)
             return st;
     }
     return LM_OK;
 }
 
-static lm_status cv_set_mesh_records(wk_cpu_views *v, const lm_tri_data *tris, size_t n)
+static lm_status cv_set_mesh(wk_views_core *c, const lm_tri_data *tris, size_t n)
 {
+    wk_cpu_views *v = (wk_cpu_views *)c;
     if (n > LM_MESH_MAX_TRIS)
         return lm_fail(LM_E_RANGE, "mesh of %zu triangles exceeds the limit", n);
-    v->mesh_set = 0;
-    v->buckets_ready = 0; /* built on the first evaluate/commit: energy alone needs none */
+    v->core.mesh_set = 0;
+    v->core.buckets_ready = 0; /* built on the first evaluate/commit: energy alone needs none */
     wk_cpu_subcache_clear(&v->subcache);
     lm_status st = build_replica(v, tris, n);
     if (st == LM_OK)
-        st = wk_cpu_subcache_reserve(&v->subcache, v->rep.cap);
+        st = wk_cpu_subcache_reserve(&v->subcache, v->core.rep.cap);
     if (st == LM_OK) {
-        wk_cpu_source src = {.rep = &v->rep};
-        st = render_all(v, &src, v->table, 0);
+        wk_cpu_source src = {.rep = &v->core.rep};
+        st = render_all(v, &src, v->core.table, 0);
     }
-    v->mesh_set = st == LM_OK;
-    return st;
-}
-
-static lm_status cv_set_mesh(lm_views *base, const lm_tri_data *tris, size_t n)
-{
-    wk_cpu_views *v = (wk_cpu_views *)base;
-    lm_status st = cv_set_mesh_records(v, tris, n);
-    v->seq += st == LM_OK;
+    v->core.mesh_set = st == LM_OK;
     return st;
 }
 
 /* Re-render the replica from scratch (after a material change). */
 static lm_status rerender_replica(wk_cpu_views *v)
 {
-    wk_cpu_source src = {.rep = &v->rep};
-    lm_status st = render_all(v, &src, v->table, 0);
-    v->mesh_set = st == LM_OK;
+    wk_cpu_source src = {.rep = &v->core.rep};
+    lm_status st = render_all(v, &src, v->core.table, 0);
+    v->core.mesh_set = st == LM_OK;
     return st;
 }
 
-static lm_status cv_energy(lm_views *base, int64_t *total, int64_t *per_view)
+static const char *cv_renderer(const wk_views_core *c)
 {
-    wk_cpu_views *v = (wk_cpu_views *)base;
-    return wk_views_answer_energy(v->mesh_set, v->img, total, per_view);
+    (void)c;
+    return WK_CPU_RENDERER;
 }
 
-static lm_status cv_potentials(lm_views *base, const float (*points)[3], size_t n, int64_t *out)
+/* The backend's own parts (views_seam.c frees the core's). */
+static void cv_destroy(wk_views_core *c)
 {
-    wk_cpu_views *v = (wk_cpu_views *)base;
-    return wk_views_answer_potentials(v->mesh_set, v->img, &v->views, points, n, out);
-}
-
-static void cv_info(lm_views *base, lm_views_info *out)
-{
-    wk_cpu_views *v = (wk_cpu_views *)base;
-    wk_views_answer_info(out, &v->views, v->width, v->height, v->seq, &v->stats, WK_CPU_RENDERER);
-}
-
-static void cv_destroy(lm_views *base)
-{
-    wk_cpu_views *v = (wk_cpu_views *)base;
-    for (uint32_t h = 0; h < LM_MAX_VIEWS; h++) {
-        wk_buckets_destroy(v->buckets[h]);
+    wk_cpu_views *v = (wk_cpu_views *)c;
+    for (uint32_t h = 0; h < LM_MAX_VIEWS; h++)
         free(v->count[h]);
-    }
-    wk_image_store_destroy(v->img);
-    wk_replica_free(&v->rep);
     wk_cpu_materials_free(&v->mats[0]);
     wk_cpu_materials_free(&v->mats[1]);
-    wk_cpu_eval_free(&v->eval, v->views.count);
+    wk_cpu_eval_free(&v->eval, v->core.views.count);
     wk_cpu_subcache_free(&v->subcache);
     free(v->keys);
     free(v->tmax);
     free(v->second);
     free(v->texf);
     free(v->rgba);
-    free(v);
 }
 
-static lm_status cv_set_materials(lm_views *base, const lm_material *mats, uint32_t n);
-static lm_status cv_read_image(lm_views *base, lm_image_kind kind, uint32_t view, uint8_t *out);
+static lm_status cv_set_materials(wk_views_core *c, const lm_material *mats, uint32_t n);
+static lm_status cv_set_occlusion(wk_views_core *c, int on);
+static lm_status cv_read_rgba(wk_views_core *c, uint32_t view, uint8_t *out);
+static lm_status cv_read_coverage(wk_views_core *c, uint32_t view, uint8_t *out);
 
-static const lm_views_ops cv_ops = {
+static const wk_views_backend cv_backend = {
     .set_mesh = cv_set_mesh,
     .set_materials = cv_set_materials,
-    .evaluate = wk_cpu_evaluate,
     .commit = wk_cpu_commit,
-    .energy = cv_energy,
-    .potentials = cv_potentials,
-    .read_image = cv_read_image,
-    .info = cv_info,
+    .evaluate = wk_cpu_evaluate,
+    .read_rgba = cv_read_rgba,
+    .read_coverage = cv_read_coverage,
+    .renderer = cv_renderer,
+    .set_occlusion = cv_set_occlusion,
     .destroy = cv_destroy,
 };
-
-int wk_cpu_views_is(const lm_views *v)
-{
-    return v && v->ops == &cv_ops;
-}
 
 /* A large per-view table: asked for on huge pages where the system has them (evaluations touch
  * all views' tables in turn; with 4 KiB pages their address translations thrash). Free with
@@ -163,7 +138,7 @@ static lm_status need_texture_factors(wk_cpu_views *v, const wk_cpu_materials *m
         textured |= m->tex[i] != NULL;
     if (!textured || v->texf)
         return LM_OK;
-    v->texf = big_alloc(v->views.count * v->plane * 3 * sizeof *v->texf);
+    v->texf = big_alloc(v->core.views.count * v->plane * 3 * sizeof *v->texf);
     return v->texf ? LM_OK : lm_fail(LM_E_NOMEM, "out of memory for texture factors");
 }
 
@@ -193,16 +168,15 @@ static lm_status check_input(const lm_mesh *original, const lm_view_set *views, 
 
 static lm_status create_parts(wk_cpu_views *v, const lm_mesh *original)
 {
-    size_t n = v->views.count;
+    size_t n = v->core.views.count;
     v->keys = big_alloc(n * v->plane * sizeof *v->keys);
     v->tmax = malloc(n * v->tiles * sizeof *v->tmax);
     v->second = big_alloc(n * v->plane * sizeof *v->second);
     v->rgba = malloc(n * v->plane * 4);
     if (!v->keys || !v->tmax || !v->second || !v->rgba)
-        return lm_fail(LM_E_NOMEM, "out of memory for %zu views of %dx%d", n, v->width, v->height);
-    lm_status st = wk_image_store_create(v->views.count, v->width, v->height, &v->img);
-    for (uint32_t h = 0; st == LM_OK && h < n; h++)
-        st = wk_buckets_create(v->width, v->height, 0, &v->buckets[h]);
+        return lm_fail(LM_E_NOMEM, "out of memory for %zu views of %dx%d", n, v->core.width,
+                       v->core.height);
+    lm_status st = wk_views_core_create_parts(&v->core);
     if (st == LM_OK)
         st = wk_cpu_materials_set(&v->mats[0], original->materials, original->n_materials);
     if (st == LM_OK)
@@ -223,115 +197,64 @@ lm_status wk_cpu_views_create(const lm_mesh *original, const lm_view_set *views,
     wk_cpu_views *v = calloc(1, sizeof *v);
     if (!v)
         return lm_fail(LM_E_NOMEM, "out of memory creating the views");
-    v->base.ops = &cv_ops;
-    v->views.count = count;
-    memcpy(v->views.views, views->views + first, (size_t)count * sizeof *v->views.views);
+    wk_views_core_init(&v->core, views->views + first, count);
+    wk_views_seam_attach(&v->core, &cv_backend);
     for (uint32_t h = 0; h < count; h++)
-        wk_cpu_view_init(&v->views.views[h], &v->cviews[h]);
-    v->width = views->views[0].width;
-    v->height = views->views[0].height;
-    v->tiles_w = (v->width + WK_CPU_TILE - 1) / WK_CPU_TILE;
-    v->tiles_h = (v->height + WK_CPU_TILE - 1) / WK_CPU_TILE;
-    v->plane = (size_t)v->width * v->height;
+        wk_cpu_view_init(&v->core.views.views[h], &v->cviews[h]);
+    v->tiles_w = (v->core.width + WK_CPU_TILE - 1) / WK_CPU_TILE;
+    v->tiles_h = (v->core.height + WK_CPU_TILE - 1) / WK_CPU_TILE;
+    v->plane = (size_t)v->core.width * v->core.height;
     v->tiles = (size_t)v->tiles_w * v->tiles_h;
-    v->occlusion = 1;
-    wk_replica_init(&v->rep);
+    v->core.occlusion = 1;
     wk_cpu_subcache_init(&v->subcache, count);
     st = create_parts(v, original);
     if (st == LM_OK) {
         wk_cpu_source src = {.mesh = original};
         st = render_all(v, &src, 0, 1);
     }
-    if (st != LM_OK) {
-        cv_destroy(&v->base);
-        return st;
-    }
-    *out = &v->base;
-    return LM_OK;
+    return wk_views_seam_created(&v->core, st, out);
 }
 
 /* ---- extras ------------------------------------------------------------------------------ */
 
-static lm_status set_materials(lm_views *base, const lm_material *mats, uint32_t n)
+static lm_status cv_set_materials(wk_views_core *c, const lm_material *mats, uint32_t n)
 {
-    wk_cpu_views *v = (wk_cpu_views *)base;
+    wk_cpu_views *v = (wk_cpu_views *)c;
     lm_status st = wk_cpu_materials_set(&v->mats[1], mats, n);
     if (st == LM_OK)
         st = need_texture_factors(v, &v->mats[1]);
     if (st != LM_OK)
         return st;
-    v->table = 1;
-    if (!v->mesh_set)
+    v->core.table = 1;
+    if (!v->core.mesh_set)
         return LM_OK;
-    for (size_t id = 0; id < v->rep.cap; id++)
-        if (v->rep.alive[id] && v->rep.tris[id].material >= n) {
-            v->mesh_set = 0;
+    for (size_t id = 0; id < v->core.rep.cap; id++)
+        if (v->core.rep.alive[id] && v->core.rep.tris[id].material >= n) {
+            v->core.mesh_set = 0;
             return lm_fail(LM_E_RANGE, "triangle %zu uses material %u of %u", id,
-                           v->rep.tris[id].material, n);
+                           v->core.rep.tris[id].material, n);
         }
     return rerender_replica(v);
 }
 
-static lm_status cv_set_materials(lm_views *base, const lm_material *mats, uint32_t n)
+static lm_status cv_set_occlusion(wk_views_core *c, int on)
 {
-    lm_status st = set_materials(base, mats, n);
-    ((wk_cpu_views *)base)->seq += st == LM_OK;
-    return st;
-}
-
-lm_status wk_cpu_views_set_occlusion(lm_views *base, int on)
-{
-    ((wk_cpu_views *)base)->occlusion = on != 0;
+    c->occlusion = on != 0;
     return LM_OK;
 }
 
-void wk_cpu_views_get_stats(lm_views *base, wk_views_local_stats *out)
+static lm_status cv_read_rgba(wk_views_core *c, uint32_t view, uint8_t *out)
 {
-    *out = ((wk_cpu_views *)base)->stats;
-}
-
-static lm_status read_luma(lm_views *base, int which, uint32_t view, uint8_t *out)
-{
-    wk_cpu_views *v = (wk_cpu_views *)base;
-    if (view >= v->views.count)
-        return lm_fail(LM_E_RANGE, "view %u of %u", view, v->views.count);
-    const uint8_t *src =
-        which ? wk_image_store_target(v->img, view) : wk_image_store_current(v->img, view);
-    memcpy(out, src, v->plane);
-    return LM_OK;
-}
-
-static lm_status read_rgba(lm_views *base, uint32_t view, uint8_t *out)
-{
-    wk_cpu_views *v = (wk_cpu_views *)base;
-    if (view >= v->views.count)
-        return lm_fail(LM_E_RANGE, "view %u of %u", view, v->views.count);
+    wk_cpu_views *v = (wk_cpu_views *)c;
     memcpy(out, v->rgba + view * v->plane * 4, v->plane * 4);
     return LM_OK;
 }
 
-static lm_status read_coverage(lm_views *base, uint32_t view, uint8_t *out)
+static lm_status cv_read_coverage(wk_views_core *c, uint32_t view, uint8_t *out)
 {
-    wk_cpu_views *v = (wk_cpu_views *)base;
-    if (view >= v->views.count)
-        return lm_fail(LM_E_RANGE, "view %u of %u", view, v->views.count);
+    wk_cpu_views *v = (wk_cpu_views *)c;
     const uint64_t *key = v->keys + view * v->plane;
     for (size_t i = 0; i < v->plane; i++)
         out[i] = key[i] != WK_CPU_KEY_BG;
     return LM_OK;
-}
-
-static lm_status cv_read_image(lm_views *base, lm_image_kind kind, uint32_t view, uint8_t *out)
-{
-    switch (kind) {
-    case LM_IMAGE_TARGET_LUMA:
-        return read_luma(base, 1, view, out);
-    case LM_IMAGE_CURRENT_LUMA:
-        return read_luma(base, 0, view, out);
-    case LM_IMAGE_RGBA:
-        return read_rgba(base, view, out);
-    case LM_IMAGE_COVERAGE:
-        return read_coverage(base, view, out);
-    }
-    return lm_fail(LM_E_INVALID, "unknown image kind %d", (int)kind);
 }

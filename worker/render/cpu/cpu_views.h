@@ -5,15 +5,17 @@
  * of a patch rasterised straight into the exact int64 sum over the pixels it changes (no image
  * read-back). Images are the same bits on every host, compiler and optimisation level.
  *
- * wk_views_local_create(..., "cpu", ...) and the wk_views_local_* extras dispatch here; the
- * functions below are those extras for a views object made by wk_cpu_views_create. */
+ * wk_views_local_create(..., "cpu", ...) makes it here; its views_api.h calls and the
+ * wk_views_local_* extras go through the shared seam (worker/render/shared/views_seam.h). With
+ * occlusion off, every removed triangle is searched and every added one drawn in every view,
+ * without depth-tile rejection and without the shortcut for unchanged corners (slower, same
+ * images). */
 #ifndef LM_WORKER_CPU_VIEWS_H
 #define LM_WORKER_CPU_VIEWS_H
 
 #include "common/mesh.h"
 #include "common/view.h"
 #include "common/views_api.h"
-#include "worker/render/shared/views_stats.h"
 
 /* The CPU rasteriser's name and arithmetic version, as every image it makes records it. */
 #define WK_CPU_RASTERISER "lumesh exact rasteriser 1 (fixed point)"
@@ -27,12 +29,5 @@
  * the job's set; a view's images do not depend on which others are held with it. */
 lm_status wk_cpu_views_create(const lm_mesh *original, const lm_view_set *views, uint32_t first,
                               uint32_t count, lm_views **out);
-/* Whether v was made by wk_cpu_views_create. */
-int wk_cpu_views_is(const lm_views *v);
-
-/* Off: every removed triangle is searched and every added one drawn in every view, without
- * depth-tile rejection and without the shortcut for unchanged corners (slower, same images). */
-lm_status wk_cpu_views_set_occlusion(lm_views *v, int on);
-void wk_cpu_views_get_stats(lm_views *v, wk_views_local_stats *out);
 
 #endif

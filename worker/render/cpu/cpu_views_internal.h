@@ -14,7 +14,8 @@
 #include "worker/render/cpu/cpu_views.h"
 #include "worker/render/shared/buckets.h"
 #include "worker/render/shared/image_store.h"
-#include "worker/render/shared/views_answers.h"
+#include "worker/render/shared/patch_prepare.h"
+#include "worker/render/shared/views_core.h"
 
 /* Scratch of evaluate and commit (cpu_eval.c). Per-id arrays have cap_ids entries. */
 typedef struct wk_cpu_eval {
@@ -31,10 +32,10 @@ typedef struct wk_cpu_eval {
     uint64_t *cmax; /* [tiles]: greatest key of a masked tile's unresolved pixels */
     size_t n_mask;
     wk_cpu_setups set;
+    wk_patch_marks marks; /* the patch's removed and added ids (its stamp: marks.now) */
     size_t cap_ids;
-    uint32_t *removed_stamp, *added_stamp, *twin_stamp, *twin_of; /* per id */
-    uint32_t *textwin_stamp; /* twins whose material and texture coordinates stay too */
-    uint32_t patch_now;
+    uint32_t *twin_stamp, *twin_of;  /* per id: twins (stamped marks.now) and their records */
+    uint32_t *textwin_stamp;         /* twins whose material and texture coordinates stay too */
     wk_cpu_box box;                  /* of the patch's added triangles that are not twins */
     uint32_t *loc_stamp, *loc_first; /* per id: its subs in `set` during this pass */
     uint8_t *loc_n;
@@ -46,17 +47,11 @@ typedef struct wk_cpu_eval {
 } wk_cpu_eval;
 
 typedef struct wk_cpu_views {
-    lm_views base;
-    lm_view_set views;
+    wk_views_core core; /* first: views, images, replica, buckets, flags (views_core.h) */
     wk_cpu_view cviews[LM_MAX_VIEWS];
-    int width, height, tiles_w, tiles_h;
+    int tiles_w, tiles_h;
     size_t plane, tiles;
-    wk_image_store *img;
-    wk_buckets *buckets[LM_MAX_VIEWS];
-    wk_replica rep;
-    wk_cpu_materials mats[2]; /* 0: the original's, 1: the current model's when set */
-    int table;                /* material table of the current mesh */
-    int mesh_set, buckets_ready, occlusion;
+    wk_cpu_materials mats[2]; /* 0: the original's, 1: the current model's when set (core.table) */
     uint64_t *keys; /* [n_views * plane] keys of the current mesh (of the target while creating) */
     uint64_t *tmax; /* [n_views * tiles] */
     uint32_t *second; /* [n_views * plane] lower bounds of the second least keys (wk_cpu_keys) */
@@ -66,16 +61,14 @@ typedef struct wk_cpu_views {
     float *texf;   /* [n_views * plane * 3] texture factors of the visible surface (NULL: none) */
     wk_cpu_subcache subcache; /* subs of the current triangles */
     wk_cpu_eval eval;
-    wk_views_local_stats stats;
-    uint64_t seq; /* changes of state (lm_views_info) */
 } wk_cpu_views;
 
 static inline wk_cpu_keys wk_cpu_view_keys(wk_cpu_views *v, uint32_t h)
 {
     return (wk_cpu_keys){.key = v->keys + h * v->plane,
                          .tmax = v->tmax + h * v->tiles,
-                         .width = v->width,
-                         .height = v->height,
+                         .width = v->core.width,
+                         .height = v->core.height,
                          .tiles_w = v->tiles_w};
 }
 
@@ -95,12 +88,10 @@ lm_status wk_cpu_render_view(wk_cpu_views *v, uint32_t h, const wk_cpu_source *s
 /* Grow the visible-pixel counts to at least need ids (new ones 0). */
 lm_status wk_cpu_count_reserve(wk_cpu_views *v, size_t need);
 
-/* cpu_eval.c */
-lm_status wk_cpu_evaluate(lm_views *base, const lm_patch *patches, uint32_t n, int64_t *delta);
-lm_status wk_cpu_commit(lm_views *base, const lm_patch *patch);
+/* cpu_eval.c (the backend's evaluate and commit, views_seam.h) */
+lm_status wk_cpu_evaluate(wk_views_core *c, const lm_patch *patches, uint32_t n, int64_t *delta);
+lm_status wk_cpu_commit(wk_views_core *c, const lm_patch *patch);
 lm_status wk_cpu_eval_init(wk_cpu_views *v);
 void wk_cpu_eval_free(wk_cpu_eval *e, uint32_t n_views);
-/* (Re)build every view's buckets from the replica. */
-lm_status wk_cpu_build_buckets(wk_cpu_views *v);
 
 #endif

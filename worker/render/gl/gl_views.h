@@ -3,7 +3,9 @@
  * date through committed patches, patches evaluated incrementally (triangle buckets, scissored
  * redraw of the affected region of every view, one readback per batch). Made through
  * wk_views_local_create (worker/render/views_local.h), which checks the views and the original
- * first; the calls below are its GL side. */
+ * first; the call below is its GL side. Its views_api.h calls and the wk_views_local_* extras go
+ * through the shared seam (worker/render/shared/views_seam.h); occlusion is LM_E_UNSUPPORTED
+ * where the device cannot render depth images. */
 #ifndef LM_WORKER_RENDER_GL_GL_VIEWS_H
 #define LM_WORKER_RENDER_GL_GL_VIEWS_H
 
@@ -11,17 +13,11 @@
 #include "common/view.h"
 #include "common/views_api.h"
 #include "worker/render/gl/gl_context.h"
-#include "worker/render/shared/views_stats.h"
 
 /* Views `views` (this backend's own, in order) that sit at the positions `deal` gives among a
  * job's `total` views (the atlas places them as a backend holding all of them would, so splits
  * agree), rendered on ctx, which the views own from now on (destroyed here on failure). */
 lm_status wk_gl_views_create(const lm_mesh *original, const lm_view_set *views, lm_view_deal deal,
                              uint32_t total, wk_gl_context *ctx, lm_views **out);
-/* Whether v was made by wk_gl_views_create. */
-int wk_gl_views_is(const lm_views *v);
-/* LM_E_UNSUPPORTED when the device cannot render depth images. */
-lm_status wk_gl_views_set_occlusion(lm_views *v, int on);
-void wk_gl_views_get_stats(lm_views *v, wk_views_local_stats *out);
 
 #endif

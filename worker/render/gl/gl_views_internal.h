@@ -1,5 +1,5 @@
-/* worker/render/gl/gl_views_internal.h — state of the in-process views backend, shared by
- * views_local.c (life cycle, full renders, energy, oracle) and views_eval.c (evaluate, commit). */
+/* worker/render/gl/gl_views_internal.h — state of the GL views backend, shared by gl_views.c
+ * (life cycle, full renders, images) and views_eval.c (evaluate, commit). */
 #ifndef LM_WORKER_VIEWS_LOCAL_INTERNAL_H
 #define LM_WORKER_VIEWS_LOCAL_INTERNAL_H
 
@@ -10,7 +10,8 @@
 #include "worker/render/shared/buckets.h"
 #include "worker/render/shared/cover.h"
 #include "worker/render/shared/image_store.h"
-#include "worker/render/shared/views_answers.h"
+#include "worker/render/shared/patch_prepare.h"
+#include "worker/render/shared/views_core.h"
 
 #define WK_FULL_ATLAS 0      /* full renders (and the colour images they leave) */
 #define WK_SCRATCH_ATLASES 4 /* atlases 1..4: regions of up to 4 patches per readback */
@@ -32,20 +33,11 @@ typedef struct wk_hidden_memo {
 } wk_hidden_memo;
 
 typedef struct wk_views_local {
-    lm_views base;
+    wk_views_core core; /* first: views, images, replica, buckets, flags (views_core.h); its
+                         * occlusion needs depth images */
     wk_gl_context *ctx;
     void *egl_context; /* EGLContext of ctx, to skip redundant makeCurrent */
     wk_renderer *r;
-    lm_view_set views;
-    int width, height;
-    wk_image_store *img;
-    wk_buckets *buckets[LM_MAX_VIEWS];
-    wk_replica rep;
-    int mesh_set;
-    uint64_t seq;      /* changes of state so far (views_api.h) */
-    int buckets_ready; /* buckets match the replica */
-    int table;         /* material table of the current mesh */
-    int occlusion;     /* skip views where a patch is certainly hidden (needs depth images) */
     int scratch_depth; /* region renders write the scratch atlases' depth images (commit only) */
     /* the stream of one upload */
     lm_corner *stream;
@@ -62,9 +54,7 @@ typedef struct wk_views_local {
     size_t cap_rgba;
     /* scratch for building patches' triangle lists */
     wk_idlist cand;
-    uint32_t *mark; /* per id: stamp of the patch that removes it */
-    size_t cap_mark;
-    uint32_t mark_now;
+    wk_patch_marks marks; /* the patch's removed and added ids */
     lm_tri_data *sorted_added;
     size_t cap_sorted;
     wk_rect *visible; /* rectangles of a patch's visible removed triangles in one view */
@@ -82,12 +72,9 @@ typedef struct wk_views_local {
     /* copies of the patches of the last evaluation */
     lm_patch *cached;
     uint32_t n_cached, cap_cached;
-    wk_views_local_stats stats;
 } wk_views_local;
 
 lm_status wk_vl_make_current(wk_views_local *v);
-/* (Re)build every view's buckets from the replica. */
-lm_status wk_vl_build_buckets(wk_views_local *v);
 lm_status wk_vl_stream_reserve(wk_views_local *v, size_t n_tris);
 /* Append one triangle record to the stream. */
 static inline void wk_vl_stream_push(wk_views_local *v, const lm_tri_data *t)
@@ -100,8 +87,8 @@ static inline void wk_vl_stream_push(wk_views_local *v, const lm_tri_data *t)
 }
 
 /* evaluate / commit (views_eval.c) */
-lm_status wk_vl_evaluate(lm_views *base, const lm_patch *patches, uint32_t n, int64_t *delta);
-lm_status wk_vl_commit(lm_views *base, const lm_patch *patch);
+lm_status wk_vl_evaluate(wk_views_core *c, const lm_patch *patches, uint32_t n, int64_t *delta);
+lm_status wk_vl_commit(wk_views_core *c, const lm_patch *patch);
 void wk_vl_forget_cache(wk_views_local *v);
 void wk_vl_free_eval(wk_views_local *v);
 

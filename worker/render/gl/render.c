@@ -9,6 +9,7 @@
 
 #include "worker/render/gl/render_program.h"
 #include "worker/render/gl/render_textures.h"
+#include "worker/render/shared/grow.h"
 
 typedef struct wk_atlas {
     GLuint fbo[LM_MAX_VIEWS]; /* one per page */
@@ -370,9 +371,7 @@ lm_status wk_renderer_upload(wk_renderer *r, const lm_corner *corners, size_t n_
         return LM_OK;
     glBindBuffer(GL_ARRAY_BUFFER, r->vbo);
     if (bytes > r->vbo_bytes) {
-        size_t cap = r->vbo_bytes ? r->vbo_bytes : 65536;
-        while (cap < bytes)
-            cap *= 2;
+        size_t cap = wk_grown_cap(r->vbo_bytes, bytes, 65536);
         glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)cap, NULL, GL_STREAM_DRAW);
         r->vbo_bytes = cap;
         if (glGetError() != GL_NO_ERROR) {
@@ -437,9 +436,7 @@ static lm_status reserve_quads(wk_renderer *r, size_t n)
 {
     if (n <= r->cap_quads)
         return LM_OK;
-    size_t cap = r->cap_quads ? r->cap_quads : 256;
-    while (cap < n)
-        cap *= 2;
+    size_t cap = wk_grown_cap(r->cap_quads, n, 256);
     float *q = realloc(r->quads, cap * 18 * sizeof *q);
     if (!q)
         return lm_fail(LM_E_NOMEM, "out of memory for %zu region quads", cap);

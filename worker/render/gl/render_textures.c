@@ -1,12 +1,14 @@
 /* worker/render/gl/render_textures.c — material tables on the device: RGBA8 textures with mipmaps
  * and repeat wrapping, uploaded bottom row first so that uv (0,0) is the image's bottom-left corner
- * (the OBJ/GL convention); diffuse colours as uniform blocks. */
+ * (the OBJ/GL convention); diffuse colours as uniform blocks. The table is filled as the CPU
+ * backend's is (worker/render/shared/materials.h). */
 #include "worker/render/gl/render_textures.h"
 
 #include <stdlib.h>
 #include <string.h>
 
 #include "worker/render/gl/render_program.h"
+#include "worker/render/shared/materials.h"
 
 static void set_params(void)
 {
@@ -46,6 +48,12 @@ static lm_status upload(const lm_image *img, GLuint *out)
     }
     *out = tex;
     return LM_OK;
+}
+
+/* One texture of the table (wk_texture_make, materials.h). */
+static lm_status make_texture(const lm_image *img, void *handle)
+{
+    return upload(img, handle);
 }
 
 static void clear_table(wk_material_table *t)
@@ -88,19 +96,10 @@ static lm_status upload_blocks(wk_material_table *t)
 lm_status wk_material_table_set(wk_material_table *t, const lm_material *mats, uint32_t n)
 {
     clear_table(t);
-    t->tex = calloc(n ? n : 1, sizeof *t->tex);
-    t->diffuse = calloc(n ? n : 1, sizeof *t->diffuse);
-    if (!t->tex || !t->diffuse) {
-        clear_table(t);
-        return lm_fail(LM_E_NOMEM, "out of memory for %u materials", n);
-    }
-    t->n = n;
-    lm_status st = LM_OK;
-    for (uint32_t i = 0; st == LM_OK && i < n; i++) {
-        memcpy(t->diffuse[i], mats[i].diffuse, sizeof t->diffuse[i]);
-        if (mats[i].texture)
-            st = upload(mats[i].texture, &t->tex[i]);
-    }
+    void *tex;
+    lm_status st =
+        wk_materials_fill(mats, n, sizeof *t->tex, make_texture, &t->n, &t->diffuse, &tex);
+    t->tex = tex;
     if (st == LM_OK)
         st = upload_blocks(t);
     glBindTexture(GL_TEXTURE_2D, 0);

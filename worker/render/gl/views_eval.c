@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "worker/render/gl/gl_views_internal.h"
+#include "worker/render/shared/grow.h"
 
 /* Change this far behind the visible surface is certainly hidden (window depth units; a 24-bit
  * depth step is 6e-8). */
@@ -16,36 +17,13 @@
 
 /* ---- patch checks and the per-patch id marks ---------------------------------------------- */
 
-/* A per-id capacity of at least need: cap doubled (from 1024) as often as it takes. */
-static size_t grown_cap(size_t cap, size_t need)
-{
-    cap = cap ? cap : 1024;
-    while (cap < need)
-        cap *= 2;
-    return cap;
-}
-
-static lm_status mark_reserve(wk_views_local *v, size_t need)
-{
-    if (need <= v->cap_mark)
-        return LM_OK;
-    size_t cap = grown_cap(v->cap_mark, need);
-    uint32_t *m = realloc(v->mark, cap * sizeof *m);
-    if (!m)
-        return lm_fail(LM_E_NOMEM, "out of memory for %zu triangle marks", cap);
-    memset(m + v->cap_mark, 0, (cap - v->cap_mark) * sizeof *m);
-    v->mark = m;
-    v->cap_mark = cap;
-    return LM_OK;
-}
-
 /* The whole-footprint hidden memo for ids below need (forgotten when it grows). */
 static lm_status hidden_reserve(wk_views_local *v, size_t need)
 {
     if (need <= v->cap_hidden)
         return LM_OK;
-    size_t cap = grown_cap(v->cap_hidden, need);
-    wk_hidden_memo *m = calloc((size_t)v->views.count * cap, sizeof *m);
+    size_t cap = wk_grown_cap(v->cap_hidden, need, 1024);
+    wk_hidden_memo *m = calloc((size_t)v->core.views.count * cap, sizeof *m);
     if (!m)
         return lm_fail(LM_E_NOMEM, "out of memory for %zu hidden-test memos", cap);
     free(v->hidden);
@@ -60,11 +38,11 @@ static const wk_hidden_memo *hidden_whole(wk_views_local *v, uint32_t h, uint32_
                                           const wk_footprint *f)
 {
     wk_hidden_memo *m = &v->hidden[(size_t)h * v->cap_hidden + id];
-    uint32_t version = wk_image_store_depth_version(v->img, h);
+    uint32_t version = wk_image_store_depth_version(v->core.img, h);
     if (!m->known || m->version != version) {
         int w[2];
-        m->hidden =
-            (uint8_t)wk_image_store_hidden_tri_witness(v->img, h, f, &f->rect, WK_HIDDEN_EPS, w);
+        m->hidden = (uint8_t)wk_image_store_hidden_tri_witness(v->core.img, h, f, &f->rect,
+                                                               WK_HIDDEN_EPS, w);
         m->witness[0] = (int16_t)w[0];
         m->witness[1] = (int16_t)w[1];
         m->version = version;
@@ -76,17 +54,8 @@ static const wk_hidden_memo *hidden_whole(wk_views_local *v, uint32_t h, uint32_
 static void hidden_forget(wk_views_local *v, uint32_t id)
 {
     if (id < v->cap_hidden)
-        for (uint32_t h = 0; h < v->views.count; h++)
+        for (uint32_t h = 0; h < v->core.views.count; h++)
             v->hidden[(size_t)h * v->cap_hidden + id].known = 0;
-}
-
-static uint32_t next_stamp(wk_views_local *v)
-{
-    if (++v->mark_now == 0) {
-        memset(v->mark, 0, v->cap_mark * sizeof *v->mark);
-        v->mark_now = 1;
-    }
-    return v->mark_now;
 }
 
 static void sort_added(lm_tri_data *a, size_t n)
@@ -113,39 +82,21 @@ static lm_status check_boundary(wk_views_local *v, const lm_patch *p)
         v->cap_removed_tris = p->n_removed;
     }
     for (uint32_t i = 0; i < p->n_removed; i++)
-        v->removed_tris[i] = &v->rep.tris[p->removed[i]];
+        v->removed_tris[i] = &v->core.rep.tris[p->removed[i]];
     return wk_cover_patch_prepare(&v->cover_patch, v->removed_tris, p->n_removed, p->added,
                                   p->n_added);
 }
 
-/* Validates p against the replica, marks its removed ids with a fresh stamp and leaves its added
- * records sorted by id in v->sorted_added. */
-static lm_status prepare_patch(wk_views_local *v, const lm_patch *p, uint32_t *stamp)
+/* Validates p against the replica (patch_prepare.h), marks its removed and added ids and leaves
+ * its added records sorted by id in v->sorted_added. */
+static lm_status prepare_patch(wk_views_local *v, const lm_patch *p)
 {
-    uint32_t n_mat = wk_renderer_material_count(v->r, v->table);
-    size_t need = v->rep.cap;
-    for (uint32_t i = 0; i < p->n_added; i++) {
-        if (p->added[i].id >= LM_MESH_MAX_TRIS)
-            return lm_fail(LM_E_RANGE, "patch adds triangle id %u beyond the limit",
-                           p->added[i].id);
-        if (p->added[i].material >= n_mat)
-            return lm_fail(LM_E_RANGE, "patch triangle %u uses material %u of %u", p->added[i].id,
-                           p->added[i].material, n_mat);
-        need = p->added[i].id + 1u > need ? p->added[i].id + 1u : need;
-    }
-    lm_status st = mark_reserve(v, need);
-    if (st == LM_OK && v->occlusion)
-        st = hidden_reserve(v, need);
+    uint32_t n_mat = wk_renderer_material_count(v->r, v->core.table);
+    lm_status st = wk_patch_prepare(&v->marks, &v->core.rep, n_mat, p);
+    if (st == LM_OK && v->core.occlusion)
+        st = hidden_reserve(v, v->marks.cap);
     if (st != LM_OK)
         return st;
-    *stamp = next_stamp(v);
-    for (uint32_t i = 0; i < p->n_removed; i++) {
-        uint32_t id = p->removed[i];
-        if (!wk_replica_alive(&v->rep, id) || v->mark[id] == *stamp)
-            return lm_fail(LM_E_INVALID, "patch removes triangle %u which is %s", id,
-                           wk_replica_alive(&v->rep, id) ? "listed twice" : "not in the mesh");
-        v->mark[id] = *stamp;
-    }
     if (p->n_added > v->cap_sorted) {
         lm_tri_data *s = realloc(v->sorted_added, p->n_added * sizeof *s);
         if (!s)
@@ -155,15 +106,7 @@ static lm_status prepare_patch(wk_views_local *v, const lm_patch *p, uint32_t *s
     }
     memcpy(v->sorted_added, p->added, p->n_added * sizeof *p->added);
     sort_added(v->sorted_added, p->n_added);
-    for (uint32_t i = 0; i < p->n_added; i++) {
-        uint32_t id = v->sorted_added[i].id;
-        if ((i > 0 && v->sorted_added[i - 1].id == id) ||
-            (wk_replica_alive(&v->rep, id) && v->mark[id] != *stamp))
-            return lm_fail(LM_E_INVALID, "patch adds triangle %u which is %s", id,
-                           i > 0 && v->sorted_added[i - 1].id == id ? "listed twice"
-                                                                    : "alive and not removed");
-    }
-    return v->occlusion ? check_boundary(v, p) : LM_OK;
+    return v->core.occlusion ? check_boundary(v, p) : LM_OK;
 }
 
 /* ---- jobs ------------------------------------------------------------------------------- */
@@ -216,7 +159,7 @@ static lm_status patch_region(wk_views_local *v, const lm_patch *p, uint32_t h, 
                               uint32_t *n_visible)
 {
     *r = (wk_rect){0, 0, 0, 0};
-    if (v->occlusion && p->n_removed > v->cap_visible) {
+    if (v->core.occlusion && p->n_removed > v->cap_visible) {
         wk_rect *a = realloc(v->visible, p->n_removed * sizeof *a);
         if (!a)
             return lm_fail(LM_E_NOMEM, "out of memory for %u rectangles", p->n_removed);
@@ -224,15 +167,15 @@ static lm_status patch_region(wk_views_local *v, const lm_patch *p, uint32_t h, 
         v->cap_visible = p->n_removed;
     }
     uint32_t n_vis = 0;
-    lm_status st = v->occlusion
-                       ? wk_cover_begin(&v->cover, &v->cover_patch,
-                                        (size_t)p->n_removed + p->n_added, v->width, v->height)
-                       : LM_OK;
+    lm_status st = v->core.occlusion ? wk_cover_begin(&v->cover, &v->cover_patch,
+                                                      (size_t)p->n_removed + p->n_added,
+                                                      v->core.width, v->core.height)
+                                     : LM_OK;
     if (st != LM_OK)
         return st;
     for (uint32_t i = 0; i < p->n_removed; i++) {
-        const wk_footprint *f = wk_buckets_footprint(v->buckets[h], p->removed[i]);
-        if (v->occlusion) {
+        const wk_footprint *f = wk_buckets_footprint(v->core.buckets[h], p->removed[i]);
+        if (v->core.occlusion) {
             if (!v->cover_patch.twin[i])
                 wk_cover_feed(&v->cover, f, 0);
             if (hidden_whole(v, h, p->removed[i], f)->hidden)
@@ -243,12 +186,12 @@ static lm_status patch_region(wk_views_local *v, const lm_patch *p, uint32_t h, 
     }
     for (uint32_t i = 0; i < p->n_added; i++) {
         wk_footprint f;
-        wk_tri_footprint(&v->views.views[h], &p->added[i], &f);
-        if (v->occlusion && !v->cover_patch.twin[p->n_removed + i])
+        wk_tri_footprint(&v->core.views.views[h], &p->added[i], &f);
+        if (v->core.occlusion && !v->cover_patch.twin[p->n_removed + i])
             wk_cover_feed(&v->cover, &f, 1);
         if (rect_within(&f.rect, r))
             continue; /* the region holds it whether it shows or not */
-        if (v->occlusion && wk_image_store_hidden_tri(v->img, h, &f, WK_HIDDEN_EPS)) {
+        if (v->core.occlusion && wk_image_store_hidden_tri(v->core.img, h, &f, WK_HIDDEN_EPS)) {
             uint32_t k = 0;
             while (k < n_vis && !wk_rects_meet(&v->visible[k], &f.rect))
                 k++;
@@ -270,7 +213,7 @@ static lm_status patch_region(wk_views_local *v, const lm_patch *p, uint32_t h, 
 static int occluded_in_region(wk_views_local *v, uint32_t h, uint32_t id, const wk_rect *r,
                               uint32_t n_vis)
 {
-    const wk_footprint *f = wk_buckets_footprint(v->buckets[h], id);
+    const wk_footprint *f = wk_buckets_footprint(v->core.buckets[h], id);
     const wk_hidden_memo *m = hidden_whole(v, h, id, f);
     const int16_t *w = m->witness;
     if (!m->hidden && w[0] >= r->x0 && w[0] < r->x1 && w[1] >= r->y0 && w[1] < r->y1)
@@ -283,22 +226,22 @@ static int occluded_in_region(wk_views_local *v, uint32_t h, uint32_t id, const 
         if (!wk_cover_front_of(&v->cover, &in, f->zmin - WK_HIDDEN_EPS))
             return 0;
     }
-    return m->hidden || wk_image_store_hidden_tri_in(v->img, h, f, r, WK_HIDDEN_EPS);
+    return m->hidden || wk_image_store_hidden_tri_in(v->core.img, h, f, r, WK_HIDDEN_EPS);
 }
 
 /* Stream (T_R \ T) ∪ T' for view h in ascending id order; T' = v->sorted_added (n_added); with
  * occlusion on, kept triangles certainly hidden in the region are left out. */
-static lm_status stream_region(wk_views_local *v, uint32_t h, const wk_rect *r, uint32_t stamp,
-                               uint32_t n_added, uint32_t n_vis, size_t *count)
+static lm_status stream_region(wk_views_local *v, uint32_t h, const wk_rect *r, uint32_t n_added,
+                               uint32_t n_vis, size_t *count)
 {
     v->cand.n = 0;
-    lm_status st = wk_buckets_query(v->buckets[h], r, &v->cand);
+    lm_status st = wk_buckets_query(v->core.buckets[h], r, &v->cand);
     if (st != LM_OK)
         return st;
     size_t k = 0;
     for (size_t i = 0; i < v->cand.n; i++)
-        if (v->mark[v->cand.ids[i]] != stamp &&
-            !(v->occlusion && occluded_in_region(v, h, v->cand.ids[i], r, n_vis)))
+        if (!wk_patch_removes(&v->marks, v->cand.ids[i]) &&
+            !(v->core.occlusion && occluded_in_region(v, h, v->cand.ids[i], r, n_vis)))
             v->cand.ids[k++] = v->cand.ids[i];
     if (k <= 64)
         sort_ids(v->cand.ids, k);
@@ -309,7 +252,7 @@ static lm_status stream_region(wk_views_local *v, uint32_t h, const wk_rect *r, 
     size_t a = 0, b = 0;
     while (a < k || b < n_added) {
         if (b >= n_added || (a < k && v->cand.ids[a] < v->sorted_added[b].id))
-            wk_vl_stream_push(v, &v->rep.tris[v->cand.ids[a++]]);
+            wk_vl_stream_push(v, &v->core.rep.tris[v->cand.ids[a++]]);
         else
             wk_vl_stream_push(v, &v->sorted_added[b++]);
     }
@@ -320,19 +263,18 @@ static lm_status stream_region(wk_views_local *v, uint32_t h, const wk_rect *r, 
 /* Jobs of one patch (index pi of the batch) for every view its region touches. */
 static lm_status plan_patch(wk_views_local *v, const lm_patch *p, uint32_t pi)
 {
-    uint32_t stamp = 0;
-    lm_status st = prepare_patch(v, p, &stamp);
-    for (uint32_t h = 0; st == LM_OK && h < v->views.count; h++) {
+    lm_status st = prepare_patch(v, p);
+    for (uint32_t h = 0; st == LM_OK && h < v->core.views.count; h++) {
         wk_job j = {.patch = pi, .view = h, .first = v->stream_n, .luma = v->n_luma};
         uint32_t n_vis = 0;
         st = patch_region(v, p, h, &j.rect, &n_vis);
         if (st == LM_OK && wk_rect_empty(&j.rect)) {
-            v->stats.views_skipped++;
+            v->core.stats.views_skipped++;
             continue;
         }
         if (st != LM_OK)
             break;
-        st = stream_region(v, h, &j.rect, stamp, p->n_added, n_vis, &j.count);
+        st = stream_region(v, h, &j.rect, p->n_added, n_vis, &j.count);
         if (st == LM_OK)
             st = push_job(v, &j);
         v->n_luma += (size_t)(j.rect.x1 - j.rect.x0) * (j.rect.y1 - j.rect.y0);
@@ -344,9 +286,7 @@ static lm_status reserve_bytes(uint8_t **buf, size_t *cap, size_t need)
 {
     if (need <= *cap)
         return LM_OK;
-    size_t c = *cap ? *cap : 65536;
-    while (c < need)
-        c *= 2;
+    size_t c = wk_grown_cap(*cap, need, 65536);
     uint8_t *b = realloc(*buf, c);
     if (!b)
         return lm_fail(LM_E_NOMEM, "out of memory for %zu bytes of pixels", c);
@@ -373,7 +313,7 @@ static lm_status draw_patch_jobs(wk_views_local *v, size_t a, size_t b, uint32_t
     for (size_t j = a; st == LM_OK && j < b; j++) {
         const wk_job *job = &v->jobs[j];
         wk_draw d = {atlas, job->view, job->first, job->count, job->rect};
-        st = wk_renderer_draw(v->r, v->table, &d, v->stream_mat);
+        st = wk_renderer_draw(v->r, v->core.table, &d, v->stream_mat);
     }
     return st;
 }
@@ -401,10 +341,10 @@ static lm_status run_jobs(wk_views_local *v, size_t j0, size_t j1, uint32_t p0)
         if (st == LM_OK)
             wk_luma_from_rgba(v->rgba, area, v->luma + job->luma);
     }
-    v->stats.batches++;
-    v->stats.tris_drawn += v->stream_n;
-    v->stats.regions += j1 - j0;
-    v->stats.region_pixels += v->n_luma - v->jobs[j0].luma;
+    v->core.stats.batches++;
+    v->core.stats.tris_drawn += v->stream_n;
+    v->core.stats.regions += j1 - j0;
+    v->core.stats.region_pixels += v->n_luma - v->jobs[j0].luma;
     return st == LM_OK ? wk_renderer_check(v->r, "rendering patch regions") : st;
 }
 
@@ -427,7 +367,7 @@ void wk_vl_free_eval(wk_views_local *v)
     free(v->zreg);
     free(v->rgba);
     free(v->cand.ids);
-    free(v->mark);
+    wk_patch_marks_free(&v->marks);
     free(v->sorted_added);
     free(v->visible);
     free(v->removed_tris);
@@ -485,59 +425,29 @@ static lm_status evaluate_batch(wk_views_local *v, const lm_patch *patches, uint
             st = run_jobs(v, j0, v->n_jobs, p0);
         for (size_t j = j0; st == LM_OK && j < v->n_jobs; j++) {
             const wk_job *job = &v->jobs[j];
-            delta[job->patch] +=
-                wk_image_store_region_delta(v->img, job->view, &job->rect, v->luma + job->luma);
+            delta[job->patch] += wk_image_store_region_delta(v->core.img, job->view, &job->rect,
+                                                             v->luma + job->luma);
         }
     }
     for (uint32_t i = 0; st == LM_OK && i < n; i++)
         st = cache_patch(v, &patches[i]);
     if (st != LM_OK)
         wk_vl_forget_cache(v);
-    v->stats.evaluations += n;
+    v->core.stats.evaluations += n;
     return st;
 }
 
-static lm_status ready(wk_views_local *v)
+lm_status wk_vl_evaluate(wk_views_core *c, const lm_patch *patches, uint32_t n, int64_t *delta)
 {
-    if (!v->mesh_set)
-        return lm_fail(LM_E_INVALID, "no mesh set: call set_mesh before evaluate/commit");
+    wk_views_local *v = (wk_views_local *)c;
     lm_status st = wk_vl_make_current(v);
-    if (st == LM_OK && !v->buckets_ready)
-        st = wk_vl_build_buckets(v);
-    return st;
+    return st == LM_OK ? evaluate_batch(v, patches, n, delta) : st;
 }
 
-lm_status wk_vl_evaluate(lm_views *base, const lm_patch *patches, uint32_t n, int64_t *delta)
+/* What the views keep of triangle id: its hidden-test memos. */
+static void forget_tri(wk_views_core *c, uint32_t id)
 {
-    wk_views_local *v = (wk_views_local *)base;
-    lm_status st = ready(v);
-    if (st != LM_OK)
-        return st;
-    memset(delta, 0, n * sizeof *delta);
-    return evaluate_batch(v, patches, n, delta);
-}
-
-/* Replica and buckets follow the committed patch. */
-static lm_status apply_patch(wk_views_local *v, const lm_patch *p)
-{
-    for (uint32_t i = 0; i < p->n_removed; i++) {
-        hidden_forget(v, p->removed[i]);
-        for (uint32_t h = 0; h < v->views.count; h++)
-            wk_buckets_remove(v->buckets[h], p->removed[i]);
-        wk_replica_kill(&v->rep, p->removed[i]);
-    }
-    for (uint32_t i = 0; i < p->n_added; i++) {
-        hidden_forget(v, p->added[i].id);
-        lm_status st = wk_replica_put(&v->rep, &p->added[i]);
-        for (uint32_t h = 0; st == LM_OK && h < v->views.count; h++) {
-            wk_footprint f;
-            wk_tri_footprint(&v->views.views[h], &p->added[i], &f);
-            st = wk_buckets_insert(v->buckets[h], p->added[i].id, &f);
-        }
-        if (st != LM_OK)
-            return st;
-    }
-    return LM_OK;
+    hidden_forget((wk_views_local *)c, id);
 }
 
 /* The first patch of the batch's last group: only the regions of patches from there on are still
@@ -561,43 +471,42 @@ static lm_status read_depths(wk_views_local *v, uint32_t k)
     return st == LM_OK ? wk_renderer_check(v->r, "reading patch depth images") : st;
 }
 
-lm_status wk_vl_commit(lm_views *base, const lm_patch *patch)
+lm_status wk_vl_commit(wk_views_core *c, const lm_patch *patch)
 {
-    wk_views_local *v = (wk_views_local *)base;
-    lm_status st = ready(v);
+    wk_views_local *v = (wk_views_local *)c;
+    lm_status st = wk_vl_make_current(v);
     if (st != LM_OK)
         return st;
     uint32_t k = 0;
     while (k < v->n_cached && !patch_equal(&v->cached[k], patch))
         k++;
-    if (k < v->n_cached && !v->occlusion) {
-        v->stats.commits_cached++;
+    if (k < v->n_cached && !v->core.occlusion) {
+        v->core.stats.commits_cached++;
     } else {
         int64_t unused = 0;
-        v->scratch_depth = v->occlusion;
+        v->scratch_depth = v->core.occlusion;
         st = evaluate_batch(v, patch, 1, &unused);
         v->scratch_depth = 0;
         if (st != LM_OK)
             return st;
-        v->stats.evaluations--; /* a commit's render is not an evaluation */
+        v->core.stats.evaluations--; /* a commit's render is not an evaluation */
         k = 0;
     }
-    if (v->occlusion && (st = read_depths(v, k)) != LM_OK)
+    if (v->core.occlusion && (st = read_depths(v, k)) != LM_OK)
         return st;
     for (size_t j = 0; j < v->n_jobs; j++) {
         const wk_job *job = &v->jobs[j];
         if (job->patch != k)
             continue;
-        wk_image_store_commit_region(v->img, job->view, &job->rect, v->luma + job->luma);
-        if (v->occlusion)
-            wk_image_store_commit_depth(v->img, job->view, &job->rect, v->zreg + job->luma);
+        wk_image_store_commit_region(v->core.img, job->view, &job->rect, v->luma + job->luma);
+        if (v->core.occlusion)
+            wk_image_store_commit_depth(v->core.img, job->view, &job->rect, v->zreg + job->luma);
     }
     wk_vl_forget_cache(v);
-    st = apply_patch(v, patch);
+    st = wk_views_core_apply(c, patch, forget_tri); /* replica and buckets follow the patch */
     if (st != LM_OK) {
-        v->mesh_set = 0; /* half-applied: refuse further work until set_mesh */
-        v->buckets_ready = 0;
+        v->core.mesh_set = 0; /* half-applied: refuse further work until set_mesh */
+        v->core.buckets_ready = 0;
     }
-    v->seq += st == LM_OK;
     return st;
 }

@@ -9,6 +9,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "worker/render/shared/grow.h"
+
 #define WK_BUCKET_DEFAULT_CELL 16
 
 typedef struct wk_cell {
@@ -141,9 +143,7 @@ lm_status wk_idlist_reserve(wk_idlist *l, size_t need)
 {
     if (need <= l->cap)
         return LM_OK;
-    size_t cap = l->cap ? l->cap : 64;
-    while (cap < need)
-        cap *= 2;
+    size_t cap = wk_grown_cap(l->cap, need, 64);
     uint32_t *ids = realloc(l->ids, cap * sizeof *ids);
     if (!ids)
         return lm_fail(LM_E_NOMEM, "out of memory growing an id list to %zu", cap);
@@ -198,9 +198,7 @@ static lm_status grow_ids(wk_buckets *b, uint32_t id)
 {
     if (id < b->cap_ids)
         return LM_OK;
-    size_t cap = b->cap_ids ? b->cap_ids : 256;
-    while (cap <= id)
-        cap *= 2;
+    size_t cap = wk_grown_cap(b->cap_ids, (size_t)id + 1, 256);
     wk_footprint *r = realloc(b->fp, cap * sizeof *r);
     if (r)
         b->fp = r;
