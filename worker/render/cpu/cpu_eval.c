@@ -21,8 +21,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "common/grow.h"
 #include "worker/render/cpu/cpu_views_internal.h"
-#include "worker/render/shared/grow.h"
 
 enum { F_HOLE = 1, F_RESHADE = 2, F_NEW = 3 };
 
@@ -87,7 +87,7 @@ static lm_status ids_reserve(wk_cpu_eval *e, size_t need)
 {
     if (need <= e->cap_ids)
         return LM_OK;
-    size_t cap = wk_grown_cap(e->cap_ids, need, 1024), old = e->cap_ids;
+    size_t cap = lm_grow_cap(e->cap_ids, need, 1024, SIZE_MAX), old = e->cap_ids;
     void **u32[] = {(void **)&e->twin_stamp, (void **)&e->textwin_stamp, (void **)&e->twin_of,
                     (void **)&e->loc_stamp, (void **)&e->loc_first};
     for (size_t i = 0; i < sizeof u32 / sizeof *u32; i++)

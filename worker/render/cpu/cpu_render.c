@@ -6,14 +6,14 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "common/grow.h"
 #include "worker/render/cpu/cpu_views_internal.h"
-#include "worker/render/shared/grow.h"
 
 lm_status wk_cpu_count_reserve(wk_cpu_views *v, size_t need)
 {
     if (need <= v->cap_count)
         return LM_OK;
-    size_t cap = wk_grown_cap(v->cap_count, need, 1024);
+    size_t cap = lm_grow_cap(v->cap_count, need, 1024, SIZE_MAX);
     for (uint32_t h = 0; h < v->core.views.count; h++) {
         uint32_t *c = realloc(v->count[h], cap * sizeof *c);
         if (!c)

@@ -5,7 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "worker/render/shared/grow.h"
+#include "common/grow.h"
 
 void wk_cpu_setups_reset(wk_cpu_setups *s)
 {
@@ -51,7 +51,7 @@ static lm_status reserve(wk_cpu_setups *s, size_t need)
 {
     if (need <= s->cap)
         return LM_OK;
-    size_t cap = wk_grown_cap(s->cap, need, 256);
+    size_t cap = lm_grow_cap(s->cap, need, 256, SIZE_MAX);
     const wk_cpu_sub **a = realloc(s->sub, cap * sizeof *a);
     if (a)
         s->sub = a;

@@ -5,7 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "worker/render/shared/grow.h"
+#include "common/grow.h"
 
 void wk_cpu_subcache_init(wk_cpu_subcache *c, uint32_t n_views)
 {
@@ -28,7 +28,7 @@ lm_status wk_cpu_subcache_reserve(wk_cpu_subcache *c, size_t need)
 {
     if (!c->enabled || need <= c->cap)
         return LM_OK;
-    size_t cap = wk_grown_cap(c->cap, need, 1024);
+    size_t cap = lm_grow_cap(c->cap, need, 1024, SIZE_MAX);
     if (cap * c->n_views * sizeof(wk_cpu_sub) > WK_CPU_SUBCACHE_BYTES) {
         wk_cpu_subcache_free(c);
         c->enabled = 0; /* too large a mesh for the table: set up each time */

@@ -8,8 +8,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "common/grow.h"
 #include "worker/render/gl/gl_views_internal.h"
-#include "worker/render/shared/grow.h"
 #include "worker/render/shared/views_seam.h"
 
 lm_status wk_vl_make_current(wk_views_local *v)
@@ -26,7 +26,7 @@ lm_status wk_vl_stream_reserve(wk_views_local *v, size_t n_tris)
 {
     if (n_tris <= v->stream_cap)
         return LM_OK;
-    size_t cap = wk_grown_cap(v->stream_cap, n_tris, 4096);
+    size_t cap = lm_grow_cap(v->stream_cap, n_tris, 4096, SIZE_MAX);
     lm_corner *s = realloc(v->stream, cap * 3 * sizeof *s);
     if (s)
         v->stream = s;

@@ -7,9 +7,9 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "common/grow.h"
 #include "worker/render/gl/render_program.h"
 #include "worker/render/gl/render_textures.h"
-#include "worker/render/shared/grow.h"
 
 typedef struct wk_atlas {
     GLuint fbo[LM_MAX_VIEWS]; /* one per page */
@@ -371,7 +371,7 @@ lm_status wk_renderer_upload(wk_renderer *r, const lm_corner *corners, size_t n_
         return LM_OK;
     glBindBuffer(GL_ARRAY_BUFFER, r->vbo);
     if (bytes > r->vbo_bytes) {
-        size_t cap = wk_grown_cap(r->vbo_bytes, bytes, 65536);
+        size_t cap = lm_grow_cap(r->vbo_bytes, bytes, 65536, SIZE_MAX);
         glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)cap, NULL, GL_STREAM_DRAW);
         r->vbo_bytes = cap;
         if (glGetError() != GL_NO_ERROR) {
@@ -436,7 +436,7 @@ static lm_status reserve_quads(wk_renderer *r, size_t n)
 {
     if (n <= r->cap_quads)
         return LM_OK;
-    size_t cap = wk_grown_cap(r->cap_quads, n, 256);
+    size_t cap = lm_grow_cap(r->cap_quads, n, 256, SIZE_MAX);
     float *q = realloc(r->quads, cap * 18 * sizeof *q);
     if (!q)
         return lm_fail(LM_E_NOMEM, "out of memory for %zu region quads", cap);

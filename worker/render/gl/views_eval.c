@@ -8,8 +8,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "common/grow.h"
 #include "worker/render/gl/gl_views_internal.h"
-#include "worker/render/shared/grow.h"
 
 /* Change this far behind the visible surface is certainly hidden (window depth units; a 24-bit
  * depth step is 6e-8). */
@@ -22,7 +22,7 @@ static lm_status hidden_reserve(wk_views_local *v, size_t need)
 {
     if (need <= v->cap_hidden)
         return LM_OK;
-    size_t cap = wk_grown_cap(v->cap_hidden, need, 1024);
+    size_t cap = lm_grow_cap(v->cap_hidden, need, 1024, SIZE_MAX);
     wk_hidden_memo *m = calloc((size_t)v->core.views.count * cap, sizeof *m);
     if (!m)
         return lm_fail(LM_E_NOMEM, "out of memory for %zu hidden-test memos", cap);
@@ -286,7 +286,7 @@ static lm_status reserve_bytes(uint8_t **buf, size_t *cap, size_t need)
 {
     if (need <= *cap)
         return LM_OK;
-    size_t c = wk_grown_cap(*cap, need, 65536);
+    size_t c = lm_grow_cap(*cap, need, 65536, SIZE_MAX);
     uint8_t *b = realloc(*buf, c);
     if (!b)
         return lm_fail(LM_E_NOMEM, "out of memory for %zu bytes of pixels", c);

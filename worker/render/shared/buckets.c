@@ -9,7 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "worker/render/shared/grow.h"
+#include "common/grow.h"
 
 #define WK_BUCKET_DEFAULT_CELL 16
 
@@ -143,7 +143,7 @@ lm_status wk_idlist_reserve(wk_idlist *l, size_t need)
 {
     if (need <= l->cap)
         return LM_OK;
-    size_t cap = wk_grown_cap(l->cap, need, 64);
+    size_t cap = lm_grow_cap(l->cap, need, 64, SIZE_MAX);
     uint32_t *ids = realloc(l->ids, cap * sizeof *ids);
     if (!ids)
         return lm_fail(LM_E_NOMEM, "out of memory growing an id list to %zu", cap);
@@ -198,7 +198,7 @@ static lm_status grow_ids(wk_buckets *b, uint32_t id)
 {
     if (id < b->cap_ids)
         return LM_OK;
-    size_t cap = wk_grown_cap(b->cap_ids, (size_t)id + 1, 256);
+    size_t cap = lm_grow_cap(b->cap_ids, (size_t)id + 1, 256, SIZE_MAX);
     wk_footprint *r = realloc(b->fp, cap * sizeof *r);
     if (r)
         b->fp = r;

@@ -5,8 +5,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "common/grow.h"
 #include "common/mesh.h"
-#include "worker/render/shared/grow.h"
 
 /* The added records' ids and materials; *need: ids the marks must hold. */
 static lm_status check_added(const lm_patch *p, uint32_t n_mat, size_t *need)
@@ -37,7 +37,7 @@ static lm_status marks_reserve(wk_patch_marks *m, size_t need)
 {
     if (need <= m->cap)
         return LM_OK;
-    size_t cap = wk_grown_cap(m->cap, need, 1024);
+    size_t cap = lm_grow_cap(m->cap, need, 1024, SIZE_MAX);
     if (grow(&m->removed, m->cap, cap) != LM_OK || grow(&m->added, m->cap, cap) != LM_OK)
         return LM_E_NOMEM;
     m->cap = cap;
