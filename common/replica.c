@@ -6,26 +6,26 @@
 
 #include "common/grow.h"
 
-void wk_replica_init(wk_replica *r)
+void lm_replica_init(lm_replica *r)
 {
     memset(r, 0, sizeof *r);
 }
 
-void wk_replica_free(wk_replica *r)
+void lm_replica_free(lm_replica *r)
 {
     free(r->tris);
     free(r->alive);
-    wk_replica_init(r);
+    lm_replica_init(r);
 }
 
-void wk_replica_clear(wk_replica *r)
+void lm_replica_clear(lm_replica *r)
 {
     if (r->cap)
         memset(r->alive, 0, r->cap);
     r->n_alive = 0;
 }
 
-static lm_status grow(wk_replica *r, uint32_t id)
+static lm_status grow(lm_replica *r, uint32_t id)
 {
     if (id >= LM_MESH_MAX_TRIS)
         return lm_fail(LM_E_RANGE, "triangle id %u exceeds the limit %u", id, LM_MESH_MAX_TRIS);
@@ -37,7 +37,7 @@ static lm_status grow(wk_replica *r, uint32_t id)
     return LM_OK;
 }
 
-lm_status wk_replica_put(wk_replica *r, const lm_tri_data *t)
+lm_status lm_replica_put(lm_replica *r, const lm_tri_data *t)
 {
     if (t->id >= r->cap) {
         lm_status st = grow(r, t->id);
@@ -51,45 +51,45 @@ lm_status wk_replica_put(wk_replica *r, const lm_tri_data *t)
     return LM_OK;
 }
 
-void wk_replica_kill(wk_replica *r, uint32_t id)
+void lm_replica_kill(lm_replica *r, uint32_t id)
 {
-    LM_ASSERT(wk_replica_alive(r, id));
+    LM_ASSERT(lm_replica_alive(r, id));
     r->alive[id] = 0;
     r->n_alive--;
 }
 
-lm_status wk_replica_set(wk_replica *r, const lm_tri_data *tris, size_t n)
+lm_status lm_replica_set(lm_replica *r, const lm_tri_data *tris, size_t n)
 {
-    wk_replica_clear(r);
+    lm_replica_clear(r);
     lm_status st = LM_OK;
     for (size_t i = 0; i < n && st == LM_OK; i++) {
-        if (wk_replica_alive(r, tris[i].id))
+        if (lm_replica_alive(r, tris[i].id))
             return lm_fail(LM_E_INVALID, "triangle id %u appears twice in the mesh", tris[i].id);
-        st = wk_replica_put(r, &tris[i]);
+        st = lm_replica_put(r, &tris[i]);
     }
     return st;
 }
 
-lm_status wk_replica_apply(wk_replica *r, const lm_patch *p)
+lm_status lm_replica_apply(lm_replica *r, const lm_patch *p)
 {
     for (uint32_t i = 0; i < p->n_removed; i++)
-        if (!wk_replica_alive(r, p->removed[i]))
+        if (!lm_replica_alive(r, p->removed[i]))
             return lm_fail(LM_E_INVALID, "patch removes triangle %u which is not in the mesh",
                            p->removed[i]);
     for (uint32_t i = 0; i < p->n_removed; i++)
-        wk_replica_kill(r, p->removed[i]);
+        lm_replica_kill(r, p->removed[i]);
     lm_status st = LM_OK;
     for (uint32_t i = 0; i < p->n_added && st == LM_OK; i++) {
-        if (wk_replica_alive(r, p->added[i].id))
+        if (lm_replica_alive(r, p->added[i].id))
             return lm_fail(LM_E_INVALID, "patch adds triangle %u which is alive and not removed",
                            p->added[i].id);
-        st = wk_replica_put(r, &p->added[i]);
+        st = lm_replica_put(r, &p->added[i]);
     }
     return st;
 }
 
-const lm_tri_data *wk_replica_current(const void *ctx, uint32_t id)
+const lm_tri_data *lm_replica_current(const void *ctx, uint32_t id)
 {
-    const wk_replica *r = ctx;
-    return wk_replica_alive(r, id) ? &r->tris[id] : NULL;
+    const lm_replica *r = ctx;
+    return lm_replica_alive(r, id) ? &r->tris[id] : NULL;
 }

@@ -33,7 +33,7 @@ static lm_status rm_set_mesh(lm_views *v, const lm_tri_data *tris, size_t n)
 {
     co_remote *r = as_remote(v);
     r->mesh_set = 0;
-    lm_status st = wk_replica_set(&r->rep, tris, n);
+    lm_status st = lm_replica_set(&r->rep, tris, n);
     if (st == LM_OK)
         st = co_remote_layout(r);
     if (st != LM_OK)
@@ -105,10 +105,10 @@ static lm_status rm_commit(lm_views *v, const lm_patch *patch)
         return lm_fail(LM_E_INVALID, "no mesh set: call set_mesh before commit");
     Lumesh__Commit c = LUMESH__COMMIT__INIT;
     Lumesh__Patch p;
-    lm_status st = lm_wire_patch_encode_against(patch, wk_replica_current, &r->rep, &r->arena, &p);
+    lm_status st = lm_wire_patch_encode_against(patch, lm_replica_current, &r->rep, &r->arena, &p);
     c.patch = &p;
     if (st == LM_OK)
-        st = wk_replica_apply(&r->rep, patch);
+        st = lm_replica_apply(&r->rep, patch);
     if (st != LM_OK) {
         lm_wire_arena_reset(&r->arena);
         r->mesh_set = 0; /* half-applied: the caller sets the mesh again */
@@ -282,7 +282,7 @@ static lm_status send_evaluate(round *rd, uint32_t i, uint64_t req)
         Lumesh__Patch **pp = lm_wire_arena_alloc(&r->arena, n * sizeof *pp);
         st = p && pp ? LM_OK : lm_fail(LM_E_NOMEM, "out of memory encoding patches");
         for (uint32_t k = 0; k < n && st == LM_OK; k++) {
-            st = lm_wire_patch_encode_against(&e->patches[lo + k], wk_replica_current, &r->rep,
+            st = lm_wire_patch_encode_against(&e->patches[lo + k], lm_replica_current, &r->rep,
                                               &r->arena, &p[k]);
             pp[k] = &p[k];
         }
@@ -533,7 +533,7 @@ static void rm_destroy(lm_views *v)
     co_remote *r = as_remote(v);
     co_remote_layout_free(r);
     lm_asset_set_free(&r->assets);
-    wk_replica_free(&r->rep);
+    lm_replica_free(&r->rep);
     lm_wire_arena_free(&r->arena);
     free(r->pack);
     free(r->views);
@@ -571,7 +571,7 @@ lm_status co_views_remote_create(const co_views_desc *d, lm_views **out)
         r->width = d->views->views[0].width;
         r->height = d->views->views[0].height;
         lm_asset_set_init(&r->assets);
-        wk_replica_init(&r->rep);
+        lm_replica_init(&r->rep);
         lm_wire_arena_init(&r->arena);
         r->views = malloc(sizeof *r->views);
         st = r->views ? LM_OK : lm_fail(LM_E_NOMEM, "out of memory for the view set");

@@ -32,7 +32,7 @@ typedef struct co_remote {
     uint32_t first, count;
     int width, height;
     /* the current state, re-sent to workers that lack it */
-    wk_replica rep;
+    lm_replica rep;
     int mesh_set;
     uint64_t seq;
     /* the layout: live[i] serves range[group[i]] */

@@ -118,7 +118,7 @@ typedef struct meter {
     uint64_t round_trips; /* energy and potentials requests (each a round trip with workers) */
     double overlap_now;   /* the overlap of the batch being evaluated */
     lm_wire_arena arena;
-    wk_replica rep; /* the workers' current records, which patches are encoded against */
+    lm_replica rep; /* the workers' current records, which patches are encoded against */
     /* the whole-edge run's (run_edges): batches are not recorded nor encoded there */
     int light;
     double commit_enc_s;  /* encoding the commits' messages (the coordinator's, with workers) */
@@ -167,7 +167,7 @@ static size_t message_bytes(meter *m, const lm_patch *p, uint32_t n, int commit)
     Lumesh__Patch *wp = lm_wire_arena_alloc(&m->arena, n * sizeof *wp);
     Lumesh__Patch **pp = lm_wire_arena_alloc(&m->arena, n * sizeof *pp);
     for (uint32_t i = 0; i < n; i++) {
-        lm_wire_patch_encode_against(&p[i], wk_replica_current, &m->rep, &m->arena, &wp[i]);
+        lm_wire_patch_encode_against(&p[i], lm_replica_current, &m->rep, &m->arena, &wp[i]);
         pp[i] = &wp[i];
     }
     Lumesh__Evaluate e = LUMESH__EVALUATE__INIT;
@@ -208,7 +208,7 @@ static lm_status me_evaluate(lm_views *v, const lm_patch *p, uint32_t n, int64_t
     m->encode_cpu_s += cpu() - c1;
     for (uint32_t i = 0; i < n; i++)
         for (uint32_t j = 0; j < p[i].n_added; j++) {
-            const lm_tri_data *cur = wk_replica_current(&m->rep, p[i].added[j].id);
+            const lm_tri_data *cur = lm_replica_current(&m->rep, p[i].added[j].id);
             m->added++;
             m->kept_pos += cur && !memcmp(cur->c[0].pos, p[i].added[j].c[0].pos, 12) &&
                            !memcmp(cur->c[1].pos, p[i].added[j].c[1].pos, 12) &&
@@ -240,7 +240,7 @@ static lm_status me_commit(lm_views *v, const lm_patch *p)
     double e0 = cpu();
     m->commit_bytes += message_bytes(m, p, 1, 1);
     double e1 = cpu();
-    lm_status st = wk_replica_apply(&m->rep, p);
+    lm_status st = lm_replica_apply(&m->rep, p);
     double c0 = cpu();
     m->commit_enc_s += e1 - e0;
     m->replica_s += c0 - e1;
@@ -258,7 +258,7 @@ static lm_status me_set_mesh(lm_views *v, const lm_tri_data *t, size_t n)
     meter *m = (meter *)v;
     close_plan(m);
     double r0 = cpu();
-    lm_status st = wk_replica_set(&m->rep, t, n);
+    lm_status st = lm_replica_set(&m->rep, t, n);
     double c0 = cpu();
     m->replica_s += c0 - r0;
     double t0 = wall();
@@ -394,7 +394,7 @@ static lm_status run_once(const opts *o, const lm_mesh *orig, const lm_mesh *coa
     m->round_trips -= trips0;
     co_optimizer_destroy(opt);
     lm_views_destroy(m->in);
-    wk_replica_free(&m->rep);
+    lm_replica_free(&m->rep);
     if (st != LM_OK)
         return st;
     double views = vs->count, bytes = 0;
@@ -642,7 +642,7 @@ static lm_status run_edges(const opts *o, const lm_mesh *orig, const lm_mesh *co
         st = run_edge_steps(o, opt, m, er);
     co_optimizer_destroy(opt);
     lm_views_destroy(m->in);
-    wk_replica_free(&m->rep);
+    lm_replica_free(&m->rep);
     lm_wire_arena_free(&m->arena);
     if (st != LM_OK || !er->n || !m->patches)
         return st != LM_OK ? st : lm_fail(LM_E_RANGE, "the whole-edge run evaluated nothing");

@@ -232,7 +232,7 @@ static void server_free(wk_server *s)
     if (s->health)
         zmq_close(s->health);
     wk_serve_end_job(s);
-    wk_replica_free(&s->rep);
+    lm_replica_free(&s->rep);
     lm_bvh_destroy(s->bvh);
     wk_serve_assets_free(s);
     for (uint32_t i = 0; i < s->cap_patches; i++)

@@ -57,7 +57,7 @@ typedef struct wk_server {
     lm_views *v;        /* the assigned views (NULL until Assign) */
     uint32_t n_materials;
     int mesh_set;   /* a mesh was set on v */
-    wk_replica rep; /* v's current triangles: what patches are encoded against (Tri.same) */
+    lm_replica rep; /* v's current triangles: what patches are encoded against (Tri.same) */
     /* the geometric term of this worker's share of triangle ids (SetSurface; NULL = none), over
        the hierarchy of the original it was built for (kept across jobs of that original) */
     lm_surface_table *geo;

@@ -18,7 +18,7 @@ static void drop_views(wk_server *s)
     lm_surface_table_destroy(s->geo);
     s->geo = NULL;
     s->mesh_set = 0;
-    wk_replica_clear(&s->rep);
+    lm_replica_clear(&s->rep);
     lm_views_destroy(s->v);
     s->v = NULL;
     s->seq = 0;
@@ -157,7 +157,7 @@ static lm_status set_mesh(wk_server *s, const Lumesh__SetMesh *b)
     if (st == LM_OK && s->geo)
         st = lm_surface_table_set_mesh(s->geo, tris, b->n_tris);
     if (st == LM_OK)
-        st = wk_replica_set(&s->rep, tris, b->n_tris);
+        st = lm_replica_set(&s->rep, tris, b->n_tris);
     s->mesh_set = st == LM_OK;
     free(tris);
     return st;
@@ -219,14 +219,14 @@ static lm_status commit(wk_server *s, const lm_msg *m)
         return lm_fail(LM_E_FORMAT, "a commit without a patch");
     lm_status st = reserve_patches(s, 1);
     if (st == LM_OK)
-        st = lm_wire_patch_decode_against(m->commit->patch, s->n_materials, wk_replica_current,
+        st = lm_wire_patch_decode_against(m->commit->patch, s->n_materials, lm_replica_current,
                                           &s->rep, &s->patches[0]);
     if (st == LM_OK)
         st = s->v->ops->commit(s->v, &s->patches[0]);
     if (st == LM_OK && s->geo)
         st = lm_surface_table_commit(s->geo, &s->patches[0]);
     if (st == LM_OK)
-        st = wk_replica_apply(&s->rep, &s->patches[0]);
+        st = lm_replica_apply(&s->rep, &s->patches[0]);
     return st;
 }
 
@@ -303,7 +303,7 @@ static lm_status evaluate(wk_server *s, const lm_msg *m)
     double t0 = cpu_now();
     lm_status st = reserve_patches(s, e->n_patches);
     for (size_t i = 0; i < e->n_patches && st == LM_OK; i++)
-        st = lm_wire_patch_decode_against(e->patches[i], s->n_materials, wk_replica_current,
+        st = lm_wire_patch_decode_against(e->patches[i], s->n_materials, lm_replica_current,
                                           &s->rep, &s->patches[i]);
     if (st == LM_OK && e->n_patches)
         st = s->v->ops->evaluate(s->v, s->patches, (uint32_t)e->n_patches, s->deltas);

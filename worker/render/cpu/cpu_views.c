@@ -30,16 +30,16 @@ static lm_status render_all(wk_cpu_views *v, const wk_cpu_source *src, int table
 
 static lm_status build_replica(wk_cpu_views *v, const lm_tri_data *tris, size_t n)
 {
-    wk_replica_clear(&v->core.rep);
+    lm_replica_clear(&v->core.rep);
     for (size_t i = 0; i < n; i++) {
         if (tris[i].id >= LM_MESH_MAX_TRIS)
             return lm_fail(LM_E_RANGE, "triangle id %u exceeds the limit", tris[i].id);
         if (tris[i].material >= v->mats[v->core.table].n)
             return lm_fail(LM_E_RANGE, "triangle %u uses material %u of %u", tris[i].id,
                            tris[i].material, v->mats[v->core.table].n);
-        if (wk_replica_alive(&v->core.rep, tris[i].id))
+        if (lm_replica_alive(&v->core.rep, tris[i].id))
             return lm_fail(LM_E_INVALID, "triangle id %u appears twice in the mesh", tris[i].id);
-        lm_status st = wk_replica_put(&v->core.rep, &tris[i]);
+        lm_status st = lm_replica_put(&v->core.rep, &tris[i]);
         if (st != LM_OK)
             return st;
     }

@@ -76,7 +76,7 @@ static inline wk_cpu_keys wk_cpu_view_keys(wk_cpu_views *v, uint32_t h)
  * replica's. */
 typedef struct wk_cpu_source {
     const lm_mesh *mesh;
-    const wk_replica *rep;
+    const lm_replica *rep;
 } wk_cpu_source;
 
 /* Full render of view h from src with material table `table` (cpu_render.c): keys, tile maxima,

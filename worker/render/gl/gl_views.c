@@ -168,12 +168,12 @@ static lm_status order_by_id(const lm_tri_data *tris, size_t n, uint32_t **order
 static lm_status build_replica(wk_views_local *v, const lm_tri_data *tris, size_t n)
 {
     uint32_t n_mat = wk_renderer_material_count(v->r, v->core.table);
-    wk_replica_clear(&v->core.rep);
+    lm_replica_clear(&v->core.rep);
     for (size_t i = 0; i < n; i++) {
         if (tris[i].material >= n_mat)
             return lm_fail(LM_E_RANGE, "triangle %u uses material %u of %u", tris[i].id,
                            tris[i].material, n_mat);
-        lm_status st = wk_replica_put(&v->core.rep, &tris[i]);
+        lm_status st = lm_replica_put(&v->core.rep, &tris[i]);
         if (st != LM_OK)
             return st;
     }

@@ -270,7 +270,7 @@ lm_status wk_buckets_insert(wk_buckets *b, uint32_t id, const wk_footprint *f)
     return LM_OK;
 }
 
-lm_status wk_buckets_fill(wk_buckets *b, const lm_view *view, const wk_replica *rep)
+lm_status wk_buckets_fill(wk_buckets *b, const lm_view *view, const lm_replica *rep)
 {
     wk_buckets_clear(b);
     for (size_t id = 0; id < rep->cap; id++) {

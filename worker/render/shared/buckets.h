@@ -80,7 +80,7 @@ void wk_buckets_destroy(wk_buckets *b);
 /* Forget every triangle. */
 void wk_buckets_clear(wk_buckets *b);
 /* Forget every triangle, then insert every alive triangle of rep with its footprint in view. */
-lm_status wk_buckets_fill(wk_buckets *b, const lm_view *view, const wk_replica *rep);
+lm_status wk_buckets_fill(wk_buckets *b, const lm_view *view, const lm_replica *rep);
 /* Insert triangle `id` (not present) with its footprint (an empty rectangle is only remembered). */
 lm_status wk_buckets_insert(wk_buckets *b, uint32_t id, const wk_footprint *f);
 /* Remove triangle `id` (present). */

@@ -54,7 +54,7 @@ static uint32_t next_stamp(wk_patch_marks *m)
     return m->now;
 }
 
-lm_status wk_patch_prepare(wk_patch_marks *m, const wk_replica *rep, uint32_t n_mat,
+lm_status wk_patch_prepare(wk_patch_marks *m, const lm_replica *rep, uint32_t n_mat,
                            const lm_patch *p)
 {
     size_t need = rep->cap;
@@ -66,15 +66,15 @@ lm_status wk_patch_prepare(wk_patch_marks *m, const wk_replica *rep, uint32_t n_
     uint32_t now = next_stamp(m);
     for (uint32_t i = 0; i < p->n_removed; i++) {
         uint32_t id = p->removed[i];
-        if (!wk_replica_alive(rep, id) || m->removed[id] == now)
+        if (!lm_replica_alive(rep, id) || m->removed[id] == now)
             return lm_fail(LM_E_INVALID, "patch removes triangle %u which is %s", id,
-                           wk_replica_alive(rep, id) ? "listed twice" : "not in the mesh");
+                           lm_replica_alive(rep, id) ? "listed twice" : "not in the mesh");
         m->removed[id] = now;
     }
     for (uint32_t i = 0; i < p->n_added; i++) {
         uint32_t id = p->added[i].id;
         int twice = m->added[id] == now;
-        if (twice || (wk_replica_alive(rep, id) && m->removed[id] != now))
+        if (twice || (lm_replica_alive(rep, id) && m->removed[id] != now))
             return lm_fail(LM_E_INVALID, "patch adds triangle %u which is %s", id,
                            twice ? "listed twice" : "alive and not removed");
         m->added[id] = now;

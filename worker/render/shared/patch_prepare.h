@@ -23,7 +23,7 @@ typedef struct wk_patch_marks {
  * LM_MESH_MAX_TRIS and its material below n_mat (LM_E_RANGE), every removed id alive and listed
  * once, every added id listed once and not alive unless removed (LM_E_INVALID). On LM_OK the
  * patch's ids carry the fresh stamp m->now, and the marks hold every id of rep and of p. */
-lm_status wk_patch_prepare(wk_patch_marks *m, const wk_replica *rep, uint32_t n_mat,
+lm_status wk_patch_prepare(wk_patch_marks *m, const lm_replica *rep, uint32_t n_mat,
                            const lm_patch *p);
 void wk_patch_marks_free(wk_patch_marks *m);
 

@@ -10,7 +10,7 @@ void wk_views_core_init(wk_views_core *c, const lm_view *views, uint32_t count)
     memcpy(c->views.views, views, (size_t)count * sizeof *c->views.views);
     c->width = views[0].width;
     c->height = views[0].height;
-    wk_replica_init(&c->rep);
+    lm_replica_init(&c->rep);
 }
 
 lm_status wk_views_core_create_parts(wk_views_core *c)
@@ -26,7 +26,7 @@ void wk_views_core_free(wk_views_core *c)
     for (uint32_t h = 0; h < LM_MAX_VIEWS; h++)
         wk_buckets_destroy(c->buckets[h]);
     wk_image_store_destroy(c->img);
-    wk_replica_free(&c->rep);
+    lm_replica_free(&c->rep);
 }
 
 lm_status wk_views_core_build_buckets(wk_views_core *c)
@@ -54,11 +54,11 @@ lm_status wk_views_core_apply(wk_views_core *c, const lm_patch *p,
         forget(c, p->removed[i]);
         for (uint32_t h = 0; h < c->views.count; h++)
             wk_buckets_remove(c->buckets[h], p->removed[i]);
-        wk_replica_kill(&c->rep, p->removed[i]);
+        lm_replica_kill(&c->rep, p->removed[i]);
     }
     for (uint32_t i = 0; i < p->n_added; i++) {
         forget(c, p->added[i].id);
-        lm_status st = wk_replica_put(&c->rep, &p->added[i]);
+        lm_status st = lm_replica_put(&c->rep, &p->added[i]);
         for (uint32_t h = 0; st == LM_OK && h < c->views.count; h++) {
             wk_footprint f;
             wk_tri_footprint(&c->views.views[h], &p->added[i], &f);

@@ -27,7 +27,7 @@ typedef struct wk_views_core {
     int width, height;
     wk_image_store *img;
     wk_buckets *buckets[LM_MAX_VIEWS];
-    wk_replica rep;    /* the current mesh */
+    lm_replica rep;    /* the current mesh */
     int table;         /* material table of the current mesh: 0 the original's, 1 set_materials' */
     int mesh_set;      /* set_mesh succeeded (and no commit failed half-way since) */
     int buckets_ready; /* buckets match the replica */
