@@ -52,19 +52,8 @@ static lm_status reserve(wk_cpu_setups *s, size_t need)
     if (need <= s->cap)
         return LM_OK;
     size_t cap = lm_grow_cap(s->cap, need, 256, SIZE_MAX);
-    const wk_cpu_sub **a = realloc(s->sub, cap * sizeof *a);
-    if (a)
-        s->sub = a;
-    const lm_tri_data **t = realloc(s->tri, cap * sizeof *t);
-    if (t)
-        s->tri = t;
-    wk_cpu_shade *sh = realloc(s->shade, cap * sizeof *sh);
-    if (sh)
-        s->shade = sh;
-    uint8_t *r = realloc(s->shade_ready, cap);
-    if (r)
-        s->shade_ready = r;
-    if (!a || !t || !sh || !r)
+    if (!LM_RESIZE(&s->sub, cap) || !LM_RESIZE(&s->tri, cap) || !LM_RESIZE(&s->shade, cap) ||
+        !LM_RESIZE(&s->shade_ready, cap))
         return lm_fail(LM_E_NOMEM, "out of memory for %zu triangle setups", cap);
     s->cap = cap;
     return LM_OK;

@@ -199,19 +199,10 @@ static lm_status grow_ids(wk_buckets *b, uint32_t id)
     if (id < b->cap_ids)
         return LM_OK;
     size_t cap = lm_grow_cap(b->cap_ids, (size_t)id + 1, 256, SIZE_MAX);
-    wk_footprint *r = realloc(b->fp, cap * sizeof *r);
-    if (r)
-        b->fp = r;
-    uint8_t *p = realloc(b->present, cap);
-    if (p)
-        b->present = p;
-    uint32_t *s = realloc(b->stamp, cap * sizeof *s);
-    if (s)
-        b->stamp = s;
-    if (!r || !p || !s)
+    if (!LM_RESIZE(&b->fp, cap) || !LM_RESIZE(&b->present, cap) || !LM_RESIZE(&b->stamp, cap))
         return lm_fail(LM_E_NOMEM, "out of memory growing triangle buckets to %zu ids", cap);
     memset(b->present + b->cap_ids, 0, cap - b->cap_ids);
-    memset(b->stamp + b->cap_ids, 0, (cap - b->cap_ids) * sizeof *s);
+    memset(b->stamp + b->cap_ids, 0, (cap - b->cap_ids) * sizeof *b->stamp);
     b->cap_ids = cap;
     return LM_OK;
 }
