@@ -90,7 +90,7 @@ static int parse_args(int argc, char **argv, demo_options *o)
     const co_opt opts[] = {
         CO_OPT_OUTPUT(&o->dir),
         CO_OPT_EVALS(&o->evals),
-        CO_OPT_U32("tris", 0, &o->tris, LM_FROG_MIN_TRIS, LM_FROG_MAX_TRIS),
+        CO_OPT_U32("tris", 0, &o->tris, CO_FROG_MIN_TRIS, CO_FROG_MAX_TRIS),
         CO_OPT_U32("target-verts", 0, &o->target_verts, 4, LM_MESH_MAX_VERTS),
         CO_OPT_VIEWS(&o->views),
         CO_OPT_SIZE(&o->size),
@@ -125,7 +125,7 @@ static lm_status make_inputs(const demo_options *o, const demo_paths *p)
            " vertices...\n",
            o->tris, o->target_verts);
     fflush(stdout);
-    lm_status st = lm_frog_generate(o->tris, o->seed, &frog);
+    lm_status st = co_frog_generate(o->tris, o->seed, &frog);
     if (st == LM_OK)
         st = lm_mesh_save(p->frog, frog);
     if (st == LM_OK) {

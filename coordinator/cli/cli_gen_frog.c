@@ -27,7 +27,7 @@ static void usage(FILE *f)
             "  -t, --tris N       triangles, about (default 20000; %u to %u)\n"
             "  -s, --seed S       varies the spots, stripes and small shape details (default 1)\n"
             "  -h, --help         this text\n",
-            LM_FROG_MIN_TRIS, LM_FROG_MAX_TRIS);
+            CO_FROG_MIN_TRIS, CO_FROG_MAX_TRIS);
 }
 
 static const co_cli_spec spec = {CMD, usage, 0, 0, NULL, NULL, 1};
@@ -35,7 +35,7 @@ static const co_cli_spec spec = {CMD, usage, 0, 0, NULL, NULL, 1};
 static int parse(int argc, char **argv, frog_args *a)
 {
     const co_opt opts[] = {CO_OPT_OUTPUT_NEEDED(&a->output, "missing -o OUT (see --help)"),
-                           CO_OPT_U32("tris", 't', &a->tris, LM_FROG_MIN_TRIS, LM_FROG_MAX_TRIS),
+                           CO_OPT_U32("tris", 't', &a->tris, CO_FROG_MIN_TRIS, CO_FROG_MAX_TRIS),
                            CO_OPT_U64("seed", 's', &a->seed, 0, UINT64_MAX)};
     return co_cli_parse(&spec, opts, CO_OPTS_N(opts), argc, argv);
 }
@@ -55,7 +55,7 @@ int co_cli_gen_frog(int argc, char **argv)
         return rc;
     lm_mesh *m = NULL;
     double t0 = now_s();
-    lm_status s = lm_frog_generate(a.tris, a.seed, &m);
+    lm_status s = co_frog_generate(a.tris, a.seed, &m);
     double t1 = now_s();
     if (!s)
         s = lm_make_parent_folders(a.output);

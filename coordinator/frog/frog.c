@@ -42,7 +42,7 @@ static const part BODY = {.n = 5,
                                 {{1.05, 0.60, 0}, 0.36, 0.20}},
                           .cap0 = 0.20,
                           .cap1 = 0.22,
-                          .chart = LM_FROG_CHART_BODY,
+                          .chart = CO_FROG_CHART_BODY,
                           .share = 0.40};
 static const part HIND_LEG = {.n = 5,
                               .c = {{{-0.55, 0.35, 0.35}, 0.20, 0.20},
@@ -52,7 +52,7 @@ static const part HIND_LEG = {.n = 5,
                                     {{-0.06, 0.03, 1.30}, 0.17, 0.025}},
                               .cap0 = 0.08,
                               .cap1 = 0.06,
-                              .chart = LM_FROG_CHART_LEGS,
+                              .chart = CO_FROG_CHART_LEGS,
                               .share = 0.16};
 static const part FRONT_LEG = {.n = 4,
                                .c = {{{0.45, 0.35, 0.25}, 0.11, 0.11},
@@ -61,13 +61,13 @@ static const part FRONT_LEG = {.n = 4,
                                      {{0.98, 0.025, 0.73}, 0.11, 0.022}},
                                .cap0 = 0.10,
                                .cap1 = 0.08,
-                               .chart = LM_FROG_CHART_LEGS,
+                               .chart = CO_FROG_CHART_LEGS,
                                .share = 0.09};
 
 /* An eye: a sphere of radius r around centre, its end pole (the pupil) looking along dir. */
 static part eye_part(const double centre[3], double r, const double dir[3])
 {
-    part e = {.n = 2, .cap0 = 0.5, .cap1 = 0.5, .chart = LM_FROG_CHART_EYES, .share = 0.05};
+    part e = {.n = 2, .cap0 = 0.5, .cap1 = 0.5, .chart = CO_FROG_CHART_EYES, .share = 0.05};
     e.c[0].a = e.c[0].b = e.c[1].a = e.c[1].b = r;
     double len = sqrt(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]);
     for (int k = 0; k < 3; k++) {
@@ -77,27 +77,27 @@ static part eye_part(const double centre[3], double r, const double dir[3])
     return e;
 }
 
-static void jitter(part *p, lm_frog_rng *r, int mirror)
+static void jitter(part *p, co_frog_rng *r, int mirror)
 {
     for (int i = 0; i < p->n; i++) {
         for (int k = 0; k < 3; k++)
-            p->c[i].p[k] += lm_frog_uniform(r, -0.015, 0.015);
+            p->c[i].p[k] += co_frog_uniform(r, -0.015, 0.015);
         if (mirror)
             p->c[i].p[2] = -p->c[i].p[2];
-        double g = lm_frog_uniform(r, 0.95, 1.05);
+        double g = co_frog_uniform(r, 0.95, 1.05);
         p->c[i].a *= g;
         p->c[i].b *= g;
     }
 }
 
 /* Body, hind legs, front legs, eyes — with the seed's small jitter. */
-static void make_parts(uint64_t seed, part parts[LM_FROG_PARTS])
+static void make_parts(uint64_t seed, part parts[CO_FROG_PARTS])
 {
-    lm_frog_rng r = {seed};
+    co_frog_rng r = {seed};
     parts[0] = BODY;
     parts[1] = parts[2] = HIND_LEG;
     parts[3] = parts[4] = FRONT_LEG;
-    double r_eye = lm_frog_uniform(&r, 0.155, 0.17);
+    double r_eye = co_frog_uniform(&r, 0.155, 0.17);
     for (int side = 0; side < 2; side++) {
         double z = side ? -1 : 1;
         double c[3] = {0.60, 0.93, 0.26 * z}, dir[3] = {0.45, 0.4, 0.8 * z};
@@ -240,12 +240,12 @@ static void plan(part *p, double budget, double girth)
 }
 
 /* Plan every part; the body (part 0) takes what the others leave so the total is on target. */
-static void plan_all(part parts[LM_FROG_PARTS], uint32_t target)
+static void plan_all(part parts[CO_FROG_PARTS], uint32_t target)
 {
-    double girth[LM_FROG_PARTS], used = 0;
-    for (int i = 0; i < LM_FROG_PARTS; i++)
+    double girth[CO_FROG_PARTS], used = 0;
+    for (int i = 0; i < CO_FROG_PARTS; i++)
         girth[i] = profile(&parts[i]);
-    for (int i = 1; i < LM_FROG_PARTS; i++) {
+    for (int i = 1; i < CO_FROG_PARTS; i++) {
         plan(&parts[i], parts[i].share * target, girth[i]);
         used += 2.0 * parts[i].around * parts[i].rings;
     }
@@ -258,7 +258,7 @@ static void plan_all(part parts[LM_FROG_PARTS], uint32_t target)
 
 static lm_status add_wedge(lm_mesh *m, const part *p, uint32_t vertex, double s, double f)
 {
-    const float *c = lm_frog_charts[p->chart];
+    const float *c = co_frog_charts[p->chart];
     lm_wedge w = {.vertex = vertex, .normal = {0, 0, 1}, .color = {1, 1, 1, 1}};
     w.uv[0] = (float)(c[0] + (c[2] - c[0]) * s);
     w.uv[1] = (float)(c[1] + (c[3] - c[1]) * f);
@@ -350,7 +350,7 @@ static lm_status emit_part(lm_mesh *m, const part *p)
 /* Part i: its name, and its triangles (emitted from triangle t0 on) put in it. */
 static lm_status name_part(lm_mesh *m, int i, uint32_t t0)
 {
-    static const char *const names[LM_FROG_PARTS] = {
+    static const char *const names[CO_FROG_PARTS] = {
         "body",     "hind_leg_left", "hind_leg_right", "front_leg_left", "front_leg_right",
         "eye_left", "eye_right"};
     uint32_t id;
@@ -363,7 +363,7 @@ static lm_status name_part(lm_mesh *m, int i, uint32_t t0)
 static lm_status add_skin(lm_mesh *m, uint64_t seed)
 {
     lm_image *tex;
-    lm_status s = lm_frog_texture(seed, &tex);
+    lm_status s = co_frog_texture(seed, &tex);
     if (s)
         return s;
     static const float white[4] = {1, 1, 1, 1};
@@ -373,25 +373,25 @@ static lm_status add_skin(lm_mesh *m, uint64_t seed)
     return s;
 }
 
-lm_status lm_frog_generate(uint32_t target_tris, uint64_t seed, lm_mesh **out)
+lm_status co_frog_generate(uint32_t target_tris, uint64_t seed, lm_mesh **out)
 {
     *out = NULL;
-    if (target_tris < LM_FROG_MIN_TRIS || target_tris > LM_FROG_MAX_TRIS)
+    if (target_tris < CO_FROG_MIN_TRIS || target_tris > CO_FROG_MAX_TRIS)
         return lm_fail(LM_E_RANGE, "frog triangle count %u is outside [%u, %u]", target_tris,
-                       LM_FROG_MIN_TRIS, LM_FROG_MAX_TRIS);
-    part parts[LM_FROG_PARTS];
+                       CO_FROG_MIN_TRIS, CO_FROG_MAX_TRIS);
+    part parts[CO_FROG_PARTS];
     make_parts(seed, parts);
-    double *prof = malloc((size_t)LM_FROG_PARTS * (PROFILE_SAMPLES + 1) * sizeof *prof);
+    double *prof = malloc((size_t)CO_FROG_PARTS * (PROFILE_SAMPLES + 1) * sizeof *prof);
     lm_mesh *m = NULL;
     lm_status s = prof ? lm_mesh_create(&m) : lm_fail(LM_E_NOMEM, "out of memory (frog)");
-    for (int i = 0; i < LM_FROG_PARTS && prof; i++)
+    for (int i = 0; i < CO_FROG_PARTS && prof; i++)
         parts[i].prof = prof + (size_t)i * (PROFILE_SAMPLES + 1);
     if (!s) {
         plan_all(parts, target_tris);
         m->attrs = LM_ATTR_NORMAL | LM_ATTR_UV;
         s = add_skin(m, seed);
     }
-    for (int i = 0; i < LM_FROG_PARTS && !s; i++) {
+    for (int i = 0; i < CO_FROG_PARTS && !s; i++) {
         uint32_t t0 = m->n_tris;
         s = emit_part(m, &parts[i]);
         if (!s)

@@ -21,18 +21,18 @@
 
 #include "common/mesh.h"
 
-#define LM_FROG_MIN_TRIS 500u
-#define LM_FROG_MAX_TRIS (1u << 26)
-#define LM_FROG_TEXTURE_SIZE 1024
-#define LM_FROG_PARTS 7
+#define CO_FROG_MIN_TRIS 500u
+#define CO_FROG_MAX_TRIS (1u << 26)
+#define CO_FROG_TEXTURE_SIZE 1024
+#define CO_FROG_PARTS 7
 
 /* Generate the frog with about target_tris triangles (within ~2% for 2,000 and more; exact
- * shares per part), in [LM_FROG_MIN_TRIS, LM_FROG_MAX_TRIS] else LM_E_RANGE. The same seed gives
+ * shares per part), in [CO_FROG_MIN_TRIS, CO_FROG_MAX_TRIS] else LM_E_RANGE. The same seed gives
  * the same mesh (bit for bit); the seed varies spot and stripe placement and small shape jitter.
  * Memory is linear in target_tris (tests/bench/bench_foundation.c measures it). */
-lm_status lm_frog_generate(uint32_t target_tris, uint64_t seed, lm_mesh **out);
+lm_status co_frog_generate(uint32_t target_tris, uint64_t seed, lm_mesh **out);
 
-/* The frog's texture alone (what lm_frog_generate puts in its material). */
-lm_status lm_frog_texture(uint64_t seed, lm_image **out);
+/* The frog's texture alone (what co_frog_generate puts in its material). */
+lm_status co_frog_texture(uint64_t seed, lm_image **out);
 
 #endif

@@ -7,12 +7,12 @@
 
 /* Texture charts in UV space (u0, v0, u1, v1), 4 texels of padding around each so bilinear
  * filtering never mixes charts. The body gets the left half, legs and eyes share the right. */
-enum { LM_FROG_CHART_BODY, LM_FROG_CHART_LEGS, LM_FROG_CHART_EYES, LM_FROG_CHARTS };
-#define LM_FROG_PAD (4.0f / 1024.0f)
-static const float lm_frog_charts[LM_FROG_CHARTS][4] = {
-    {LM_FROG_PAD, LM_FROG_PAD, 0.5f - LM_FROG_PAD, 1.0f - LM_FROG_PAD},
-    {0.5f + LM_FROG_PAD, LM_FROG_PAD, 1.0f - LM_FROG_PAD, 0.5f - LM_FROG_PAD},
-    {0.5f + LM_FROG_PAD, 0.5f + LM_FROG_PAD, 1.0f - LM_FROG_PAD, 1.0f - LM_FROG_PAD},
+enum { CO_FROG_CHART_BODY, CO_FROG_CHART_LEGS, CO_FROG_CHART_EYES, CO_FROG_CHARTS };
+#define CO_FROG_PAD (4.0f / 1024.0f)
+static const float co_frog_charts[CO_FROG_CHARTS][4] = {
+    {CO_FROG_PAD, CO_FROG_PAD, 0.5f - CO_FROG_PAD, 1.0f - CO_FROG_PAD},
+    {0.5f + CO_FROG_PAD, CO_FROG_PAD, 1.0f - CO_FROG_PAD, 0.5f - CO_FROG_PAD},
+    {0.5f + CO_FROG_PAD, 0.5f + CO_FROG_PAD, 1.0f - CO_FROG_PAD, 1.0f - CO_FROG_PAD},
 };
 
 /* Chart-local coordinates: s runs around a part (0 and 1 at its underside seam, 0.5 on top),
@@ -20,11 +20,11 @@ static const float lm_frog_charts[LM_FROG_CHARTS][4] = {
  * the eye's pupil). */
 
 /* splitmix64: a seeded stream, no global state. */
-typedef struct lm_frog_rng {
+typedef struct co_frog_rng {
     uint64_t s;
-} lm_frog_rng;
+} co_frog_rng;
 
-static inline uint64_t lm_frog_next(lm_frog_rng *r)
+static inline uint64_t co_frog_next(co_frog_rng *r)
 {
     uint64_t z = (r->s += 0x9E3779B97F4A7C15ull);
     z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
@@ -33,9 +33,9 @@ static inline uint64_t lm_frog_next(lm_frog_rng *r)
 }
 
 /* Uniform in [lo, hi). */
-static inline double lm_frog_uniform(lm_frog_rng *r, double lo, double hi)
+static inline double co_frog_uniform(co_frog_rng *r, double lo, double hi)
 {
-    return lo + (hi - lo) * (double)(lm_frog_next(r) >> 11) * (1.0 / 9007199254740992.0);
+    return lo + (hi - lo) * (double)(co_frog_next(r) >> 11) * (1.0 / 9007199254740992.0);
 }
 
 #endif

@@ -26,14 +26,14 @@ static const rgb RING = {70, 44, 12}, LID = {66, 132, 48};
 
 static void skin_init(skin *k, uint64_t seed)
 {
-    lm_frog_rng r = {seed ^ 0x7E47u};
+    co_frog_rng r = {seed ^ 0x7E47u};
     for (int i = 0; i < SPOTS; i++) {
-        k->spot[i][0] = lm_frog_uniform(&r, 0.22, 0.78);
-        k->spot[i][1] = lm_frog_uniform(&r, 0.06, 0.92);
-        k->spot[i][2] = lm_frog_uniform(&r, 0.035, 0.10);
+        k->spot[i][0] = co_frog_uniform(&r, 0.22, 0.78);
+        k->spot[i][1] = co_frog_uniform(&r, 0.06, 0.92);
+        k->spot[i][2] = co_frog_uniform(&r, 0.035, 0.10);
     }
-    k->stripe_phase = lm_frog_uniform(&r, 0.0, 1.0);
-    k->stripe_freq = lm_frog_uniform(&r, 8.0, 11.0);
+    k->stripe_phase = co_frog_uniform(&r, 0.0, 1.0);
+    k->stripe_freq = co_frog_uniform(&r, 8.0, 11.0);
 }
 
 /* Body: pale belly below sharp flanks, light dorsolateral folds, dark round spots. The spot test
@@ -84,18 +84,18 @@ static double clamp01(double x)
 
 static rgb texel(const skin *k, double u, double v)
 {
-    int chart = u < 0.5 ? LM_FROG_CHART_BODY : v < 0.5 ? LM_FROG_CHART_LEGS : LM_FROG_CHART_EYES;
-    const float *c = lm_frog_charts[chart];
+    int chart = u < 0.5 ? CO_FROG_CHART_BODY : v < 0.5 ? CO_FROG_CHART_LEGS : CO_FROG_CHART_EYES;
+    const float *c = co_frog_charts[chart];
     double s = clamp01((u - c[0]) / (c[2] - c[0])), f = clamp01((v - c[1]) / (c[3] - c[1]));
-    if (chart == LM_FROG_CHART_BODY)
+    if (chart == CO_FROG_CHART_BODY)
         return body_colour(k, s, f);
-    return chart == LM_FROG_CHART_LEGS ? leg_colour(k, s, f) : eye_colour(s, f);
+    return chart == CO_FROG_CHART_LEGS ? leg_colour(k, s, f) : eye_colour(s, f);
 }
 
-lm_status lm_frog_texture(uint64_t seed, lm_image **out)
+lm_status co_frog_texture(uint64_t seed, lm_image **out)
 {
     lm_image *img;
-    lm_status st = lm_image_create(LM_FROG_TEXTURE_SIZE, LM_FROG_TEXTURE_SIZE, &img);
+    lm_status st = lm_image_create(CO_FROG_TEXTURE_SIZE, CO_FROG_TEXTURE_SIZE, &img);
     if (st)
         return st;
     skin k;

@@ -77,7 +77,7 @@ static void run_phase(const bench *b, int phase, result *r)
         return;
     }
     double t0 = now_s();
-    lm_status s = lm_frog_generate(b->tris, 1, &m);
+    lm_status s = co_frog_generate(b->tris, 1, &m);
     double t1 = now_s();
     r->seconds = t1 - t0;
     if (!s && phase == PH_SAVE) {

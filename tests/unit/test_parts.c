@@ -95,17 +95,17 @@ static void test_frog_parts(void **state)
 {
     (void)state;
     lm_mesh *m = NULL;
-    assert_int_equal(lm_frog_generate(3000, 2, &m), LM_OK);
+    assert_int_equal(co_frog_generate(3000, 2, &m), LM_OK);
     part_census c;
     census(m, &c);
-    assert_int_equal(c.n, LM_FROG_PARTS);
+    assert_int_equal(c.n, CO_FROG_PARTS);
     static const char *const names[] = {"body",           "eye_left",        "eye_right",
                                         "front_leg_left", "front_leg_right", "hind_leg_left",
                                         "hind_leg_right"};
     for (uint32_t i = 0; i < c.n; i++)
         assert_string_equal(c.name[i], names[i]);
     /* each part is one of the seven closed components */
-    assert_int_equal(lm_mesh_count_components(m), LM_FROG_PARTS);
+    assert_int_equal(lm_mesh_count_components(m), CO_FROG_PARTS);
     round_trips(m, "frog");
     lm_mesh_destroy(m);
 }
@@ -216,7 +216,7 @@ static void test_simplified_parts(void **state)
 {
     (void)state;
     lm_mesh *frog = NULL, *out = NULL;
-    assert_int_equal(lm_frog_generate(6000, 3, &frog), LM_OK);
+    assert_int_equal(co_frog_generate(6000, 3, &frog), LM_OK);
     part_census in, c;
     census(frog, &in);
     for (int method = 0; method < 2; method++) {
@@ -231,7 +231,7 @@ static void test_simplified_parts(void **state)
                 fail_msg("method %d: part '%s' is not the frog's", method, c.name[i]);
         }
         if (method == CO_SIMPLIFY_QEM)
-            assert_int_equal(c.n, LM_FROG_PARTS);
+            assert_int_equal(c.n, CO_FROG_PARTS);
         else
             assert_true(c.n >= 2);
         lm_mesh_destroy(out);

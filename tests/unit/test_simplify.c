@@ -131,16 +131,16 @@ static void test_qem_spider_components(void **state)
 /* The chart a UV lies in (the frog's atlas: body left half, legs bottom right, eyes top right). */
 static int chart_of(const float uv[2])
 {
-    return uv[0] < 0.5f   ? LM_FROG_CHART_BODY
-           : uv[1] < 0.5f ? LM_FROG_CHART_LEGS
-                          : LM_FROG_CHART_EYES;
+    return uv[0] < 0.5f   ? CO_FROG_CHART_BODY
+           : uv[1] < 0.5f ? CO_FROG_CHART_LEGS
+                          : CO_FROG_CHART_EYES;
 }
 
 static void test_qem_frog_seams(void **state)
 {
     (void)state;
     lm_mesh *frog = NULL, *out = NULL;
-    assert_int_equal(lm_frog_generate(20000, 1, &frog), LM_OK);
+    assert_int_equal(co_frog_generate(20000, 1, &frog), LM_OK);
     uint32_t target = frog->live_verts / 20;
     lm_status s = co_simplify(frog, CO_SIMPLIFY_QEM, target, &out);
     if (s)
@@ -155,7 +155,7 @@ static void test_qem_frog_seams(void **state)
         for (int k = 1; k < 3; k++)
             assert_int_equal(chart_of(out->wedges[out->tris[t].w[k]].uv), c);
     }
-    assert_int_equal(lm_mesh_count_components(out), LM_FROG_PARTS);
+    assert_int_equal(lm_mesh_count_components(out), CO_FROG_PARTS);
     assert_non_null(out->materials[0].texture);
     assert_ptr_not_equal(out->materials[0].texture, frog->materials[0].texture); /* cloned */
     lm_mesh_destroy(out);
@@ -269,7 +269,7 @@ static void test_cluster_frog_wedges(void **state)
 {
     (void)state;
     lm_mesh *frog = NULL, *out = NULL;
-    assert_int_equal(lm_frog_generate(20000, 3, &frog), LM_OK);
+    assert_int_equal(co_frog_generate(20000, 3, &frog), LM_OK);
     co_simplify_stats st;
     assert_int_equal(co_simplify_cluster(frog, 800, &st, &out), LM_OK);
     check_output(out);
@@ -311,13 +311,13 @@ static void test_unreachable(void **state)
 static void check_frog(uint32_t tris)
 {
     lm_mesh *m = NULL;
-    assert_int_equal(lm_frog_generate(tris, 7, &m), LM_OK);
+    assert_int_equal(co_frog_generate(tris, 7, &m), LM_OK);
     print_message("frog %u: %u tris, %u verts\n", tris, m->live_tris, m->live_verts);
     assert_true(fabs((double)m->live_tris - tris) <= 0.02 * tris);
     assert_int_equal(lm_mesh_validate(m), LM_OK);
-    assert_int_equal(lm_mesh_count_components(m), LM_FROG_PARTS);
+    assert_int_equal(lm_mesh_count_components(m), CO_FROG_PARTS);
     /* closed parts: every vertex has a full fan, Euler characteristic 2 per sphere-like part */
-    assert_int_equal(lm_mesh_euler_characteristic(m), 2 * LM_FROG_PARTS);
+    assert_int_equal(lm_mesh_euler_characteristic(m), 2 * CO_FROG_PARTS);
     assert_true(live_wedges(m) > m->live_verts); /* UV seams */
     assert_true((m->attrs & (LM_ATTR_UV | LM_ATTR_NORMAL)) == (LM_ATTR_UV | LM_ATTR_NORMAL));
     lm_mesh_destroy(m);
@@ -330,7 +330,7 @@ static void test_frog_sizes(void **state)
     check_frog(5000);
     check_frog(200000);
     lm_mesh *m = NULL;
-    assert_int_equal(lm_frog_generate(10, 1, &m), LM_E_RANGE);
+    assert_int_equal(co_frog_generate(10, 1, &m), LM_E_RANGE);
     assert_null(m);
 }
 
@@ -339,7 +339,7 @@ static void test_frog_orientation(void **state)
 {
     (void)state;
     lm_mesh *m = NULL;
-    assert_int_equal(lm_frog_generate(5000, 1, &m), LM_OK);
+    assert_int_equal(co_frog_generate(5000, 1, &m), LM_OK);
     double vol = 0;
     for (uint32_t t = 0; t < m->n_tris; t++) {
         const float *a = m->pos[lm_tri_vertex(m, t, 0)], *b = m->pos[lm_tri_vertex(m, t, 1)];
@@ -357,9 +357,9 @@ static void test_frog_determinism(void **state)
 {
     (void)state;
     lm_mesh *a = NULL, *b = NULL, *c = NULL;
-    assert_int_equal(lm_frog_generate(5000, 11, &a), LM_OK);
-    assert_int_equal(lm_frog_generate(5000, 11, &b), LM_OK);
-    assert_int_equal(lm_frog_generate(5000, 12, &c), LM_OK);
+    assert_int_equal(co_frog_generate(5000, 11, &a), LM_OK);
+    assert_int_equal(co_frog_generate(5000, 11, &b), LM_OK);
+    assert_int_equal(co_frog_generate(5000, 12, &c), LM_OK);
     assert_true(lm_mesh_hash(a) == lm_mesh_hash(b));
     assert_true(lm_mesh_hash(a) != lm_mesh_hash(c));
     const lm_image *ta = a->materials[0].texture, *tb = b->materials[0].texture;
@@ -384,12 +384,12 @@ static void test_frog_texture(void **state)
 {
     (void)state;
     lm_mesh *m = NULL;
-    assert_int_equal(lm_frog_generate(3000, 5, &m), LM_OK);
+    assert_int_equal(co_frog_generate(3000, 5, &m), LM_OK);
     assert_int_equal(m->n_materials, 1);
     const lm_image *tex = m->materials[0].texture;
     assert_non_null(tex);
-    assert_int_equal(tex->width, LM_FROG_TEXTURE_SIZE);
-    assert_int_equal(tex->height, LM_FROG_TEXTURE_SIZE);
+    assert_int_equal(tex->width, CO_FROG_TEXTURE_SIZE);
+    assert_int_equal(tex->height, CO_FROG_TEXTURE_SIZE);
     assert_string_equal(m->materials[0].texture_path, "frog_skin.png");
     assert_true(has_colour(tex, 8, 8, 10));     /* pupil */
     assert_true(has_colour(tex, 228, 186, 34)); /* iris */
@@ -412,7 +412,7 @@ static void test_frog_roundtrip(void **state)
 {
     (void)state;
     lm_mesh *m = NULL, *back = NULL;
-    assert_int_equal(lm_frog_generate(5000, 2, &m), LM_OK);
+    assert_int_equal(co_frog_generate(5000, 2, &m), LM_OK);
     char *dir = lmt_mkdtemp(), path[1100];
     snprintf(path, sizeof path, "%s/frog.glb", dir);
     if (lm_mesh_save(path, m))
@@ -421,11 +421,11 @@ static void test_frog_roundtrip(void **state)
         fail_msg("load %s: %s", path, lm_last_error());
     assert_int_equal(back->live_tris, m->live_tris);
     assert_int_equal(back->live_verts, m->live_verts);
-    assert_int_equal(lm_mesh_count_components(back), LM_FROG_PARTS);
+    assert_int_equal(lm_mesh_count_components(back), CO_FROG_PARTS);
     assert_true(live_wedges(back) > back->live_verts);
     assert_true(back->n_materials >= 1);
     assert_non_null(back->materials[0].texture);
-    assert_int_equal(back->materials[0].texture->width, LM_FROG_TEXTURE_SIZE);
+    assert_int_equal(back->materials[0].texture->width, CO_FROG_TEXTURE_SIZE);
     lm_mesh_destroy(back);
     lm_mesh_destroy(m);
     lmt_rmdir(dir);

@@ -59,7 +59,7 @@ static void test_bvh_equals_scan(void **state)
 {
     (void)state;
     lm_mesh *m = NULL;
-    assert_int_equal(lm_frog_generate(4000, 5, &m), LM_OK);
+    assert_int_equal(co_frog_generate(4000, 5, &m), LM_OK);
     lm_bvh *b = NULL;
     assert_int_equal(lm_bvh_create(m, &b), LM_OK);
     uint64_t rng = 42;
@@ -146,7 +146,7 @@ static void test_deterministic(void **state)
 {
     (void)state;
     lm_mesh *frog = NULL, *coarse = NULL;
-    assert_int_equal(lm_frog_generate(6000, 1, &frog), LM_OK);
+    assert_int_equal(co_frog_generate(6000, 1, &frog), LM_OK);
     assert_int_equal(co_simplify(frog, CO_SIMPLIFY_QEM, 300, &coarse), LM_OK);
     co_surface_distance d1, d2;
     assert_int_equal(co_surface_distance_measure(frog, coarse, 0, &d1), LM_OK);
