@@ -297,7 +297,9 @@ static lm_status image_start(co_job *j, lm_mesh **out)
         .device = o->device_spec,
         .surface_weight = o->surface_weight > 0 ? o->surface_weight : 0,
         .surface_share = j->start_share,
-        .progress = j->rep.style == CO_REPORT_TTY,
+        .progress = j->rep.style == CO_REPORT_TTY     ? CO_SIMPLIFY_PROGRESS_TTY
+                    : j->rep.style == CO_REPORT_LINES ? CO_SIMPLIFY_PROGRESS_LINES
+                                                      : CO_SIMPLIFY_PROGRESS_NONE,
     };
     int human = j->rep.style == CO_REPORT_TTY || j->rep.style == CO_REPORT_LINES;
     uint32_t qem = co_simplify_start_verts(j->original->live_verts, o->target_verts, 0);

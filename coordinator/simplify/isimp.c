@@ -121,6 +121,8 @@ static lm_status first_prices(isimp *s)
         for (uint32_t x = i; x < co_eq_size(s->q) && k < CO_ISIMP_FIRST_CHUNK; x++)
             s->batch[k++] = x;
         st = price_entries(s, s->batch, k);
+        if (st == LM_OK && s->cfg.on_priced)
+            st = s->cfg.on_priced(s->cfg.ctx, i + k, co_eq_size(s->q));
     }
     return st;
 }

@@ -65,6 +65,9 @@ typedef struct co_isimp_config {
     int unsafe_no_footprints; /* tests only: skip the footprint staleness test (to show that
                                  verify catches the stale costs it prevents) */
     lm_status (*on_step)(void *ctx, const lm_mesh *m, co_isimp_step *s);
+    /* After each batch of the first pricing of every edge: `done` of `total` edges priced; NULL =
+       none. A status other than LM_OK (from either hook) stops the run with it. */
+    lm_status (*on_priced)(void *ctx, uint32_t done, uint32_t total);
     void *ctx;
 } co_isimp_config;
 

@@ -26,7 +26,7 @@ typedef struct sjob {
     lm_views *views, *image_views; /* views: image_views, or the geometric term over them */
     co_pm_recorder *rec;
     int derived;
-    double t_last;
+    co_simplify_meter meter;
 } sjob;
 
 static lm_status load(sjob *j)
@@ -123,23 +123,38 @@ static lm_status make_views(sjob *j)
     return st;
 }
 
+/* Signals caught by a caller (the optimize job) stop the simplification at its next step. */
+static lm_status stop_if_interrupted(void)
+{
+    if (!co_pool_interrupted())
+        return LM_OK;
+    return lm_fail(
+        LM_E_INVALID,
+        "interrupted (signal %d) during the image-driven simplification: nothing written",
+        co_pool_interrupt_signal());
+}
+
 static lm_status on_step(void *ctx, const lm_mesh *m, co_isimp_step *s)
 {
     sjob *j = ctx;
-    if (co_pool_interrupted()) /* signals caught by a caller (the optimize job): stop here */
-        return lm_fail(LM_E_INVALID,
-                       "interrupted (signal %d) during the image-driven "
-                       "simplification: nothing written",
-                       co_pool_interrupt_signal());
-    if (j->o->progress) {
-        double t = co_now_s();
-        if (t - j->t_last > 0.5 || m->live_verts <= j->o->target_verts) {
-            fprintf(stderr, "\rlumesh simplify: %u vertices (%u collapses)   ", m->live_verts,
-                    s->index + 1);
-            j->t_last = t;
-        }
-    }
+    lm_status st = stop_if_interrupted();
+    if (st != LM_OK)
+        return st;
+    if (s->index == 0)
+        co_simplify_meter_phase(&j->meter, j->o->progress);
+    uint32_t start = j->sum->start_verts, target = j->o->target_verts;
+    char what[64];
+    snprintf(what, sizeof what, "%u vertices, collapses", m->live_verts);
+    co_simplify_meter_show(&j->meter, what, s->index + 1U, start > target ? start - target : 0,
+                           m->live_verts <= target);
     return j->rec && s->split ? co_pm_recorder_take(j->rec, s->split) : LM_OK;
+}
+
+static lm_status on_priced(void *ctx, uint32_t done, uint32_t total)
+{
+    sjob *j = ctx;
+    co_simplify_meter_show(&j->meter, "pricing every edge,", done, total, 0);
+    return stop_if_interrupted();
 }
 
 static lm_status simplify(sjob *j)
@@ -151,11 +166,12 @@ static lm_status simplify(sjob *j)
                            .derived_normals = j->derived,
                            .record_splits = j->rec != NULL,
                            .on_step = on_step,
+                           .on_priced = on_priced,
                            .ctx = j};
+    co_simplify_meter_phase(&j->meter, j->o->progress);
     if (st == LM_OK)
         st = co_isimp_run(j->work, j->views, &cfg, &j->sum->stats);
-    if (j->o->progress)
-        fprintf(stderr, "\r%60s\r", "");
+    co_simplify_meter_close(&j->meter);
     return st;
 }
 

@@ -9,6 +9,7 @@
 #include <stdint.h>
 
 #include "coordinator/simplify/isimp.h"
+#include "coordinator/simplify/simplify_progress.h"
 #include "coordinator/simplify/work.h"
 
 /* Zero means default for every field but the paths and the target. */
@@ -28,7 +29,7 @@ typedef struct co_simplify_options {
                                     QEM's mesh at the target (as the optimizer's share does at its
                                     start); 0 = none */
     const char *pm_path;         /* write the progressive mesh here; NULL = not */
-    int progress;                /* a progress line on stderr */
+    co_simplify_progress progress; /* lines on stderr: none (0), a terminal's or a log's */
 } co_simplify_options;
 
 typedef struct co_simplify_summary {

@@ -132,8 +132,9 @@ rc=$?
 [ "$rc" = 1 ] && grep -q "written with --start image, this run uses --start qem" "$tmp/start.err" ||
   fail "a checkpoint of another --start: exit $rc, $(cat "$tmp/start.err")"
 
-# 6c. SIGTERM while the image start is being made (fandisk: ~30 s of collapses on 2 workers):
-#     exit 130, one line naming the signal, no output, no worker left behind.
+# 6c. SIGTERM while the image start is being made (fandisk: ~30 s of collapses on 2 workers),
+#     after its first progress line: exit 130, one line naming the signal, no output, no worker
+#     left behind.
 fandisk=${LUMESH_TEST_DATA:-}/cache/data/meshes/fandisk.off
 if [ -r "$fandisk" ]; then
   "$LUMESH" optimize "$fandisk" -o "$tmp/term/out.obj" --target-verts 200 --device cpu \
@@ -141,6 +142,9 @@ if [ -r "$fandisk" ]; then
   bg=$!
   checks=$((checks + 1))
   wait_for 120 grep -q "the start: QEM to" "$tmp/term.err" || fail "no word of the image start"
+  checks=$((checks + 1)) # in a log, a progress line every 5 s while the start is made
+  wait_for 60 grep -q "^lumesh simplify: .* to go$" "$tmp/term.err" ||
+    fail "no progress during the image start: $(tail -n 2 "$tmp/term.err")"
   workers=$(pgrep -P "$bg" lumesh-worker)
   kill -TERM "$bg"
   wait "$bg"
