@@ -3,19 +3,13 @@
 #include "coordinator/simplify/simplify_progress.h"
 
 #include <stdio.h>
-#include <time.h>
 
-static double now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
-}
+#include "coordinator/quality/view_setup.h"
 
 void co_simplify_meter_phase(co_simplify_meter *m, co_simplify_progress style)
 {
     m->style = style;
-    m->t0 = now_s();
+    m->t0 = co_now_s();
     m->t_last = m->t0;
 }
 
@@ -36,7 +30,7 @@ void co_simplify_meter_show(co_simplify_meter *m, const char *what, uint64_t don
 {
     if (m->style == CO_SIMPLIFY_PROGRESS_NONE)
         return;
-    double t = now_s();
+    double t = co_now_s();
     double every = m->style == CO_SIMPLIFY_PROGRESS_TTY ? CO_SIMPLIFY_PROGRESS_TTY_S
                                                         : CO_SIMPLIFY_PROGRESS_LINES_S;
     if (!force && t - m->t_last < every)
