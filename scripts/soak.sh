@@ -22,7 +22,7 @@ export LUMESH_WORKER="$here/$build/worker/lumesh-worker" LP_NUM_THREADS=0
 [ -x "$lumesh" ] || { echo "soak: build $build first (scripts/build.sh)"; exit 1; }
 if [[ "$build" == *asan* ]]; then
   export LD_PRELOAD="$here/$build/tests/libno_dlclose.so" \
-    ASAN_OPTIONS=detect_leaks=1:verify_asan_link_order=0:${SOAK_ASAN_OPTIONS-quarantine_size_mb=0} \
+    ASAN_OPTIONS=detect_leaks=1:verify_asan_link_order=0:intercept_tls_get_addr=0:${SOAK_ASAN_OPTIONS-quarantine_size_mb=0} \
     LSAN_OPTIONS="suppressions=$here/tests/lsan.supp:print_suppressions=0"
 fi
 out=$(mktemp -d)
