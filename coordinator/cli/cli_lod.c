@@ -1,7 +1,9 @@
-/* coordinator/cli/cli_lod.c — `lumesh lod ORIGINAL -o OUT.glb --levels 50%,25%,10%`: a chain of
+/* coordinator/cli/cli_lod.c — `lumesh lod ORIGINAL -o OUT --levels 50%,25%,10%`: a chain of
  * levels of detail, each simplified from the level before it and then optimised against the
- * original's images (coordinator/simplify/lod.h), written as one GLB with MSFT_lod or, with
- * --per-level, one file per level. Prints one line per level. */
+ * original's images (coordinator/simplify/lod.h), written one file per level (or, with --msft-lod,
+ * as one GLB with MSFT_lod), with the manifest lods.json: every level's size, its distance and
+ * held-out image error against the original, and its switch distance
+ * (coordinator/simplify/lod_manifest.h). Prints one line per level. */
 #include <getopt.h>
 #include <stdio.h>
 #include <string.h>
@@ -10,6 +12,7 @@
 #include "common/view.h"
 #include "coordinator/cli/cli_args.h"
 #include "coordinator/simplify/lod.h"
+#include "coordinator/simplify/lod_manifest.h"
 
 #define CMD "lod"
 
@@ -18,22 +21,39 @@ static void usage(FILE *f)
     fprintf(f,
             "usage: lumesh lod ORIGINAL -o OUT --levels 50%%,25%%,10%%[,...] [--method "
             "image|shard|qem]\n"
-            "                  [--evals N] [--no-optimize] [--per-level] [--views N] [--size S]\n"
-            "                  [--device D] [--workers N] [--listen tcp://ADDR:PORT] [--keys DIR]\n"
-            "                  [--renderer ID] [--seed S]\n"
+            "                  [--evals N] [--no-optimize] [--msft-lod] [--manifest PATH]\n"
+            "                  [--screen-height PX] [--fov DEG] [--pixel-error P]\n"
+            "                  [--views N] [--size S] [--device D] [--workers N]\n"
+            "                  [--listen tcp://ADDR:PORT] [--keys DIR] [--renderer ID] [--seed S]\n"
             "Makes a chain of levels of detail of ORIGINAL: each level is simplified from the\n"
             "level before it (the first from ORIGINAL) and then optimised so that its images\n"
             "match ORIGINAL's (the levels nest: each is a simplification of the one before).\n"
             "Part names and materials are kept in every level.\n"
-            "  -o, --output OUT     a .glb holding every level (LOD0 in the scene, the others\n"
-            "                       named by its MSFT_lod extension; viewers without it show\n"
-            "                       LOD0), or with --per-level one file per level, OUT's name\n"
-            "                       with .lod0, .lod1, ... before the extension (.obj/.ply/.glb)\n"
+            "  -o, --output OUT     one file per level, OUT's name with .lod0, .lod1, ... before\n"
+            "                       the extension (.obj/.ply/.glb), or with --msft-lod a .glb\n"
+            "                       holding every level (LOD0 in the scene, the others named by\n"
+            "                       its MSFT_lod extension; viewers without it show LOD0)\n"
+            "  --per-level          one file per level (the default; kept for old scripts)\n"
+            "  --manifest PATH      where the manifest goes (default: %s beside OUT): per\n"
+            "                       level its file, vertices, triangles, parts, its symmetric\n"
+            "                       surface distance to ORIGINAL (mean and max, absolute and\n"
+            "                       as a fraction of ORIGINAL's bounding-box diagonal; as\n"
+            "                       `lumesh energy --distance` measures the level's file), its\n"
+            "                       image energy on the 24 held-out views (as `energy\n"
+            "                       --heldout --size S`) and where it may be shown from\n"
+            "  --screen-height PX, --fov DEG, --pixel-error P\n"
+            "                       the screen of the switch distances: PX pixels high (default\n"
+            "                       %u), DEG degrees of vertical field of view (default %g), P\n"
+            "                       pixels of error allowed (default %g). An error e seen from\n"
+            "                       distance d covers e * PX / (2 d tan(DEG/2)) pixels, so a\n"
+            "                       level is shown from d = e * PX / (2 tan(DEG/2) P) on; e is\n"
+            "                       the level's max distance to ORIGINAL, a running maximum\n"
+            "                       down the chain (switch distances never decrease)\n"
             "  --levels LIST        vertex counts, as percentages of ORIGINAL's (100%% is\n"
             "                       ORIGINAL as it is) or as numbers, strictly decreasing\n"
             "  --method M           image (default): image-driven collapses; shard: Pfeiffer's\n"
             "                       shards; qem: meshoptimizer's QEM\n"
-            "  --evals N            optimisation budget per level in evaluations (default 20000)\n"
+            "  --evals N            optimisation budget per level in evaluations (default %llu)\n"
             "  --no-optimize        levels as simplified\n"
             "  --views N, --size S  the views (default %u of %d pixels)\n"
             "  --device D           auto (default), host or egl:N\n"
@@ -46,9 +66,11 @@ static void usage(FILE *f)
             "                       --listen beyond this machine\n"
             "  --renderer ID        accept only workers of this renderer id (default: the first\n"
             "                       worker's)\n"
-            "  --seed S             the optimizer's seed (default 1)\n"
+            "  --seed S             the optimizer's seed (default %llu)\n"
             "  -h, --help           this text\n",
-            LM_DEFAULT_VIEWS, LM_DEFAULT_VIEW_SIZE);
+            CO_LOD_MANIFEST_NAME, CO_LOD_DEFAULT_SCREEN_HEIGHT, CO_LOD_DEFAULT_FOV,
+            CO_LOD_DEFAULT_PIXEL_ERROR, (unsigned long long)CO_LOD_DEFAULT_EVALS, LM_DEFAULT_VIEWS,
+            LM_DEFAULT_VIEW_SIZE, (unsigned long long)CO_LOD_DEFAULT_SEED);
 }
 
 static int parse_method(void *to, const char *v)
@@ -68,22 +90,22 @@ static int parse_levels(void *o, const char *v)
     return co_cli_usage_error(CMD, "%s", lm_last_error());
 }
 
-/* -1 when OUT's name suits --per-level (or its absence), else 1 (said). */
+/* -1 when OUT's name suits one file per level (or --msft-lod), else 1 (said). */
 static int check_output(const co_lod_options *o)
 {
     const char *dot = strrchr(o->output_path, '.'), *slash = strrchr(o->output_path, '/');
     dot = dot && (!slash || dot > slash) ? dot : "";
-    if (o->per_level && strcmp(dot, ".glb") && strcmp(dot, ".obj") && strcmp(dot, ".ply"))
+    if (!o->msft_lod && strcmp(dot, ".glb") && strcmp(dot, ".obj") && strcmp(dot, ".ply"))
         return co_cli_usage_error(CMD, "-o %s: use a .obj, .ply or .glb name", o->output_path);
-    if (!o->per_level && strcmp(dot, ".glb"))
-        return co_cli_usage_error(CMD, "one file of levels is a .glb: use OUT.glb, or "
-                                       "--per-level for .obj or .ply files");
+    if (o->msft_lod && strcmp(dot, ".glb"))
+        return co_cli_usage_error(CMD, "one file of levels (--msft-lod) is a .glb: use OUT.glb, "
+                                       "or one file per level (without --msft-lod)");
     return -1;
 }
 
 static const co_cli_spec spec = {CMD, usage, 1, 1, "missing ORIGINAL model (see --help)", NULL, 1};
 
-static int parse(int argc, char **argv, co_lod_options *o)
+static int parse(int argc, char **argv, co_lod_options *o, int *per_level)
 {
     const co_opt opts[] = {
         CO_OPT_OUTPUT_NEEDED(&o->output_path, "missing -o OUT (see --help)"),
@@ -92,7 +114,12 @@ static int parse(int argc, char **argv, co_lod_options *o)
         CO_OPT_CALL("method", 0, parse_method, o),
         CO_OPT_EVALS(&o->evals),
         CO_OPT_FLAG("no-optimize", 0, &o->no_optimize),
-        CO_OPT_FLAG("per-level", 0, &o->per_level),
+        CO_OPT_FLAG("per-level", 0, per_level),
+        CO_OPT_FLAG("msft-lod", 0, &o->msft_lod),
+        CO_OPT_STR("manifest", 0, &o->manifest_path),
+        CO_OPT_U32("screen-height", 0, &o->screen_height, 1, 1u << 20),
+        CO_OPT_DOUBLE("fov", &o->fov_deg, 0.001, 179.999),
+        CO_OPT_DOUBLE("pixel-error", &o->pixel_error, 1e-6, 1e9),
         CO_OPT_VIEWS(&o->views),
         CO_OPT_SIZE_INT(&o->size),
         CO_OPT_DEVICE(&o->device),
@@ -105,6 +132,8 @@ static int parse(int argc, char **argv, co_lod_options *o)
     o->input_path = argv[optind];
     if ((rc = check_output(o)) >= 0)
         return rc;
+    if (*per_level && o->msft_lod)
+        return co_cli_usage_error(CMD, "--per-level and --msft-lod exclude each other");
     if (o->method == CO_PRICE_SHARD && co_simplify_workers_given(&o->workers))
         return co_cli_usage_error(CMD, "--method shard renders in this process: no --workers, "
                                        "--listen, --keys or --renderer");
@@ -114,7 +143,8 @@ static int parse(int argc, char **argv, co_lod_options *o)
 int co_cli_lod(int argc, char **argv)
 {
     co_lod_options o = {0};
-    int rc = parse(argc, argv, &o);
+    int per_level = 0;
+    int rc = parse(argc, argv, &o, &per_level);
     if (rc >= 0)
         return rc;
     o.progress = isatty(2);
@@ -124,7 +154,7 @@ int co_cli_lod(int argc, char **argv)
         return co_cli_fail(CMD, st);
     printf("lumesh lod: %s %u vertices / %u triangles -> %u levels in %.1f s -> %s%s\n",
            o.input_path, s.in_verts, s.in_tris, s.n_levels, s.seconds, o.output_path,
-           o.per_level ? " (one file per level)" : "");
+           o.msft_lod ? " (one GLB, MSFT_lod)" : " (one file per level)");
     for (uint32_t k = 0; k < s.n_levels; k++) {
         const co_lod_level_result *r = &s.level[k];
         char energy[128];
@@ -140,6 +170,12 @@ int co_cli_lod(int argc, char **argv)
                k, r->verts, r->tris, r->parts, energy, (unsigned long long)r->simplify_evals,
                (unsigned long long)r->optimize_evals, r->seconds, r->path[0] ? " -> " : "",
                r->path);
+        printf("        max distance %.4g (%.3g%% of the diagonal), held-out mse %.2f; shown from "
+               "%.4g on\n",
+               r->m.distance.max,
+               r->m.distance.diagonal > 0 ? 100.0 * r->m.distance.max / r->m.distance.diagonal : 0,
+               r->m.heldout_mse, r->m.switch_distance);
     }
+    printf("  manifest -> %s\n", s.manifest);
     return 0;
 }

@@ -42,7 +42,9 @@ static void usage(FILE *f)
         "textures, .ply or .glb, chosen by the extension). A model that already has N vertices\n"
         "or fewer is written as it is, with a note; where the simplifier cannot get down to N\n"
         "(QEM keeps closed small parts and seams) the best mesh it reached is written, with a\n"
-        "warning on stderr. Part names and materials are kept.\n"
+        "warning on stderr. Part names and materials are kept, and every part: one the\n"
+        "simplifier would remove (a small open part) is kept at its smallest, and one still\n"
+        "lost is named in a warning.\n"
         "  -o, --output OUT       the file to write (atomically; missing folders are made)\n"
         "  -n, --target-verts N   the most vertices wanted (below 4: as few as possible)\n"
         "  -m, --method M         qem (default): quadric edge collapses (meshoptimizer), keeps\n"
@@ -241,6 +243,7 @@ int co_cli_simplify(int argc, char **argv)
         s = write_result(&a, out);
     if (!s) {
         report_target(&a, in, out, reach, why);
+        co_simplify_warn_lost_parts(CMD, in, out);
         printf("lumesh simplify: %s %u vertices / %u triangles -> %u vertices / %u triangles "
                "(%s, load %.2f s, simplify %.2f s) -> %s\n",
                a.input, in->live_verts, in->live_tris, out->live_verts, out->live_tris,

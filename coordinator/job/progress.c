@@ -53,24 +53,6 @@ void co_reporter_init(co_reporter *r, co_report_style style, FILE *out, uint64_t
     r->start_evals = UINT64_MAX;
 }
 
-void co_json_string(FILE *fp, const char *s)
-{
-    fputc('"', fp);
-    for (const unsigned char *p = (const unsigned char *)(s ? s : ""); *p; p++) {
-        if (*p == '"' || *p == '\\')
-            fprintf(fp, "\\%c", *p);
-        else if (*p == '\n')
-            fputs("\\n", fp);
-        else if (*p == '\t')
-            fputs("\\t", fp);
-        else if (*p < 0x20)
-            fprintf(fp, "\\u%04x", *p);
-        else
-            fputc(*p, fp);
-    }
-    fputc('"', fp);
-}
-
 void co_json_end_with_renderer(FILE *fp, const char *renderer)
 {
     fputs(", \"renderer\": ", fp);

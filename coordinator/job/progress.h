@@ -9,6 +9,7 @@
 #include <stdio.h>
 
 #include "coordinator/optimizer/optimizer.h"
+#include "coordinator/quality/json_text.h"
 
 typedef enum co_report_style {
     CO_REPORT_QUIET, /* nothing */
@@ -78,8 +79,6 @@ void co_reporter_abandon_line(co_reporter *r);
  * otherwise; nothing when quiet). */
 void co_reporter_summary(co_reporter *r, const co_job_summary *s);
 
-/* JSON string literal (quoted and escaped) to fp. */
-void co_json_string(FILE *fp, const char *s);
 /* The end of a JSON record that names its renderer: `, "renderer": "R"}` and a newline. */
 void co_json_end_with_renderer(FILE *fp, const char *renderer);
 /* Name of a move kind for reports: "noop", "swap", "split", "collapse". */

@@ -1,5 +1,6 @@
-/* coordinator/simplify/lod.c — the level-of-detail chain: targets from the spec, one set of views
- * of the original, per level simplify (image / shard / QEM) → optimise → next, and the output. */
+/* coordinator/simplify/lod.c — the level-of-detail chain: the defaults, targets from the spec, one
+ * set of views of the original, per level simplify (image / shard / QEM) → optimise → next, and the
+ * output (one file per level or one GLB), measured into the manifest (lod_manifest.h). */
 #include "coordinator/simplify/lod.h"
 
 #include <math.h>
@@ -13,10 +14,10 @@
 #include "coordinator/pool/pool.h"
 #include "coordinator/quality/view_setup.h"
 #include "coordinator/simplify/isimp.h"
+#include "coordinator/simplify/lod_manifest.h"
 #include "coordinator/simplify/simplify.h"
 #include "coordinator/simplify/work.h"
 
-#define CO_LOD_DEFAULT_EVALS 20000
 #define CO_LOD_MAX_IDLE_STEPS 16
 
 typedef struct lod {
@@ -29,6 +30,19 @@ typedef struct lod {
     lm_mesh *levels[LM_MESH_MAX_LODS];
     uint32_t target[LM_MESH_MAX_LODS];
 } lod;
+
+co_lod_options co_lod_resolve(const co_lod_options *in)
+{
+    co_lod_options o = *in;
+    o.evals = o.evals ? o.evals : CO_LOD_DEFAULT_EVALS;
+    o.views = o.views ? o.views : LM_DEFAULT_VIEWS;
+    o.size = o.size ? o.size : LM_DEFAULT_VIEW_SIZE;
+    o.seed = o.seed ? o.seed : CO_LOD_DEFAULT_SEED;
+    o.screen_height = o.screen_height ? o.screen_height : CO_LOD_DEFAULT_SCREEN_HEIGHT;
+    o.fov_deg = o.fov_deg > 0 ? o.fov_deg : CO_LOD_DEFAULT_FOV;
+    o.pixel_error = o.pixel_error > 0 ? o.pixel_error : CO_LOD_DEFAULT_PIXEL_ERROR;
+    return o;
+}
 
 lm_status co_lod_parse_levels(const char *spec, co_lod_options *o)
 {
@@ -90,8 +104,7 @@ static lm_status resolve_targets(lod *L)
 static lm_status make_views(lod *L)
 {
     const co_lod_options *o = L->o;
-    lm_status st = co_view_set_around(L->orig, o->views ? o->views : LM_DEFAULT_VIEWS,
-                                      o->size ? o->size : LM_DEFAULT_VIEW_SIZE, 0, &L->vs);
+    lm_status st = co_view_set_around(L->orig, o->views, o->size, 0, &L->vs);
     if (st == LM_OK)
         st = co_simplify_pool_start(&o->workers, o->device, &L->pool);
     if (st == LM_OK)
@@ -152,10 +165,10 @@ static uint32_t optimizer_attrs(const lm_mesh *orig)
 /* Optimise m (taken) against the original's images for the level's budget; the result in *out. */
 static lm_status optimize_level(lod *L, uint32_t k, lm_mesh *m, lm_mesh **out)
 {
-    uint64_t budget = L->o->evals ? L->o->evals : CO_LOD_DEFAULT_EVALS;
+    uint64_t budget = L->o->evals;
     lm_mesh_merge_wedges(m, LM_ATTR_UV | LM_ATTR_COLOR);
     lm_mesh_compute_normals(m);
-    co_params params = {.seed = L->o->seed ? L->o->seed : 1, .attrs = optimizer_attrs(L->orig)};
+    co_params params = {.seed = L->o->seed, .attrs = optimizer_attrs(L->orig)};
     co_optimizer *opt = NULL;
     lm_status st = lm_mesh_compact(m);
     if (st == LM_OK)
@@ -230,6 +243,8 @@ static lm_status make_level(lod *L, uint32_t k)
     if (st == LM_OK && L->o->progress)
         fprintf(stderr, "lumesh lod: level %u: %u vertices, %u triangles (%.1f s)\n", k, r->verts,
                 r->tris, r->seconds);
+    if (st == LM_OK)
+        co_simplify_warn_lost_parts("lod", L->orig, L->levels[k]);
     return st;
 }
 
@@ -237,7 +252,7 @@ static lm_status write_levels(const co_lod_options *o, co_lod_summary *sum, lm_m
 {
     uint32_t n = o->n_levels;
     lm_status st = lm_make_parent_folders(o->output_path);
-    if (!o->per_level) {
+    if (o->msft_lod) {
         float coverage[LM_MESH_MAX_LODS];
         for (uint32_t k = 0; k < n; k++) /* halving screen coverages: 0.5, 0.25, ... */
             coverage[k] = (float)ldexp(1.0, -(int)k - 1);
@@ -252,15 +267,17 @@ static lm_status write_levels(const co_lod_options *o, co_lod_summary *sum, lm_m
     return st;
 }
 
-lm_status co_lod_build(const co_lod_options *o, co_lod_summary *sum, lm_mesh **levels)
+lm_status co_lod_build(const co_lod_options *given, co_lod_summary *sum, lm_mesh **levels)
 {
     memset(sum, 0, sizeof *sum);
     double t0 = co_now_s();
+    co_lod_options resolved = co_lod_resolve(given), *o = &resolved;
     lod L = {.o = o, .sum = sum};
     lm_status st = lm_mesh_load(o->input_path, NULL, &L.orig);
     if (st == LM_OK) {
         sum->in_verts = L.orig->live_verts;
         sum->in_tris = L.orig->live_tris;
+        sum->in_parts = lm_mesh_count_parts(L.orig);
         sum->n_levels = o->n_levels;
         st = resolve_targets(&L);
     }
@@ -282,12 +299,17 @@ lm_status co_lod_build(const co_lod_options *o, co_lod_summary *sum, lm_mesh **l
     return st;
 }
 
-lm_status co_lod_run(const co_lod_options *o, co_lod_summary *sum)
+lm_status co_lod_run(const co_lod_options *given, co_lod_summary *sum)
 {
+    co_lod_options o_resolved = co_lod_resolve(given), *o = &o_resolved;
     lm_mesh *levels[LM_MESH_MAX_LODS] = {0};
     lm_status st = co_lod_build(o, sum, levels);
     if (st == LM_OK)
         st = write_levels(o, sum, levels);
+    if (st == LM_OK)
+        st = co_lod_measure_levels(o, sum, (const lm_mesh *const *)levels);
+    if (st == LM_OK)
+        st = co_lod_manifest_write(o, sum);
     for (uint32_t k = 0; k < o->n_levels; k++)
         lm_mesh_destroy(levels[k]);
     return st;

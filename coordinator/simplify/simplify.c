@@ -1,9 +1,10 @@
 /* coordinator/simplify/simplify.c — co_simplify(): argument checks, the cases no simplifier is
  * needed for (target at or above the model's size: a compact copy; targets below 4), dispatch to
- * QEM or clustering, and the helpers both simplifiers share to build their compact output meshes.
- */
+ * QEM or clustering, the helpers both simplifiers share to build their compact output meshes, and
+ * the parts a simplification lost, named for a warning. */
 #include "coordinator/simplify/simplify.h"
 
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -189,4 +190,121 @@ lm_status co_simplify_best(const lm_mesh *in, co_simplify_method method, uint32_
         *out = NULL;
     }
     return st;
+}
+
+/* used[p] = 1 for every part p holding a live triangle of m. */
+static void parts_used(const lm_mesh *m, uint8_t *used, uint32_t n_parts)
+{
+    for (uint32_t t = 0; t < m->n_tris; t++)
+        if (m->tri_alive[t] && m->tris[t].part < n_parts)
+            used[m->tris[t].part] = 1;
+}
+
+/* Append the compact mesh `add` (same materials and parts as m) to m. */
+static lm_status append_mesh(lm_mesh *m, const lm_mesh *add)
+{
+    uint32_t v0 = m->n_verts, w0 = m->n_wedges;
+    lm_status s = LM_OK;
+    for (uint32_t v = 0; v < add->n_verts && !s; v++)
+        s = lm_mesh_add_vertex(m, add->pos[v], NULL);
+    for (uint32_t w = 0; w < add->n_wedges && !s; w++) {
+        lm_wedge wd = add->wedges[w];
+        wd.vertex += v0;
+        s = lm_mesh_add_wedge(m, &wd, NULL);
+    }
+    for (uint32_t t = 0; t < add->n_tris && !s; t++) {
+        const lm_tri *tr = &add->tris[t];
+        uint32_t w[3] = {tr->w[0] + w0, tr->w[1] + w0, tr->w[2] + w0}, id = 0;
+        if (add->tri_alive[t] && !(s = lm_mesh_add_tri(m, w, tr->material, &id)))
+            m->tris[id].part = tr->part;
+    }
+    return s;
+}
+
+/* Part p of `in` alone at its smallest non-empty QEM form, appended to out. */
+static lm_status append_smallest_part(const lm_mesh *in, uint32_t p, lm_mesh *out)
+{
+    lm_tri *tris = malloc(((size_t)in->live_tris + 1) * sizeof *tris);
+    if (!tris)
+        return lm_fail(LM_E_NOMEM, "out of memory keeping a part");
+    size_t n = 0;
+    for (uint32_t t = 0; t < in->n_tris; t++)
+        if (in->tri_alive[t] && in->tris[t].part == p)
+            tris[n++] = in->tris[t];
+    lm_mesh *part = NULL, *small = NULL;
+    lm_status s = co_simplify_build_from_tris(in, tris, n, NULL, &part);
+    free(tris);
+    if (!s) {
+        s = co_simplify_qem(part, 4, NULL, &small);
+        s = s == LM_E_RANGE && small ? LM_OK : s;
+    }
+    if (!s)
+        s = append_mesh(out, small);
+    lm_mesh_destroy(part);
+    lm_mesh_destroy(small);
+    return s;
+}
+
+lm_status co_simplify_keep_parts(const lm_mesh *in, lm_mesh *out, uint32_t *kept)
+{
+    *kept = 0;
+    if (in->n_parts < 2 || out->n_parts != in->n_parts)
+        return LM_OK;
+    uint8_t *had = calloc(in->n_parts, 1), *has = calloc(in->n_parts, 1);
+    lm_status s = had && has ? LM_OK : lm_fail(LM_E_NOMEM, "out of memory keeping parts");
+    if (!s) {
+        parts_used(in, had, in->n_parts);
+        parts_used(out, has, in->n_parts);
+    }
+    for (uint32_t p = 0; !s && p < in->n_parts; p++)
+        if (had[p] && !has[p]) {
+            s = append_smallest_part(in, p, out);
+            (*kept)++;
+        }
+    if (!s && *kept)
+        s = lm_mesh_build_adjacency(out);
+    free(had);
+    free(has);
+    return s;
+}
+
+uint32_t co_simplify_lost_parts(const lm_mesh *in, const lm_mesh *out, char *buf, size_t cap)
+{
+    uint32_t n = in->n_parts, lost = 0;
+    uint8_t *had = n ? calloc(n, 1) : NULL, *has = n ? calloc(n, 1) : NULL;
+    size_t len = 0;
+    if (cap)
+        buf[0] = 0;
+    if (had && has) {
+        parts_used(in, had, n);
+        for (uint32_t t = 0; t < out->n_tris; t++) /* by name: ids may differ */
+            if (out->tri_alive[t]) {
+                uint32_t p = lm_mesh_find_part(in, lm_mesh_part_name(out, t));
+                if (p != LM_NONE)
+                    has[p] = 1;
+            }
+    }
+    for (uint32_t p = 0; had && has && p < n; p++) {
+        if (!had[p] || has[p])
+            continue;
+        if (len < cap) {
+            int w = snprintf(buf + len, cap - len, "%s'%s'", lost ? ", " : "", in->parts[p].name);
+            len += w > 0 ? (size_t)w : 0;
+        }
+        lost++;
+    }
+    if (len >= cap && cap > 4)
+        memcpy(buf + cap - 4, "...", 4);
+    free(had);
+    free(has);
+    return lost;
+}
+
+void co_simplify_warn_lost_parts(const char *cmd, const lm_mesh *in, const lm_mesh *out)
+{
+    char names[512];
+    uint32_t n = co_simplify_lost_parts(in, out, names, sizeof names);
+    if (n)
+        fprintf(stderr, "lumesh %s: warning: the simplification removed %u part%s: %s\n", cmd, n,
+                n == 1 ? "" : "s", names);
 }

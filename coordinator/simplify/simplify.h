@@ -21,4 +21,10 @@ lm_status co_simplify(const lm_mesh *in, co_simplify_method method, uint32_t tar
 lm_status co_simplify_best(const lm_mesh *in, co_simplify_method method, uint32_t target_verts,
                            lm_mesh **out, int *short_of);
 
+/* The parts of `in` (by name) that hold triangles there and none in `out`, as "A, B, C" in buf
+ * (cap bytes, cut with "..." when long); returns how many. 0 where `in` has no part table. */
+uint32_t co_simplify_lost_parts(const lm_mesh *in, const lm_mesh *out, char *buf, size_t cap);
+/* One warning line on stderr naming the parts `out` lost ("lumesh CMD: warning: ..."), if any. */
+void co_simplify_warn_lost_parts(const char *cmd, const lm_mesh *in, const lm_mesh *out);
+
 #endif

@@ -11,7 +11,9 @@
  * are kept once, and double-sided faces (the same three cells in opposite orientations, e.g. the
  * two sides of a thin sheet) are removed altogether, as the paper does, which opens a few holes.
  * The grid resolution is searched (bisection on log cell size) until the live vertex count is
- * within CO_SIMPLIFY_TOLERANCE of the target. */
+ * within CO_SIMPLIFY_TOLERANCE of the target. A part the clustering removed altogether (its
+ * triangles all fell into fewer than three cells) comes back at its smallest non-empty QEM form
+ * (co_simplify_keep_parts): no part disappears silently. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -544,6 +546,7 @@ lm_status co_simplify_cluster(const lm_mesh *in, uint32_t target_verts, co_simpl
     if (!s && !(C.extent > 0))
         s = lm_fail(LM_E_RANGE, "the model has no extent: every vertex is at one point");
     cl_search S = {.target = target_verts};
+    uint32_t kept = 0;
     if (!s) {
         search_h(&C, &S);
         if (C.h != S.best_h)
@@ -552,8 +555,18 @@ lm_status co_simplify_cluster(const lm_mesh *in, uint32_t target_verts, co_simpl
         fill_stats(&C, S.evals, stats);
     }
     ctx_free(&C);
+    if (!s && (s = co_simplify_keep_parts(in, *out, &kept)) != LM_OK) {
+        lm_mesh_destroy(*out);
+        *out = NULL;
+    }
     if (s || co_simplify_reached((*out)->live_verts, target_verts))
         return s;
+    if (kept)
+        return lm_fail(LM_E_RANGE,
+                       "vertex clustering reached %u vertices at best (cell side %g; with %u "
+                       "part%s it would have removed, kept at %s smallest), above the target %u",
+                       (*out)->live_verts, S.best_h, kept, kept == 1 ? "" : "s",
+                       kept == 1 ? "its" : "their", target_verts);
     return lm_fail(LM_E_RANGE,
                    "vertex clustering reached %u vertices at best (cell side %g), above the "
                    "target %u",

@@ -47,6 +47,10 @@ lm_status co_simplify_copy_materials(const lm_mesh *src, lm_mesh *dst);
  */
 lm_status co_simplify_build_from_tris(const lm_mesh *in, const lm_tri *tris, size_t n,
                                       uint32_t *dropped, lm_mesh **out);
+/* Every part of `in` that holds triangles there and none in `out` (a mesh built from `in`, with
+ * its part table) appended to out at its smallest non-empty QEM form, simplified alone; *kept
+ * counts them. Adjacency rebuilt when any was. */
+lm_status co_simplify_keep_parts(const lm_mesh *in, lm_mesh *out, uint32_t *kept);
 /* Finish an output mesh: validate, build adjacency. On failure destroys *m and sets it NULL. */
 lm_status co_simplify_finish(lm_mesh **m);
 

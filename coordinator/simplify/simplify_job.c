@@ -191,6 +191,7 @@ static lm_status write_outputs(sjob *j)
         j->sum->out_verts = out->live_verts;
         j->sum->out_tris = out->live_tris;
         j->sum->out_parts = lm_mesh_count_parts(out);
+        co_simplify_warn_lost_parts("simplify", j->in, out);
     }
     lm_mesh_destroy(out);
     return st;

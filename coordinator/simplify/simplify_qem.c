@@ -7,9 +7,12 @@
  * form, so UV/normal seams, material and part boundaries survive. It aims at an index count; we
  * want a number of live vertices, so the index budget is searched (secant steps inside a bracket)
  * until the vertex count is within CO_SIMPLIFY_TOLERANCE. No error limit is used. For large inputs
- * a first pass cuts the mesh to about three times the target, and the search runs on that. */
+ * a first pass cuts the mesh to about three times the target, and the search runs on that. A part
+ * the search's result lost altogether (a small open part collapses to nothing) comes back at its
+ * smallest non-empty form, simplified alone: no part disappears silently. */
 #include <float.h>
 #include <meshoptimizer.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -209,6 +212,80 @@ static void search(qem_search *S, const uint32_t *src, size_t n_src, uint32_t v_
     }
 }
 
+/* 1 when idx[i..i+3) is a triangle of three distinct vertices (what the output keeps). */
+static int proper(const qem_search *S, const uint32_t *idx, size_t i)
+{
+    uint32_t v[3];
+    for (int k = 0; k < 3; k++)
+        v[k] = S->in->wedges[S->qi->wedge[idx[i + k]]].vertex;
+    return v[0] != v[1] && v[1] != v[2] && v[0] != v[2];
+}
+
+/* parts[p] = 1 where triangles of idx[0..n) put part p on the output. */
+static void mark_parts(const qem_search *S, const uint32_t *idx, size_t n, uint8_t *parts)
+{
+    for (size_t i = 0; i + 2 < n; i += 3)
+        if (proper(S, idx, i) && S->qi->part[idx[i]] < S->in->n_parts)
+            parts[S->qi->part[idx[i]]] = 1;
+}
+
+/* One part alone (its triangles in sub[0..n_sub)) at the smallest index budget whose result keeps
+ * a triangle: the result appended to dst at *n_dst. */
+static void smallest_part(const qem_search *S, const uint32_t *sub, size_t n_sub, uint32_t *dst,
+                          size_t *n_dst)
+{
+    const qem_input *q = S->qi;
+    for (size_t budget = 3;; budget += 3 * (budget / 12 + 1)) {
+        budget = budget > n_sub ? n_sub : budget;
+        size_t n = meshopt_simplify(dst + *n_dst, sub, n_sub, &q->pos[0][0], q->n_entries,
+                                    sizeof q->pos[0], budget, QEM_NO_ERROR_LIMIT, 0, NULL);
+        int kept = 0;
+        for (size_t i = 0; i + 2 < n && !kept; i += 3)
+            kept = proper(S, dst + *n_dst, i);
+        if (kept || budget >= n_sub) {
+            *n_dst += n;
+            return;
+        }
+    }
+}
+
+/* Every part of the input that S->best lost comes back at its smallest form (appended to
+ * S->best, which is reallocated); *kept counts them. */
+static lm_status keep_parts(qem_search *S, uint32_t *kept)
+{
+    const lm_mesh *in = S->in;
+    const qem_input *q = S->qi;
+    *kept = 0;
+    if (in->n_parts < 2)
+        return LM_OK;
+    uint8_t *had = calloc(in->n_parts, 1), *has = calloc(in->n_parts, 1);
+    uint32_t *sub = malloc((q->n_indices + 3) * sizeof *sub);
+    uint32_t *best = realloc(S->best, (S->best_count + q->n_indices + 3) * sizeof *best);
+    if (best)
+        S->best = best;
+    lm_status s = had && has && sub && best ? LM_OK : lm_fail(LM_E_NOMEM, "out of memory");
+    if (s == LM_OK) {
+        mark_parts(S, q->indices, q->n_indices, had);
+        mark_parts(S, S->best, S->best_count, has);
+    }
+    for (uint32_t p = 0; s == LM_OK && p < in->n_parts; p++) {
+        if (!had[p] || has[p])
+            continue;
+        size_t n_sub = 0;
+        for (size_t i = 0; i + 2 < q->n_indices; i += 3)
+            if (q->part[q->indices[i]] == p) {
+                memcpy(sub + n_sub, q->indices + i, 3 * sizeof *sub);
+                n_sub += 3;
+            }
+        smallest_part(S, sub, n_sub, S->best, &S->best_count);
+        (*kept)++;
+    }
+    free(had);
+    free(has);
+    free(sub);
+    return s;
+}
+
 /* Turn the best index buffer into the output mesh. */
 static lm_status emit(const lm_mesh *in, const qem_input *q, const uint32_t *idx, size_t n,
                       uint32_t *dropped, lm_mesh **out)
@@ -266,11 +343,13 @@ lm_status co_simplify_qem(const lm_mesh *in, uint32_t target_verts, co_simplify_
     S.scratch = malloc((q.n_indices + 3) * sizeof *S.scratch);
     S.best = malloc((q.n_indices + 3) * sizeof *S.best);
     int stuck = 0;
-    uint32_t dropped = 0;
+    uint32_t dropped = 0, kept = 0;
     if (!S.stamp || !S.scratch || !S.best)
         s = lm_fail(LM_E_NOMEM, "out of memory in the QEM search (%zu indices)", q.n_indices);
     if (!s)
         s = search_all(&S, q.n_indices, &stuck);
+    if (!s)
+        s = keep_parts(&S, &kept);
     if (!s)
         s = emit(in, &q, S.best, S.best_count, &dropped, out);
     if (stats) {
@@ -284,11 +363,19 @@ lm_status co_simplify_qem(const lm_mesh *in, uint32_t target_verts, co_simplify_
     qem_input_free(&q);
     if (s || co_simplify_reached((*out)->live_verts, target_verts))
         return s;
+    char also[128] = ""; /* the parts kept, when any */
+    if (kept)
+        snprintf(also, sizeof also, " (with %u part%s QEM would have removed, kept at %s smallest)",
+                 kept, kept == 1 ? "" : "s", kept == 1 ? "its" : "their");
     if (stuck)
         return lm_fail(LM_E_RANGE,
-                       "QEM stopped at %u vertices (target %u): the topology (closed small parts, "
-                       "seams) allows no further edge collapses; --method cluster goes further",
-                       (*out)->live_verts, target_verts);
+                       "QEM stopped at %u vertices%s (target %u): the topology (closed small "
+                       "parts, seams) allows no further edge collapses; --method cluster goes "
+                       "further",
+                       (*out)->live_verts, also, target_verts);
+    if (kept)
+        return lm_fail(LM_E_RANGE, "QEM reached %u vertices at best%s, above the target %u",
+                       (*out)->live_verts, also, target_verts);
     return lm_fail(LM_E_RANGE, "QEM reached %u vertices at best, above the target %u",
                    (*out)->live_verts, target_verts);
 }

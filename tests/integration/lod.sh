@@ -1,11 +1,15 @@
 #!/usr/bin/env bash
 # Integration: `lumesh lod` end to end on a small generated frog (7 named parts, textured; 6 views
-# of 48 pixels, 400 evaluations of optimisation per level): one GLB whose scene shows LOD0 and
-# whose LOD0 names LOD1 and LOD2 through MSFT_lod, every level holding the 7 parts by name and
-# fewer vertices than the one before; --per-level files with the same levels; what readers load of
-# the GLB is LOD0; bad level lists are one-line errors. LUMESH_TEST_LIGHT=1 (the sanitizer stage;
-# the release stage runs it whole): a frog of 500 triangles, 4 views of 32 pixels, 100 evaluations
-# per level; every check the same.
+# of 48 pixels, 400 evaluations of optimisation per level). By default one file per level (GLB,
+# and OBJ with the old --per-level) each holding the 7 parts by name and fewer vertices than the
+# one before, and lods.json beside them: its distances and held-out energies are what `lumesh
+# energy --heldout --distance` measures of each level's file, its switch errors the running
+# maximum of the max distance and its switch distances the documented formula for the screen asked
+# for, neither ever decreasing down the chain. --msft-lod: one GLB whose scene shows LOD0 and whose
+# LOD0 names LOD1 and LOD2 through MSFT_lod, every level holding the 7 parts; what readers load of
+# the GLB is LOD0; its manifest names the GLB's nodes. Bad level lists and outputs are one-line
+# errors. LUMESH_TEST_LIGHT=1 (the sanitizer stage; the release stage runs it whole): a frog of 500
+# triangles, 4 views of 32 pixels, 100 evaluations per level; every check the same.
 set -u
 . "$(dirname "$0")/lib.bash"
 tmp=$(mktemp -d)
@@ -18,11 +22,56 @@ if [ "$light" = 1 ]; then
 fi
 "$LUMESH" gen-frog -o "$tmp/frog.glb" --tris "$tris" >/dev/null 2>"$tmp/err" || fail "gen-frog failed: $(tail -n 5 "$tmp/err")"
 
-out=$("$LUMESH" lod "$tmp/frog.glb" -o "$tmp/lod/frog.glb" "${common[@]}" 2>"$tmp/err") ||
-  fail "lod failed: $(cat "$tmp/err")"
+size=${common[5]}
+out=$("$LUMESH" lod "$tmp/frog.glb" -o "$tmp/set/frog.glb" "${common[@]}" --screen-height 720 \
+  --fov 45 --pixel-error 2 2>"$tmp/err") || fail "lod failed: $(cat "$tmp/err")"
 checks=$((checks + 1))
 [ "$(printf '%s\n' "$out" | grep -c '7 parts')" = 3 ] || fail "lod: not 3 levels of 7 parts: $out"
-python3 - "$tmp/lod/frog.glb" <<'PY' || fail "the GLB's levels are not as expected"
+for k in 0 1 2; do
+  checks=$((checks + 1))
+  [ -s "$tmp/set/frog.lod$k.glb" ] || fail "no frog.lod$k.glb: $(ls "$tmp/set")"
+done
+[ -e "$tmp/set/frog.glb" ] && fail "one file per level also wrote frog.glb"
+checks=$((checks + 1))
+"$LUMESH" energy "$tmp/frog.glb" "$tmp/set/frog.lod"{0,1,2}.glb --heldout --distance \
+  --size "$size" --device host >"$tmp/energy.jsonl" 2>"$tmp/err" ||
+  fail "energy of the levels failed: $(cat "$tmp/err")"
+python3 - "$tmp/set/lods.json" "$tmp/energy.jsonl" <<'PY' || fail "lods.json is not as expected"
+import json, math, sys
+m = json.load(open(sys.argv[1]))
+e = [json.loads(l) for l in open(sys.argv[2])]
+lv = m['levels']
+assert [l['file'] for l in lv] == ['frog.lod%d.glb' % k for k in range(3)], lv
+assert m['parts'] == 7 and all(l['parts'] == 7 for l in lv), lv
+assert m['screen'] == {'height_px': 720, 'fov_deg': 45, 'pixel_error': 2}, m['screen']
+assert m['heldout']['views'] == 24, m['heldout']
+same = lambda a, b: math.isclose(a, b, rel_tol=2e-8, abs_tol=1e-12)
+run = 0.0
+for l, j in zip(lv, e):
+    d, jd = l['distance'], j['distance']
+    for k in ('mean', 'rms', 'max', 'samples'):
+        assert d[k] == jd[k], (l['file'], k, d[k], jd[k])
+    assert same(m['diagonal'], jd['diagonal']), (m['diagonal'], jd['diagonal'])
+    assert same(d['mean_rel'], jd['mean'] / jd['diagonal']), l
+    assert same(d['max_rel'], jd['max'] / jd['diagonal']), l
+    assert l['heldout']['total'] == j['total'] and j['heldout'], (l['heldout'], j['total'])
+    assert '%.6f' % j['mse'] == '%.6f' % l['heldout']['mse'], (l['heldout'], j['mse'])
+    run = max(run, jd['max'])
+    s = l['switch']
+    assert same(s['error'], run), (s, run)
+    assert same(s['distance'], run * 720 / (2 * math.tan(math.radians(45) / 2) * 2)), s
+    assert same(s['screen_error_px'], run * 720 / jd['diagonal']), s
+assert lv[0]['vertices'] > lv[1]['vertices'] > lv[2]['vertices'], lv
+for a, b in zip(lv, lv[1:]):
+    assert b['switch']['error'] >= a['switch']['error'], (a, b)
+    assert b['switch']['distance'] >= a['switch']['distance'], (a, b)
+PY
+
+out=$("$LUMESH" lod "$tmp/frog.glb" -o "$tmp/lod/frog.glb" "${common[@]}" --msft-lod 2>"$tmp/err") ||
+  fail "lod --msft-lod failed: $(cat "$tmp/err")"
+checks=$((checks + 1))
+[ "$(printf '%s\n' "$out" | grep -c '7 parts')" = 3 ] || fail "lod: not 3 levels of 7 parts: $out"
+python3 - "$tmp/lod/frog.glb" "$tmp/lod/lods.json" <<'PY' || fail "the GLB's levels are not as expected"
 import json, struct, sys
 b = open(sys.argv[1], 'rb').read()
 j = json.loads(b[20:20 + struct.unpack('<I', b[12:16])[0]])
@@ -47,6 +96,10 @@ for r in roots:
     counts.append(verts)
 assert len(names) == 7 and 'body' in names, names
 assert counts[0] > counts[1] > counts[2], counts
+m = json.load(open(sys.argv[2]))
+assert [(l['file'], l['node']) for l in m['levels']] == [('frog.glb', 'LOD%d' % k) for k in range(3)]
+for a, b in zip(m['levels'], m['levels'][1:]):
+    assert b['switch']['distance'] >= a['switch']['distance'], (a, b)
 PY
 "$LUMESH" energy "$tmp/frog.glb" "$tmp/lod/frog.glb" --size 48 >"$tmp/e.json" 2>&1 ||
   fail "lumesh energy cannot read the LOD GLB: $(cat "$tmp/e.json")"
@@ -59,6 +112,9 @@ for k in 0 1 2; do
 done
 expect_fail_line "$LUMESH" lod "$tmp/frog.glb" -o "$tmp/x.glb" --levels 50%,60%
 expect_fail_line "$LUMESH" lod "$tmp/frog.glb" -o "$tmp/x.glb" --levels 50%,abc
-expect_fail_line "$LUMESH" lod "$tmp/frog.glb" -o "$tmp/x.obj" --levels 50%
-[ -e "$tmp/x.glb" ] || [ -e "$tmp/x.obj" ] && fail "a failed lod left a file"
+expect_fail_line "$LUMESH" lod "$tmp/frog.glb" -o "$tmp/x.obj" --levels 50% --msft-lod
+expect_fail_line "$LUMESH" lod "$tmp/frog.glb" -o "$tmp/x.txt" --levels 50%
+expect_fail_line "$LUMESH" lod "$tmp/frog.glb" -o "$tmp/x.glb" --levels 50% --fov 180
+[ -e "$tmp/x.glb" ] || [ -e "$tmp/x.obj" ] || [ -e "$tmp/x.lod0.glb" ] || [ -e "$tmp/lods.json" ] &&
+  fail "a failed lod left a file"
 finish

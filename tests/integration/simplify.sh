@@ -2,8 +2,8 @@
 # Integration: `lumesh gen-frog` and `lumesh simplify` end to end — generate the frog in each output
 # format, simplify it with both methods and the bunny with QEM, read the one-line summaries, and
 # check that a target is an upper bound: a model already small enough is written as it is with a
-# note, an unreachable target gives the best mesh with a warning (exit 0), and only real errors
-# fail (one line, nothing written).
+# note, an unreachable target gives the best mesh with a warning (exit 0), no part of the spider
+# disappears at 300 vertices, and only real errors fail (one line, nothing written).
 set -u
 . "$(dirname "$0")/lib.bash"
 tmp=$(mktemp -d)
@@ -71,6 +71,19 @@ if [ -r "$spider" ]; then
     grep -q 'method cluster goes further' "$tmp/err" ||
     fail "no warning for the spider at 50 vertices: $line $(cat "$tmp/err")"
   [ -s "$tmp/spider.glb" ] || fail "spider at 50 vertices: nothing written"
+  # No part disappears silently: at 300 vertices QEM (the default) and clustering keep all 19
+  # parts (QEM removed the eye 'Duplicate05', clustering 'Auge', without a word); a part that
+  # could not be kept would be named in a warning.
+  for method in qem cluster; do
+    checks=$((checks + 1))
+    "$LUMESH" simplify "$spider" -o "$tmp/spider300-$method.obj" --target-verts 300 \
+      --method "$method" >/dev/null 2>"$tmp/err" || fail "spider at 300 ($method): $(cat "$tmp/err")"
+    n=$(grep -c '^o ' "$tmp/spider300-$method.obj")
+    [ "$n" = 19 ] || grep -q "warning: the simplification removed $((19 - n)) part" "$tmp/err" ||
+      fail "spider at 300 ($method): $n of 19 parts and no warning naming the others"
+    [ "$n" = 19 ] || fail "spider at 300 ($method): $n of 19 parts kept: $(cat "$tmp/err")"
+    grep -q 'lumesh simplify: warning' "$tmp/err" && fail "spider at 300 ($method): a warning: $(cat "$tmp/err")"
+  done
 fi
 # Real errors: one line on stderr, exit 1, no output file.
 expect_fail_line "$LUMESH" simplify "$tmp/frog.glb" -o "$tmp/x.obj" --target-verts 100 --method x

@@ -128,6 +128,38 @@ static void test_qem_spider_components(void **state)
     lm_mesh_destroy(m);
 }
 
+/* No part disappears silently (issue 39): the spider at 300 vertices loses its 38-triangle eye
+ * 'Duplicate05' to QEM and 'Auge' to clustering unless kept; both simplifiers keep every named part
+ * (at its smallest) within the target's tolerance, and a mesh that lost one names it. */
+static void test_spider_keeps_parts(void **state)
+{
+    (void)state;
+    lm_mesh *m = load_or_skip(lmt_spider_path());
+    uint32_t parts = lm_mesh_count_parts(m);
+    assert_int_equal(parts, 19);
+    char names[256];
+    for (int method = CO_SIMPLIFY_QEM; method <= CO_SIMPLIFY_CLUSTER; method++) {
+        lm_mesh *out = NULL;
+        lm_status s = co_simplify(m, (co_simplify_method)method, 300, &out);
+        if (s)
+            fail_msg("spider to 300 (method %d): %s", method, lm_last_error());
+        print_message("spider to 300 (method %d): %u vertices, %u parts\n", method, out->live_verts,
+                      lm_mesh_count_parts(out));
+        assert_int_equal(lm_mesh_count_parts(out), parts);
+        assert_int_equal(co_simplify_lost_parts(m, out, names, sizeof names), 0);
+        check_output(out);
+        uint32_t body = lm_mesh_find_part(out, "HLeib01"); /* the eye moved away: it is named */
+        assert_true(body != LM_NONE);
+        for (uint32_t t = 0; t < out->n_tris; t++)
+            if (out->tri_alive[t] && !strcmp(lm_mesh_part_name(out, t), "Duplicate05"))
+                out->tris[t].part = body;
+        assert_int_equal(co_simplify_lost_parts(m, out, names, sizeof names), 1);
+        assert_string_equal(names, "'Duplicate05'");
+        lm_mesh_destroy(out);
+    }
+    lm_mesh_destroy(m);
+}
+
 /* The chart a UV lies in (the frog's atlas: body left half, legs bottom right, eyes top right). */
 static int chart_of(const float uv[2])
 {
@@ -447,6 +479,7 @@ int main(void)
         cmocka_unit_test(test_qem_bunny),
         cmocka_unit_test(test_cluster_bunny),
         cmocka_unit_test(test_qem_spider_components),
+        cmocka_unit_test(test_spider_keeps_parts),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
