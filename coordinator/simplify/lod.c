@@ -90,8 +90,8 @@ static lm_status resolve_targets(lod *L)
 static lm_status make_views(lod *L)
 {
     const co_lod_options *o = L->o;
-    lm_status st = co_view_set_around(L->orig, o->views ? o->views : LM_DEFAULT_VIEWS,
-                                      o->size ? o->size : LM_DEFAULT_VIEW_SIZE, 0, &L->vs);
+    lm_status st =
+        co_view_set_of(L->orig, &o->views, o->size ? o->size : LM_DEFAULT_VIEW_SIZE, 0, &L->vs);
     if (st == LM_OK)
         st = co_simplify_pool_start(&o->workers, o->device, &L->pool);
     if (st == LM_OK)
