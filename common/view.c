@@ -1,7 +1,8 @@
 /* common/view.c — viewpoints and cameras (see view.h): directions uniform on the sphere
  * (icosahedron for 12, dodecahedron for 20, spherical Fibonacci otherwise, a rotated Fibonacci set
- * of 24 for the held-out views), look-at and perspective matrices framing the bounding sphere, and
- * the projection of world points to window pixels. */
+ * of 24 for the held-out views) or on the upper hemisphere (Fibonacci; the held-out and dense
+ * sets mirrored into it), look-at and perspective matrices framing the bounding sphere or as given
+ * cameras say, and the projection of world points to window pixels. */
 #include "common/view.h"
 
 #include <math.h>
@@ -12,7 +13,8 @@
 #define LM_VIEW_MARGIN 1.05   /* field-of-view margin around the sphere */
 #define LM_VIEW_DEPTH_PAD 1.1 /* near/far planes this many radii in front of/behind the centre */
 #define LM_HELDOUT_COUNT 24
-#define LM_DENSE_RINGS 3 /* the dense check: LM_DENSE_VIEWS / 3 directions at each distance */
+#define LM_DENSE_RINGS 3    /* the dense check: LM_DENSE_VIEWS / 3 directions at each distance */
+#define LM_CAMERA_NEAR 1e-3 /* a camera inside the bounding sphere: near plane at this x far */
 
 static void normalize3(double v[3])
 {
@@ -79,18 +81,24 @@ static void dodecahedron_dirs(double (*d)[3])
             d[i][c] = m[dodecahedron_tour[i]][c];
 }
 
-/* Spherical Fibonacci points: z uniform in (-1, 1), longitude advancing by the golden angle. */
-static void fibonacci_dirs(double (*d)[3], uint32_t n)
+/* Spherical Fibonacci points: z uniform in (1 - span, 1) from the top down (span 2: the sphere,
+ * 1: the upper hemisphere), longitude advancing by the golden angle. */
+static void fibonacci_span(double (*d)[3], uint32_t n, double span)
 {
     const double golden = M_PI * (3.0 - sqrt(5.0));
     for (uint32_t i = 0; i < n; i++) {
-        double z = 1.0 - (2.0 * i + 1.0) / n;
+        double z = 1.0 - span * (i + 0.5) / n;
         double r = sqrt(fmax(0.0, 1.0 - z * z));
         double phi = golden * i;
         d[i][0] = r * cos(phi);
         d[i][1] = z;
         d[i][2] = r * sin(phi);
     }
+}
+
+static void fibonacci_dirs(double (*d)[3], uint32_t n)
+{
+    fibonacci_span(d, n, 2.0);
 }
 
 /* Rotate v about a unit axis by angle (Rodrigues). */
@@ -104,14 +112,10 @@ static void rotate3(double v[3], const double axis[3], double angle)
         v[i] = v[i] * c + kv[i] * s + k[i] * dot * (1.0 - c);
 }
 
-/* Column-major look-at (eye looking along unit `fwd`) with an up vector that avoids the poles. */
-static void look_at(const double eye[3], const double fwd[3], float out[16])
+/* Column-major look-at: eye looking along unit `fwd`, `up` not parallel to it. */
+static void look_at_up(const double eye[3], const double fwd[3], const double up[3], float out[16])
 {
-    double up[3] = {0, 1, 0}, s[3], u[3];
-    if (fabs(fwd[1]) > 0.95) {
-        up[1] = 0;
-        up[2] = 1;
-    }
+    double s[3], u[3];
     cross3(fwd, up, s);
     normalize3(s);
     cross3(s, fwd, u);
@@ -125,6 +129,17 @@ static void look_at(const double eye[3], const double fwd[3], float out[16])
     out[13] = (float)-(u[0] * eye[0] + u[1] * eye[1] + u[2] * eye[2]);
     out[14] = (float)(fwd[0] * eye[0] + fwd[1] * eye[1] + fwd[2] * eye[2]);
     out[15] = 1.0f;
+}
+
+/* look_at_up with an up vector that avoids the poles. */
+static void look_at(const double eye[3], const double fwd[3], float out[16])
+{
+    double up[3] = {0, 1, 0};
+    if (fabs(fwd[1]) > 0.95) {
+        up[1] = 0;
+        up[2] = 1;
+    }
+    look_at_up(eye, fwd, up, out);
 }
 
 static void perspective(double half_fov, double aspect, double n, double f, float out[16])
@@ -224,8 +239,9 @@ void lm_view_deal_text(lm_view_deal d, char *buf, size_t cap)
         snprintf(buf, cap, "%u,%u..%u", d.first, d.first + d.stride, last);
 }
 
-lm_status lm_view_set_make(lm_view_set *out, uint32_t n, int size, const float centre[3],
-                           float radius)
+/* upper: n Fibonacci directions on the upper hemisphere instead of the sphere's placements. */
+static lm_status make_placed(lm_view_set *out, uint32_t n, int size, const float centre[3],
+                             float radius, int upper)
 {
     if (n < 1 || n > LM_MAX_VIEWS)
         return lm_fail(LM_E_RANGE, "view count %u is outside 1..%d", n, LM_MAX_VIEWS);
@@ -233,7 +249,9 @@ lm_status lm_view_set_make(lm_view_set *out, uint32_t n, int size, const float c
     if (st != LM_OK)
         return st;
     double dirs[LM_MAX_VIEWS][3];
-    if (n == 12)
+    if (upper)
+        fibonacci_span(dirs, n, 1.0);
+    else if (n == 12)
         icosahedron_dirs(dirs);
     else if (n == 20)
         dodecahedron_dirs(dirs);
@@ -247,7 +265,15 @@ lm_status lm_view_set_make(lm_view_set *out, uint32_t n, int size, const float c
     return LM_OK;
 }
 
-lm_status lm_view_set_make_heldout(lm_view_set *out, int size, const float centre[3], float radius)
+lm_status lm_view_set_make(lm_view_set *out, uint32_t n, int size, const float centre[3],
+                           float radius)
+{
+    return make_placed(out, n, size, centre, radius, 0);
+}
+
+/* mirror: the directions folded into the upper hemisphere (y -> |y|). */
+static lm_status make_heldout(lm_view_set *out, int size, const float centre[3], float radius,
+                              int mirror)
 {
     lm_status st = check_args(size, centre, radius);
     if (st != LM_OK)
@@ -261,12 +287,20 @@ lm_status lm_view_set_make_heldout(lm_view_set *out, int size, const float centr
     for (uint32_t i = 0; i < LM_HELDOUT_COUNT; i++) {
         rotate3(dirs[i], axis, 0.61);
         normalize3(dirs[i]);
+        if (mirror)
+            dirs[i][1] = fabs(dirs[i][1]);
         make_view(&out->views[i], dirs[i], size, centre, radius, LM_VIEW_DISTANCE);
     }
     return LM_OK;
 }
 
-lm_status lm_view_set_make_dense(lm_view_set *out, int size, const float centre[3], float radius)
+lm_status lm_view_set_make_heldout(lm_view_set *out, int size, const float centre[3], float radius)
+{
+    return make_heldout(out, size, centre, radius, 0);
+}
+
+static lm_status make_dense(lm_view_set *out, int size, const float centre[3], float radius,
+                            int mirror)
 {
     lm_status st = check_args(size, centre, radius);
     if (st != LM_OK)
@@ -288,10 +322,113 @@ lm_status lm_view_set_make_dense(lm_view_set *out, int size, const float centre[
         for (uint32_t i = 0; i < per; i++) {
             rotate3(dirs[i], ax, angle[r]);
             normalize3(dirs[i]);
+            if (mirror)
+                dirs[i][1] = fabs(dirs[i][1]);
             make_view(&out->views[out->count++], dirs[i], size, centre, radius, distance[r]);
         }
     }
     return LM_OK;
+}
+
+lm_status lm_view_set_make_dense(lm_view_set *out, int size, const float centre[3], float radius)
+{
+    return make_dense(out, size, centre, radius, 0);
+}
+
+static int finite3(const float v[3])
+{
+    return isfinite(v[0]) && isfinite(v[1]) && isfinite(v[2]);
+}
+
+static double length3(const double v[3])
+{
+    return sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+}
+
+const char *lm_camera_problem(const lm_camera *c)
+{
+    if (!finite3(c->position) || !finite3(c->target) || !finite3(c->up) || !isfinite(c->fov_deg))
+        return "a number is not finite";
+    if (!(c->fov_deg > 0.0f && c->fov_deg < 180.0f))
+        return "fov is outside (0, 180) degrees";
+    double fwd[3], up[3], s[3];
+    for (int i = 0; i < 3; i++) {
+        fwd[i] = (double)c->target[i] - c->position[i];
+        up[i] = c->up[i];
+    }
+    double lf = length3(fwd), lu = length3(up);
+    if (!(lf > 0.0))
+        return "position equals target";
+    if (!(lu > 0.0))
+        return "up has zero length";
+    cross3(fwd, up, s);
+    if (!(length3(s) > 1e-6 * lf * lu))
+        return "up is parallel to the line of sight";
+    return NULL;
+}
+
+/* A camera of a file as it is, near and far planes from the bounding sphere (in front of the
+ * camera: a tiny fraction of far when the camera is inside the sphere). */
+static void make_camera_view(lm_view *v, const lm_camera *c, int size, const float centre[3],
+                             float radius)
+{
+    double eye[3], fwd[3], up[3], to_c[3];
+    for (int i = 0; i < 3; i++) {
+        eye[i] = c->position[i];
+        fwd[i] = (double)c->target[i] - eye[i];
+        up[i] = c->up[i];
+        to_c[i] = (double)centre[i] - eye[i];
+    }
+    normalize3(fwd);
+    double dist = length3(to_c);
+    double f = dist + LM_VIEW_DEPTH_PAD * radius;
+    double n = fmax(dist - LM_VIEW_DEPTH_PAD * radius, LM_CAMERA_NEAR * f);
+    for (int i = 0; i < 3; i++) {
+        v->eye[i] = (float)eye[i];
+        v->dir[i] = (float)fwd[i];
+    }
+    look_at_up(eye, fwd, up, v->view);
+    perspective(0.5 * c->fov_deg * M_PI / 180.0, 1.0, n, f, v->proj);
+    mat4_mul(v->proj, v->view, v->view_proj);
+    v->width = size;
+    v->height = size;
+}
+
+static lm_status make_cameras(lm_view_set *out, const lm_view_spec *spec, int size,
+                              const float centre[3], float radius)
+{
+    if (spec->count < 1 || spec->count > LM_MAX_VIEWS || !spec->cameras)
+        return lm_fail(LM_E_RANGE, "camera count %u is outside 1..%d", spec->count, LM_MAX_VIEWS);
+    lm_status st = check_args(size, centre, radius);
+    for (uint32_t i = 0; st == LM_OK && i < spec->count; i++) {
+        const char *why = lm_camera_problem(&spec->cameras[i]);
+        if (why)
+            return lm_fail(LM_E_INVALID, "camera %u: %s", i, why);
+    }
+    if (st != LM_OK)
+        return st;
+    out->count = spec->count;
+    for (uint32_t i = 0; i < spec->count; i++)
+        make_camera_view(&out->views[i], &spec->cameras[i], size, centre, radius);
+    return LM_OK;
+}
+
+lm_status lm_view_set_make_spec(lm_view_set *out, const lm_view_spec *spec, lm_view_set_kind kind,
+                                int size, const float centre[3], float radius)
+{
+    int upper = spec->dist == LM_VIEW_DIST_UPPER;
+    if (kind == LM_VIEWS_HELDOUT)
+        return make_heldout(out, size, centre, radius, upper);
+    if (kind == LM_VIEWS_DENSE)
+        return make_dense(out, size, centre, radius, upper);
+    if (spec->dist == LM_VIEW_DIST_CAMERAS)
+        return make_cameras(out, spec, size, centre, radius);
+    return make_placed(out, spec->count, size, centre, radius, upper);
+}
+
+const char *lm_view_dist_name(lm_view_dist d)
+{
+    return d == LM_VIEW_DIST_UPPER ? "upper" : d == LM_VIEW_DIST_CAMERAS ? "cameras" : "sphere";
 }
 
 int lm_view_project(const lm_view *v, const float p[3], float win[2], float *w)

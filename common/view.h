@@ -1,9 +1,10 @@
 /* common/view.h — viewpoints and cameras. Views are placed uniformly on a sphere around the
- * ORIGINAL model (icosahedron for 12, dodecahedron for 20, spherical Fibonacci otherwise), looking
- * at its bounding-sphere centre, framed so the whole sphere is visible; perspective projection.
- * Held-out views (the paper's evaluation protocol) are a fixed set of 24 directions that differ
- * from every optimisation set; the dense check is a third set of 96 at three distances. Matrices
- * are column-major, OpenGL conventions. */
+ * ORIGINAL model (or its upper hemisphere, or given cameras: lm_view_dist) (icosahedron for 12,
+ * dodecahedron for 20, spherical Fibonacci otherwise), looking at its bounding-sphere centre,
+ * framed so the whole sphere is visible; perspective projection. Held-out views (the paper's
+ * evaluation protocol) are a fixed set of 24 directions that differ from every optimisation set;
+ * the dense check is a third set of 96 at three distances. Matrices are column-major, OpenGL
+ * conventions. */
 #ifndef LM_COMMON_VIEW_H
 #define LM_COMMON_VIEW_H
 
@@ -69,6 +70,49 @@ typedef enum lm_view_set_kind {
     LM_VIEWS_HELDOUT,
     LM_VIEWS_DENSE
 } lm_view_set_kind;
+
+/* Where a set's views are (`--views N`, `--views upper[:N]`, `--views-from FILE`):
+ *  SPHERE  the placements above, all around the model (the default, the value 0);
+ *  UPPER   the hemisphere above the model's centre, +Y up as in glTF (assets standing on the
+ *          ground): n spherical Fibonacci directions with y uniform in (0, 1); the held-out and
+ *          dense sets are the sphere's directions MIRRORED into it (y -> |y|), so they keep their
+ *          24 and 96 views and stay uniform over the hemisphere;
+ *  CAMERAS given cameras (a camera file), each framing what it says (no reframing) with near and
+ *          far planes from the model's bounding sphere; the held-out and dense sets stay the
+ *          sphere's (no set of unseen cameras follows from a list of cameras). */
+typedef enum lm_view_dist {
+    LM_VIEW_DIST_SPHERE = 0,
+    LM_VIEW_DIST_UPPER = 1,
+    LM_VIEW_DIST_CAMERAS = 2
+} lm_view_dist;
+
+/* One camera of a camera file: where it is, what it looks at, which way is up, and its vertical
+ * field of view in degrees (square images: the horizontal one is the same). */
+typedef struct lm_camera {
+    float position[3], target[3], up[3];
+    float fov_deg;
+} lm_camera;
+
+/* The views a command renders. count 0 stands for the command's default (SPHERE, UPPER); for
+ * CAMERAS it is the number of cameras (borrowed, not owned). */
+typedef struct lm_view_spec {
+    lm_view_dist dist;
+    uint32_t count;
+    const lm_camera *cameras;
+} lm_view_spec;
+
+/* The set of `kind` for spec (count already resolved: 1..LM_MAX_VIEWS), as the distribution says;
+ * SPHERE gives exactly lm_view_set_make / _heldout / _dense. */
+lm_status lm_view_set_make_spec(lm_view_set *out, const lm_view_spec *spec, lm_view_set_kind kind,
+                                int size, const float centre[3], float radius);
+
+/* Whether a camera can be used: finite numbers, position != target, an up vector of non-zero
+ * length not parallel to the line of sight, a field of view in (0, 180) degrees. NULL when it
+ * can, else what is wrong ("position equals target", ...). */
+const char *lm_camera_problem(const lm_camera *c);
+
+/* The distribution's name for messages and checkpoints: "sphere", "upper", "cameras". */
+const char *lm_view_dist_name(lm_view_dist d);
 
 /* Shift view v's picture by (dx, dy) pixels (x right, y up) while the camera stays where it is:
  * by a fraction of a pixel, the same sight sampled at other pixel centres (an off-centre

@@ -88,6 +88,7 @@ void co_cli_reset_getopt(void)
 {
     optind = 0; /* glibc: 0 forces a full re-initialisation */
     opterr = 1;
+    co_cli_views_reset();
 }
 
 int co_simplify_workers_given(const co_simplify_workers *w)
@@ -130,6 +131,9 @@ static int take(const char *cmd, const co_opt *o, const char *val)
     case CO_OPT_KIND_CALL:
     case CO_OPT_KIND_CALL_FLAG:
         return o->call(o->to, val);
+    case CO_OPT_KIND_VIEWS:
+    case CO_OPT_KIND_VIEWS_FROM:
+        return co_cli_take_views(cmd, o->to, val, o->kind == CO_OPT_KIND_VIEWS_FROM);
     case CO_OPT_KIND_DOUBLE:
         if (co_arg_double(cmd, flag, val, o->dlo, o->dhi, &d))
             return 1;

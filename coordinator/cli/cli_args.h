@@ -24,15 +24,27 @@ lm_status co_arg_double(const char *cmd, const char *flag, const char *val, doub
 
 /* What an option's value is and where it goes (co_opt.to). */
 typedef enum co_opt_kind {
-    CO_OPT_KIND_STR,       /* const char *: the value as given */
-    CO_OPT_KIND_FLAG,      /* int: set to 1; takes no value */
-    CO_OPT_KIND_U32,       /* uint32_t: a whole number in [lo, hi] */
-    CO_OPT_KIND_INT,       /* int: the same (an image side) */
-    CO_OPT_KIND_U64,       /* uint64_t: a whole number in [lo, hi] */
-    CO_OPT_KIND_DOUBLE,    /* double: a number in [dlo, dhi] */
-    CO_OPT_KIND_CALL,      /* call(to, value) */
-    CO_OPT_KIND_CALL_FLAG, /* call(to, NULL); takes no value */
+    CO_OPT_KIND_STR,        /* const char *: the value as given */
+    CO_OPT_KIND_FLAG,       /* int: set to 1; takes no value */
+    CO_OPT_KIND_U32,        /* uint32_t: a whole number in [lo, hi] */
+    CO_OPT_KIND_INT,        /* int: the same (an image side) */
+    CO_OPT_KIND_U64,        /* uint64_t: a whole number in [lo, hi] */
+    CO_OPT_KIND_DOUBLE,     /* double: a number in [dlo, dhi] */
+    CO_OPT_KIND_CALL,       /* call(to, value) */
+    CO_OPT_KIND_CALL_FLAG,  /* call(to, NULL); takes no value */
+    CO_OPT_KIND_VIEWS,      /* lm_view_spec: --views N | upper | upper:N (co_cli_take_views) */
+    CO_OPT_KIND_VIEWS_FROM, /* lm_view_spec: --views-from FILE, read at once */
 } co_opt_kind;
+
+/* --views and --views-from write an lm_view_spec. Commands preset its count to their default
+ * number of views or to 0 for their options' own default (resolved in one place: `--views upper`
+ * keeps it, `--views upper:N` and `--views N` set it); dist starts SPHERE. --views-from reads the
+ * file as it is parsed (errors: one line, exit 1); its cameras live until the process ends (one
+ * command a process; co_cli_reset_getopt forgets them). --views and --views-from exclude each
+ * other. Returns -1 when taken, else the exit code (the reason said, "lumesh CMD: ..."). */
+int co_cli_take_views(const char *cmd, lm_view_spec *v, const char *val, int from);
+/* Forget the --views/--views-from given (co_cli_reset_getopt calls it). */
+void co_cli_views_reset(void);
 
 /* One option of a subcommand. Numbers out of range say so on one line (co_arg_u64). */
 typedef struct co_opt {
@@ -92,7 +104,12 @@ typedef struct co_opt {
         CO_OPT_ROW("output", 'o', CO_OPT_KIND_STR, const char *, p), .needed = (msg)               \
     }
 #define CO_OPT_DEVICE(p) CO_OPT_STR("device", 0, p)
-#define CO_OPT_VIEWS(p) CO_OPT_U32("views", 0, p, 1, LM_MAX_VIEWS)
+/* --views and --views-from (an lm_view_spec *): two rows. */
+#define CO_OPT_VIEWS(p)                                                                            \
+    {CO_OPT_ROW("views", 0, CO_OPT_KIND_VIEWS, lm_view_spec, p)},                                  \
+    {                                                                                              \
+        CO_OPT_ROW("views-from", 0, CO_OPT_KIND_VIEWS_FROM, lm_view_spec, p)                       \
+    }
 #define CO_OPT_SIZE(p) CO_OPT_U32("size", 0, p, 16, LM_MAX_VIEW_SIZE)
 #define CO_OPT_SIZE_INT(p) CO_OPT_INT("size", 0, p, 16, LM_MAX_VIEW_SIZE)
 #define CO_OPT_SEED(p, lo) CO_OPT_U64("seed", 0, p, lo, UINT64_MAX)

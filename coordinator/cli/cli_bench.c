@@ -35,7 +35,8 @@
 
 typedef struct bench_args {
     const char *model, *device;
-    uint32_t views, size, evals, workers, rounds;
+    lm_view_spec views;
+    uint32_t size, evals, workers, rounds;
     uint64_t seed;
     int json;
 } bench_args;
@@ -59,7 +60,8 @@ static void usage(FILE *f)
             "  --model FILE   default: the CGAL bunny of the test data (" BUNNY_REL "),\n"
             "                 from LUMESH_TEST_DATA if set, else the current folder, the folders\n"
             "                 above the program or the source tree it was built from\n"
-            "  --views N      default %u, --size S default %d, --evals N default 5000\n"
+            "  --views N      default %u, --size S default %d, --evals N default 5000;\n"
+            "                 --views upper[:N] or --views-from FILE as lumesh optimize\n"
             "  --device D     auto (default), cpu, egl:N or host;  --json  one JSON object\n"
             "  --workers N    through lumesh-worker processes: measured with 1, 2, 4, ... and N\n"
             "                 workers (each rendering on one core), with the ratio to 1 worker\n"
@@ -239,8 +241,8 @@ static void report(const bench_args *a, const char *model, const bench_result *r
                "  regions:        %.1f per evaluation, %.0f pixels each\n"
                "  commits:        %.0f /s (evaluate + commit)\n"
                "  speed-up vs full re-render: %.1fx\n",
-               model, r->orig_tris, r->coarse_verts, r->coarse_tris, a->views, a->size, r->renderer,
-               r->full_ms, r->evals_per_s, r->evals_per_cpu_s, r->evals_per_s_batch,
+               model, r->orig_tris, r->coarse_verts, r->coarse_tris, a->views.count, a->size,
+               r->renderer, r->full_ms, r->evals_per_s, r->evals_per_cpu_s, r->evals_per_s_batch,
                r->tris_per_eval, r->regions_per_eval, r->pixels_per_region, r->commits_per_s,
                speedup);
         return;
@@ -253,7 +255,7 @@ static void report(const bench_args *a, const char *model, const bench_result *r
            "\"commits_per_s\": %.1f, \"tris_per_eval\": %.1f, \"regions_per_eval\": %.1f, "
            "\"pixels_per_region\": %.1f, \"full_render_ms\": %.3f, "
            "\"speedup_vs_full\": %.2f, \"lp_num_threads\": ",
-           r->orig_tris, r->coarse_verts, r->coarse_tris, a->views, a->size, a->evals,
+           r->orig_tris, r->coarse_verts, r->coarse_tris, a->views.count, a->size, a->evals,
            r->evals_per_s, r->evals_per_cpu_s, r->evals_per_s_batch, r->commits_per_s,
            r->tris_per_eval, r->regions_per_eval, r->pixels_per_region, r->full_ms, speedup);
     co_json_string(stdout, lp ? lp : "");
@@ -269,7 +271,7 @@ static void report_workers(const bench_args *a, const char *model, const bench_r
     if (!a->json) {
         printf("bench eval: %s (%u tris) -> QEM %u verts, %u views of %u px, through workers on "
                "%s; medians of %u rounds\n",
-               model, r[0].orig_tris, r[0].coarse_verts, a->views, a->size, r[0].renderer,
+               model, r[0].orig_tris, r[0].coarse_verts, a->views.count, a->size, r[0].renderer,
                a->rounds);
         for (uint32_t i = 0; i < n; i++)
             printf("  %3u worker%s %7.0f evals/s (x%.2f), %7.0f /s in batches of 4 (x%.2f)\n",
@@ -279,8 +281,8 @@ static void report_workers(const bench_args *a, const char *model, const bench_r
     }
     printf("{\"bench\": \"eval\", \"model\": ");
     co_json_string(stdout, model);
-    printf(", \"views\": %u, \"size\": %u, \"evals\": %u, \"rounds\": %u, \"renderer\": ", a->views,
-           a->size, a->evals, a->rounds);
+    printf(", \"views\": %u, \"size\": %u, \"evals\": %u, \"rounds\": %u, \"renderer\": ",
+           a->views.count, a->size, a->evals, a->rounds);
     co_json_string(stdout, r[0].renderer);
     printf(", \"runs\": [");
     for (uint32_t i = 0; i < n; i++)
@@ -400,7 +402,7 @@ static lm_status run(const bench_args *a, const char *model_path, bench_result *
     if (st == LM_OK)
         st = lm_mesh_build_adjacency(coarse);
     if (st == LM_OK)
-        st = co_view_set_around(orig, a->views, (int)a->size, LM_VIEWS_TRAINING, &vs);
+        st = co_view_set_of(orig, &a->views, (int)a->size, LM_VIEWS_TRAINING, &vs);
     for (uint32_t k = 0; st == LM_OK && k < rounds; k++)
         st = measure_round(a, orig, coarse, vs, rr[k], &n);
     if (st == LM_OK)
@@ -414,7 +416,7 @@ static lm_status run(const bench_args *a, const char *model_path, bench_result *
 
 int co_cli_bench(int argc, char **argv)
 {
-    bench_args a = {.views = LM_DEFAULT_VIEWS,
+    bench_args a = {.views = {.count = LM_DEFAULT_VIEWS},
                     .size = LM_DEFAULT_VIEW_SIZE,
                     .evals = 5000,
                     .rounds = BENCH_ROUNDS,

@@ -23,7 +23,8 @@
 typedef struct compare_args {
     const char *original, *output, *device;
     const char *models[MAX_MODELS];
-    uint32_t n_models, views, size, closeup;
+    lm_view_spec views;
+    uint32_t n_models, size, closeup;
     int heldout;
 } compare_args;
 
@@ -38,8 +39,11 @@ static void usage(FILE *f)
         "view. Prints JSON: per model the image energy and the silhouette coverage (see\n"
         "lumesh energy --help), and where the close-up was taken.\n"
         "  -o, --output IMAGE  the picture grid (written atomically; missing folders are made)\n"
-        "  --views N           views around the original (default 4)\n"
-        "  --heldout           the 24 held-out views instead\n"
+        "  --views N           views around the original (default 4); upper[:N]: on the\n"
+        "                      hemisphere above it (+Y up)\n"
+        "  --views-from FILE   the cameras of a JSON file instead (as lumesh optimize)\n"
+        "  --heldout           the 24 held-out views instead (with --views upper: mirrored\n"
+        "                      into the upper hemisphere)\n"
         "  --size S            image side in pixels (default %d)\n"
         "  --closeup SIDE      one SIDE x SIDE window instead of whole views: the one, over all\n"
         "                      views, where the first MODEL shows the most cracks and holes\n"
@@ -127,12 +131,12 @@ static lm_status run(void *ctx, const lm_mesh *orig, const lm_mesh *const *model
 
 int co_cli_compare(int argc, char **argv)
 {
-    compare_args a = {.views = 4, .size = LM_DEFAULT_VIEW_SIZE, .device = "auto"};
+    compare_args a = {.views = {.count = 4}, .size = LM_DEFAULT_VIEW_SIZE, .device = "auto"};
     int rc = parse(argc, argv, &a);
     if (rc >= 0)
         return rc;
     lm_view_set_kind kind = a.heldout ? LM_VIEWS_HELDOUT : LM_VIEWS_TRAINING;
     lm_status st =
-        co_judge_files(a.original, a.models, a.n_models, a.views, (int)a.size, kind, run, &a);
+        co_judge_files(a.original, a.models, a.n_models, &a.views, (int)a.size, kind, run, &a);
     return st ? co_cli_fail(CMD, st) : 0;
 }

@@ -27,7 +27,8 @@
 typedef struct demo_options {
     const char *dir;
     uint64_t evals;
-    uint32_t tris, target_verts, views, size;
+    lm_view_spec views;
+    uint32_t tris, target_verts, size;
     uint64_t seed;
     const char *device;
     uint32_t workers; /* co_job_options.workers */
@@ -60,7 +61,9 @@ static const char co_demo_help[] =
     "  --evals N            optimisation budget in energy evaluations (default %llu)\n"
     "  --tris N             triangles of the generated frog (default %u)\n"
     "  --target-verts N     vertices of the QEM coarse mesh (default %u)\n"
-    "  --views N            optimisation views (default %u)\n"
+    "  --views N            optimisation views (default %u); upper[:N]: on the hemisphere\n"
+    "                       above the frog (+Y up), the held-out views mirrored into it\n"
+    "  --views-from FILE    the cameras of a JSON file instead (as lumesh optimize)\n"
     "  --size PIXELS        side of every view image (default %d)\n"
     "  --seed S             seed of the frog and of the optimiser (default 1)\n"
     "  --device D           rendering device: auto, cpu, host, egl:N (default auto)\n"
@@ -83,7 +86,7 @@ static int parse_args(int argc, char **argv, demo_options *o)
                         .evals = CO_DEMO_EVALS,
                         .tris = CO_DEMO_TRIS,
                         .target_verts = CO_DEMO_TARGET,
-                        .views = CO_JOB_DEFAULT_VIEWS,
+                        .views = {.count = CO_JOB_DEFAULT_VIEWS},
                         .size = CO_JOB_DEFAULT_SIZE,
                         .seed = 1,
                         .device = "auto"};
@@ -160,7 +163,7 @@ static lm_status optimize(const demo_options *o, const demo_paths *p, co_job_sum
     };
     printf("optimising (%" PRIu64 " evaluations, %" PRIu32 " views of %" PRIu32 "x%" PRIu32
            ")...\n",
-           o->evals, o->views, o->size, o->size);
+           o->evals, o->views.count, o->size, o->size);
     fflush(stdout);
     return co_job_run(&jo, s);
 }
@@ -233,7 +236,7 @@ static lm_status evaluate(const demo_options *o, const demo_paths *p, demo_judge
     float centre[3], radius = 0;
     if (st == LM_OK) {
         lm_mesh_bounding_sphere(m.frog, centre, &radius);
-        st = lm_view_set_make_heldout(vs, (int)o->size, centre, radius);
+        st = lm_view_set_make_spec(vs, &o->views, LM_VIEWS_HELDOUT, (int)o->size, centre, radius);
     }
     const lm_mesh *const models[2] = {m.coarse, m.optimized};
     if (st == LM_OK)
@@ -284,7 +287,8 @@ static lm_status report(const demo_options *o, const demo_paths *p, const co_job
                             .log = log,
                             .device = o->device,
                             .size = (int)o->size,
-                            .dir = p->report};
+                            .dir = p->report,
+                            .views = o->views};
     printf("writing the quality report...\n");
     fflush(stdout);
     return co_report_write(&ro, page, cap);

@@ -22,7 +22,8 @@ typedef struct energy_args {
     const char *original, *device;
     const char *model[MAX_MODELS];
     uint32_t n_models;
-    uint32_t views, size;
+    lm_view_spec views;
+    uint32_t size;
     lm_view_set_kind kind;
     int distance;
 } energy_args;
@@ -41,7 +42,11 @@ static void usage(FILE *f)
             "between parts, not a thinner outline; 2 pixels from its background at 256, more for\n"
             "larger views). The original's images are rendered once for all models.\n"
             "  --views N     views around the original (default %u; 12 icosahedron, 20\n"
-            "                dodecahedron, others a spherical Fibonacci set)\n"
+            "                dodecahedron, others a spherical Fibonacci set); upper or upper:N:\n"
+            "                Fibonacci views on the hemisphere above it (+Y up), and with\n"
+            "                --heldout or --dense those sets mirrored into that hemisphere\n"
+            "  --views-from FILE  the cameras of a JSON file (as lumesh optimize; --heldout and\n"
+            "                --dense stay the sphere's)\n"
             "  --size S      image side in pixels (default %d)\n"
             "  --heldout     the 24 held-out views instead (the paper's evaluation protocol)\n"
             "  --dense       the dense check instead: %u views, a third each at 2, 3 and 5\n"
@@ -155,11 +160,12 @@ static lm_status measure(void *ctx, const lm_mesh *orig, const lm_mesh *const *m
 
 int co_cli_energy(int argc, char **argv)
 {
-    energy_args a = {.views = LM_DEFAULT_VIEWS, .size = LM_DEFAULT_VIEW_SIZE, .device = "auto"};
+    energy_args a = {
+        .views = {.count = LM_DEFAULT_VIEWS}, .size = LM_DEFAULT_VIEW_SIZE, .device = "auto"};
     int rc = parse(argc, argv, &a);
     if (rc >= 0)
         return rc;
     lm_status st =
-        co_judge_files(a.original, a.model, a.n_models, a.views, (int)a.size, a.kind, measure, &a);
+        co_judge_files(a.original, a.model, a.n_models, &a.views, (int)a.size, a.kind, measure, &a);
     return st ? co_cli_fail(CMD, st) : 0;
 }

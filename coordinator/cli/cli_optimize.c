@@ -47,7 +47,11 @@ static const char co_optimize_help[] =
     "                          its preparation) to FILE\n"
     "  --target-verts N        vertices of the coarse mesh (default: 1%% of the original's\n"
     "                          vertices, at least %u)\n"
-    "  --views N               number of viewpoints around the original (default %u)\n"
+    "  --views N               number of viewpoints around the original (default %u);\n"
+    "                          upper or upper:N: on the hemisphere above it (+Y up, for assets\n"
+    "                          on the ground; --report's held-out views mirrored into it)\n"
+    "  --views-from FILE       the cameras of a JSON file instead: [{\"position\": [x,y,z],\n"
+    "                          \"target\": [x,y,z], \"up\": [x,y,z], \"fov\": degrees}, ...]\n"
     "  --size PIXELS           side of each square view image (default %d)\n"
     "  --evals N               budget of energy evaluations, counted from the start of the job\n"
     "                          (default %llu)\n"
@@ -259,7 +263,8 @@ static lm_status write_report(const optimize_args *a, const co_job_summary *s, c
                             .log = log,
                             .device = a->o.device_spec,
                             .size = a->o.size,
-                            .dir = a->report_dir};
+                            .dir = a->report_dir,
+                            .views = a->o.views};
     char page[4096];
     lm_status st = co_report_write(&ro, page, sizeof page);
     if (st == LM_OK && a->o.json) {

@@ -22,7 +22,8 @@
 
 typedef struct render_args {
     const char *model, *dir, *against, *device;
-    uint32_t views, size;
+    lm_view_spec views;
+    uint32_t size;
 } render_args;
 
 static void usage(FILE *f)
@@ -32,7 +33,9 @@ static void usage(FILE *f)
             "                     [--device D]\n"
             "Writes the view images of MODEL as DIR/view_00.png, view_01.png, ...\n"
             "  -o, --output DIR      folder for the PNGs (created with its parents)\n"
-            "  --views N             views (default %u), --size S  image side (default %d)\n"
+            "  --views N             views (default %u), --size S  image side (default %d);\n"
+            "                        --views upper[:N]: on the hemisphere above (+Y up)\n"
+            "  --views-from FILE     the cameras of a JSON file instead (as lumesh optimize)\n"
             "  --against ORIGINAL    frame the views by ORIGINAL and also write its images\n"
             "                        (target_XX.png) and luminance differences (diff_XX.png)\n"
             "  --device D            auto (default), cpu, egl:N or host\n"
@@ -122,7 +125,8 @@ static lm_status render_all(const render_args *a, const lm_mesh *framing, const 
 
 int co_cli_render(int argc, char **argv)
 {
-    render_args a = {.views = LM_DEFAULT_VIEWS, .size = LM_DEFAULT_VIEW_SIZE, .device = "auto"};
+    render_args a = {
+        .views = {.count = LM_DEFAULT_VIEWS}, .size = LM_DEFAULT_VIEW_SIZE, .device = "auto"};
     int rc = parse(argc, argv, &a);
     if (rc >= 0)
         return rc;
@@ -135,7 +139,7 @@ int co_cli_render(int argc, char **argv)
     if (st == LM_OK && a.against)
         st = lm_mesh_load(a.against, NULL, &orig);
     if (st == LM_OK)
-        st = co_view_set_around(orig ? orig : model, a.views, (int)a.size, LM_VIEWS_TRAINING, &vs);
+        st = co_view_set_of(orig ? orig : model, &a.views, (int)a.size, LM_VIEWS_TRAINING, &vs);
     if (st == LM_OK)
         st = lm_make_folders(a.dir);
     if (st == LM_OK)

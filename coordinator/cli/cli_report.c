@@ -1,6 +1,7 @@
 /* coordinator/cli/cli_report.c — `lumesh report ORIGINAL OPTIMIZED [--initial COARSE] [--log
- * RUN.jsonl] -o DIR [--size S] [--device D]`: the quality report of an optimised model (see
- * coordinator/quality/report.h), written into DIR; prints the page's path. */
+ * RUN.jsonl] -o DIR [--size S] [--device D] [--views upper | --views-from FILE]`: the quality
+ * report of an optimised model (see coordinator/quality/report.h), written into DIR; prints the
+ * page's path. */
 #include <getopt.h>
 #include <stdio.h>
 
@@ -18,7 +19,7 @@ typedef struct report_args {
 static void usage(FILE *f)
 {
     fputs("usage: lumesh report ORIGINAL OPTIMIZED [--initial COARSE] [--log RUN.jsonl] -o DIR\n"
-          "                     [--size S] [--device D]\n"
+          "                     [--size S] [--device D] [--views upper | --views-from FILE]\n"
           "Writes DIR/index.html, a self-contained page (images embedded, plots inline, no\n"
           "scripts or network) comparing OPTIMIZED (and the COARSE mesh it started from) with\n"
           "ORIGINAL on the 24 held-out views no optimisation uses: a contact sheet (original |\n"
@@ -33,6 +34,10 @@ static void usage(FILE *f)
           "  -o, --output DIR   the report's folder, created with its parents\n"
           "  --size S           side of the view images (default 256, as lumesh energy)\n"
           "  --device D         auto (default), cpu, egl:N or host\n"
+          "  --views upper      the held-out views of an asset optimised with --views upper: the\n"
+          "                     24 mirrored into the upper hemisphere (+Y up)\n"
+          "  --views-from FILE  accepted as optimize takes it; the held-out views stay the\n"
+          "                     sphere's\n"
           "  -h, --help         this text\n",
           f);
 }
@@ -43,11 +48,17 @@ static const co_cli_spec spec = {CMD,  usage, 2, 2, "expects ORIGINAL and OPTIMI
 static int parse(int argc, char **argv, report_args *a)
 {
     const co_opt opts[] = {CO_OPT_OUTPUT_NEEDED(&a->o.dir, "needs -o DIR (see --help)"),
-                           CO_OPT_STR("initial", 0, &a->o.initial), CO_OPT_STR("log", 0, &a->log),
-                           CO_OPT_SIZE(&a->size), CO_OPT_DEVICE(&a->o.device)};
+                           CO_OPT_STR("initial", 0, &a->o.initial),
+                           CO_OPT_STR("log", 0, &a->log),
+                           CO_OPT_SIZE(&a->size),
+                           CO_OPT_DEVICE(&a->o.device),
+                           CO_OPT_VIEWS(&a->o.views)};
     int rc = co_cli_parse(&spec, opts, CO_OPTS_N(opts), argc, argv);
     if (rc >= 0)
         return rc;
+    if (a->o.views.dist == LM_VIEW_DIST_SPHERE && a->o.views.count)
+        return co_cli_usage_error(CMD, "--views N has no use here: the report measures on the 24 "
+                                       "held-out views (--views upper: the upper hemisphere's)");
     a->o.original = argv[optind];
     a->o.optimized = argv[optind + 1];
     return -1;

@@ -59,7 +59,9 @@ static void usage(FILE *f)
         "                         triangles a collapse changes, rendered alone, before against\n"
         "                         after: no images of the model are kept; in process only)\n"
         "image and shard:\n"
-        "  --views N, --size S    the views (default 20 of 256 pixels)\n"
+        "  --views N, --size S    the views (default 20 of 256 pixels); --views upper[:N]: on\n"
+        "                         the hemisphere above the model (+Y up)\n"
+        "  --views-from FILE      the cameras of a JSON file instead (as lumesh optimize)\n"
         "  --device D             auto (default), host or egl:N\n"
         "  --workers N            image: price in N lumesh-worker processes (default 0: in\n"
         "                         this process); the result is the same for any N\n"
@@ -109,8 +111,8 @@ static int check_method(const simplify_args *a)
 {
     const co_simplify_options *o = &a->image_opts;
     int workers = co_simplify_workers_given(&o->workers);
-    if (!a->image && (o->views || o->size || o->device || workers || o->presimplify ||
-                      o->reference_path || o->pm_path))
+    if (!a->image && (o->views.count || o->views.dist || o->size || o->device || workers ||
+                      o->presimplify || o->reference_path || o->pm_path))
         return co_cli_usage_error(CMD, "--views, --size, --device, --workers, --listen, --keys, "
                                        "--renderer, --presimplify, --reference and --pm go with "
                                        "--method image or shard");

@@ -9,11 +9,12 @@
 
 #include "common/io/atomic_file.h"
 #include "common/io/mesh_io.h"
+#include "common/view.h"
 
 static const char co_magic[8] = {'L', 'U', 'M', 'E', 'S', 'H', 'C', 'K'};
 
 enum {
-    CO_KEY_BYTES = 48,
+    CO_KEY_BYTES = 64,
     CO_HEADER_BYTES = 8 + 4 + 4 + CO_KEY_BYTES + 8,
     CO_TRAILER_BYTES = 8,
 };
@@ -88,6 +89,9 @@ static void encode_header(uint8_t *h, const co_checkpoint_key *key, uint64_t pay
     put_u32(k + 32, key->size);
     put_u32(k + 36, key->attrs);
     put_u64(k + 40, key->regrid_every);
+    put_u32(k + 48, key->view_dist);
+    put_u32(k + 52, 0);
+    put_u64(k + 56, key->cameras_hash);
     put_u64(h + 16 + CO_KEY_BYTES, payload_len);
 }
 
@@ -101,6 +105,27 @@ static void decode_key(const uint8_t *k, co_checkpoint_key *key)
     key->size = get_u32(k + 32);
     key->attrs = get_u32(k + 36);
     key->regrid_every = get_u64(k + 40);
+    key->view_dist = get_u32(k + 48);
+    key->cameras_hash = get_u64(k + 56);
+}
+
+uint64_t co_checkpoint_hash_cameras(const lm_view_spec *views)
+{
+    if (views->dist != LM_VIEW_DIST_CAMERAS)
+        return 0;
+    uint64_t h = CO_FNV_OFFSET;
+    for (uint32_t i = 0; i < views->count; i++) {
+        const lm_camera *c = &views->cameras[i];
+        const float *f[4] = {c->position, c->target, c->up, &c->fov_deg};
+        for (int k = 0; k < 10; k++) {
+            uint32_t bits;
+            uint8_t b[4];
+            memcpy(&bits, k < 9 ? &f[k / 3][k % 3] : f[3], 4);
+            put_u32(b, bits);
+            h = co_fnv1a(h, b, 4);
+        }
+    }
+    return h;
 }
 
 /* Run the payload writer into memory. */
@@ -250,6 +275,15 @@ static lm_status verify_key(const char *path, const co_checkpoint_key *got,
                        "checkpoint '%s' was written with " flag " %" fmt ", this run uses " flag   \
                        " %" fmt,                                                                   \
                        path, got->field, want->field);
+    if (got->view_dist != want->view_dist)
+        return lm_fail(LM_E_INVALID,
+                       "checkpoint '%s' was written for %s views, this run uses %s views", path,
+                       lm_view_dist_name((lm_view_dist)got->view_dist),
+                       lm_view_dist_name((lm_view_dist)want->view_dist));
+    if (got->cameras_hash != want->cameras_hash)
+        return lm_fail(LM_E_INVALID,
+                       "checkpoint '%s' was written for other cameras than this --views-from",
+                       path);
     CO_KEY_CHECK(seed, "--seed", PRIu64)
     CO_KEY_CHECK(target_verts, "--target-verts", PRIu32)
     CO_KEY_CHECK(views, "--views", PRIu32)

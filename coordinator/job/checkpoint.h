@@ -5,13 +5,14 @@
  *   "LUMESHCK" magic (8 bytes), u32 version, u32 key size,
  *   the job key (hash of the original file's bytes, hash of the --initial file's bytes or 0, seed,
  *   target vertex count, views, image size, optimised attributes, evaluations between regrid
- *   draws), u64 payload length, the payload (the job's: the regrid draw in force, u32, then the
- *   optimizer's own serialisation), and a u64 FNV-1a checksum
- * of every byte before it. Writes are atomic: the whole file is assembled in memory, written to a
- * temporary file in the same folder, flushed, fsync'ed, renamed over the old one, and the folder is
- * fsync'ed; a failure at any point leaves the previous checkpoint as it was. Reads verify magic,
- * version, length, checksum and key before handing the payload to the loader, and name the first
- * problem in one line. */
+ *   draws, the views' distribution (lm_view_dist, u32, then 4 zero bytes) and the hash of the
+ *   camera file's cameras (co_checkpoint_hash_cameras; 0 without one)), u64 payload length, the
+ * payload (the job's: the regrid draw in force, u32, then the optimizer's own serialisation), and a
+ * u64 FNV-1a checksum of every byte before it. Writes are atomic: the whole file is assembled in
+ * memory, written to a temporary file in the same folder, flushed, fsync'ed, renamed over the old
+ * one, and the folder is fsync'ed; a failure at any point leaves the previous checkpoint as it was.
+ * Reads verify magic, version, length, checksum and key before handing the payload to the loader,
+ * and name the first problem in one line. */
 #ifndef LM_COORDINATOR_CHECKPOINT_H
 #define LM_COORDINATOR_CHECKPOINT_H
 
@@ -19,8 +20,9 @@
 #include <stdio.h>
 
 #include "common/error.h"
+#include "common/view.h"
 
-#define CO_CHECKPOINT_VERSION 2u
+#define CO_CHECKPOINT_VERSION 3u
 /* Refuse to read checkpoints larger than this (a corrupted length must not allocate terabytes). */
 #define CO_CHECKPOINT_MAX_BYTES ((uint64_t)1 << 34)
 
@@ -35,6 +37,8 @@ typedef struct co_checkpoint_key {
     uint32_t size;
     uint32_t attrs;        /* LM_ATTR_* optimised besides positions */
     uint64_t regrid_every; /* evaluations between the views' regrid draws; 0 = never */
+    uint32_t view_dist;    /* lm_view_dist: sphere, upper hemisphere or a camera file */
+    uint64_t cameras_hash; /* co_checkpoint_hash_cameras of the views */
 } co_checkpoint_key;
 
 /* initial_hash of a job that started from the image-driven simplification ("image-v1"). */
@@ -51,6 +55,11 @@ lm_status co_checkpoint_hash_file(const char *path, uint64_t *out);
 /* 64-bit FNV-1a of a buffer, continuing from `h` (start with CO_FNV_OFFSET). */
 #define CO_FNV_OFFSET 0xcbf29ce484222325ull
 uint64_t co_fnv1a(uint64_t h, const void *data, size_t n);
+
+/* 64-bit FNV-1a of the cameras' numbers as parsed (each float's bits, little-endian: position,
+ * target, up, fov), so a reformatted file with the same cameras resumes; 0 for views without
+ * cameras. */
+uint64_t co_checkpoint_hash_cameras(const lm_view_spec *views);
 
 /* Atomically replace `path` with a checkpoint of `key` and the payload `save` produces. */
 lm_status co_checkpoint_write(const char *path, const co_checkpoint_key *key,

@@ -168,12 +168,12 @@ static lm_status resolve_options(co_job *j, const co_job_options *in)
         return lm_fail(LM_E_INVALID, "--initial and --start exclude each other");
     if (!o->start)
         o->start = CO_JOB_DEFAULT_START;
-    if (!o->views)
-        o->views = CO_JOB_DEFAULT_VIEWS;
+    if (!o->views.count)
+        o->views.count = CO_JOB_DEFAULT_VIEWS;
     if (!o->size)
         o->size = CO_JOB_DEFAULT_SIZE;
-    if (o->views > LM_MAX_VIEWS)
-        return lm_fail(LM_E_RANGE, "--views %" PRIu32 " is above %d", o->views, LM_MAX_VIEWS);
+    if (o->views.count > LM_MAX_VIEWS)
+        return lm_fail(LM_E_RANGE, "--views %" PRIu32 " is above %d", o->views.count, LM_MAX_VIEWS);
     if (o->size < 16 || o->size > LM_MAX_VIEW_SIZE)
         return lm_fail(LM_E_RANGE, "--size %d is outside 16..%d", o->size, LM_MAX_VIEW_SIZE);
     if (!o->max_evals)
@@ -286,6 +286,16 @@ static lm_status load_original(co_job *j)
     return st;
 }
 
+/* The image start's views: its own default count on the sphere (as ever) or the upper
+ * hemisphere, or the job's cameras. */
+static lm_view_spec image_start_views(const lm_view_spec *v)
+{
+    lm_view_spec s = *v;
+    if (s.dist != LM_VIEW_DIST_CAMERAS)
+        s.count = 0;
+    return s;
+}
+
 /* The image-driven simplification of the original, on the job's workers (or in this process),
  * with the geometric term the optimizer gets: its weight, or its share (of QEM's mesh there). */
 static lm_status image_start(co_job *j, lm_mesh **out)
@@ -294,6 +304,7 @@ static lm_status image_start(co_job *j, lm_mesh **out)
     co_simplify_options so = {
         .target_verts = o->target_verts,
         .method = CO_PRICE_IMAGE,
+        .views = image_start_views(&o->views),
         .device = o->device_spec,
         .surface_weight = o->surface_weight > 0 ? o->surface_weight : 0,
         .surface_share = j->start_share,
@@ -394,7 +405,8 @@ static lm_status create_views(co_job *j, uint32_t draw, lm_views **out)
         return lm_fail(LM_E_NOMEM, "out of memory for the view set");
     float centre[3], radius;
     lm_mesh_bounding_sphere(j->original, centre, &radius);
-    lm_status st = lm_view_set_make(vs, j->o.views, j->o.size, centre, radius);
+    lm_status st =
+        lm_view_set_make_spec(vs, &j->o.views, LM_VIEWS_TRAINING, j->o.size, centre, radius);
     co_regrid_apply(vs, j->o.seed, draw);
     const lm_mesh *m = j->coarse ? j->coarse : co_optimizer_mesh(j->opt);
     co_views_desc d = {.kind = j->pool ? CO_VIEWS_REMOTE : CO_VIEWS_LOCAL,
@@ -456,7 +468,9 @@ static lm_status make_key(co_job *j)
         k->initial_hash = CO_CHECKPOINT_IMAGE_START;
     k->seed = j->o.seed;
     k->target_verts = j->o.initial_path ? 0 : j->o.target_verts;
-    k->views = j->o.views;
+    k->views = j->o.views.count;
+    k->view_dist = (uint32_t)j->o.views.dist;
+    k->cameras_hash = co_checkpoint_hash_cameras(&j->o.views);
     k->size = (uint32_t)j->o.size;
     k->attrs = j->attrs;
     k->regrid_every = j->regrid_every;

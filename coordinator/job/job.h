@@ -73,7 +73,7 @@ typedef struct co_job_options {
     const char *initial_path;    /* the coarse mesh to start from; NULL = `start`'s */
     co_job_start start;          /* how the coarse mesh is made without initial_path */
     uint32_t target_verts;       /* its vertices; 0 = 1% of the original's vertices, at least 100 */
-    uint32_t views;              /* 0 = CO_JOB_DEFAULT_VIEWS */
+    lm_view_spec views;          /* count 0 = CO_JOB_DEFAULT_VIEWS; dist 0 = the sphere */
     int size;                    /* image side in pixels; 0 = CO_JOB_DEFAULT_SIZE */
     uint64_t max_evals;          /* evaluation budget counted from the start of the job; 0 =
                                     CO_JOB_DEFAULT_EVALS */

@@ -13,6 +13,7 @@
 #include <stddef.h>
 
 #include "common/error.h"
+#include "common/view.h"
 #include "coordinator/quality/run_log.h"
 
 #define CO_REPORT_SHEET_VIEWS 4 /* held-out views on the contact sheet */
@@ -26,6 +27,8 @@ typedef struct co_report_options {
     const char *device;    /* rendering device; NULL = "auto" */
     int size;              /* side of every view image; 0 = 256 */
     const char *dir;       /* output folder, created with its parents */
+    lm_view_spec views;    /* the distribution the held-out views follow (lm_view_dist: the
+                              sphere's, or mirrored into the upper hemisphere); count unused */
 } co_report_options;
 
 /* Write DIR/index.html (the page), and beside it the pieces it embeds: contact_sheet.png,

@@ -274,9 +274,10 @@ static void row_cell(FILE *fp, const co_report *r, const co_report_model *m, row
 static void table(FILE *fp, const co_report *r)
 {
     fprintf(fp,
-            "<h2>Numbers</h2>\n<p>Held-out: %u views of %d&times;%d pixels that no "
+            "<h2>Numbers</h2>\n<p>Held-out: %u views of %d&times;%d pixels%s that no "
             "optimisation uses, rendered by <span data-key=\"report.renderer\">",
-            r->heldout->count, r->size, r->size);
+            r->heldout->count, r->size, r->size,
+            r->o->views.dist == LM_VIEW_DIST_UPPER ? " (mirrored into the upper hemisphere)" : "");
     html_text(fp, r->renderer);
     fputs("</span>.</p>\n<table>\n<tr><th>measure</th>", fp);
     for (uint32_t i = 0; i < r->n_models; i++)

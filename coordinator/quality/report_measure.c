@@ -66,7 +66,7 @@ lm_status co_report_measure(co_report *r)
     lm_status s = load_all(r);
     r->size = r->o->size ? r->o->size : 256;
     if (!s)
-        s = co_view_set_around(r->model[0].mesh, 0, r->size, LM_VIEWS_HELDOUT, &r->heldout);
+        s = co_view_set_of(r->model[0].mesh, &r->o->views, r->size, LM_VIEWS_HELDOUT, &r->heldout);
     if (!s)
         s = judge(r);
     for (uint32_t i = 1; !s && i < r->n_models; i++)

@@ -17,7 +17,8 @@ static lm_status sheet_views(const co_report *r, int size, lm_view_set **out)
     float c[3], rad;
     lm_mesh_bounding_sphere(o, c, &rad);
     lm_view_set *all = malloc(sizeof *all), *vs = malloc(sizeof *vs);
-    lm_status s = all && vs ? lm_view_set_make_heldout(all, size, c, rad > 0 ? rad : 1.0f)
+    lm_status s = all && vs ? lm_view_set_make_spec(all, &r->o->views, LM_VIEWS_HELDOUT, size, c,
+                                                    rad > 0 ? rad : 1.0f)
                             : lm_fail(LM_E_NOMEM, "out of memory for views");
     if (!s) {
         vs->count = CO_REPORT_SHEET_VIEWS;

@@ -8,8 +8,8 @@
 #include "common/io/mesh_io.h"
 #include "coordinator/views/views.h"
 
-lm_status co_view_set_around(const lm_mesh *framing, uint32_t n, int size, lm_view_set_kind kind,
-                             lm_view_set **out)
+lm_status co_view_set_of(const lm_mesh *framing, const lm_view_spec *spec, int size,
+                         lm_view_set_kind kind, lm_view_set **out)
 {
     if (framing->live_tris == 0)
         return lm_fail(LM_E_INVALID, "the model has no triangles to frame");
@@ -20,15 +20,23 @@ lm_status co_view_set_around(const lm_mesh *framing, uint32_t n, int size, lm_vi
     lm_view_set *vs = malloc(sizeof *vs);
     if (!vs)
         return lm_fail(LM_E_NOMEM, "out of memory for a view set");
-    lm_status st = kind == LM_VIEWS_HELDOUT ? lm_view_set_make_heldout(vs, size, c, r)
-                   : kind == LM_VIEWS_DENSE ? lm_view_set_make_dense(vs, size, c, r)
-                                            : lm_view_set_make(vs, n, size, c, r);
+    lm_view_spec s = *spec;
+    if (!s.count)
+        s.count = LM_DEFAULT_VIEWS;
+    lm_status st = lm_view_set_make_spec(vs, &s, kind, size, c, r);
     if (st != LM_OK) {
         free(vs);
         return st;
     }
     *out = vs;
     return LM_OK;
+}
+
+lm_status co_view_set_around(const lm_mesh *framing, uint32_t n, int size, lm_view_set_kind kind,
+                             lm_view_set **out)
+{
+    lm_view_spec sphere = {.count = n};
+    return co_view_set_of(framing, &sphere, size, kind, out);
 }
 
 lm_status co_views_with_model(const lm_mesh *original, const lm_mesh *model,
@@ -43,8 +51,8 @@ lm_status co_views_with_model(const lm_mesh *original, const lm_mesh *model,
 }
 
 lm_status co_judge_files(const char *original, const char *const *models, uint32_t n,
-                         uint32_t n_views, int size, lm_view_set_kind kind, co_judge_fn judge,
-                         void *ctx)
+                         const lm_view_spec *views, int size, lm_view_set_kind kind,
+                         co_judge_fn judge, void *ctx)
 {
     lm_mesh *orig = NULL, **m = calloc(n ? n : 1, sizeof *m);
     lm_view_set *vs = NULL;
@@ -52,7 +60,7 @@ lm_status co_judge_files(const char *original, const char *const *models, uint32
     for (uint32_t i = 0; st == LM_OK && i < n; i++)
         st = lm_mesh_load(models[i], NULL, &m[i]);
     if (st == LM_OK)
-        st = co_view_set_around(orig, n_views, size, kind, &vs);
+        st = co_view_set_of(orig, views, size, kind, &vs);
     if (st == LM_OK)
         st = judge(ctx, orig, (const lm_mesh *const *)m, vs);
     free(vs);

@@ -12,6 +12,10 @@
  * the 96 of the dense check; n ignored for both). *out is allocated; free() it. */
 lm_status co_view_set_around(const lm_mesh *framing, uint32_t n, int size, lm_view_set_kind kind,
                              lm_view_set **out);
+/* The same for views as spec says (count 0: LM_DEFAULT_VIEWS): the sphere's, the upper
+ * hemisphere's, a camera file's (lm_view_set_make_spec). */
+lm_status co_view_set_of(const lm_mesh *framing, const lm_view_spec *spec, int size,
+                         lm_view_set_kind kind, lm_view_set **out);
 
 /* In-process views of `original` on device `device` with `model` as the current mesh. When model
  * is not the original its own materials are used for its triangles. */
@@ -22,12 +26,12 @@ lm_status co_views_with_model(const lm_mesh *original, const lm_mesh *model,
 typedef lm_status (*co_judge_fn)(void *ctx, const lm_mesh *original, const lm_mesh *const *models,
                                  const lm_view_set *views);
 
-/* Loads the original and the n models from their files, makes n_views views of size x size of
- * `kind` around the original (co_view_set_around), calls judge(ctx, ...) with them and frees them
- * all; returns the first failure. */
+/* Loads the original and the n models from their files, makes the views of size x size of `kind`
+ * around the original as `views` says (co_view_set_of), calls judge(ctx, ...) with them and frees
+ * them all; returns the first failure. */
 lm_status co_judge_files(const char *original, const char *const *models, uint32_t n,
-                         uint32_t n_views, int size, lm_view_set_kind kind, co_judge_fn judge,
-                         void *ctx);
+                         const lm_view_spec *views, int size, lm_view_set_kind kind,
+                         co_judge_fn judge, void *ctx);
 
 /* Seconds on a monotonic clock. */
 double co_now_s(void);

@@ -35,7 +35,8 @@ co_lod_options co_lod_resolve(const co_lod_options *in)
 {
     co_lod_options o = *in;
     o.evals = o.evals ? o.evals : CO_LOD_DEFAULT_EVALS;
-    o.views = o.views ? o.views : LM_DEFAULT_VIEWS;
+    if (o.views.dist != LM_VIEW_DIST_CAMERAS && !o.views.count)
+        o.views.count = LM_DEFAULT_VIEWS;
     o.size = o.size ? o.size : LM_DEFAULT_VIEW_SIZE;
     o.seed = o.seed ? o.seed : CO_LOD_DEFAULT_SEED;
     o.screen_height = o.screen_height ? o.screen_height : CO_LOD_DEFAULT_SCREEN_HEIGHT;
@@ -104,7 +105,7 @@ static lm_status resolve_targets(lod *L)
 static lm_status make_views(lod *L)
 {
     const co_lod_options *o = L->o;
-    lm_status st = co_view_set_around(L->orig, o->views, o->size, 0, &L->vs);
+    lm_status st = co_view_set_of(L->orig, &o->views, o->size, 0, &L->vs);
     if (st == LM_OK)
         st = co_simplify_pool_start(&o->workers, o->device, &L->pool);
     if (st == LM_OK)

@@ -40,7 +40,7 @@ typedef struct co_lod_options {
     co_price_method method; /* image or shard */
     uint64_t evals;         /* optimisation budget per level; 0 = 20000 */
     int no_optimize;        /* levels as simplified (no optimisation) */
-    uint32_t views;         /* 0 = 20 */
+    lm_view_spec views;     /* count 0 = 20; dist 0 = the sphere */
     int size;               /* 0 = 256 */
     const char *device;
     co_simplify_workers workers; /* lumesh-worker processes for the views (none: this process) */

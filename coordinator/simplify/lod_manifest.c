@@ -48,7 +48,7 @@ static lm_status judge_in_memory(measuring *M, const lm_mesh *const *levels)
     lm_view_set *vs = NULL;
     lm_status st = lm_mesh_load(M->o->input_path, NULL, &orig);
     if (st == LM_OK)
-        st = co_view_set_around(orig, 0, M->o->size, LM_VIEWS_HELDOUT, &vs);
+        st = co_view_set_of(orig, &M->o->views, M->o->size, LM_VIEWS_HELDOUT, &vs);
     if (st == LM_OK)
         st = judge(M, orig, levels, vs);
     free(vs);
@@ -69,8 +69,8 @@ lm_status co_lod_measure_levels(const co_lod_options *o, co_lod_summary *sum,
     for (uint32_t k = 0; k < sum->n_levels; k++)
         paths[k] = sum->level[k].path;
     lm_status st = o->msft_lod ? judge_in_memory(&M, levels)
-                               : co_judge_files(o->input_path, paths, sum->n_levels, 0, o->size,
-                                                LM_VIEWS_HELDOUT, judge, &M);
+                               : co_judge_files(o->input_path, paths, sum->n_levels, &o->views,
+                                                o->size, LM_VIEWS_HELDOUT, judge, &M);
     if (st == LM_OK)
         co_lod_switch_distances(o, sum);
     return st;

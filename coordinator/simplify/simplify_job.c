@@ -102,9 +102,8 @@ static lm_status wrap_surface(sjob *j, const lm_mesh *ref)
 static lm_status make_views(sjob *j)
 {
     const lm_mesh *ref = j->ref ? j->ref : j->in;
-    uint32_t n = j->o->views ? j->o->views : LM_DEFAULT_VIEWS;
     int size = j->o->size ? j->o->size : LM_DEFAULT_VIEW_SIZE;
-    lm_status st = co_view_set_around(ref, n, size, 0, &j->vs);
+    lm_status st = co_view_set_of(ref, &j->o->views, size, 0, &j->vs);
     if (st == LM_OK && j->o->method == CO_PRICE_IMAGE && !j->pool) {
         st = co_simplify_pool_start(&j->o->workers, j->o->device, &j->own_pool);
         j->pool = j->own_pool;

@@ -18,7 +18,7 @@ typedef struct co_simplify_options {
     const char *reference_path; /* the images to match; NULL = the input's */
     uint32_t target_verts;
     co_price_method method;
-    uint32_t views;              /* 0 = 20 */
+    lm_view_spec views;          /* count 0 = 20; dist 0 = the sphere */
     int size;                    /* 0 = 256 */
     const char *device;          /* NULL = auto */
     co_simplify_workers workers; /* image method: lumesh-worker processes (none: this process) */

@@ -36,7 +36,7 @@ int LLVMFuzzerInitialize(int *argc, char ***argv);
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
 /* The frame's layout (checkpoint.h): magic, version, key size, 48-byte key, payload length. */
-enum { HEADER_BYTES = 8 + 4 + 4 + 48 + 8, TRAILER_BYTES = 8 };
+enum { HEADER_BYTES = 8 + 4 + 4 + 64 + 8, TRAILER_BYTES = 8 };
 
 /* The job the seeds were written by (no regrid: the payload's draw must be 0). */
 static const co_checkpoint_key g_key = {.original_hash = 0x6f63746168656472ull,

@@ -248,6 +248,12 @@ static void test_other_options_refused(void **state)
     k.views = 12;
     expect_key_refused(path, &k, "--views 20, this run uses --views 12");
     k = key0;
+    k.view_dist = LM_VIEW_DIST_UPPER;
+    expect_key_refused(path, &k, "written for sphere views, this run uses upper views");
+    k = key0;
+    k.cameras_hash = 5;
+    expect_key_refused(path, &k, "other cameras than this --views-from");
+    k = key0;
     k.size = 128;
     expect_key_refused(path, &k, "--size");
     k = key0;

@@ -53,7 +53,7 @@ static void options(co_lod_options *o, int optimize)
     memset(o, 0, sizeof *o);
     o->input_path = input;
     assert_int_equal(co_lod_parse_levels(levels, o), LM_OK);
-    o->views = n_views;
+    o->views.count = n_views;
     o->size = size;
     o->device = "host";
     o->no_optimize = !optimize;
