@@ -15,9 +15,16 @@ static const char co_magic[8] = {'L', 'U', 'M', 'E', 'S', 'H', 'C', 'K'};
 
 enum {
     CO_KEY_BYTES = 64,
+    CO_KEY_BYTES_V2 = 48, /* version 2: no view distribution, no camera hash (sphere views) */
     CO_HEADER_BYTES = 8 + 4 + 4 + CO_KEY_BYTES + 8,
     CO_TRAILER_BYTES = 8,
 };
+
+/* Bytes before the payload for a key of key_bytes. */
+static size_t header_bytes(uint32_t key_bytes)
+{
+    return 8 + 4 + 4 + (size_t)key_bytes + 8;
+}
 
 uint64_t co_fnv1a(uint64_t h, const void *data, size_t n)
 {
@@ -95,7 +102,7 @@ static void encode_header(uint8_t *h, const co_checkpoint_key *key, uint64_t pay
     put_u64(h + 16 + CO_KEY_BYTES, payload_len);
 }
 
-static void decode_key(const uint8_t *k, co_checkpoint_key *key)
+static void decode_key(const uint8_t *k, uint32_t key_bytes, co_checkpoint_key *key)
 {
     key->original_hash = get_u64(k);
     key->initial_hash = get_u64(k + 8);
@@ -105,8 +112,8 @@ static void decode_key(const uint8_t *k, co_checkpoint_key *key)
     key->size = get_u32(k + 32);
     key->attrs = get_u32(k + 36);
     key->regrid_every = get_u64(k + 40);
-    key->view_dist = get_u32(k + 48);
-    key->cameras_hash = get_u64(k + 56);
+    key->view_dist = key_bytes > CO_KEY_BYTES_V2 ? get_u32(k + 48) : LM_VIEW_DIST_SPHERE;
+    key->cameras_hash = key_bytes > CO_KEY_BYTES_V2 ? get_u64(k + 56) : 0;
 }
 
 uint64_t co_checkpoint_hash_cameras(const lm_view_spec *views)
@@ -217,33 +224,39 @@ static lm_status slurp(const char *path, uint8_t **data, size_t *len)
     return LM_OK;
 }
 
-/* Magic, version, length and checksum. */
-static lm_status verify_frame(const char *path, const uint8_t *d, size_t n, uint64_t *payload_len)
+/* Magic, version, length and checksum; *key_bytes the key's size (version 2's is shorter). */
+static lm_status verify_frame(const char *path, const uint8_t *d, size_t n, uint32_t *key_bytes,
+                              uint64_t *payload_len)
 {
     if (n < sizeof co_magic || memcmp(d, co_magic, sizeof co_magic) != 0)
         return lm_fail(LM_E_FORMAT, "'%s' is not a lumesh checkpoint (bad magic)", path);
-    if (n < CO_HEADER_BYTES + CO_TRAILER_BYTES)
+    if (n < header_bytes(CO_KEY_BYTES_V2) + CO_TRAILER_BYTES)
         return lm_fail(LM_E_FORMAT, "checkpoint '%s' is truncated (%zu bytes)", path, n);
     uint32_t version = get_u32(d + 8);
-    if (version != CO_CHECKPOINT_VERSION)
+    if (version != CO_CHECKPOINT_VERSION && version != 2)
         return lm_fail(LM_E_FORMAT,
                        "checkpoint '%s' has version %" PRIu32 ", expected %u (%s lumesh wrote it)",
                        path, version, CO_CHECKPOINT_VERSION,
                        version < CO_CHECKPOINT_VERSION ? "an older" : "a newer");
-    if (get_u32(d + 12) != CO_KEY_BYTES)
+    uint32_t kb = version == 2 ? CO_KEY_BYTES_V2 : CO_KEY_BYTES;
+    size_t head = header_bytes(kb);
+    if (get_u32(d + 12) != kb)
         return lm_fail(LM_E_FORMAT, "checkpoint '%s' is corrupted (bad header)", path);
-    uint64_t plen = get_u64(d + 16 + CO_KEY_BYTES);
-    uint64_t body = (uint64_t)n - CO_HEADER_BYTES - CO_TRAILER_BYTES;
+    if (n < head + CO_TRAILER_BYTES)
+        return lm_fail(LM_E_FORMAT, "checkpoint '%s' is truncated (%zu bytes)", path, n);
+    uint64_t plen = get_u64(d + 16 + kb);
+    uint64_t body = (uint64_t)n - head - CO_TRAILER_BYTES;
     if (plen > body)
         return lm_fail(LM_E_FORMAT,
                        "checkpoint '%s' is truncated (%zu bytes, expected %" PRIu64 ")", path, n,
-                       plen + CO_HEADER_BYTES + CO_TRAILER_BYTES);
+                       plen + head + CO_TRAILER_BYTES);
     if (plen < body)
         return lm_fail(LM_E_FORMAT, "checkpoint '%s' is corrupted (%" PRIu64 " trailing bytes)",
                        path, body - plen);
     uint64_t sum = co_fnv1a(CO_FNV_OFFSET, d, n - CO_TRAILER_BYTES);
     if (sum != get_u64(d + n - CO_TRAILER_BYTES))
         return lm_fail(LM_E_FORMAT, "checkpoint '%s' is corrupted (checksum mismatch)", path);
+    *key_bytes = kb;
     *payload_len = plen;
     return LM_OK;
 }
@@ -334,14 +347,15 @@ lm_status co_checkpoint_read(const char *path, const co_checkpoint_key *expect,
     if (st != LM_OK)
         return st;
     uint64_t plen = 0;
-    st = verify_frame(path, d, n, &plen);
+    uint32_t kb = 0;
+    st = verify_frame(path, d, n, &kb, &plen);
     if (st == LM_OK) {
         co_checkpoint_key got;
-        decode_key(d + 16, &got);
+        decode_key(d + 16, kb, &got);
         st = verify_key(path, &got, expect);
     }
     if (st == LM_OK)
-        st = load_payload(path, d + CO_HEADER_BYTES, plen, load, ctx);
+        st = load_payload(path, d + header_bytes(kb), plen, load, ctx);
     free(d);
     return st;
 }

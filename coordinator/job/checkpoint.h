@@ -12,7 +12,8 @@
  * memory, written to a temporary file in the same folder, flushed, fsync'ed, renamed over the old
  * one, and the folder is fsync'ed; a failure at any point leaves the previous checkpoint as it was.
  * Reads verify magic, version, length, checksum and key before handing the payload to the loader,
- * and name the first problem in one line. */
+ * and name the first problem in one line. Version 2 (a 48-byte key: no distribution, no camera
+ * hash) is still read, as sphere views without cameras. */
 #ifndef LM_COORDINATOR_CHECKPOINT_H
 #define LM_COORDINATOR_CHECKPOINT_H
 

@@ -335,6 +335,40 @@ static void test_hash_file(void **state)
     lmt_rmdir(dir);
 }
 
+/* A version-2 checkpoint (its key without the views' distribution and camera hash) is still read,
+ * as sphere views: a job checkpointed before --views upper existed resumes. */
+static void test_version2_read_as_sphere(void **state)
+{
+    (void)state;
+    char *dir = lmt_mkdtemp();
+    char *path = path_in(dir, "job.ckpt");
+    payload in, out;
+    make_payload(&in, 600, 5);
+    assert_int_equal(co_checkpoint_write(path, &key0, save_fn, &in), LM_OK);
+    size_t n;
+    uint8_t *d = read_file(path, &n);
+    /* 8 magic, 4 version, 4 key size, then the key: drop its last 16 bytes (48..63). */
+    size_t k = 16, cut = 16;
+    memmove(d + k + 48, d + k + 64, n - (k + 64));
+    n -= cut;
+    d[8] = 2, d[9] = d[10] = d[11] = 0;
+    d[12] = 48, d[13] = d[14] = d[15] = 0;
+    uint64_t sum = co_fnv1a(CO_FNV_OFFSET, d, n - 8);
+    for (int i = 0; i < 8; i++)
+        d[n - 8 + i] = (uint8_t)(sum >> (8 * i));
+    write_file(path, d, n);
+    memset(&out, 0, sizeof out);
+    assert_int_equal(co_checkpoint_read(path, &key0, load_fn, &out), LM_OK);
+    assert_int_equal(out.n, in.n);
+    assert_memory_equal(out.bytes, in.bytes, in.n);
+    co_checkpoint_key upper = key0;
+    upper.view_dist = LM_VIEW_DIST_UPPER;
+    assert_int_equal(co_checkpoint_verify(path, &upper), LM_E_INVALID);
+    free(d);
+    free(path);
+    lmt_rmdir(dir);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -346,6 +380,7 @@ int main(void)
         cmocka_unit_test(test_failed_write_keeps_old),
         cmocka_unit_test(test_unread_payload_refused),
         cmocka_unit_test(test_hash_file),
+        cmocka_unit_test(test_version2_read_as_sphere),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
