@@ -207,16 +207,17 @@ static uint32_t lag_for(const opts *o, const edges_run *er, uint32_t views, uint
     return 0;
 }
 
-static void print_window_where(const window *x, uint32_t w)
+static void print_window_where(const window *x, uint32_t lag, uint32_t w)
 {
     double all = x->nodes * x->tw / 100;
-    printf("    where the time of %u processes (%u nodes of %u) goes: the edges %.0f%% (of it "
-           "synchronisation %.0f%%), applying others' commits %.0f%%, re-validating %.0f%%, "
-           "waiting for the window %.0f%%, planning %.0f%%, idle at the end %.0f%%; the "
-           "coordinator's CPU %.0f%% busy, its link %.0f%%\n",
-           w, x->nodes, x->per, x->work / all, x->sync / all, x->apply / all, x->reval / all,
-           x->wait_window / all, x->wait_plan / all, x->tail / all, 100 * x->coord_s / x->tw,
-           100 * x->link_s / x->tw);
+    printf(
+        "    lag %u, where the time of %u processes (%u nodes of %u) goes: the edges %.0f%% (of it "
+        "synchronisation %.0f%%), applying others' commits %.0f%%, re-validating %.0f%%, "
+        "waiting for the window %.0f%%, planning %.0f%%, idle at the end %.0f%%; the "
+        "coordinator's CPU %.0f%% busy, its link %.0f%%\n",
+        lag, w, x->nodes, x->per, x->work / all, x->sync / all, x->apply / all, x->reval / all,
+        x->wait_window / all, x->wait_plan / all, x->tail / all, 100 * x->coord_s / x->tw,
+        100 * x->link_s / x->tw);
 }
 
 static void print_window_human(const opts *o, const edges_run *er, uint32_t views, double sync)
@@ -233,10 +234,11 @@ static void print_window_human(const opts *o, const edges_run *er, uint32_t view
         printf(" %u: x%.1f (%.0f%%)", workers[i], x.t1 / x.tw, 100 * eff(&x, workers[i]));
     }
     printf("\n");
-    for (uint32_t w = 16; w <= 128; w *= 8) {
-        window x = sc_window_at(o, er, views, w, o->lag, o->group, sync);
-        print_window_where(&x, w);
-    }
+    for (size_t j = 0; j < N_GROUPS; j++)
+        for (uint32_t w = 16; w <= 128; w *= 8) {
+            window x = sc_window_at(o, er, views, w, o->lag, groups[j], sync);
+            print_window_where(&x, o->lag, w);
+        }
     printf("    lag x node size: 16 processes, 128 processes, re-validated, coordinator us per "
            "evaluation\n");
     for (size_t j = 0; j < N_GROUPS; j++)

@@ -26,12 +26,6 @@
 
 #include "scaling.h"
 
-/* Edge i of the modelled pass: the measured sequence, cycled (a pass of whole rounds). */
-static const edge_rec *pass_edge(const edges_run *er, size_t i)
-{
-    return &er->e[i % er->n];
-}
-
 /* One round's sums over its edges. */
 typedef struct round_sums {
     double cost, plan, pot, apply, merge, bytes, evals, plans, with_ops;
@@ -41,7 +35,7 @@ static round_sums round_of(const edges_run *er, size_t first, size_t count)
 {
     round_sums s = {0, 0, 0, 0, 0, 0, 0, 0, 0};
     for (size_t i = first; i < first + count; i++) {
-        const edge_rec *e = pass_edge(er, i);
+        const edge_rec *e = sc_pass_edge(er, i);
         s.cost += e->cost_s, s.plan += e->plan_s, s.pot += e->pot_s, s.apply += e->apply_s;
         s.merge += e->merge_s, s.bytes += e->bytes, s.evals += e->evals, s.plans += e->plans;
         s.with_ops += e->ops > 0;
@@ -59,7 +53,7 @@ static double makespan(const edges_run *er, size_t first, size_t count, uint32_t
         uint32_t next = 0;
         for (uint32_t k = 1; k < w; k++)
             next = free_at[k] < free_at[next] ? k : next;
-        free_at[next] += pass_edge(er, i)->cost_s;
+        free_at[next] += sc_pass_edge(er, i)->cost_s;
         end = free_at[next] > end ? free_at[next] : end;
     }
     return end;

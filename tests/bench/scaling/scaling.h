@@ -119,6 +119,12 @@ typedef struct edges_run {
 lm_status sc_run_edges(const opts *o, const lm_mesh *orig, const lm_mesh *coarse,
                        const lm_view_set *vs, meter *m, edges_run *er);
 
+/* Edge i of a modelled pass: the measured sequence, cycled. */
+static inline const edge_rec *sc_pass_edge(const edges_run *er, size_t i)
+{
+    return &er->e[i % er->n];
+}
+
 /* The distribution of the measured edges. */
 typedef struct edge_stats {
     double evals_mean, evals_median, evals_p90, evals_p99, evals_max;

@@ -14,23 +14,23 @@
  * In plan order each edge goes to the node free first; it starts at
  *     max(node free, plan ready, merged_{i-D} + RTT/2 + b_{i-D} / bandwidth) + apply
  * where apply = the commits of edges <= i - D the node has not applied yet, sum apply_e * s (a
- * node applies every commit once, each process its share of the views); an iteration's planning
- * (edge with oracle requests) is done there, against that snapshot: the potentials on the node
- * (pot_e * s), a round trip per request and the coordinator's ranking (plan_e), and no later edge
- * starts before the plan is ready. Its result reaches the coordinator RTT/2 + b_e / bandwidth
- * after it ends. Merges go strictly in plan order:
- *     merged_i = max(merged_{i-1}, result_i + [r_i] RTT) + [r_i] reval + merge_e
- * r_i: the edge kept operations and its footprint meets that of one of the edges i - D + 1 .. i -
- * 1 it did not see (edge_rec.near < D); its operations are then re-evaluated, as one evaluation of
- * their merged patch, on a worker node (the one that ran it: it is charged there) holding the
- * merged state, reval = V c s + g_term + [g > 1] sync; the round trip to it is latency on that
- * edge's merge, the evaluation itself in the merge's serial order. The coordinator holds no
- * views: its CPU is the planning and the merges (replay, patch, encoding), printed per evaluation.
- * The pass ends at the last merge, or later if the coordinator's link (every commit to every
- * node, 16 bytes an edge out) or its CPU take longer. In process: sum (cost_e + plan_e + pot_e).
- * Not modelled: that a lagged edge accepts other operations than the one-at-a-time run measured,
- * screen-space overlap between edges (footprints are topological), taking edges out of plan
- * order. */
+ * node applies every commit once, each process its share of the views). An iteration's plan
+ * (edge i with oracle requests) is made one iteration ahead: when the previous iteration, from
+ * edge p, begins, against p's snapshot (as soon as edge p - D is merged): the potentials on the
+ * node free first (pot_e * s), a round trip per request and the coordinator's ranking (plan_e); no
+ * edge from i on starts before it is ready. Its result reaches the coordinator RTT/2 + b_e /
+ * bandwidth after it ends. Merges go strictly in plan order: merged_i = max(merged_{i-1}, result_i
+ * + [r_i] RTT) + [r_i] reval + merge_e r_i: the edge kept operations and its footprint meets that
+ * of one of the edges i - D + 1 .. i - 1 it did not see (edge_rec.near < D); its operations are
+ * then re-evaluated, as one evaluation of their merged patch, on a worker node (the one that ran
+ * it: it is charged there) holding the merged state, reval = V c s + g_term + [g > 1] sync; the
+ * round trip to it is latency on that edge's merge, the evaluation itself in the merge's serial
+ * order. The coordinator holds no views: its CPU is the planning and the merges (replay, patch,
+ * encoding), printed per evaluation. The pass ends at the last merge, or later if the coordinator's
+ * link (every commit to every node, 16 bytes an edge out) or its CPU take longer. In process: sum
+ * (cost_e + plan_e + pot_e). Not modelled: that a lagged edge accepts other operations than the
+ * one-at-a-time run measured, screen-space overlap between edges (footprints are topological),
+ * taking edges out of plan order. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -61,12 +61,6 @@ static uint32_t first_free(const sim *s, uint32_t nodes)
     return k;
 }
 
-/* Edge i of the modelled pass. */
-static const edge_rec *pass_edge(const edges_run *er, size_t i)
-{
-    return &er->e[i % er->n];
-}
-
 /* The edge's time on a node of g processes: the views' work and the geometric term split. */
 static double edge_time(const sim *s, const edge_rec *e, window *out)
 {
@@ -77,15 +71,14 @@ static double edge_time(const sim *s, const edge_rec *e, window *out)
 }
 
 /* Edge i to the node free first: when it starts there (the window, the plan, the commits). */
-static double start_edge(sim *s, const edges_run *er, size_t i, uint32_t k, double *plan_ready,
+static double start_edge(sim *s, const edges_run *er, size_t i, uint32_t k, double plan_ready,
                          window *out)
 {
-    const edge_rec *e = pass_edge(er, i);
-    double t = s->free_at[k], ready = *plan_ready;
+    double t = s->free_at[k], ready = plan_ready;
     if (ready > t)
         out->wait_plan += ready - t, t = ready;
     if (i >= s->d) {
-        double in = s->merged[i - s->d] + s->rtt / 2 + pass_edge(er, i - s->d)->bytes / s->bw;
+        double in = s->merged[i - s->d] + s->rtt / 2 + sc_pass_edge(er, i - s->d)->bytes / s->bw;
         if (in > t)
             out->wait_window += in - t, t = in;
     }
@@ -95,20 +88,43 @@ static double start_edge(sim *s, const edges_run *er, size_t i, uint32_t k, doub
         out->apply += a, t += a;
         s->applied[k] = upto;
     }
-    if (e->plans) { /* an iteration's plan, against this snapshot */
-        t += e->pot_s * s->share + e->plans * s->rtt + e->plan_s;
-        *plan_ready = t;
-    }
     return t;
+}
+
+/* Edge i begins an iteration: its plan, made one iteration ahead (when the previous iteration,
+ * from edge `prev`, begins), against prev's snapshot, the potentials by the node free first; when
+ * it is ready. */
+static double plan_ahead(sim *s, const edges_run *er, size_t i, size_t prev, uint32_t nodes,
+                         window *out)
+{
+    const edge_rec *e = sc_pass_edge(er, i);
+    uint32_t k = first_free(s, nodes);
+    double snap = prev >= s->d ? s->merged[prev - s->d] + s->rtt / 2 : 0, t = s->free_at[k];
+    if (snap > t)
+        out->wait_window += snap - t, t = snap;
+    double pot = e->pot_s * s->share;
+    s->free_at[k] = t + pot;
+    out->wait_plan += pot;
+    return t + pot + e->plans * s->rtt + e->plan_s;
 }
 
 static void run_sim(sim *s, const edges_run *er, uint32_t nodes, window *out)
 {
-    double plan_ready = 0, last_merge = 0;
+    double plan_ready = 0, next_ready = 0, last_merge = 0;
+    int planned = 0; /* the first iteration's plan made */
     for (size_t i = 0; i < s->pass; i++) {
-        const edge_rec *e = pass_edge(er, i);
+        const edge_rec *e = sc_pass_edge(er, i);
+        if (e->plans) { /* this iteration's plan is ready then; the next one's is begun */
+            plan_ready = planned ? next_ready : plan_ahead(s, er, i, i, nodes, out);
+            planned = 1;
+            size_t j = i + 1;
+            while (j < s->pass && !sc_pass_edge(er, j)->plans)
+                j++;
+            if (j < s->pass)
+                next_ready = plan_ahead(s, er, j, i, nodes, out);
+        }
         uint32_t k = first_free(s, nodes);
-        double t = start_edge(s, er, i, k, &plan_ready, out), run = edge_time(s, e, out);
+        double t = start_edge(s, er, i, k, plan_ready, out), run = edge_time(s, e, out);
         s->free_at[k] = t + run;
         out->work += run;
         double result = t + run + s->rtt / 2 + e->bytes / s->bw;
@@ -154,8 +170,8 @@ window sc_window_at(const opts *o, const edges_run *er, uint32_t views, uint32_t
     LM_ASSERT(s.free_at && s.applied && s.merged && s.apply_at);
     double bytes = 0;
     for (size_t i = 0; i < s.pass; i++) {
-        s.apply_at[i + 1] = s.apply_at[i] + pass_edge(er, i)->apply_s;
-        bytes += pass_edge(er, i)->bytes;
+        s.apply_at[i + 1] = s.apply_at[i] + sc_pass_edge(er, i)->apply_s;
+        bytes += sc_pass_edge(er, i)->bytes;
     }
     run_sim(&s, er, nodes, &out);
     out.link_s = (nodes * bytes + 16.0 * (double)s.pass) / s.bw;
