@@ -17,20 +17,21 @@
  * node applies every commit once, each process its share of the views). An iteration's plan
  * (edge i with oracle requests) is made one iteration ahead: when the previous iteration, from
  * edge p, begins, against p's snapshot (as soon as edge p - D is merged): the potentials on the
- * node free first (pot_e * s), a round trip per request and the coordinator's ranking (plan_e); no
- * edge from i on starts before it is ready. Its result reaches the coordinator RTT/2 + b_e /
- * bandwidth after it ends. Merges go strictly in plan order: merged_i = max(merged_{i-1}, result_i
- * + [r_i] RTT) + [r_i] reval + merge_e r_i: the edge kept operations and its footprint meets that
- * of one of the edges i - D + 1 .. i - 1 it did not see (edge_rec.near < D); its operations are
- * then re-evaluated, as one evaluation of their merged patch, on a worker node (the one that ran
- * it: it is charged there) holding the merged state, reval = V c s + g_term + [g > 1] sync; the
- * round trip to it is latency on that edge's merge, the evaluation itself in the merge's serial
- * order. The coordinator holds no views: its CPU is the planning and the merges (replay, patch,
- * encoding), printed per evaluation. The pass ends at the last merge, or later if the coordinator's
- * link (every commit to every node, 16 bytes an edge out) or its CPU take longer. In process: sum
- * (cost_e + plan_e + pot_e). Not modelled: that a lagged edge accepts other operations than the
- * one-at-a-time run measured, screen-space overlap between edges (footprints are topological),
- * taking edges out of plan order. */
+ * node free first (pot_e * s), a round trip per request and the coordinator's ranking (plan_e);
+ * no edge from i on starts before it is ready. A result reaches the coordinator RTT/2 +
+ * b_e / bandwidth after the edge ends. Merges go strictly in plan order:
+ *     merged_i = max(merged_{i-1}, result_i + [r_i] RTT) + [r_i] reval + merge_e
+ * r_i: the edge kept operations and its footprint meets that of one of the edges i - D + 1 ..
+ * i - 1 it did not see (edge_rec.near < D); its operations are then re-evaluated, as one
+ * evaluation of their merged patch, on a worker node (the one that ran it: it is charged there)
+ * holding the merged state, reval = V c s + g_term + [g > 1] sync; the round trip to it is
+ * latency on that edge's merge, the evaluation itself in the merge's serial order. The
+ * coordinator holds no views: its CPU is the planning and the merges (replay, patch, encoding),
+ * printed per evaluation. The pass ends at the last merge, or later if the coordinator's link
+ * (every commit to every node, 16 bytes an edge out) or its CPU take longer. In process:
+ * sum (cost_e + plan_e + pot_e). Not modelled: that a lagged edge accepts other operations than
+ * the one-at-a-time run measured, screen-space overlap between edges (footprints are
+ * topological), taking edges out of plan order. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
