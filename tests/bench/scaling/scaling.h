@@ -1,0 +1,201 @@
+/* tests/bench/scaling/scaling.h — bench_scaling's internal header: its options, the measuring
+ * views (meter.c), the costs its runs record (per_eval.c, edge_costs.c), the round trips
+ * measured here (rtt.c), the models of the whole-edge schedules (rounds.c, window.c) and the
+ * report (report.c). Not a library: only tests/bench/bench_scaling.c and these files use it. */
+#ifndef LUMESH_BENCH_SCALING_H
+#define LUMESH_BENCH_SCALING_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "common/replica.h"
+#include "common/view.h"
+#include "coordinator/views/views.h"
+#include "proto/wire_records.h"
+
+typedef enum { SCHEDULE_ROUNDS, SCHEDULE_WINDOW } schedule_kind;
+
+typedef struct opts {
+    const char *model, *device;
+    uint64_t evals, edge_evals;
+    uint32_t in_flight, views, size, round, target_verts;
+    double rtt_us, gbps;
+    int json;
+    schedule_kind schedule; /* --schedule: rounds (default) or window (also prints the window) */
+    uint32_t lag, group;    /* --lag D, --group G: the window's lag, processes per node */
+    double sync_us;         /* --sync-us: a node's synchronisation per evaluation (<0: measured) */
+} opts;
+
+/* ---- the measuring views (meter.c) ----------------------------------------------------------- */
+
+typedef struct meter {
+    lm_views base;
+    lm_views *in;
+    uint32_t *n;     /* patches of batch i */
+    uint32_t *bytes; /* its Evaluate message for one worker */
+    float *overlap;  /* seconds of the coordinator's work done while batch i is out */
+    size_t batches, cap;
+    uint64_t patches, commits, commit_bytes;
+    uint64_t added, kept_pos; /* added triangle records; of them, with the workers' positions */
+    double views_s, views_cpu_s, encode_cpu_s, overlap_cpu_s;
+    double state_cpu_s;   /* the views' commits, meshes, energies and potentials: the workers' */
+    uint64_t round_trips; /* energy and potentials requests (each a round trip with workers) */
+    double overlap_now;   /* the overlap of the batch being evaluated */
+    lm_wire_arena arena;
+    lm_replica rep; /* the workers' current records, which patches are encoded against */
+    /* the whole-edge run's (run_edges): batches are not recorded nor encoded there */
+    int light;
+    double commit_enc_s;  /* encoding the commits' messages (the coordinator's, with workers) */
+    double replica_s;     /* the replica of the workers' records that they are encoded against */
+    double state_wall_s;  /* the views' state requests' time (their CPU: state_cpu_s) */
+    double commit_wall_s; /* of which the commits: what every worker spends applying them */
+    double pot_wall_s;    /* and the potentials: the views' work for the oracle */
+    double plan_s;        /* the optimizer's own work around it: the oracle's ranking, the plan */
+    double step_c0, pot_end; /* CPU at the step's start, at the end of its potentials */
+    int plan_open;           /* potentials done, the optimizer still planning */
+} meter;
+
+double sc_wall(void);
+double sc_cpu(void);
+/* The first request after an iteration's potentials: the planning around them is over. */
+void sc_close_plan(meter *m);
+/* The meter over new in-process views, and *mesh a copy of the start for an optimizer. */
+lm_status sc_meter_start(const opts *o, const lm_mesh *orig, const lm_mesh *coarse,
+                         const lm_view_set *vs, int light, meter *m, lm_mesh **mesh);
+
+/* ---- today's schedule: one evaluation the unit (per_eval.c) ---------------------------------- */
+
+typedef struct costs {
+    uint32_t k;
+    uint64_t evals, batches;
+    double per_patch_view_us;   /* c */
+    double coord_us_per_eval;   /* the optimizer and encoding */
+    double overlap_us_per_eval; /* of which the geometric term (the workers' with workers) */
+    double bytes_per_batch, patches_per_batch, commit_bytes;
+    double tris_per_patch, moved_share; /* added records a patch; share with corners moved */
+    double state_us_per_eval;           /* the views' commits, meshes, energies, potentials */
+    double round_trips, commits, total_commit_bytes; /* of the run */
+    double setup_s;                                  /* the optimizer's set-up, once */
+    double t_local_s;                                /* sum of the in-process T_i */
+    const meter *m;
+} costs;
+
+lm_status sc_run_once(const opts *o, const lm_mesh *orig, const lm_mesh *coarse,
+                      const lm_view_set *vs, uint32_t k, meter *m, costs *c);
+/* Predicted speed-up over in process for w workers at a round trip of rtt_us. */
+double sc_speedup_at(const opts *o, const costs *c, uint32_t views, uint32_t w, double rtt_us);
+double sc_speedup(const opts *o, const costs *c, uint32_t views, uint32_t w);
+
+/* ---- whole edges, one at a time: the costs per edge (edge_costs.c) --------------------------- */
+
+/* One step of the optimizer in the whole-edge run: one planned edge (with the planned edges
+ * before it that were gone, which cost nothing), its costs in seconds. */
+typedef struct edge_rec {
+    uint32_t evals, edges, ops; /* evaluations; planned edges; operations it kept (accepted) */
+    uint32_t plans;             /* oracle requests before it (an iteration began) */
+    uint32_t near; /* with operations: edges back to the last earlier edge whose footprint meets
+                      its own (0: none); footprint: the vertices of its patch's triangles */
+    float cost_s;  /* in process on one worker: the views' time and all other CPU of the edge */
+    float views_s; /* of which the views' time (what a node's processes split) */
+    float plan_s;  /* the coordinator's planning before it (the oracle's ranking, the plan) */
+    float pot_s;   /* the views' work of that planning (potentials) */
+    float apply_s; /* the views' commits of its operations: what every worker does to apply them */
+    float merge_s; /* the coordinator's merge: replay, patch, encoding (0 without operations) */
+    float bytes;   /* its operations' Commit messages (0 without operations) */
+} edge_rec;
+
+typedef struct edges_run {
+    edge_rec *e;
+    size_t n, cap;
+    uint64_t evals, planned, replays, mismatches;
+    double per_patch_view_us, geo_us_per_eval, replay_s;
+    double views_cpu_per_wall; /* the views' evaluations: CPU seconds per second (threads) */
+    size_t mesh_edges;         /* of the start */
+    uint32_t *last;            /* per vertex: 1 + the last edge whose footprint held it */
+    size_t cap_last;
+} edges_run;
+
+/* One edge at a time, each optimiser step one edge, until --edge-evals: the costs per edge. */
+lm_status sc_run_edges(const opts *o, const lm_mesh *orig, const lm_mesh *coarse,
+                       const lm_view_set *vs, meter *m, edges_run *er);
+
+/* Edge i of a modelled pass: the measured sequence, cycled. */
+static inline const edge_rec *sc_pass_edge(const edges_run *er, size_t i)
+{
+    return &er->e[i % er->n];
+}
+
+/* The distribution of the measured edges. */
+typedef struct edge_stats {
+    double evals_mean, evals_median, evals_p90, evals_p99, evals_max;
+    double ms_mean, ms_max, top_share; /* top_share: of all the edges' cost, the costliest 1%'s */
+    double ops_mean, with_ops, bytes_mean;
+} edge_stats;
+
+edge_stats sc_edge_stats(const edges_run *er);
+
+/* ---- the rounds model (rounds.c) ------------------------------------------------------------- */
+
+typedef struct whole_edges {
+    double t1, tw;          /* the pass in process; with w workers */
+    double plan_s, merge_s; /* the coordinator's CPU: planning, merges */
+    double evals;           /* evaluations, the merges' re-validations included */
+    /* where tw goes: planning (with its requests), handing out (a round trip, the commits'
+     * bytes), applying the last round's commits, the edges (makespan, results back), merging,
+     * re-validating; and the edges' work spread perfectly (their sum / w) */
+    double plan, hand_out, apply, edges, merge, revalidate, balanced;
+} whole_edges;
+
+/* The pass as rounds of r edges on w workers over V views. */
+whole_edges sc_rounds_at(const opts *o, const edges_run *er, uint32_t views, uint32_t w,
+                         uint32_t r);
+double sc_rounds_speedup(const opts *o, const edges_run *er, uint32_t views, uint32_t w,
+                         uint32_t r);
+/* The smallest round (a power of 2, at most 65536) with efficiency >= eff on w workers; 0 if
+ * none. */
+uint32_t sc_round_for(const opts *o, const edges_run *er, uint32_t views, uint32_t w, double eff);
+/* The rounds the report prints: 64, --round, 1024, in order, once each. */
+uint32_t sc_report_rounds(const opts *o, uint32_t out[3]);
+
+/* ---- the window model (window.c) ------------------------------------------------------------- */
+
+typedef struct window {
+    double t1, tw;       /* the pass in process; with w processes */
+    double coord_s;      /* the coordinator's CPU: planning and merges */
+    double evals;        /* evaluations, re-validations included */
+    double revalidated;  /* edges re-validated */
+    double with_ops;     /* edges that kept operations */
+    uint32_t nodes, per; /* nodes, processes per node */
+    /* of the nodes' time (nodes * tw): the edges' work (of it the synchronisation), applying
+     * the others' commits, re-validating, waiting for the window, for a plan, idle at the end */
+    double work, sync, apply, reval, wait_window, wait_plan, tail;
+    double link_s; /* the coordinator's link: every commit to every node, the edges out */
+} window;
+
+/* The pass in plan order on w processes in nodes of `group`, lag d, a node's synchronisation
+ * per evaluation sync_us. */
+window sc_window_at(const opts *o, const edges_run *er, uint32_t views, uint32_t w, uint32_t d,
+                    uint32_t group, double sync_us);
+
+/* ---- round trips measured here (rtt.c) ------------------------------------------------------- */
+
+/* Round trips measured here, in µs. */
+typedef struct rtts {
+    double link, zmq, floor; /* a local worker's link, the ZeroMQ ipc socket, a bare socketpair */
+    double link_one_core;    /* the link, coordinator and worker on one core (0: not measured) */
+} rtts;
+
+lm_status sc_measure_rtt(const opts *o, const lm_mesh *orig, const lm_mesh *coarse,
+                         const lm_view_set *vs, int socket_only, double *us);
+lm_status sc_measure_rtt_one_core(const opts *o, const lm_mesh *orig, const lm_mesh *coarse,
+                                  const lm_view_set *vs, double *us);
+lm_status sc_measure_floor_rtt(double *us);
+
+/* ---- report (report.c) ----------------------------------------------------------------------- */
+
+void sc_print_human(const opts *o, const costs *c, uint32_t views, const rtts *t,
+                    const edges_run *er);
+void sc_print_json(const opts *o, const costs *c, uint32_t views, const rtts *t,
+                   const edges_run *er);
+
+#endif
