@@ -14,12 +14,17 @@
  *
  * usage: bench_scaling [MODEL] [--evals N] [--in-flight K] [--views N] [--size S] [--rtt-us U]
  *                      [--gbps G] [--device D] [--edge-evals N] [--round R] [--target-verts N]
- *                      [--schedule rounds|window] [--lag D] [--group G] [--sync-us S] [--json]
+ *                      [--schedule rounds|window] [--lag D] [--group G] [--sync-us S] [--cap N]
+ *                      [--json]
  * (--edge-evals: the whole-edge run's evaluations, default 30000; --target-verts: the QEM start's
  * vertices, default 1% of the model's, at least 100; --schedule window adds the window model at
  * --lag (default 1024) and --group (processes per node, default 1), and over lags 64..4096 and
  * nodes of 1, 4 and 16; --sync-us: a node's synchronisation per evaluation, default the measured
- * round trip of a local worker's link) */
+ * round trip of a local worker's link; --cap: visits of at most N evaluations, the rest of an
+ * edge a continuation later in plan order, scaling/visits.c; --cap, --lag and --group take
+ * comma-separated lists, e.g. --cap 16,64 --lag 256,4096 --group 1,4, and with --cap the window
+ * is modelled for every (N, D, G) of them from the one measurement; a single --lag and --group
+ * are the first of theirs) */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -29,6 +34,29 @@
 #include "coordinator/optimizer/optimizer.h"
 #include "coordinator/simplify/simplify.h"
 #include "scaling/scaling.h"
+
+/* A comma-separated list of at most SC_MAX_LIST values; *first the first. Their count. */
+static uint32_t parse_list(const char *s, uint32_t *out, uint32_t *first)
+{
+    uint32_t n = 0;
+    for (char *end; n < SC_MAX_LIST; s = end + 1) {
+        out[n++] = (uint32_t)strtoul(s, &end, 10);
+        if (*end != ',')
+            break;
+    }
+    if (first)
+        *first = out[0];
+    return n;
+}
+
+/* Every value of the list at least 1. */
+static int positive(const uint32_t *v, uint32_t n)
+{
+    for (uint32_t i = 0; i < n; i++)
+        if (v[i] < 1)
+            return 0;
+    return 1;
+}
 
 static int parse(int argc, char **argv, opts *o)
 {
@@ -60,9 +88,11 @@ static int parse(int argc, char **argv, opts *o)
             if (strcmp(s, "window") && strcmp(s, "rounds"))
                 return fprintf(stderr, "bench_scaling: unknown schedule '%s'\n", s), 1;
         } else if (v && !strcmp(a, "--lag"))
-            o->lag = (uint32_t)atoi(argv[++i]);
+            o->n_lags = parse_list(argv[++i], o->lags, &o->lag);
         else if (v && !strcmp(a, "--group"))
-            o->group = (uint32_t)atoi(argv[++i]);
+            o->n_groups = parse_list(argv[++i], o->groups, &o->group);
+        else if (v && !strcmp(a, "--cap"))
+            o->n_caps = parse_list(argv[++i], o->caps, NULL);
         else if (v && !strcmp(a, "--sync-us"))
             o->sync_us = atof(argv[++i]);
         else if (v && !strcmp(a, "--device"))
@@ -73,8 +103,9 @@ static int parse(int argc, char **argv, opts *o)
             return fprintf(stderr, "bench_scaling: unknown argument '%s'\n", a), 1;
     }
     if (!o->model || !o->evals || !o->edge_evals || o->round < 1 || o->round > 65536 ||
-        o->in_flight < 1 || o->lag < 1 || o->group < 1 || o->in_flight > CO_MAX_EDGES_IN_FLIGHT ||
-        o->views < 1 || o->views > LM_MAX_VIEWS || o->size < 16)
+        o->in_flight < 1 || !positive(o->lags, o->n_lags) || !positive(o->groups, o->n_groups) ||
+        o->in_flight > CO_MAX_EDGES_IN_FLIGHT || o->views < 1 || o->views > LM_MAX_VIEWS ||
+        o->size < 16)
         return fprintf(stderr, "bench_scaling: bad arguments (see the comment at the top of "
                                "tests/bench/bench_scaling.c)\n"),
                1;
@@ -116,6 +147,12 @@ int main(int argc, char **argv)
               .schedule = SCHEDULE_ROUNDS,
               .lag = 1024,
               .group = 1,
+              .lags = {1024},
+              .groups = {1},
+              .caps = {0},
+              .n_lags = 1,
+              .n_groups = 1,
+              .n_caps = 1,
               .sync_us = -1};
     char buf[4096];
     if (!o.model) {

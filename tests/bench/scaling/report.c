@@ -14,11 +14,19 @@ static void print_whole_edges_human(const opts *o, const edges_run *er, uint32_t
 static void print_whole_edges_json(const opts *o, const edges_run *er, uint32_t views);
 static void print_window_human(const opts *o, const edges_run *er, uint32_t views, double sync);
 static void print_window_json(const opts *o, const edges_run *er, uint32_t views, double sync);
+static void print_capped_human(const opts *o, const edges_run *er, uint32_t views, double sync);
+static void print_capped_json(const opts *o, const edges_run *er, uint32_t views, double sync);
 
 /* A node's synchronisation per evaluation: --sync-us, else a local worker's link round trip. */
 static double sync_us(const opts *o, const rtts *t)
 {
     return o->sync_us >= 0 ? o->sync_us : t->link;
+}
+
+/* --cap given: the window over every (N, D, G) of the lists. */
+static int capped(const opts *o)
+{
+    return o->n_caps > 1 || o->caps[0] > 0;
 }
 
 void sc_print_human(const opts *o, const costs *c, uint32_t views, const rtts *t,
@@ -54,6 +62,8 @@ void sc_print_human(const opts *o, const costs *c, uint32_t views, const rtts *t
     print_whole_edges_human(o, er, views);
     if (o->schedule == SCHEDULE_WINDOW)
         print_window_human(o, er, views, sync_us(o, t));
+    if (o->schedule == SCHEDULE_WINDOW && capped(o))
+        print_capped_human(o, er, views, sync_us(o, t));
 }
 
 void sc_print_json(const opts *o, const costs *c, uint32_t views, const rtts *t,
@@ -90,6 +100,8 @@ void sc_print_json(const opts *o, const costs *c, uint32_t views, const rtts *t,
     print_whole_edges_json(o, er, views);
     if (o->schedule == SCHEDULE_WINDOW)
         print_window_json(o, er, views, sync_us(o, t));
+    if (o->schedule == SCHEDULE_WINDOW && capped(o))
+        print_capped_json(o, er, views, sync_us(o, t));
     printf("}\n");
 }
 
@@ -200,29 +212,32 @@ static uint32_t lag_for(const opts *o, const edges_run *er, uint32_t views, uint
                         double sync, double e)
 {
     for (uint32_t d = 1; d <= 65536; d *= 2) {
-        window x = sc_window_at(o, er, views, w, d, g, sync);
+        window x = sc_window_at(o, er, views, w, d, g, sync, 0);
         if (eff(&x, w) >= e)
             return d;
     }
     return 0;
 }
 
-static void print_window_where(const window *x, uint32_t lag, uint32_t w)
+/* With cap (not 0) the line begins with it. */
+static void print_window_where(const window *x, uint32_t cap, uint32_t lag, uint32_t w)
 {
     double all = x->nodes * x->tw / 100;
+    if (cap)
+        printf("    cap %u,", cap);
     printf(
-        "    lag %u, where the time of %u processes (%u nodes of %u) goes: the edges %.0f%% (of it "
+        "%slag %u, where the time of %u processes (%u nodes of %u) goes: the edges %.0f%% (of it "
         "synchronisation %.0f%%), applying others' commits %.0f%%, re-validating %.0f%%, "
         "waiting for the window %.0f%%, planning %.0f%%, idle at the end %.0f%%; the "
         "coordinator's CPU %.0f%% busy, its link %.0f%%\n",
-        lag, w, x->nodes, x->per, x->work / all, x->sync / all, x->apply / all, x->reval / all,
-        x->wait_window / all, x->wait_plan / all, x->tail / all, 100 * x->coord_s / x->tw,
-        100 * x->link_s / x->tw);
+        cap ? " " : "    ", lag, w, x->nodes, x->per, x->work / all, x->sync / all, x->apply / all,
+        x->reval / all, x->wait_window / all, x->wait_plan / all, x->tail / all,
+        100 * x->coord_s / x->tw, 100 * x->link_s / x->tw);
 }
 
 static void print_window_human(const opts *o, const edges_run *er, uint32_t views, double sync)
 {
-    window at = sc_window_at(o, er, views, 1, o->lag, o->group, sync);
+    window at = sc_window_at(o, er, views, 1, o->lag, o->group, sync, 0);
     printf("  window (no barrier), lag %u, nodes of %u processes, %.1f us of synchronisation per "
            "evaluation in a node: coordinator CPU per evaluation %.2f us; re-validated %.0f%% of "
            "the edges that kept operations\n",
@@ -230,21 +245,21 @@ static void print_window_human(const opts *o, const edges_run *er, uint32_t view
            at.with_ops ? 100 * at.revalidated / at.with_ops : 0);
     printf("    predicted at %.0f us RTT, %.0f Gb/s (processes):", o->rtt_us, o->gbps);
     for (size_t i = 0; i < N_W; i++) {
-        window x = sc_window_at(o, er, views, workers[i], o->lag, o->group, sync);
+        window x = sc_window_at(o, er, views, workers[i], o->lag, o->group, sync, 0);
         printf(" %u: x%.1f (%.0f%%)", workers[i], x.t1 / x.tw, 100 * eff(&x, workers[i]));
     }
     printf("\n");
     for (size_t j = 0; j < N_GROUPS; j++)
         for (uint32_t w = 16; w <= 128; w *= 8) {
-            window x = sc_window_at(o, er, views, w, o->lag, groups[j], sync);
-            print_window_where(&x, o->lag, w);
+            window x = sc_window_at(o, er, views, w, o->lag, groups[j], sync, 0);
+            print_window_where(&x, 0, o->lag, w);
         }
     printf("    lag x node size: 16 processes, 128 processes, re-validated, coordinator us per "
            "evaluation\n");
     for (size_t j = 0; j < N_GROUPS; j++)
         for (size_t i = 0; i < N_LAGS; i++) {
-            window a = sc_window_at(o, er, views, 16, lags[i], groups[j], sync);
-            window b = sc_window_at(o, er, views, 128, lags[i], groups[j], sync);
+            window a = sc_window_at(o, er, views, 16, lags[i], groups[j], sync, 0);
+            window b = sc_window_at(o, er, views, 128, lags[i], groups[j], sync, 0);
             printf("    lag %4u, nodes of %2u: x%.1f (%.0f%%), x%.1f (%.0f%%), %.0f%%, %.2f us\n",
                    lags[i], groups[j], a.t1 / a.tw, 100 * eff(&a, 16), b.t1 / b.tw,
                    100 * eff(&b, 128), b.with_ops ? 100 * b.revalidated / b.with_ops : 0,
@@ -266,7 +281,7 @@ static void print_window_json(const opts *o, const edges_run *er, uint32_t views
     for (size_t j = 0; j < N_GROUPS; j++)
         for (size_t i = 0; i < N_LAGS; i++)
             for (size_t k = 0; k < N_W; k++) {
-                window x = sc_window_at(o, er, views, workers[k], lags[i], groups[j], sync);
+                window x = sc_window_at(o, er, views, workers[k], lags[i], groups[j], sync, 0);
                 printf("%s{\"lag\": %u, \"group\": %u, \"workers\": %u, \"speedup\": %.3f, "
                        "\"efficiency\": %.3f, \"coordinator_cpu_per_eval_us\": %.3f, "
                        "\"revalidated_share\": %.3f}",
@@ -277,9 +292,73 @@ static void print_window_json(const opts *o, const edges_run *er, uint32_t views
             }
     printf("], \"window_at_lag\": [");
     for (size_t k = 0; k < N_W; k++) {
-        window x = sc_window_at(o, er, views, workers[k], o->lag, o->group, sync);
+        window x = sc_window_at(o, er, views, workers[k], o->lag, o->group, sync, 0);
         printf("%s{\"workers\": %u, \"speedup\": %.3f, \"efficiency\": %.3f}", k ? ", " : "",
                workers[k], x.t1 / x.tw, eff(&x, workers[k]));
+    }
+    printf("]");
+}
+
+/* ---- capped visits --------------------------------------------------------------------------- */
+
+/* The lists' (N, D, G) number i, in the order N, D, G (G fastest). */
+static void capped_at(const opts *o, uint32_t i, uint32_t *n, uint32_t *d, uint32_t *g)
+{
+    *g = o->groups[i % o->n_groups], i /= o->n_groups;
+    *d = o->lags[i % o->n_lags], i /= o->n_lags;
+    *n = o->caps[i];
+}
+
+static void print_capped_human(const opts *o, const edges_run *er, uint32_t views, double sync)
+{
+    uint32_t all = o->n_caps * o->n_lags * o->n_groups, best = 0, n, d, g, met = 0;
+    double best_e = -1;
+    printf("  capped visits (a visit stops after N evaluations, the rest of the edge a "
+           "continuation D or more visits later; operations and commits with the last visit): "
+           "N, D, G: 16 processes, 128 processes, visits per edge, visits modelled (the run; the "
+           "last D visits' commits are never applied), continuations' restarts if "
+           "each re-evaluated its start once (not charged), re-validated, coordinator us per "
+           "evaluation\n");
+    for (uint32_t i = 0; i < all; i++) {
+        capped_at(o, i, &n, &d, &g);
+        window a = sc_window_at(o, er, views, 16, d, g, sync, n);
+        window b = sc_window_at(o, er, views, 128, d, g, sync, n);
+        printf("    N %4u, D %4u, G %2u: x%.1f (%.0f%%), x%.1f (%.0f%%), %.2f, %.0f, +%.1f%% "
+               "evaluations, %.0f%%, %.2f us\n",
+               n, d, g, a.t1 / a.tw, 100 * eff(&a, 16), b.t1 / b.tw, 100 * eff(&b, 128),
+               b.visits / b.edges, b.visits, 100 * b.restarts / b.evals,
+               b.with_ops ? 100 * b.revalidated / b.with_ops : 0, coord_us(&b));
+        if (eff(&a, 16) >= 0.8 && eff(&b, 128) >= 0.6)
+            met++;
+        if (d >= b.visits)
+            printf("      (D at least the pass: nothing waits for the window nor is applied)\n");
+        if (eff(&b, 128) > best_e && (n || o->n_caps == 1)) /* the best capped */
+            best_e = eff(&b, 128), best = i;
+    }
+    capped_at(o, best, &n, &d, &g);
+    printf("    (N, D, G) with efficiency >= 0.8 on 16 processes and >= 0.6 on 128: %u of %u; "
+           "the best capped on 128 (N %u, D %u, G %u):\n",
+           met, all, n, d, g);
+    for (uint32_t w = 16; w <= 128; w *= 8) {
+        window x = sc_window_at(o, er, views, w, d, g, sync, n);
+        print_window_where(&x, n, d, w);
+    }
+}
+
+static void print_capped_json(const opts *o, const edges_run *er, uint32_t views, double sync)
+{
+    uint32_t all = o->n_caps * o->n_lags * o->n_groups, n, d, g;
+    printf(", \"capped\": [");
+    for (uint32_t i = 0; i < all; i++) {
+        capped_at(o, i, &n, &d, &g);
+        for (size_t k = 0; k < N_W; k++) {
+            window x = sc_window_at(o, er, views, workers[k], d, g, sync, n);
+            printf("%s{\"cap\": %u, \"lag\": %u, \"group\": %u, \"workers\": %u, \"speedup\": "
+                   "%.3f, \"efficiency\": %.3f, \"coordinator_cpu_per_eval_us\": %.3f, "
+                   "\"visits_per_edge\": %.3f, \"restarts_share\": %.4f}",
+                   i || k ? ", " : "", n, d, g, workers[k], x.t1 / x.tw, eff(&x, workers[k]),
+                   coord_us(&x), x.visits / x.edges, x.restarts / x.evals);
+        }
     }
     printf("]");
 }

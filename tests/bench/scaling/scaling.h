@@ -15,6 +15,8 @@
 
 typedef enum { SCHEDULE_ROUNDS, SCHEDULE_WINDOW } schedule_kind;
 
+#define SC_MAX_LIST 8 /* values in a list option */
+
 typedef struct opts {
     const char *model, *device;
     uint64_t evals, edge_evals;
@@ -23,7 +25,12 @@ typedef struct opts {
     int json;
     schedule_kind schedule; /* --schedule: rounds (default) or window (also prints the window) */
     uint32_t lag, group;    /* --lag D, --group G: the window's lag, processes per node */
-    double sync_us;         /* --sync-us: a node's synchronisation per evaluation (<0: measured) */
+    /* --cap N: visits of at most N evaluations (visits.c; 0: none). --cap, --lag, --group take
+     * comma-separated lists (lag, group: their first); with --cap the window is also modelled
+     * over every (N, D, G) of the lists */
+    uint32_t caps[SC_MAX_LIST], lags[SC_MAX_LIST], groups[SC_MAX_LIST];
+    uint32_t n_caps, n_lags, n_groups;
+    double sync_us; /* --sync-us: a node's synchronisation per evaluation (<0: measured) */
 } opts;
 
 /* ---- the measuring views (meter.c) ----------------------------------------------------------- */
@@ -157,6 +164,21 @@ uint32_t sc_round_for(const opts *o, const edges_run *er, uint32_t views, uint32
 /* The rounds the report prints: 64, --round, 1024, in order, once each. */
 uint32_t sc_report_rounds(const opts *o, uint32_t out[3]);
 
+/* ---- the window's plan order as visits (visits.c) -------------------------------------------- */
+
+/* The visits in plan order: an edge's optimisation cut after `cap` evaluations (0: never), the
+ * rest a continuation at least d positions later (the rule: visits.c). */
+typedef struct visits {
+    edge_rec *v;
+    size_t n, cap;
+    size_t edges;    /* the pass's edges (the measured ones, cycled) */
+    size_t started;  /* edges with a visit placed: the pass's and those filling in */
+    double restarts; /* continuation visits (n - started) */
+} visits;
+
+void sc_visits_make(const edges_run *er, uint32_t cap, uint32_t d, visits *out);
+void sc_visits_free(visits *v);
+
 /* ---- the window model (window.c) ------------------------------------------------------------- */
 
 typedef struct window {
@@ -170,12 +192,13 @@ typedef struct window {
      * the others' commits, re-validating, waiting for the window, for a plan, idle at the end */
     double work, sync, apply, reval, wait_window, wait_plan, tail;
     double link_s; /* the coordinator's link: every commit to every node, the edges out */
+    double visits, edges, restarts; /* visits modelled, edges begun in them, continuations */
 } window;
 
 /* The pass in plan order on w processes in nodes of `group`, lag d, a node's synchronisation
- * per evaluation sync_us. */
+ * per evaluation sync_us, visits capped at `cap` evaluations (0: whole edges). */
 window sc_window_at(const opts *o, const edges_run *er, uint32_t views, uint32_t w, uint32_t d,
-                    uint32_t group, double sync_us);
+                    uint32_t group, double sync_us, uint32_t cap);
 
 /* ---- round trips measured here (rtt.c) ------------------------------------------------------- */
 

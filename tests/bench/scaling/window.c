@@ -3,7 +3,9 @@
  *
  * Edge i (plan order) is optimised against the mesh with every edge <= i - D merged, for a fixed
  * lag D: the output depends on D, never on the workers. The pass modelled: the measured edges,
- * cycled to at least one pass over the start's edges. W processes form W / g nodes of
+ * cycled to at least one pass over the start's edges, as visits (visits.c): with --cap N an
+ * edge's optimisation is cut into visits of at most N evaluations, each continuation D or more
+ * positions after the visit before it; below, "edge" is a visit. W processes form W / g nodes of
  * g = min(G, W) processes; a node holds every view once, over shared memory, its processes a
  * share s = ceil(V / g) / V of them each. Per edge e (measured one at a time, edge_costs.c):
  *     t_e = (views_e + evals_e g_term) * s + (cost_e - views_e - evals_e g_term)
@@ -42,11 +44,12 @@
 typedef struct sim {
     double rtt, bw, share, sync, reval_s, geo;
     uint32_t d, g;
-    size_t pass;      /* edges modelled: the measured ones, cycled */
-    double *free_at;  /* per node: when it is free */
-    size_t *applied;  /* per node: commits of edges before this one applied */
-    double *merged;   /* per edge: when its merge is done */
-    double *apply_at; /* prefix sums of apply_e (apply_at[i]: edges before i) */
+    size_t pass;       /* visits modelled (visits.c): the measured edges, cycled, cut by --cap */
+    const edge_rec *v; /* the visits in plan order */
+    double *free_at;   /* per node: when it is free */
+    size_t *applied;   /* per node: commits of edges before this one applied */
+    double *merged;    /* per edge: when its merge is done */
+    double *apply_at;  /* prefix sums of apply_e (apply_at[i]: edges before i) */
 } sim;
 
 static double max2(double a, double b)
@@ -72,14 +75,13 @@ static double edge_time(const sim *s, const edge_rec *e, window *out)
 }
 
 /* Edge i to the node free first: when it starts there (the window, the plan, the commits). */
-static double start_edge(sim *s, const edges_run *er, size_t i, uint32_t k, double plan_ready,
-                         window *out)
+static double start_edge(sim *s, size_t i, uint32_t k, double plan_ready, window *out)
 {
     double t = s->free_at[k], ready = plan_ready;
     if (ready > t)
         out->wait_plan += ready - t, t = ready;
     if (i >= s->d) {
-        double in = s->merged[i - s->d] + s->rtt / 2 + sc_pass_edge(er, i - s->d)->bytes / s->bw;
+        double in = s->merged[i - s->d] + s->rtt / 2 + s->v[i - s->d].bytes / s->bw;
         if (in > t)
             out->wait_window += in - t, t = in;
     }
@@ -95,10 +97,9 @@ static double start_edge(sim *s, const edges_run *er, size_t i, uint32_t k, doub
 /* Edge i begins an iteration: its plan, made one iteration ahead (when the previous iteration,
  * from edge `prev`, begins), against prev's snapshot, the potentials by the node free first; when
  * it is ready. */
-static double plan_ahead(sim *s, const edges_run *er, size_t i, size_t prev, uint32_t nodes,
-                         window *out)
+static double plan_ahead(sim *s, size_t i, size_t prev, uint32_t nodes, window *out)
 {
-    const edge_rec *e = sc_pass_edge(er, i);
+    const edge_rec *e = &s->v[i];
     uint32_t k = first_free(s, nodes);
     double snap = prev >= s->d ? s->merged[prev - s->d] + s->rtt / 2 : 0, t = s->free_at[k];
     if (snap > t)
@@ -109,23 +110,23 @@ static double plan_ahead(sim *s, const edges_run *er, size_t i, size_t prev, uin
     return t + pot + e->plans * s->rtt + e->plan_s;
 }
 
-static void run_sim(sim *s, const edges_run *er, uint32_t nodes, window *out)
+static void run_sim(sim *s, uint32_t nodes, window *out)
 {
     double plan_ready = 0, next_ready = 0, last_merge = 0;
     int planned = 0; /* the first iteration's plan made */
     for (size_t i = 0; i < s->pass; i++) {
-        const edge_rec *e = sc_pass_edge(er, i);
+        const edge_rec *e = &s->v[i];
         if (e->plans) { /* this iteration's plan is ready then; the next one's is begun */
-            plan_ready = planned ? next_ready : plan_ahead(s, er, i, i, nodes, out);
+            plan_ready = planned ? next_ready : plan_ahead(s, i, i, nodes, out);
             planned = 1;
             size_t j = i + 1;
-            while (j < s->pass && !sc_pass_edge(er, j)->plans)
+            while (j < s->pass && !s->v[j].plans)
                 j++;
             if (j < s->pass)
-                next_ready = plan_ahead(s, er, j, i, nodes, out);
+                next_ready = plan_ahead(s, j, i, nodes, out);
         }
         uint32_t k = first_free(s, nodes);
-        double t = start_edge(s, er, i, k, plan_ready, out), run = edge_time(s, e, out);
+        double t = start_edge(s, i, k, plan_ready, out), run = edge_time(s, e, out);
         s->free_at[k] = t + run;
         out->work += run;
         double result = t + run + s->rtt / 2 + e->bytes / s->bw;
@@ -149,10 +150,12 @@ static void run_sim(sim *s, const edges_run *er, uint32_t nodes, window *out)
 }
 
 window sc_window_at(const opts *o, const edges_run *er, uint32_t views, uint32_t w, uint32_t d,
-                    uint32_t group, double sync_us)
+                    uint32_t group, double sync_us, uint32_t cap)
 {
     window out;
     memset(&out, 0, sizeof out);
+    visits vs;
+    sc_visits_make(er, cap, d ? d : 1, &vs);
     uint32_t g = group < w ? group : w, nodes = w / g ? w / g : 1;
     sim s = {.rtt = o->rtt_us * 1e-6,
              .bw = o->gbps * 1e9 / 8.0,
@@ -161,7 +164,8 @@ window sc_window_at(const opts *o, const edges_run *er, uint32_t views, uint32_t
              .geo = er->geo_us_per_eval * 1e-6,
              .d = d ? d : 1,
              .g = g,
-             .pass = er->n > er->mesh_edges ? er->n : er->mesh_edges};
+             .pass = vs.n,
+             .v = vs.v};
     s.reval_s = views * er->per_patch_view_us * 1e-6 * s.share + er->geo_us_per_eval * 1e-6 +
                 (g > 1 ? s.sync : 0);
     s.free_at = calloc(nodes, sizeof *s.free_at);
@@ -171,13 +175,15 @@ window sc_window_at(const opts *o, const edges_run *er, uint32_t views, uint32_t
     LM_ASSERT(s.free_at && s.applied && s.merged && s.apply_at);
     double bytes = 0;
     for (size_t i = 0; i < s.pass; i++) {
-        s.apply_at[i + 1] = s.apply_at[i] + sc_pass_edge(er, i)->apply_s;
-        bytes += sc_pass_edge(er, i)->bytes;
+        s.apply_at[i + 1] = s.apply_at[i] + vs.v[i].apply_s;
+        bytes += vs.v[i].bytes;
     }
-    run_sim(&s, er, nodes, &out);
+    run_sim(&s, nodes, &out);
     out.link_s = (nodes * bytes + 16.0 * (double)s.pass) / s.bw;
     out.tw = max2(max2(out.tw, out.link_s), out.coord_s);
     out.nodes = nodes, out.per = g;
+    out.visits = (double)vs.n, out.edges = (double)vs.started, out.restarts = vs.restarts;
     free(s.free_at), free(s.applied), free(s.merged), free(s.apply_at);
+    sc_visits_free(&vs);
     return out;
 }
