@@ -189,7 +189,7 @@ static int run_image(simplify_args *a)
     o->input_path = a->input;
     o->output_path = a->output;
     o->target_verts = a->target;
-    o->progress = isatty(2) ? CO_SIMPLIFY_PROGRESS_TTY : CO_SIMPLIFY_PROGRESS_NONE;
+    o->progress = isatty(2) ? CO_METER_TTY : CO_METER_NONE;
     co_simplify_summary s;
     lm_status st = co_simplify_job_run(o, &s);
     if (st)

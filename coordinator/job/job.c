@@ -48,6 +48,8 @@ typedef struct co_job {
     co_optimizer *opt;
     co_checkpoint_key key;
     co_reporter rep;
+    co_meter meter; /* the set-up's long phases, and the regrids' (once meter_on) */
+    int meter_on;
     struct timespec t0;
     double loop_start_s; /* seconds from t0 to the start of the optimisation loop */
     double loop_cpu_s;   /* CPU seconds of this process at the start of the loop */
@@ -274,7 +276,9 @@ static void note(co_job *j, const char *event, const char *fmt, ...)
 
 static lm_status load_original(co_job *j)
 {
+    co_meter_phase(&j->meter, "loading %s", j->o.original_path);
     lm_status st = lm_mesh_load(j->o.original_path, NULL, &j->original);
+    co_meter_end(&j->meter);
     if (st != LM_OK)
         return st;
     st = choose_attrs(j);
@@ -308,19 +312,20 @@ static lm_status image_start(co_job *j, lm_mesh **out)
         .device = o->device_spec,
         .surface_weight = o->surface_weight > 0 ? o->surface_weight : 0,
         .surface_share = j->start_share,
-        .progress = j->rep.style == CO_REPORT_TTY     ? CO_SIMPLIFY_PROGRESS_TTY
-                    : j->rep.style == CO_REPORT_LINES ? CO_SIMPLIFY_PROGRESS_LINES
-                                                      : CO_SIMPLIFY_PROGRESS_NONE,
+        .meter = &j->meter,
     };
     int human = j->rep.style == CO_REPORT_TTY || j->rep.style == CO_REPORT_LINES;
     uint32_t qem = co_simplify_start_verts(j->original->live_verts, o->target_verts, 0);
+    co_reporter_abandon_line(&j->rep); /* a terminal's transient note */
     if (human)
         fprintf(stderr,
                 "lumesh: the start: QEM to %" PRIu32 " vertices, then the image-driven collapses "
                 "to %" PRIu32 " (--start qem skips them)\n",
                 qem, o->target_verts);
     co_simplify_summary sum;
+    co_meter_stage(&j->meter, "start");
     lm_status st = co_simplify_mesh(j->original, &so, j->pool, out, &sum);
+    co_meter_stage(&j->meter, NULL);
     j->start_weight = sum.surface_weight;
     if (st == LM_OK && human)
         fprintf(stderr,
@@ -344,8 +349,10 @@ static lm_status make_coarse(co_job *j, lm_mesh **out)
     if (j->o.start == CO_JOB_START_IMAGE)
         return image_start(j, out);
     int short_of;
+    co_meter_phase(&j->meter, "start: QEM to %" PRIu32 " vertices", j->o.target_verts);
     lm_status st =
         co_simplify_best(j->original, CO_SIMPLIFY_QEM, j->o.target_verts, out, &short_of);
+    co_meter_end(&j->meter);
     if (short_of)
         note(j, "warning", "%s; going on with %" PRIu32 " vertices", lm_last_error(),
              (*out)->live_verts);
@@ -424,7 +431,10 @@ static lm_status create_views(co_job *j, uint32_t draw, lm_views **out)
 
 static lm_status make_views(co_job *j)
 {
+    co_meter_phase(&j->meter, "the original's target images (%" PRIu32 " views of %dx%d)",
+                   j->o.views, j->o.size, j->o.size);
     lm_status st = create_views(j, 0, &j->views);
+    co_meter_end(&j->meter);
     if (st != LM_OK)
         return st;
     lm_views_info info;
@@ -528,10 +538,15 @@ static lm_status make_optimizer(co_job *j)
                         .surface_share = j->o.surface_share};
     lm_mesh *coarse = j->coarse;
     j->coarse = NULL; /* the optimizer owns it from here on, even when its creation fails */
+    co_meter_phase(&j->meter, "the optimizer's first energies (%" PRIu32 " vertices)",
+                   coarse->live_verts);
     lm_status st = co_optimizer_create_tuned(coarse, j->views, &params, &tuning, &j->opt);
+    co_meter_end(&j->meter);
     if (st != LM_OK || !j->o.resume_path)
         return st;
+    co_meter_phase(&j->meter, "resuming %s", j->o.resume_path);
     st = co_checkpoint_read(j->o.resume_path, &j->key, load_payload, j);
+    co_meter_end(&j->meter);
     if (st != LM_OK)
         return st;
     co_progress p;
@@ -617,6 +632,16 @@ static uint64_t step_chunk(uint64_t done, double t)
     return chunk < 64 ? 64 : chunk > 1e6 ? 1000000 : (uint64_t)chunk;
 }
 
+/* The loop's progress lines count for the meter too: its next line is due a period after the
+ * reporter's last one. */
+static void meter_heard_reporter(co_job *j)
+{
+    if (j->rep.last_report_s < 0)
+        return;
+    double loop_s = seconds_since(&j->t0) - j->loop_start_s;
+    co_meter_heard(&j->meter, loop_s - j->rep.last_report_s);
+}
+
 /* A new pixel grid when the evaluations have reached the next draw's start: before the next step,
  * so that a run resumed from a checkpoint written in between switches at the same point. */
 static lm_status regrid_if_due(co_job *j, co_progress *p)
@@ -626,7 +651,11 @@ static lm_status regrid_if_due(co_job *j, co_progress *p)
         return LM_OK;
     int64_t before = p->energy;
     double t0 = seconds_since(&j->t0);
+    meter_heard_reporter(j);
+    co_meter_phase(&j->meter, "new pixel grid (draw %" PRIu32 "): the original's target images",
+                   draw);
     lm_status st = switch_draw(j, draw, 1);
+    co_meter_end(&j->meter);
     if (st == LM_OK)
         co_optimizer_progress(j->opt, p);
     if (st == LM_OK && j->rep.style == CO_REPORT_JSON)
@@ -687,9 +716,12 @@ static lm_status write_output(co_job *j)
     lm_status st = lm_mesh_clone(co_optimizer_mesh(j->opt), &copy);
     if (st != LM_OK)
         return st;
+    meter_heard_reporter(j);
+    co_meter_phase(&j->meter, "writing %s", j->o.output_path);
     st = lm_mesh_compact(copy);
     if (st == LM_OK)
         st = lm_mesh_save(j->o.output_path, copy);
+    co_meter_end(&j->meter);
     lm_mesh_destroy(copy);
     return st;
 }
@@ -743,6 +775,15 @@ static lm_status job_stages(co_job *j, co_job_summary *summary)
     return LM_OK;
 }
 
+/* The phases' meter speaks as the reporter does. */
+static co_meter_style meter_style(co_report_style s)
+{
+    return s == CO_REPORT_TTY     ? CO_METER_TTY
+           : s == CO_REPORT_LINES ? CO_METER_LINES
+           : s == CO_REPORT_JSON  ? CO_METER_JSON
+                                  : CO_METER_NONE;
+}
+
 lm_status co_job_run(const co_job_options *opts, co_job_summary *summary)
 {
     co_job *j = calloc(1, sizeof *j);
@@ -758,8 +799,12 @@ lm_status co_job_run(const co_job_options *opts, co_job_summary *summary)
         co_report_style style =
             opts->quiet ? CO_REPORT_QUIET : co_report_style_for(out, opts->json);
         co_reporter_init(&j->rep, style, out, j->o.max_evals, 0.0);
+        co_meter_init(&j->meter, "lumesh optimize", meter_style(style), out);
+        j->meter_on = 1;
         st = job_stages(j, summary ? summary : &local);
     }
+    if (j->meter_on)
+        co_meter_destroy(&j->meter);
     if (st == LM_OK)
         co_reporter_end_line(&j->rep);
     else

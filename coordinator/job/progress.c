@@ -4,11 +4,11 @@
 
 #include <inttypes.h>
 #include <string.h>
-#include <sys/ioctl.h>
 #include <unistd.h>
 
 #include "common/log.h"
 #include "common/view.h"
+#include "coordinator/quality/phase_meter.h"
 
 static const double co_report_period[] = {
     [CO_REPORT_QUIET] = 1e30,
@@ -154,19 +154,10 @@ static void json_progress(const co_reporter *r, const co_progress *p, double ela
     fflush(fp);
 }
 
-/* Columns of the terminal behind `fp` (80 if unknown). */
-static int terminal_columns(FILE *fp)
-{
-    struct winsize ws;
-    if (ioctl(fileno(fp), TIOCGWINSZ, &ws) == 0 && ws.ws_col >= 20)
-        return ws.ws_col;
-    return 80;
-}
-
 /* Replace the TTY line with `text`, cut to the terminal's width so that '\r' can rewrite it. */
 static void tty_line(co_reporter *r, const char *text)
 {
-    int cols = terminal_columns(r->out) - 1;
+    int cols = co_meter_columns(r->out) - 1;
     fprintf(r->out, "\r\033[K%.*s", cols, text);
     r->line_open = 1;
     fflush(r->out);

@@ -12,6 +12,7 @@
 #include "common/io/atomic_file.h"
 #include "coordinator/quality/compare.h"
 #include "coordinator/quality/json_text.h"
+#include "coordinator/quality/phase_meter.h"
 #include "coordinator/quality/view_setup.h"
 
 #define LOD_PI 3.14159265358979323846
@@ -19,6 +20,7 @@
 typedef struct measuring {
     const co_lod_options *o;
     co_lod_summary *sum;
+    co_meter meter;
 } measuring;
 
 /* The judge (co_judge_fn): held-out energies of every level, then each level's distance. */
@@ -29,15 +31,19 @@ static lm_status judge(void *ctx, const lm_mesh *orig, const lm_mesh *const *lev
     uint32_t n = M->sum->n_levels;
     int64_t total[LM_MESH_MAX_LODS];
     double pixels = (double)vs->count * vs->views[0].width * vs->views[0].width;
+    co_meter_phase(&M->meter, "held-out energies of %u levels (%u views)", n, vs->count);
     lm_status st = co_compare_energies(orig, vs, M->o->device, levels, n, total, NULL, NULL,
                                        M->sum->heldout_renderer);
     M->sum->heldout_views = vs->count;
+    co_meter_phase(&M->meter, "surface distance of every level");
     for (uint32_t k = 0; k < n && st == LM_OK; k++) {
         co_lod_measure *m = &M->sum->level[k].m;
         m->heldout = total[k];
         m->heldout_mse = (double)total[k] / pixels;
+        co_meter_show(&M->meter, NULL, k, n, 0);
         st = co_surface_distance_measure(orig, levels[k], 0, &m->distance);
     }
+    co_meter_end(&M->meter);
     return st;
 }
 
@@ -59,7 +65,8 @@ static lm_status judge_in_memory(measuring *M, const lm_mesh *const *levels)
 lm_status co_lod_measure_levels(const co_lod_options *o, co_lod_summary *sum,
                                 const lm_mesh *const *levels)
 {
-    measuring M = {o, sum};
+    measuring M = {.o = o, .sum = sum};
+    co_meter_init(&M.meter, "lumesh lod", o->progress ? CO_METER_TTY : CO_METER_NONE, stderr);
     const char *paths[LM_MESH_MAX_LODS];
     if (o->progress)
         fprintf(stderr,
@@ -68,9 +75,11 @@ lm_status co_lod_measure_levels(const co_lod_options *o, co_lod_summary *sum,
                 sum->n_levels);
     for (uint32_t k = 0; k < sum->n_levels; k++)
         paths[k] = sum->level[k].path;
+    co_meter_phase(&M.meter, "loading %s and the levels", o->input_path);
     lm_status st = o->msft_lod ? judge_in_memory(&M, levels)
                                : co_judge_files(o->input_path, paths, sum->n_levels, &o->views,
                                                 o->size, LM_VIEWS_HELDOUT, judge, &M);
+    co_meter_destroy(&M.meter);
     if (st == LM_OK)
         co_lod_switch_distances(o, sum);
     return st;

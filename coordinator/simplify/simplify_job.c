@@ -26,12 +26,24 @@ typedef struct sjob {
     lm_views *views, *image_views; /* views: image_views, or the geometric term over them */
     co_pm_recorder *rec;
     int derived;
-    co_simplify_meter meter;
+    co_meter *meter, own_meter; /* meter: the caller's, or own_meter */
 } sjob;
+
+/* The caller's meter, or one of this command's own. */
+static void meter_start(sjob *j)
+{
+    j->meter = j->o->meter;
+    if (!j->meter) {
+        co_meter_init(&j->own_meter, "lumesh simplify", j->o->progress, stderr);
+        j->meter = &j->own_meter;
+    }
+}
 
 static lm_status load(sjob *j)
 {
+    co_meter_phase(j->meter, "loading %s", j->o->input_path);
     lm_status st = lm_mesh_load(j->o->input_path, NULL, &j->own_in);
+    co_meter_end(j->meter);
     j->in = j->own_in;
     if (st == LM_OK && j->o->reference_path)
         st = lm_mesh_load(j->o->reference_path, NULL, &j->ref);
@@ -50,7 +62,9 @@ static lm_status start_mesh(sjob *j)
     lm_status st;
     if (start < j->in->live_verts) {
         int short_of;
+        co_meter_phase(j->meter, "QEM to %u vertices", start);
         st = co_simplify_best(j->in, CO_SIMPLIFY_QEM, start, &j->work, &short_of);
+        co_meter_end(j->meter);
         if (short_of)
             lm_clear_error();
     } else {
@@ -108,12 +122,18 @@ static lm_status make_views(sjob *j)
         st = co_simplify_pool_start(&j->o->workers, j->o->device, &j->own_pool);
         j->pool = j->own_pool;
     }
+    co_meter_phase(j->meter, "the original's target images (%u views of %dx%d)", n, size, size);
     if (st == LM_OK)
         st = co_simplify_make_views(j->o->method, ref, j->work, j->vs, j->o->device, j->pool,
                                     &j->views);
+    co_meter_end(j->meter);
     if (st == LM_OK && j->o->method == CO_PRICE_IMAGE &&
-        (j->o->surface_weight > 0 || j->o->surface_share > 0))
+        (j->o->surface_weight > 0 || j->o->surface_share > 0)) {
+        co_meter_phase(j->meter, "the geometric term (its weight: QEM to %u vertices)",
+                       j->o->target_verts);
         st = wrap_surface(j, ref);
+        co_meter_end(j->meter);
+    }
     if (st == LM_OK) {
         lm_views_info info;
         j->views->ops->info(j->views, &info);
@@ -140,19 +160,19 @@ static lm_status on_step(void *ctx, const lm_mesh *m, co_isimp_step *s)
     if (st != LM_OK)
         return st;
     if (s->index == 0)
-        co_simplify_meter_phase(&j->meter, j->o->progress);
+        co_meter_phase(j->meter, "collapses");
     uint32_t start = j->sum->start_verts, target = j->o->target_verts;
     char what[64];
-    snprintf(what, sizeof what, "%u vertices, collapses", m->live_verts);
-    co_simplify_meter_show(&j->meter, what, s->index + 1U, start > target ? start - target : 0,
-                           m->live_verts <= target);
+    snprintf(what, sizeof what, "%u vertices", m->live_verts);
+    co_meter_show(j->meter, what, s->index + 1U, start > target ? start - target : 0,
+                  m->live_verts <= target);
     return j->rec && s->split ? co_pm_recorder_take(j->rec, s->split) : LM_OK;
 }
 
 static lm_status on_priced(void *ctx, uint32_t done, uint32_t total)
 {
     sjob *j = ctx;
-    co_simplify_meter_show(&j->meter, "pricing every edge,", done, total, 0);
+    co_meter_show(j->meter, NULL, done, total, done == total);
     return stop_if_interrupted();
 }
 
@@ -167,10 +187,10 @@ static lm_status simplify(sjob *j)
                            .on_step = on_step,
                            .on_priced = on_priced,
                            .ctx = j};
-    co_simplify_meter_phase(&j->meter, j->o->progress);
+    co_meter_phase(j->meter, "pricing every edge");
     if (st == LM_OK)
         st = co_isimp_run(j->work, j->views, &cfg, &j->sum->stats);
-    co_simplify_meter_close(&j->meter);
+    co_meter_end(j->meter);
     return st;
 }
 
@@ -182,10 +202,12 @@ static lm_status write_outputs(sjob *j)
         st = lm_make_parent_folders(j->o->pm_path);
     if (st == LM_OK)
         st = co_simplify_output_copy(j->work, &out);
+    co_meter_phase(j->meter, "writing %s", j->o->output_path);
     if (st == LM_OK)
         st = lm_mesh_save(j->o->output_path, out);
     if (st == LM_OK && j->o->pm_path)
         st = co_pm_write(j->o->pm_path, j->work, j->rec, j->sum->start_verts);
+    co_meter_end(j->meter);
     if (st == LM_OK) {
         j->sum->out_verts = out->live_verts;
         j->sum->out_tris = out->live_tris;
@@ -213,6 +235,8 @@ static lm_status run_stages(sjob *j)
 
 static void sjob_free(sjob *j)
 {
+    if (j->meter == &j->own_meter)
+        co_meter_destroy(&j->own_meter);
     co_pm_recorder_destroy(j->rec);
     lm_views_destroy(j->views);
     lm_views_destroy(j->image_views);
@@ -227,6 +251,7 @@ lm_status co_simplify_job_run(const co_simplify_options *o, co_simplify_summary 
 {
     memset(sum, 0, sizeof *sum);
     sjob j = {.o = o, .sum = sum};
+    meter_start(&j);
     double t0 = co_now_s();
     lm_status st = load(&j);
     sum->load_s = co_now_s() - t0;
@@ -248,6 +273,7 @@ lm_status co_simplify_mesh(const lm_mesh *in, const co_simplify_options *o, co_p
     if (o->reference_path || o->pm_path || o->method != CO_PRICE_IMAGE)
         return lm_fail(LM_E_INVALID, "co_simplify_mesh: the image method, no reference or pm");
     sjob j = {.o = o, .sum = sum, .in = in, .pool = pool};
+    meter_start(&j);
     sum->in_verts = in->live_verts;
     sum->in_tris = in->live_tris;
     lm_status st = run_stages(&j);

@@ -8,8 +8,8 @@
 
 #include <stdint.h>
 
+#include "coordinator/quality/phase_meter.h"
 #include "coordinator/simplify/isimp.h"
-#include "coordinator/simplify/simplify_progress.h"
 #include "coordinator/simplify/work.h"
 
 /* Zero means default for every field but the paths and the target. */
@@ -29,7 +29,9 @@ typedef struct co_simplify_options {
                                     QEM's mesh at the target (as the optimizer's share does at its
                                     start); 0 = none */
     const char *pm_path;         /* write the progressive mesh here; NULL = not */
-    co_simplify_progress progress; /* lines on stderr: none (0), a terminal's or a log's */
+    co_meter_style progress;     /* lines on stderr: none (0), a terminal's or a log's */
+    co_meter *meter;             /* the caller's meter for the phases (borrowed; its stage names
+                                    them); NULL: one of "lumesh simplify" in style `progress` */
 } co_simplify_options;
 
 typedef struct co_simplify_summary {

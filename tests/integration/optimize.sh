@@ -113,8 +113,23 @@ img=(--views 8 --size 64 --target-verts 120 --seed 5 --device cpu --evals 3000)
 mkdir -p "$tmp/img0" "$tmp/img2" "$tmp/imgr" "$tmp/imgp"
 expect_exit 0 "$LUMESH" optimize "$frog" -o "$tmp/img0/out.obj" "${img[@]}" --workers 0 \
   --save-initial "$tmp/img0/start.obj"
-expect_exit 0 "$LUMESH" optimize "$frog" -o "$tmp/img2/out.obj" "${img[@]}" --workers 2 \
-  --save-initial "$tmp/img2/start.obj"
+checks=$((checks + 1)) # with --json: "phase" records through the start (the same bytes)
+"$LUMESH" optimize "$frog" -o "$tmp/img2/out.obj" "${img[@]}" --workers 2 \
+  --save-initial "$tmp/img2/start.obj" --json >"$tmp/img2.ndjson" 2>"$tmp/img2.err" ||
+  fail "image start on 2 workers, --json: $(tail -n 2 "$tmp/img2.err")"
+python3 - "$tmp/img2.ndjson" <<'EOF' || fail "no phase records during the image start"
+import json, sys
+recs = [json.loads(l) for l in open(sys.argv[1]) if l.strip()]
+ph = [r for r in recs if r["type"] == "phase"]
+names = {r["phase"] for r in ph}
+for r in ph:
+    assert {"phase", "detail", "elapsed_s", "done", "total", "rate", "eta_s"} <= set(r), r
+    assert r["total"] is None or r["done"] <= r["total"], r
+assert {"start: pricing every edge", "start: collapses"} <= names, names
+assert any(n.startswith("start: QEM to") for n in names), names
+done = [r for r in ph if r["phase"] == "start: collapses" and r["total"]]
+assert done and done[-1]["done"] == done[-1]["total"] and done[-1]["eta_s"] == 0, done[-1:]
+EOF
 expect_same "$tmp/img0" "$tmp/img2" "image start, in process and on 2 workers"
 expect_exit 0 "$LUMESH" optimize "$frog" -o "$tmp/qs/out.obj" "${img[@]}" --workers 0 --evals 1 \
   --start qem --save-initial "$tmp/qs/start.obj"
@@ -143,7 +158,7 @@ if [ -r "$fandisk" ]; then
   checks=$((checks + 1))
   wait_for 120 grep -q "the start: QEM to" "$tmp/term.err" || fail "no word of the image start"
   checks=$((checks + 1)) # in a log, a progress line every 5 s while the start is made
-  wait_for 60 grep -q "^lumesh simplify: .* to go$" "$tmp/term.err" ||
+  wait_for 60 grep -q "^lumesh optimize: start: .* to go$" "$tmp/term.err" ||
     fail "no progress during the image start: $(tail -n 2 "$tmp/term.err")"
   workers=$(pgrep -P "$bg" lumesh-worker)
   kill -TERM "$bg"
