@@ -432,7 +432,7 @@ static lm_status create_views(co_job *j, uint32_t draw, lm_views **out)
 static lm_status make_views(co_job *j)
 {
     co_meter_phase(&j->meter, "the original's target images (%" PRIu32 " views of %dx%d)",
-                   j->o.views, j->o.size, j->o.size);
+                   j->o.views.count, j->o.size, j->o.size);
     lm_status st = create_views(j, 0, &j->views);
     co_meter_end(&j->meter);
     if (st != LM_OK)

@@ -122,7 +122,8 @@ static lm_status make_views(sjob *j)
         st = co_simplify_pool_start(&j->o->workers, j->o->device, &j->own_pool);
         j->pool = j->own_pool;
     }
-    co_meter_phase(j->meter, "the original's target images (%u views of %dx%d)", n, size, size);
+    co_meter_phase(j->meter, "the original's target images (%u views of %dx%d)",
+                   st == LM_OK ? j->vs->count : 0, size, size);
     if (st == LM_OK)
         st = co_simplify_make_views(j->o->method, ref, j->work, j->vs, j->o->device, j->pool,
                                     &j->views);
