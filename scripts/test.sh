@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # Sets up everything and runs every test: the release build (-Werror) with ctest, the same tests
 # under ASan+UBSan, the fuzz targets (model loading, wire messages, local links' framing and shared
-# memory, assets, progressive-mesh files, textures, checkpoints), each a fixed number of runs, and
-# the clang-format check.
+# memory, assets, progressive-mesh files, textures, checkpoints, camera files), each a fixed number
+# of runs, and the clang-format check.
 # LUMESH_TEST_QUICK=1 runs only the release tests.
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
@@ -95,6 +95,7 @@ fuzz fuzz_wire_asset "${LUMESH_FUZZ_RUNS:-2000000}" "$seeds/asset"
 fuzz fuzz_stream "${LUMESH_FUZZ_RUNS:-300000}" "$seeds/stream"
 fuzz fuzz_stream_lane "${LUMESH_FUZZ_RUNS:-100000}" tests/fuzz/corpus/stream_lane
 fuzz fuzz_pm "${LUMESH_FUZZ_RUNS:-25000}" tests/fuzz/corpus/pm
+fuzz fuzz_cameras "${LUMESH_FUZZ_RUNS:-1000000}" tests/fuzz/corpus/cameras
 # a checkpoint of a few KiB once made the loader allocate 1 GiB: the limit makes that a finding
 FUZZ_ARGS=-malloc_limit_mb=256 fuzz fuzz_checkpoint "${LUMESH_FUZZ_RUNS:-300000}" tests/fuzz/corpus/checkpoint
 rm -rf "$seeds"
