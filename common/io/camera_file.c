@@ -6,6 +6,9 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "common/bytes.h"
+#include "common/io/camera_gltf.h"
+
 static lm_status bad(const char *name, uint32_t i, const char *what)
 {
     return lm_fail(LM_E_FORMAT, "camera file '%s': camera %u: %s", name, i, what);
@@ -65,12 +68,22 @@ static lm_status read_camera(json_t *cam, const char *name, uint32_t i, lm_camer
 lm_status lm_cameras_parse(const char *json, size_t len, const char *name, lm_camera *out,
                            uint32_t *n)
 {
+    if (lm_gltf_is_glb(json, len)) {
+        lm_status st = lm_gltf_json_chunk(json, len, name, &json, &len);
+        if (st != LM_OK)
+            return st;
+    }
     json_error_t err;
     /* jansson refuses NaN and Infinity literals; numbers too large for a double overflow */
     json_t *root = json_loadb(json, len, JSON_REJECT_DUPLICATES, &err);
     if (!root)
         return lm_fail(LM_E_FORMAT, "camera file '%s': not JSON (line %d: %s)", name, err.line,
                        err.text);
+    if (json_is_object(root) && json_object_get(root, "asset")) {
+        lm_status st = lm_gltf_cameras(root, name, out, n);
+        json_decref(root);
+        return st;
+    }
     lm_status st = LM_OK;
     size_t count = json_is_array(root) ? json_array_size(root) : 0;
     if (!json_is_array(root))
@@ -88,20 +101,35 @@ lm_status lm_cameras_parse(const char *json, size_t len, const char *name, lm_ca
     return st;
 }
 
+/* How many bytes of the file to read: a binary glTF's header and JSON chunk, else all of it (one
+ * more than the cap, to tell a file over it). */
+static size_t bytes_wanted(FILE *fp, size_t cap)
+{
+    char head[20];
+    size_t got = fread(head, 1, sizeof head, fp);
+    rewind(fp);
+    if (got == sizeof head && lm_gltf_is_glb(head, got)) {
+        uint32_t chunk = lm_le32(head + 12);
+        return (size_t)chunk + sizeof head <= cap ? (size_t)chunk + sizeof head : cap + 1;
+    }
+    return cap + 1;
+}
+
 lm_status lm_cameras_read(const char *path, lm_camera *out, uint32_t *n)
 {
     FILE *fp = fopen(path, "rb");
     if (!fp)
         return lm_fail(LM_E_IO, "cannot read camera file '%s': %s", path, strerror(errno));
-    enum { CAP = 1 << 20 };
-    char *buf = malloc(CAP);
-    size_t len = buf ? fread(buf, 1, CAP, fp) : 0;
+    enum { CAP = 64 << 20 }; /* a glTF's JSON with its buffers inlined as base64 */
+    size_t want = bytes_wanted(fp, CAP);
+    char *buf = malloc(want);
+    size_t len = buf ? fread(buf, 1, want, fp) : 0;
     int failed = ferror(fp);
     fclose(fp);
     lm_status st = !buf     ? lm_fail(LM_E_NOMEM, "out of memory for camera file '%s'", path)
                    : failed ? lm_fail(LM_E_IO, "cannot read camera file '%s'", path)
-                   : len == CAP
-                       ? lm_fail(LM_E_FORMAT, "camera file '%s' is larger than 1 MiB", path)
+                   : len > CAP
+                       ? lm_fail(LM_E_FORMAT, "camera file '%s' is larger than 64 MiB", path)
                        : lm_cameras_parse(buf, len, path, out, n);
     free(buf);
     return st;

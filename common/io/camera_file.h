@@ -1,7 +1,8 @@
 /* common/io/camera_file.h — camera files (`--views-from FILE`): a JSON array of cameras, each an
  * object with "position", "target" and "up" (arrays of 3 numbers) and "fov" (the vertical field
  * of view in degrees, in (0, 180)); "name" is allowed and ignored. Every other key is refused,
- * "weight" included (views are weighted equally: coordinator/cli/COMMANDS.md says why). */
+ * "weight" included (views are weighted equally: coordinator/cli/COMMANDS.md says why). A glTF
+ * 2.0 file (JSON with an "asset" object, or a binary .glb) gives its cameras (camera_gltf.h). */
 #ifndef LM_COMMON_IO_CAMERA_FILE_H
 #define LM_COMMON_IO_CAMERA_FILE_H
 

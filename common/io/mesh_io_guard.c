@@ -6,6 +6,7 @@
 #include <ctype.h>
 #include <string.h>
 
+#include "common/bytes.h"
 #include "common/io/mesh_io_internal.h"
 
 static const char *const known_exts[] = {"obj", "ply", "off", "stl", "gltf", "glb", "fbx", "dae"};
@@ -32,17 +33,12 @@ void lm_io_path_ext(const char *path, char *buf, size_t cap)
     buf[i] = '\0';
 }
 
-static uint32_t le32(const uint8_t *p)
-{
-    return (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24;
-}
-
 /* GLB container: header and chunk lengths must stay inside the file. */
 static lm_status guard_glb(const uint8_t *d, size_t size, const char *name)
 {
     if (size < 12 || memcmp(d, "glTF", 4) != 0)
         return lm_fail(LM_E_FORMAT, "%s: not a GLB file (no glTF header)", name);
-    uint32_t version = le32(d + 4), length = le32(d + 8);
+    uint32_t version = lm_le32(d + 4), length = lm_le32(d + 8);
     if (version == 1)
         return lm_io_gltf1_refusal(name, "a binary (KHR_binary_glTF)");
     if (version != 2)
@@ -53,7 +49,7 @@ static lm_status guard_glb(const uint8_t *d, size_t size, const char *name)
                        length, size);
     uint64_t at = 12;
     for (int chunk = 0; at + 8 <= length; chunk++) {
-        uint32_t clen = le32(d + at), ctype = le32(d + at + 4);
+        uint32_t clen = lm_le32(d + at), ctype = lm_le32(d + at + 4);
         if (chunk == 0 && ctype != 0x4E4F534Au) /* "JSON" */
             return lm_fail(LM_E_FORMAT, "%s: GLB does not start with a JSON chunk", name);
         if (at + 8 + (uint64_t)clen > length)
@@ -63,7 +59,7 @@ static lm_status guard_glb(const uint8_t *d, size_t size, const char *name)
     }
     if (at == 12)
         return lm_fail(LM_E_FORMAT, "%s: GLB has no JSON chunk", name);
-    return lm_io_guard_gltf_json(d + 20, le32(d + 12), name);
+    return lm_io_guard_gltf_json(d + 20, lm_le32(d + 12), name);
 }
 
 lm_status lm_io_guard(const uint8_t *data, size_t size, const char *ext, const char *name,

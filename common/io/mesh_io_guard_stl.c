@@ -6,6 +6,7 @@
 #include <string.h>
 #include <strings.h>
 
+#include "common/bytes.h"
 #include "common/io/mesh_io_internal.h"
 
 typedef struct stl_cursor {
@@ -124,16 +125,11 @@ static lm_status guard_ascii(const uint8_t *d, size_t size, const char *name)
     }
 }
 
-static uint32_t le32(const uint8_t *p)
-{
-    return (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24;
-}
-
 lm_status lm_io_guard_stl(const uint8_t *d, size_t size, const char *name, uint32_t max_tris)
 {
-    if (size < 84 || (uint32_t)(le32(d + 80) * 50u + 84u) != (uint32_t)size)
+    if (size < 84 || (uint32_t)(lm_le32(d + 80) * 50u + 84u) != (uint32_t)size)
         return guard_ascii(d, size, name); /* assimp's test for binary: exact size, 32 bits */
-    uint32_t n = le32(d + 80);
+    uint32_t n = lm_le32(d + 80);
     if (n > max_tris)
         return lm_fail(LM_E_RANGE, "%s: binary STL header claims %u triangles (limit %u)", name, n,
                        max_tris);

@@ -3,7 +3,8 @@
 # has a lower image energy on the held-out upper views (`energy --heldout --views upper`) than the
 # same job optimised on the sphere; a camera file (`--views-from`) renders and measures on the
 # commands that take views; an upper job stopped and resumed from its checkpoint ends
-# byte-identical, and a resume with other views is refused in one line. The flag errors of
+# byte-identical, and a resume with other views is refused in one line; a glTF file's cameras
+# render (the orthographic one left out with a warning). The flag errors of
 # --views and --views-from are in cli.sh.
 set -u
 . "$(dirname "$0")/lib.bash"
@@ -71,4 +72,18 @@ expect_fail_line "$LUMESH" optimize "$frog" -o "$tmp/x.obj" --views-from "$tmp/c
   --size 48 --target-verts 120 --seed 1 --device host --start qem --evals 900 \
   --resume "$tmp/ck_cams"
 [ ! -e "$tmp/x.obj" ] || fail "a refused resume wrote output"
+
+# 4. A glTF scene's cameras: Khronos' Cameras sample has one perspective and one orthographic
+# camera; render writes the perspective one's view and says it left the other out.
+cams_gltf=${LUMESH_TEST_DATA:-}/cache/root/usr/share/assimp/models/glTF2/cameras/Cameras.gltf
+if [ -e "$cams_gltf" ]; then
+  expect_exit 0 "$LUMESH" render "$cams_gltf" -o "$tmp/gimg" --views-from "$cams_gltf" \
+    --size 48 --device host
+  checks=$((checks + 1))
+  [ "$(ls "$tmp/gimg" | grep -c '^view_.*\.png$')" = 1 ] || fail "render --views-from glTF: $(ls "$tmp/gimg")"
+  "$LUMESH" render "$cams_gltf" -o "$tmp/gimg2" --views-from "$cams_gltf" --size 48 \
+    --device host 2>&1 | grep -q "1 orthographic camera left out" || fail "no orthographic warning"
+else
+  fail "test model missing: $cams_gltf (scripts/install-deps.sh fetches it)"
+fi
 finish
