@@ -1,7 +1,8 @@
 /* coordinator/cli/cli_report.c — `lumesh report ORIGINAL OPTIMIZED [--initial COARSE] [--log
  * RUN.jsonl] -o DIR [--size S] [--device D] [--views upper | --views-from FILE]`: the quality
  * report of an optimised model (see coordinator/quality/report.h), written into DIR; prints the
- * page's path. */
+ * page's path. `lumesh report ORIGINAL --lods lods.json -o DIR`: the same page for the levels
+ * of a `lumesh lod` set, side by side. */
 #include <getopt.h>
 #include <stdio.h>
 
@@ -20,6 +21,8 @@ static void usage(FILE *f)
 {
     fputs("usage: lumesh report ORIGINAL OPTIMIZED [--initial COARSE] [--log RUN.jsonl] -o DIR\n"
           "                     [--size S] [--device D] [--views upper | --views-from FILE]\n"
+          "       lumesh report ORIGINAL --lods lods.json -o DIR [--size S] [--device D]\n"
+          "                     [--views upper | --views-from FILE]\n"
           "Writes DIR/index.html, a self-contained page (images embedded, plots inline, no\n"
           "scripts or network) comparing OPTIMIZED (and the COARSE mesh it started from) with\n"
           "ORIGINAL on the 24 held-out views no optimisation uses: a contact sheet (original |\n"
@@ -31,6 +34,11 @@ static void usage(FILE *f)
           "and SVGs are written beside it too.\n"
           "  --initial COARSE   the coarse mesh the optimisation started from\n"
           "  --log RUN.jsonl    what lumesh optimize --json printed (progress and summary)\n"
+          "  --lods lods.json   the levels of `lumesh lod` instead of OPTIMIZED, side by side:\n"
+          "                     sheet columns original | LOD0 | LOD1 | ... | difference of\n"
+          "                     the last; the table measures every level and adds the\n"
+          "                     manifest's switch distance (one file per level: not with\n"
+          "                     --msft-lod)\n"
           "  -o, --output DIR   the report's folder, created with its parents\n"
           "  --size S           side of the view images (default 256, as lumesh energy)\n"
           "  --device D         auto (default), cpu, egl:N or host\n"
@@ -42,14 +50,16 @@ static void usage(FILE *f)
           f);
 }
 
-static const co_cli_spec spec = {CMD,  usage, 2, 2, "expects ORIGINAL and OPTIMIZED (see --help)",
-                                 NULL, 1};
+static const co_cli_spec spec = {
+    CMD,  usage, 1, 2, "expects ORIGINAL and OPTIMIZED, or ORIGINAL and --lods (see --help)",
+    NULL, 1};
 
 static int parse(int argc, char **argv, report_args *a)
 {
     const co_opt opts[] = {CO_OPT_OUTPUT_NEEDED(&a->o.dir, "needs -o DIR (see --help)"),
                            CO_OPT_STR("initial", 0, &a->o.initial),
                            CO_OPT_STR("log", 0, &a->log),
+                           CO_OPT_STR("lods", 0, &a->o.lods),
                            CO_OPT_SIZE(&a->size),
                            CO_OPT_DEVICE(&a->o.device),
                            CO_OPT_VIEWS(&a->o.views)};
@@ -59,8 +69,17 @@ static int parse(int argc, char **argv, report_args *a)
     if (a->o.views.dist == LM_VIEW_DIST_SPHERE && a->o.views.count)
         return co_cli_usage_error(CMD, "--views N has no use here: the report measures on the 24 "
                                        "held-out views (--views upper: the upper hemisphere's)");
+    int operands = argc - optind;
+    if (a->o.lods && operands == 2)
+        return co_cli_usage_error(CMD, "--lods replaces OPTIMIZED: give ORIGINAL and --lods");
+    if (!a->o.lods && operands == 1)
+        return co_cli_usage_error(CMD, "expects ORIGINAL and OPTIMIZED, or ORIGINAL and --lods "
+                                       "(see --help)");
+    if (a->o.lods && (a->o.initial || a->log))
+        return co_cli_usage_error(CMD, "--initial and --log describe one optimisation, not "
+                                       "--lods");
     a->o.original = argv[optind];
-    a->o.optimized = argv[optind + 1];
+    a->o.optimized = a->o.lods ? NULL : argv[optind + 1];
     return -1;
 }
 

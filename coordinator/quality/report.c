@@ -74,9 +74,9 @@ static lm_status write_files(const co_report *r, const report_paths *p)
 
 lm_status co_report_write(const co_report_options *o, char *page, size_t cap)
 {
-    if (!o->original || !o->optimized || !o->dir)
+    if (!o->original || !(o->optimized || o->lods) || !o->dir)
         return lm_fail(LM_E_INVALID,
-                       "a report needs the original, the optimized model and a folder");
+                       "a report needs the original, the optimized model or levels and a folder");
     report_paths *p = malloc(sizeof *p);
     co_report r = {.o = o};
     lm_status s = p ? make_paths(o->dir, p) : lm_fail(LM_E_NOMEM, "out of memory");

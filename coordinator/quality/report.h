@@ -6,23 +6,30 @@
  * crack pixels, symmetric surface distance, vertex/triangle/part counts, the run's evaluations,
  * wall time and renderer) and plots (energy against evaluations with accepted moves by kind, from
  * the run's log; per-view error). Every number is measured on the files as written; the same
- * files and log give the same page, byte for byte. */
+ * files and log give the same page, byte for byte. Given a level-of-detail manifest (lods.json of
+ * `lumesh lod`) instead, the page shows its levels side by side: original | LOD0 | LOD1 | ... on
+ * the sheet, every level measured in the table with the switch distance the manifest gives it. */
 #ifndef LM_COORDINATOR_REPORT_H
 #define LM_COORDINATOR_REPORT_H
 
 #include <stddef.h>
 
 #include "common/error.h"
+#include "common/io/mesh_io.h"
 #include "common/view.h"
 #include "coordinator/quality/run_log.h"
 
 #define CO_REPORT_SHEET_VIEWS 4 /* held-out views on the contact sheet */
 #define CO_REPORT_ZOOM 4        /* the close-up is rendered this many times larger */
+/* The models a page compares: the original and every level of a manifest at most. */
+#define CO_REPORT_MAX_MODELS (1 + LM_MESH_MAX_LODS)
 
 typedef struct co_report_options {
     const char *original;  /* required */
     const char *initial;   /* the coarse mesh the optimisation started from; NULL = none */
-    const char *optimized; /* required */
+    const char *optimized; /* required unless lods */
+    const char *lods;      /* a lods.json (`lumesh lod`): its levels instead of optimized and
+                              initial (one file per level, paths relative to the manifest) */
     const co_run_log *log; /* the run (plots, evaluations, wall time); NULL = none */
     const char *device;    /* rendering device; NULL = "auto" */
     int size;              /* side of every view image; 0 = 256 */

@@ -74,7 +74,7 @@ static void head(FILE *fp, const co_report *r)
     fputs("<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>lumesh "
           "report: ",
           fp);
-    html_text(fp, co_report_optimized(r)->path);
+    html_text(fp, r->levels ? r->o->lods : co_report_optimized(r)->path);
     fprintf(fp, "</title>\n<style>%s</style>\n</head>\n<body>\n<h1>lumesh quality report</h1>\n",
             co_report_css);
     fputs("<table>\n", fp);
@@ -91,10 +91,25 @@ static double pct(double a, double b)
     return b > 0 ? 100.0 * a / b : 0.0;
 }
 
+/* A level set in one sentence: its levels' vertex counts and held-out energies. */
+static void lead_levels(FILE *fp, const co_report *r)
+{
+    const co_report_model *first = &r->model[1], *last = co_report_optimized(r);
+    fprintf(fp,
+            "<p class=\"lead\">%u levels of detail, %u to %u vertices; on the %u held-out views "
+            "their image energy goes from %" PRId64 " to %" PRId64 ".</p>\n",
+            r->n_models - 1, first->verts, last->verts, r->heldout->count, first->energy,
+            last->energy);
+}
+
 /* One sentence of what changed, on the views the optimisation never saw. */
 static void lead(FILE *fp, const co_report *r)
 {
     const co_report_model *i = co_report_initial(r), *o = co_report_optimized(r);
+    if (r->levels) {
+        lead_levels(fp, r);
+        return;
+    }
     fputs("<p class=\"lead\">", fp);
     if (i) {
         fprintf(fp,
@@ -119,10 +134,19 @@ static lm_status pictures(FILE *fp, const co_report *r)
                                               "optimized";
     fprintf(fp, "<h2>Held-out views</h2>\n<figure>\n");
     lm_status s = embed_png(fp, r->sheet, "contact sheet");
-    fprintf(fp,
-            "<figcaption>Columns: %s | difference (|luminance of original &minus; optimized| "
-            "&times;2: black none, red, yellow, white most). Rows: held-out views",
-            cols);
+    if (r->levels) {
+        fputs("<figcaption>Columns: original", fp);
+        for (uint32_t k = 1; k < r->n_models; k++)
+            fprintf(fp, " | %s", r->model[k].label);
+        fprintf(fp,
+                " | difference (|luminance of original &minus; %s| &times;2: black none, red, "
+                "yellow, white most). Rows: held-out views",
+                co_report_optimized(r)->label);
+    } else
+        fprintf(fp,
+                "<figcaption>Columns: %s | difference (|luminance of original &minus; optimized| "
+                "&times;2: black none, red, yellow, white most). Rows: held-out views",
+                cols);
     for (uint32_t k = 0; k < CO_REPORT_SHEET_VIEWS; k++)
         fprintf(fp, "%s %u", k ? "," : "", r->sheet_view[k]);
     fprintf(fp, ", %d&times;%d pixels.</figcaption>\n</figure>\n", r->size, r->size);
@@ -173,6 +197,7 @@ typedef enum row_source {
     ROW_VERTS,
     ROW_TRIS,
     ROW_PARTS,
+    ROW_SWITCH, /* levels only */
 } row_source;
 
 typedef struct row_def {
@@ -195,6 +220,8 @@ static const row_def rows[] = {
     {ROW_VERTS, "verts", "vertices"},
     {ROW_TRIS, "tris", "triangles"},
     {ROW_PARTS, "parts", "parts"},
+    {ROW_SWITCH, "switch_distance",
+     "shown from this distance on (the manifest's switch distance for its screen)"},
 };
 
 /* The number of measure src for model m: its kind and value; 0 when it has none. */
@@ -213,6 +240,8 @@ static int row_value(const co_report *r, const co_report_model *m, row_source sr
         (!c->measured || orig != (src == ROW_ORIGINAL_PX)))
         return 0;
     if (src >= ROW_DIST_MEAN && src <= ROW_DIST_MAX && orig)
+        return 0;
+    if (src == ROW_SWITCH && m->switch_distance < 0)
         return 0;
     switch (src) {
     case ROW_ENERGY:
@@ -255,6 +284,10 @@ static int row_value(const co_report *r, const co_report_model *m, row_source sr
     case ROW_PARTS:
         *i = m->parts;
         break;
+    case ROW_SWITCH:
+        *k = CELL_REAL;
+        *v = m->switch_distance;
+        break;
     }
     return 1;
 }
@@ -284,6 +317,8 @@ static void table(FILE *fp, const co_report *r)
         fprintf(fp, "<th>%s</th>", r->model[i].label);
     fputs("</tr>\n", fp);
     for (size_t k = 0; k < sizeof rows / sizeof rows[0]; k++) {
+        if (rows[k].src == ROW_SWITCH && !r->levels)
+            continue;
         fprintf(fp, "<tr><td>%s</td>", rows[k].label);
         for (uint32_t i = 0; i < r->n_models; i++)
             row_cell(fp, r, &r->model[i], rows[k].src, rows[k].key);
@@ -360,7 +395,8 @@ lm_status co_report_write_page(const co_report *r, const char *path, const char 
     s = pictures(fp, r);
     if (!s) {
         table(fp, r);
-        run(fp, r->o->log);
+        if (!r->levels)
+            run(fp, r->o->log);
         plots(fp, energy_svg, per_view_svg);
         fputs(co_report_methods, fp);
         fputs("</body>\n</html>\n", fp);

@@ -15,8 +15,11 @@
 
 /* One model of the report and what was measured of it against the original. */
 typedef struct co_report_model {
-    const char *label; /* "original", "initial", "optimized" */
+    const char *label; /* "original", "initial", "optimized", or a level's "LOD0", ... */
     const char *path;
+    char level_label[16];   /* a level's label (label points here) */
+    char *level_path;       /* a level's file, resolved against the manifest's folder (owned) */
+    double switch_distance; /* a level's, as its manifest gives it; < 0: none */
     lm_mesh *mesh;
     uint32_t verts, tris, parts;
     int64_t energy;           /* held-out energy (not for the original) */
@@ -27,8 +30,10 @@ typedef struct co_report_model {
 
 typedef struct co_report {
     const co_report_options *o;
-    co_report_model model[3]; /* the original, [the initial,] the optimized */
+    co_report_model model[CO_REPORT_MAX_MODELS]; /* the original, [the initial,] the optimized;
+                                                    or the original and every level */
     uint32_t n_models;
+    int levels;           /* the models after the original are a manifest's levels */
     lm_view_set *heldout; /* the 24 held-out views */
     int size;
     char renderer[128];
@@ -43,6 +48,8 @@ typedef struct co_report {
 
 /* report_measure.c: load the models and measure them (energies, coverage, distances, counts). */
 lm_status co_report_measure(co_report *r);
+/* Load the model of file `path` into m with its label and counts (no switch distance). */
+lm_status co_report_load_model(co_report_model *m, const char *label, const char *path);
 void co_report_free(co_report *r);
 /* The models after the original (initial if any, then optimized). */
 static inline const co_report_model *co_report_optimized(const co_report *r)
@@ -51,8 +58,11 @@ static inline const co_report_model *co_report_optimized(const co_report *r)
 }
 static inline const co_report_model *co_report_initial(const co_report *r)
 {
-    return r->n_models == 3 ? &r->model[1] : NULL;
+    return !r->levels && r->n_models == 3 ? &r->model[1] : NULL;
 }
+
+/* report_levels.c: load the original and the levels of the manifest o->lods. */
+lm_status co_report_load_levels(co_report *r);
 
 /* report_sheet.c: the contact sheet and the close-up. */
 lm_status co_report_pictures(co_report *r);

@@ -9,10 +9,11 @@
 #include "coordinator/quality/report_internal.h"
 #include "coordinator/quality/view_setup.h"
 
-static lm_status load_model(co_report_model *m, const char *label, const char *path)
+lm_status co_report_load_model(co_report_model *m, const char *label, const char *path)
 {
     m->label = label;
     m->path = path;
+    m->switch_distance = -1.0;
     lm_status s = lm_mesh_load(path, NULL, &m->mesh);
     if (s)
         return s;
@@ -25,12 +26,14 @@ static lm_status load_model(co_report_model *m, const char *label, const char *p
 static lm_status load_all(co_report *r)
 {
     const co_report_options *o = r->o;
-    lm_status s = load_model(&r->model[0], "original", o->original);
+    if (o->lods)
+        return co_report_load_levels(r);
+    lm_status s = co_report_load_model(&r->model[0], "original", o->original);
     r->n_models = 1;
     if (!s && o->initial)
-        s = load_model(&r->model[r->n_models++], "initial", o->initial);
+        s = co_report_load_model(&r->model[r->n_models++], "initial", o->initial);
     if (!s)
-        s = load_model(&r->model[r->n_models++], "optimized", o->optimized);
+        s = co_report_load_model(&r->model[r->n_models++], "optimized", o->optimized);
     return s;
 }
 
@@ -38,9 +41,9 @@ static lm_status load_all(co_report *r)
 static lm_status judge(co_report *r)
 {
     uint32_t n = r->n_models - 1, views = r->heldout->count;
-    const lm_mesh *models[2];
-    int64_t energy[2], *per_view = malloc((size_t)n * views * sizeof *per_view);
-    co_coverage cov[2];
+    const lm_mesh *models[CO_REPORT_MAX_MODELS] = {0};
+    int64_t energy[CO_REPORT_MAX_MODELS], *per_view = malloc((size_t)n * views * sizeof *per_view);
+    co_coverage cov[CO_REPORT_MAX_MODELS];
     if (!per_view)
         return lm_fail(LM_E_NOMEM, "out of memory for per-view energies");
     for (uint32_t i = 0; i < n; i++)
@@ -78,9 +81,10 @@ lm_status co_report_measure(co_report *r)
 
 void co_report_free(co_report *r)
 {
-    for (uint32_t i = 0; i < 3; i++) {
+    for (uint32_t i = 0; i < CO_REPORT_MAX_MODELS; i++) {
         lm_mesh_destroy(r->model[i].mesh);
         free(r->model[i].per_view);
+        free(r->model[i].level_path);
     }
     free(r->heldout);
     lm_image_destroy(r->sheet);

@@ -144,15 +144,52 @@ static double view_error(const co_report *r, const co_report_model *m, uint32_t 
     return (double)m->per_view[h] / ((double)r->size * r->size);
 }
 
+/* The models the per-view plot shows, with their colours: the initial (grey) and the optimized
+ * (blue), or every level. */
+static uint32_t per_view_models(const co_report *r, const co_report_model **m, const char **colour)
+{
+    static const char *const level_colour[] = {"#1f77b4", "#ff7f0e", "#2ca02c", "#d62728",
+                                               "#9467bd", "#8c564b", "#e377c2", "#17becf"};
+    uint32_t c = 0;
+    if (r->levels) {
+        for (uint32_t k = 1; k < r->n_models; k++, c++) {
+            m[c] = &r->model[k];
+            colour[c] = level_colour[c % (sizeof level_colour / sizeof level_colour[0])];
+        }
+        return c;
+    }
+    const co_report_model *ini = co_report_initial(r);
+    if (ini) {
+        m[c] = ini;
+        colour[c++] = "#b0b0b0";
+    }
+    m[c] = co_report_optimized(r);
+    colour[c++] = "#1f77b4";
+    return c;
+}
+
+static void per_view_legend(FILE *fp, const co_report *r, const co_report_model *const *m,
+                            const char *const *colour, uint32_t c)
+{
+    if (!r->levels) {
+        if (c == 2)
+            legend(fp, PLOT_RIGHT - 180, 18, colour[0], "initial");
+        legend(fp, PLOT_RIGHT - 100, 18, colour[c - 1], "optimized");
+        return;
+    }
+    for (uint32_t j = 0; j < c; j++)
+        legend(fp, PLOT_RIGHT - 64 * (int)(c - j), 18, colour[j], m[j]->label);
+}
+
 void co_report_plot_per_view(FILE *fp, const co_report *r)
 {
-    const co_report_model *ini = co_report_initial(r), *opt = co_report_optimized(r);
-    uint32_t n = r->heldout->count;
+    const co_report_model *m[CO_REPORT_MAX_MODELS];
+    const char *colour[CO_REPORT_MAX_MODELS];
+    uint32_t c = per_view_models(r, m, colour), n = r->heldout->count;
     double ymax = 1e-9;
-    for (uint32_t h = 0; h < n; h++) {
-        double a = ini ? view_error(r, ini, h) : 0, b = view_error(r, opt, h);
-        ymax = fmax(ymax, fmax(a, b));
-    }
+    for (uint32_t h = 0; h < n; h++)
+        for (uint32_t j = 0; j < c; j++)
+            ymax = fmax(ymax, view_error(r, m[j], h));
     svg_begin(fp, 300, "per-pixel error of every held-out view");
     panel p = {0, n, 0, ymax * 1.05, 30, 240};
     fprintf(fp,
@@ -160,19 +197,19 @@ void co_report_plot_per_view(FILE *fp, const co_report *r)
             "held-out views</text>\n",
             PLOT_LEFT);
     axes(fp, &p, "held-out view", "error per pixel", 0);
-    double slot = (PLOT_RIGHT - PLOT_LEFT) / (double)n, w = slot * (ini ? 0.4 : 0.7);
+    double slot = (PLOT_RIGHT - PLOT_LEFT) / (double)n, w = slot * (c == 1   ? 0.7
+                                                                    : c == 2 ? 0.4
+                                                                             : 0.76 / c);
     for (uint32_t h = 0; h < n; h++) {
         double x = PLOT_LEFT + slot * h + slot * 0.12;
-        for (int k = ini ? 0 : 1; k < 2; k++, x += w) {
-            double y = px_y(&p, view_error(r, k ? opt : ini, h));
+        for (uint32_t j = 0; j < c; j++, x += w) {
+            double y = px_y(&p, view_error(r, m[j], h));
             fprintf(fp, "<rect x=\"%.1f\" y=\"%.1f\" width=\"%.1f\" height=\"%.1f\" fill=\"%s\"/>",
-                    x, y, w, p.bottom - y, k ? "#1f77b4" : "#b0b0b0");
+                    x, y, w, p.bottom - y, colour[j]);
         }
         fprintf(fp, "<text x=\"%.1f\" y=\"%d\" text-anchor=\"middle\">%u</text>\n",
                 PLOT_LEFT + slot * (h + 0.5), p.bottom + 16, h);
     }
-    if (ini)
-        legend(fp, PLOT_RIGHT - 180, 18, "#b0b0b0", "initial");
-    legend(fp, PLOT_RIGHT - 100, 18, "#1f77b4", "optimized");
+    per_view_legend(fp, r, m, colour, c);
     fputs("</svg>\n", fp);
 }

@@ -2,7 +2,8 @@
  * views, columns original | initial | optimized | difference) and, where a model shows cracks,
  * the close-up of the window with the most of them, rendered CO_REPORT_ZOOM times larger. The
  * difference column is |Y(original) - Y(optimized)| of the 8-bit luminance the energy sums,
- * times 2, as a heat ramp (black, red, yellow, white). */
+ * times 2, as a heat ramp (black, red, yellow, white). A level set's sheet has a column per level
+ * and the difference of the last (coarsest). */
 #include <stdlib.h>
 #include <string.h>
 
@@ -75,7 +76,7 @@ static lm_status add_difference(const lm_image *grid, int cw, int ch, uint32_t r
 }
 
 /* The models after the original, as co_compare_grid takes them. */
-static uint32_t grid_models(const co_report *r, const lm_mesh *models[2])
+static uint32_t grid_models(const co_report *r, const lm_mesh *models[CO_REPORT_MAX_MODELS])
 {
     for (uint32_t i = 1; i < r->n_models; i++)
         models[i - 1] = r->model[i].mesh;
@@ -86,7 +87,7 @@ static lm_status contact_sheet(co_report *r)
 {
     lm_view_set *vs = NULL;
     lm_image *grid = NULL;
-    const lm_mesh *models[2];
+    const lm_mesh *models[CO_REPORT_MAX_MODELS] = {0};
     uint32_t n = grid_models(r, models);
     lm_status s = sheet_views(r, r->size, &vs);
     if (!s)
@@ -98,9 +99,18 @@ static lm_status contact_sheet(co_report *r)
     return s;
 }
 
-/* The model whose cracks the close-up shows: the initial if it has cracks, else the optimized. */
+/* The model whose cracks the close-up shows: the initial if it has cracks, else the optimized;
+ * of levels, the one with the most (the first of equals). */
 static const co_report_model *cracked(const co_report *r)
 {
+    if (r->levels) {
+        const co_report_model *most = NULL;
+        for (uint32_t k = 1; k < r->n_models; k++)
+            if (r->model[k].cov.cracks_px &&
+                (!most || r->model[k].cov.cracks_px > most->cov.cracks_px))
+                most = &r->model[k];
+        return most;
+    }
     const co_report_model *i = co_report_initial(r), *o = co_report_optimized(r);
     if (i && i->cov.cracks_px)
         return i;
@@ -117,7 +127,7 @@ static lm_status closeup(co_report *r)
         return LM_OK;
     lm_view_set *vs = NULL;
     lm_image *grid = NULL;
-    const lm_mesh *models[2];
+    const lm_mesh *models[CO_REPORT_MAX_MODELS] = {0};
     uint32_t n = grid_models(r, models);
     lm_status s = sheet_views(r, r->size * zoom, &vs);
     if (!s)

@@ -7,8 +7,9 @@
 # maximum of the max distance and its switch distances the documented formula for the screen asked
 # for, neither ever decreasing down the chain. --msft-lod: one GLB whose scene shows LOD0 and whose
 # LOD0 names LOD1 and LOD2 through MSFT_lod, every level holding the 7 parts; what readers load of
-# the GLB is LOD0; its manifest names the GLB's nodes. Bad level lists and outputs are one-line
-# errors. LUMESH_TEST_LIGHT=1 (the sanitizer stage; the release stage runs it whole): a frog of 500
+# the GLB is LOD0; its manifest names the GLB's nodes. `lumesh report --lods` shows the levels
+# side by side with the manifest's numbers (and refuses the MSFT_lod manifest in one line). Bad
+# level lists and outputs are one-line errors. LUMESH_TEST_LIGHT=1 (the sanitizer stage; the release stage runs it whole): a frog of 500
 # triangles, 4 views of 32 pixels, 100 evaluations per level; every check the same.
 set -u
 . "$(dirname "$0")/lib.bash"
@@ -110,6 +111,27 @@ for k in 0 1 2; do
   checks=$((checks + 1))
   [ "$(grep -c '^o ' "$tmp/per/frog.lod$k.obj")" = 7 ] || fail "frog.lod$k.obj lacks 7 parts"
 done
+# The report of a level set: the levels side by side, every number as lods.json has it.
+checks=$((checks + 1))
+"$LUMESH" report "$tmp/frog.glb" --lods "$tmp/set/lods.json" -o "$tmp/rep" --size "$size" \
+  --device host >/dev/null 2>"$tmp/err" || fail "report --lods failed: $(cat "$tmp/err")"
+python3 - "$tmp/set/lods.json" "$tmp/rep/index.html" <<'PY' || fail "report --lods is not as expected"
+import json, re, sys
+m = json.load(open(sys.argv[1]))
+page = open(sys.argv[2]).read()
+val = dict(re.findall(r'data-key="([^"]+)" data-value="([^"]+)"', page))
+assert 'Columns: original | LOD0 | LOD1 | LOD2 | difference' in page, 'sheet columns'
+for k, l in enumerate(m['levels']):
+    assert int(val['LOD%d.heldout_energy' % k]) == l['heldout']['total'], (k, val, l)
+    assert int(val['LOD%d.verts' % k]) == l['vertices'], (k, l)
+    assert abs(float(val['LOD%d.switch_distance' % k]) - l['switch']['distance']) < 1e-5, (k, l)
+assert 'LOD3.verts' not in val and 'optimized.verts' not in val, val.keys()
+PY
+expect_fail_line "$LUMESH" report "$tmp/frog.glb" --lods "$tmp/lod/lods.json" -o "$tmp/rep2"
+"$LUMESH" report "$tmp/frog.glb" --lods "$tmp/lod/lods.json" -o "$tmp/rep2" 2>&1 |
+  grep -q "one file per level" || fail "report of an MSFT_lod manifest: no reason given"
+expect_fail_line "$LUMESH" report "$tmp/frog.glb" "$tmp/set/frog.lod0.glb" \
+  --lods "$tmp/set/lods.json" -o "$tmp/rep3"
 expect_fail_line "$LUMESH" lod "$tmp/frog.glb" -o "$tmp/x.glb" --levels 50%,60%
 expect_fail_line "$LUMESH" lod "$tmp/frog.glb" -o "$tmp/x.glb" --levels 50%,abc
 expect_fail_line "$LUMESH" lod "$tmp/frog.glb" -o "$tmp/x.obj" --levels 50% --msft-lod
