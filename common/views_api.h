@@ -66,6 +66,10 @@ typedef enum lm_image_kind {
                               current mesh's) */
     LM_IMAGE_COVERAGE,     /* 1 byte: 1 where the last full render drew a surface, 0 where the
                               background shows */
+    LM_IMAGE_TRIANGLE,     /* 4 bytes: the id (uint32_t, this machine's byte order) of the current
+                              mesh's triangle the last full render drew there, LM_NONE where the
+                              background shows. The CPU renderer only (its exact keys): other
+                              backends answer LM_E_UNSUPPORTED, and it never travels to workers */
 } lm_image_kind;
 
 typedef struct lm_views_ops {
@@ -140,7 +144,7 @@ lm_status lm_views_surface_term(lm_views *v, const lm_mesh *surface, double k);
 /* Bytes per pixel of an image kind (1 or 4). */
 static inline size_t lm_image_kind_bpp(lm_image_kind kind)
 {
-    return kind == LM_IMAGE_RGBA ? 4 : 1;
+    return kind == LM_IMAGE_RGBA || kind == LM_IMAGE_TRIANGLE ? 4 : 1;
 }
 
 /* The current mesh's triangles (all alive ones, in id order) sent to the views: the one way the

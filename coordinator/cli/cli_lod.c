@@ -25,6 +25,7 @@ static void usage(FILE *f)
             "                  [--screen-height PX] [--fov DEG] [--pixel-error P]\n"
             "                  [--views N] [--size S] [--device D] [--workers N]\n"
             "                  [--listen tcp://ADDR:PORT] [--keys DIR] [--renderer ID] [--seed S]\n"
+            "                  [--cull-unseen]\n"
             "Makes a chain of levels of detail of ORIGINAL: each level is simplified from the\n"
             "level before it (the first from ORIGINAL) and then optimised so that its images\n"
             "match ORIGINAL's (the levels nest: each is a simplification of the one before).\n"
@@ -70,6 +71,8 @@ static void usage(FILE *f)
             "  --renderer ID        accept only workers of this renderer id (default: the first\n"
             "                       worker's)\n"
             "  --seed S             the optimizer's seed (default %llu)\n"
+            "  --cull-unseen        remove from each level's file the triangles no view sees\n"
+            "                       (the chain is made whole; the manifest measures the files)\n"
             "  -h, --help           this text\n",
             CO_LOD_MANIFEST_NAME, CO_LOD_DEFAULT_SCREEN_HEIGHT, CO_LOD_DEFAULT_FOV,
             CO_LOD_DEFAULT_PIXEL_ERROR, (unsigned long long)CO_LOD_DEFAULT_EVALS, LM_DEFAULT_VIEWS,
@@ -119,6 +122,7 @@ static int parse(int argc, char **argv, co_lod_options *o, int *per_level)
         CO_OPT_FLAG("no-optimize", 0, &o->no_optimize),
         CO_OPT_FLAG("per-level", 0, per_level),
         CO_OPT_FLAG("msft-lod", 0, &o->msft_lod),
+        CO_OPT_FLAG("cull-unseen", 0, &o->cull_unseen),
         CO_OPT_STR("manifest", 0, &o->manifest_path),
         CO_OPT_U32("screen-height", 0, &o->screen_height, 1, 1u << 20),
         CO_OPT_DOUBLE("fov", &o->fov_deg, 0.001, 179.999),

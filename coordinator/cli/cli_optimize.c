@@ -53,6 +53,9 @@ static const char co_optimize_help[] =
     "  --views-from FILE       the cameras of a JSON file instead: [{\"position\": [x,y,z],\n"
     "                          \"target\": [x,y,z], \"up\": [x,y,z], \"fov\": degrees}, ...],\n"
     "                          or the perspective cameras of a .gltf or .glb file\n"
+    "  --cull-unseen           remove from the output the triangles no view sees (the\n"
+    "                          views rendered 4x larger by the exact CPU rasteriser; for\n"
+    "                          --views upper or --views-from: what those cameras never see)\n"
     "  --size PIXELS           side of each square view image (default %d)\n"
     "  --evals N               budget of energy evaluations, counted from the start of the job\n"
     "                          (default %llu)\n"
@@ -242,6 +245,7 @@ static int parse_args(int argc, char **argv, optimize_args *a)
         CO_OPT_U32("edges-in-flight", 0, &o->edges_in_flight, 1, CO_MAX_EDGES_IN_FLIGHT),
         CO_OPT_STR("keys", 0, &o->keys),
         CO_OPT_STR("save-initial", 0, &o->initial_output_path),
+        CO_OPT_FLAG("cull-unseen", 0, &o->cull_unseen),
         OPT_SURFACE("surface-weight", &o->surface_weight, 1e9),
         OPT_SURFACE("surface-share", &o->surface_share, 1e6),
         CO_OPT_CALL("start", 0, parse_start, o),

@@ -15,6 +15,7 @@
 #include "common/folders.h"
 #include "common/io/mesh_io.h"
 #include "coordinator/cli/cli_args.h"
+#include "coordinator/quality/cull_unseen.h"
 #include "coordinator/simplify/simplify.h"
 #include "coordinator/simplify/simplify_job.h"
 
@@ -36,7 +37,7 @@ static void usage(FILE *f)
         "                       [--views N] [--size S] [--device D] [--workers N]\n"
         "                       [--listen tcp://ADDR:PORT] [--keys DIR] [--renderer ID]\n"
         "                       [--presimplify M] [--reference MODEL] [--pm FILE]\n"
-        "                       [--surface-share S | --surface-weight W]\n"
+        "                       [--surface-share S | --surface-weight W] [--cull-unseen]\n"
         "Makes a coarse version of ORIGINAL with at most N vertices (the search aims within 5%\n"
         "of N; up to 5% above N counts as reached) and writes it to OUT (.obj with .mtl and PNG\n"
         "textures, .ply or .glb, chosen by the extension). A model that already has N vertices\n"
@@ -58,6 +59,9 @@ static void usage(FILE *f)
         "                         shard: the same collapses priced by Pfeiffer's shards (the\n"
         "                         triangles a collapse changes, rendered alone, before against\n"
         "                         after: no images of the model are kept; in process only)\n"
+        "  --cull-unseen          remove from OUT the triangles no view sees (--views, --size\n"
+        "                         or --views-from as below, also with qem and cluster; the\n"
+        "                         views rendered 4x larger by the exact CPU rasteriser)\n"
         "image and shard:\n"
         "  --views N, --size S    the views (default 20 of 256 pixels); --views upper[:N]: on\n"
         "                         the hemisphere above the model (+Y up)\n"
@@ -111,11 +115,13 @@ static int check_method(const simplify_args *a)
 {
     const co_simplify_options *o = &a->image_opts;
     int workers = co_simplify_workers_given(&o->workers);
-    if (!a->image && (o->views.count || o->views.dist || o->size || o->device || workers ||
-                      o->presimplify || o->reference_path || o->pm_path))
+    int views = o->views.count || o->views.dist || o->size;
+    if (!a->image && ((views && !o->cull_unseen) || o->device || workers || o->presimplify ||
+                      o->reference_path || o->pm_path))
         return co_cli_usage_error(CMD, "--views, --size, --device, --workers, --listen, --keys, "
                                        "--renderer, --presimplify, --reference and --pm go with "
-                                       "--method image or shard");
+                                       "--method image or shard (--views and --size also with "
+                                       "--cull-unseen)");
     if ((o->surface_share > 0 || o->surface_weight > 0) &&
         (!a->image || o->method != CO_PRICE_IMAGE))
         return co_cli_usage_error(CMD, "--surface-share and --surface-weight go with --method "
@@ -145,6 +151,7 @@ static int parse(int argc, char **argv, simplify_args *a)
         CO_OPT_STR("pm", 0, &o->pm_path),
         CO_OPT_DOUBLE("surface-weight", &o->surface_weight, 0, 1e9),
         CO_OPT_DOUBLE("surface-share", &o->surface_share, 0, 1e9),
+        CO_OPT_FLAG("cull-unseen", 0, &o->cull_unseen),
     };
     int rc = co_cli_parse(&spec, opts, CO_OPTS_N(opts), argc, argv);
     if (rc >= 0)
@@ -182,6 +189,16 @@ static lm_status write_result(const simplify_args *a, const lm_mesh *out)
     return s ? s : lm_mesh_save(a->output, out);
 }
 
+/* ", N unseen triangles removed" with --cull-unseen (a static buffer), else "". */
+static const char *culled_note(const co_simplify_options *o, uint32_t culled)
+{
+    static char buf[64];
+    if (!o->cull_unseen)
+        return "";
+    snprintf(buf, sizeof buf, ", %u unseen triangles removed", culled);
+    return buf;
+}
+
 /* --method image or shard. */
 static int run_image(simplify_args *a)
 {
@@ -213,11 +230,12 @@ static int run_image(simplify_args *a)
         snprintf(geo, sizeof geo, ", geometric term weight %.4g", s.surface_weight);
     printf("lumesh simplify: %s %u vertices / %u triangles -> %u vertices / %u triangles, %u "
            "part%s (%s: %s%u collapses, %llu evaluations%s; load %.2f s, views %.2f s, simplify "
-           "%.2f s) -> %s%s%s\n",
+           "%.2f s%s) -> %s%s%s\n",
            a->input, s.in_verts, s.in_tris, s.out_verts, s.out_tris, s.out_parts,
            s.out_parts == 1 ? "" : "s", method, qem, s.stats.collapses,
            (unsigned long long)s.stats.evaluations, geo, s.load_s, s.prepare_s, s.simplify_s,
-           a->output, o->pm_path ? ", " : "", o->pm_path ? o->pm_path : "");
+           culled_note(o, s.culled_tris), a->output, o->pm_path ? ", " : "",
+           o->pm_path ? o->pm_path : "");
     return 0;
 }
 
@@ -241,15 +259,20 @@ int co_cli_simplify(int argc, char **argv)
         s = LM_OK;
     }
     double t2 = now_s();
+    uint32_t culled = 0;
+    const co_simplify_options *o = &a.image_opts;
+    if (!s && o->cull_unseen)
+        s = co_cull_unseen(out, in, &o->views, o->size ? o->size : LM_DEFAULT_VIEW_SIZE, &culled);
     if (!s)
         s = write_result(&a, out);
     if (!s) {
         report_target(&a, in, out, reach, why);
         co_simplify_warn_lost_parts(CMD, in, out);
         printf("lumesh simplify: %s %u vertices / %u triangles -> %u vertices / %u triangles "
-               "(%s, load %.2f s, simplify %.2f s) -> %s\n",
+               "(%s, load %.2f s, simplify %.2f s%s) -> %s\n",
                a.input, in->live_verts, in->live_tris, out->live_verts, out->live_tris,
-               a.method == CO_SIMPLIFY_QEM ? "qem" : "cluster", t1 - t0, t2 - t1, a.output);
+               a.method == CO_SIMPLIFY_QEM ? "qem" : "cluster", t1 - t0, t2 - t1,
+               culled_note(o, culled), a.output);
     }
     lm_mesh_destroy(in);
     lm_mesh_destroy(out);

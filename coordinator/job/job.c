@@ -24,6 +24,7 @@
 #include "coordinator/optimizer/optimizer.h"
 #include "coordinator/optimizer/optimizer_tuning.h"
 #include "coordinator/pool/pool.h"
+#include "coordinator/quality/cull_unseen.h"
 #include "coordinator/simplify/simplify.h"
 #include "coordinator/simplify/simplify_job.h"
 #include "coordinator/views/views.h"
@@ -709,6 +710,23 @@ static lm_status run_loop(co_job *j, const char **reason)
     return LM_OK;
 }
 
+/* --cull-unseen: the output without the triangles no training view sees (its pixel grid as the
+ * job started), said as an event. */
+static lm_status cull_unseen(co_job *j, lm_mesh *out)
+{
+    uint32_t before = out->live_tris, removed = 0;
+    co_meter_phase(&j->meter, "triangles no view sees (%" PRIu32 " views of %dx%d)",
+                   j->o.views.count, co_cull_size(j->o.size), co_cull_size(j->o.size));
+    lm_status st = co_cull_unseen(out, j->original, &j->o.views, j->o.size, &removed);
+    if (st == LM_OK) {
+        char msg[96];
+        snprintf(msg, sizeof msg, "removed %" PRIu32 " of %" PRIu32 " triangles no view sees",
+                 removed, before);
+        co_reporter_note(&j->rep, "cull", msg);
+    }
+    return st;
+}
+
 /* Output: a compacted copy of the optimizer's mesh, written atomically (textures kept). */
 static lm_status write_output(co_job *j)
 {
@@ -719,6 +737,8 @@ static lm_status write_output(co_job *j)
     meter_heard_reporter(j);
     co_meter_phase(&j->meter, "writing %s", j->o.output_path);
     st = lm_mesh_compact(copy);
+    if (st == LM_OK && j->o.cull_unseen)
+        st = cull_unseen(j, copy);
     if (st == LM_OK)
         st = lm_mesh_save(j->o.output_path, copy);
     co_meter_end(&j->meter);

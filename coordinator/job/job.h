@@ -104,6 +104,8 @@ typedef struct co_job_options {
                               CO_JOB_DEFAULT_REGRID_EVERY, CO_JOB_NONE = never */
     const char *initial_output_path; /* write the coarse mesh the optimisation starts from (after
                                         its preparation) here; NULL = not */
+    int cull_unseen; /* remove the output's triangles no view sees (quality/cull_unseen.h); not
+                        part of the optimisation, so a checkpoint does not record it */
     /* Called with the counters at the start, after every optimizer step and at the end (the
        quality report's history); NULL = none. */
     void (*on_progress)(void *ctx, const co_progress *p, double elapsed_s);

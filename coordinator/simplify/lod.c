@@ -2,6 +2,7 @@
  * set of views of the original, per level simplify (image / shard / QEM) → optimise → next, and the
  * output (one file per level or one GLB), measured into the manifest (lod_manifest.h). */
 #include "coordinator/simplify/lod.h"
+#include "coordinator/quality/cull_unseen.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -286,6 +287,11 @@ lm_status co_lod_build(const co_lod_options *given, co_lod_summary *sum, lm_mesh
         st = make_views(&L);
     for (uint32_t k = 0; k < o->n_levels && st == LM_OK; k++)
         st = make_level(&L, k);
+    for (uint32_t k = 0; o->cull_unseen && k < o->n_levels && st == LM_OK; k++) {
+        st = co_cull_unseen(L.levels[k], L.orig, &o->views, o->size, &sum->level[k].culled_tris);
+        sum->level[k].verts = L.levels[k]->live_verts;
+        sum->level[k].tris = L.levels[k]->live_tris;
+    }
     for (uint32_t k = 0; k < o->n_levels; k++) {
         levels[k] = st == LM_OK ? L.levels[k] : NULL;
         if (st != LM_OK)

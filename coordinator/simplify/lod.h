@@ -46,11 +46,13 @@ typedef struct co_lod_options {
     co_simplify_workers workers; /* lumesh-worker processes for the views (none: this process) */
     uint64_t seed;               /* optimizer seed; 0 = 1 */
     int msft_lod;                /* one GLB with MSFT_lod; else one file per level: STEM.lodK.EXT */
-    int progress;                /* a line per level on stderr */
-    const char *manifest_path;   /* NULL: lods.json in OUT's folder */
-    uint32_t screen_height;      /* the switch distances' screen: pixels high, 0 = 1080 */
-    double fov_deg;              /* its vertical field of view, 0 = 60 */
-    double pixel_error;          /* the error in pixels a level may show, 0 = 1 */
+    int cull_unseen; /* each level's file without the triangles no view sees (the chain is made
+                        whole; quality/cull_unseen.h) */
+    int progress;    /* a line per level on stderr */
+    const char *manifest_path; /* NULL: lods.json in OUT's folder */
+    uint32_t screen_height;    /* the switch distances' screen: pixels high, 0 = 1080 */
+    double fov_deg;            /* its vertical field of view, 0 = 60 */
+    double pixel_error;        /* the error in pixels a level may show, 0 = 1 */
 } co_lod_options;
 
 /* A level measured against the ORIGINAL (as `lumesh energy --heldout --distance` measures its file)
@@ -69,7 +71,8 @@ typedef struct co_lod_level_result {
     uint32_t collapses;
     uint64_t simplify_evals, optimize_evals;
     int64_t energy_simplified, energy_optimized; /* on the job's views */
-    int kept_simplified; /* the optimised level lost to the simplified one, which was kept */
+    int kept_simplified;  /* the optimised level lost to the simplified one, which was kept */
+    uint32_t culled_tris; /* triangles --cull-unseen removed from the level's file */
     double seconds;
     char path[1024]; /* the file it went to (one file per level), else "" */
     co_lod_measure m;

@@ -2,6 +2,7 @@
  * geometric term when asked) → collapses (with the progressive mesh recorded) → output and
  * progressive mesh written; and the same middle part on a model in memory (co_simplify_mesh). */
 #include "coordinator/simplify/simplify_job.h"
+#include "coordinator/quality/cull_unseen.h"
 
 #include <stdio.h>
 #include <stdlib.h>
@@ -203,6 +204,11 @@ static lm_status write_outputs(sjob *j)
         st = lm_make_parent_folders(j->o->pm_path);
     if (st == LM_OK)
         st = co_simplify_output_copy(j->work, &out);
+    if (st == LM_OK && j->o->cull_unseen) {
+        co_meter_phase(j->meter, "triangles no view sees");
+        st = co_cull_unseen(out, j->ref ? j->ref : j->in, &j->o->views,
+                            j->o->size ? j->o->size : LM_DEFAULT_VIEW_SIZE, &j->sum->culled_tris);
+    }
     co_meter_phase(j->meter, "writing %s", j->o->output_path);
     if (st == LM_OK)
         st = lm_mesh_save(j->o->output_path, out);

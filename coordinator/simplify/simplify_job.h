@@ -29,15 +29,18 @@ typedef struct co_simplify_options {
                                     QEM's mesh at the target (as the optimizer's share does at its
                                     start); 0 = none */
     const char *pm_path;         /* write the progressive mesh here; NULL = not */
-    co_meter_style progress;     /* lines on stderr: none (0), a terminal's or a log's */
-    co_meter *meter;             /* the caller's meter for the phases (borrowed; its stage names
-                                    them); NULL: one of "lumesh simplify" in style `progress` */
+    int cull_unseen; /* the output without the triangles no view sees (quality/cull_unseen.h;
+                        the progressive mesh stays whole) */
+    co_meter_style progress; /* lines on stderr: none (0), a terminal's or a log's */
+    co_meter *meter;         /* the caller's meter for the phases (borrowed; its stage names
+                                them); NULL: one of "lumesh simplify" in style `progress` */
 } co_simplify_options;
 
 typedef struct co_simplify_summary {
     uint32_t in_verts, in_tris; /* the model as loaded */
     uint32_t start_verts;       /* where the image-driven collapses started (after QEM) */
     uint32_t out_verts, out_tris, out_parts;
+    uint32_t culled_tris; /* triangles --cull-unseen removed from the output */
     co_isimp_stats stats;
     double surface_weight; /* the geometric term's weight; 0 = none */
     double load_s, prepare_s, simplify_s, write_s;

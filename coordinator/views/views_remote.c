@@ -506,6 +506,8 @@ static lm_status rm_read_image(lm_views *v, lm_image_kind kind, uint32_t view, u
     co_remote *r = as_remote(v);
     if (view >= r->count)
         return lm_fail(LM_E_RANGE, "view %u of %u", view, r->count);
+    if (kind == LM_IMAGE_TRIANGLE)
+        return lm_fail(LM_E_UNSUPPORTED, "triangle ids are not read from workers");
     image_ctx c = {kind, r->first + view, out,
                    (size_t)r->width * (size_t)r->height * lm_image_kind_bpp(kind)};
     round rd = {

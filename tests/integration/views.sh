@@ -4,7 +4,8 @@
 # same job optimised on the sphere; a camera file (`--views-from`) renders and measures on the
 # commands that take views; an upper job stopped and resumed from its checkpoint ends
 # byte-identical, and a resume with other views is refused in one line; a glTF file's cameras
-# render (the orthographic one left out with a warning). The flag errors of
+# render (the orthographic one left out with a warning); --cull-unseen removes what the views never
+# see and nothing they see. The flag errors of
 # --views and --views-from are in cli.sh.
 set -u
 . "$(dirname "$0")/lib.bash"
@@ -72,6 +73,25 @@ expect_fail_line "$LUMESH" optimize "$frog" -o "$tmp/x.obj" --views-from "$tmp/c
   --size 48 --target-verts 120 --seed 1 --device host --start qem --evals 900 \
   --resume "$tmp/ck_cams"
 [ ! -e "$tmp/x.obj" ] || fail "a refused resume wrote output"
+
+# 5. --cull-unseen: the triangles no view sees go, and the views see the same images.
+expect_exit 0 "$LUMESH" simplify "$frog" -o "$tmp/keep.obj" --target-verts 200 --views upper:8 \
+  --size 64 --cull-unseen
+expect_exit 0 "$LUMESH" simplify "$frog" -o "$tmp/all.obj" --target-verts 200
+checks=$((checks + 1))
+f_keep=$(grep -c '^f ' "$tmp/keep.obj") f_all=$(grep -c '^f ' "$tmp/all.obj")
+[ "$f_keep" -lt "$f_all" ] || fail "--cull-unseen removed nothing ($f_keep of $f_all faces)"
+checks=$((checks + 1))
+"$LUMESH" energy "$frog" "$tmp/keep.obj" "$tmp/all.obj" --views upper:8 --size 64 --device host \
+  >"$tmp/cull.json" || fail "energy of the culled mesh failed"
+[ "$(sed -n 1p "$tmp/cull.json" | grep -o '"total": [0-9]*')" = \
+  "$(sed -n 2p "$tmp/cull.json" | grep -o '"total": [0-9]*')" ] ||
+  fail "the views see the culled mesh differently: $(cat "$tmp/cull.json")"
+checks=$((checks + 1))
+"$LUMESH" optimize "$frog" -o "$tmp/cull_opt.obj" --views upper:8 --size 48 --target-verts 120 \
+  --seed 1 --device host --start qem --evals 300 --cull-unseen --json 2>/dev/null |
+  grep -q '"event":"cull","detail":"removed [1-9]' || fail "optimize --cull-unseen removed nothing"
+expect_fail_line "$LUMESH" simplify "$frog" -o "$tmp/x.obj" --target-verts 200 --views 8
 
 # 4. A glTF scene's cameras: Khronos' Cameras sample has one perspective and one orthographic
 # camera; render writes the perspective one's view and says it left the other out.

@@ -101,6 +101,7 @@ static lm_status cv_set_materials(wk_views_core *c, const lm_material *mats, uin
 static lm_status cv_set_occlusion(wk_views_core *c, int on);
 static lm_status cv_read_rgba(wk_views_core *c, uint32_t view, uint8_t *out);
 static lm_status cv_read_coverage(wk_views_core *c, uint32_t view, uint8_t *out);
+static lm_status cv_read_triangles(wk_views_core *c, uint32_t view, uint32_t *out);
 
 static const wk_views_backend cv_backend = {
     .set_mesh = cv_set_mesh,
@@ -109,6 +110,7 @@ static const wk_views_backend cv_backend = {
     .evaluate = wk_cpu_evaluate,
     .read_rgba = cv_read_rgba,
     .read_coverage = cv_read_coverage,
+    .read_triangles = cv_read_triangles,
     .renderer = cv_renderer,
     .set_occlusion = cv_set_occlusion,
     .destroy = cv_destroy,
@@ -256,5 +258,14 @@ static lm_status cv_read_coverage(wk_views_core *c, uint32_t view, uint8_t *out)
     const uint64_t *key = v->keys + view * v->plane;
     for (size_t i = 0; i < v->plane; i++)
         out[i] = key[i] != WK_CPU_KEY_BG;
+    return LM_OK;
+}
+
+static lm_status cv_read_triangles(wk_views_core *c, uint32_t view, uint32_t *out)
+{
+    wk_cpu_views *v = (wk_cpu_views *)c;
+    const uint64_t *key = v->keys + view * v->plane;
+    for (size_t i = 0; i < v->plane; i++)
+        out[i] = key[i] == WK_CPU_KEY_BG ? LM_NONE : WK_CPU_KEY_ID(key[i]);
     return LM_OK;
 }

@@ -69,6 +69,7 @@ static int known_kind(lm_image_kind kind)
     case LM_IMAGE_CURRENT_LUMA:
     case LM_IMAGE_RGBA:
     case LM_IMAGE_COVERAGE:
+    case LM_IMAGE_TRIANGLE:
         return 1;
     }
     return 0;
@@ -85,6 +86,10 @@ static lm_status seam_read_image(lm_views *base, lm_image_kind kind, uint32_t vi
         return c->backend->read_rgba(c, view, out);
     if (kind == LM_IMAGE_COVERAGE)
         return c->backend->read_coverage(c, view, out);
+    if (kind == LM_IMAGE_TRIANGLE)
+        return c->backend->read_triangles
+                   ? c->backend->read_triangles(c, view, (uint32_t *)(void *)out)
+                   : lm_fail(LM_E_UNSUPPORTED, "this renderer gives no triangle ids");
     const uint8_t *src = kind == LM_IMAGE_TARGET_LUMA ? wk_image_store_target(c->img, view)
                                                       : wk_image_store_current(c->img, view);
     memcpy(out, src, (size_t)c->width * c->height);

@@ -26,6 +26,8 @@ struct wk_views_backend {
     /* LM_IMAGE_RGBA and LM_IMAGE_COVERAGE of view `view` (checked: one of c's) */
     lm_status (*read_rgba)(wk_views_core *c, uint32_t view, uint8_t *out);
     lm_status (*read_coverage)(wk_views_core *c, uint32_t view, uint8_t *out);
+    /* Optional (NULL: LM_E_UNSUPPORTED): LM_IMAGE_TRIANGLE of view `view` (checked) */
+    lm_status (*read_triangles)(wk_views_core *c, uint32_t view, uint32_t *out);
     /* the device and driver that make the images (lm_views_info's renderer) */
     const char *(*renderer)(const wk_views_core *c);
     /* wk_views_local_set_occlusion */
