@@ -2,7 +2,8 @@
 # Installs every Debian package lumesh needs to build, test and run (Debian 12; python3 and
 # chromium are for the tests: headless Chromium opens the quality report; slurm-wlm and munge
 # for the single-node Slurm of tests/integration/slurm.sh; yamllint, Node.js and the npm packages
-# of tests/support/k8s for the Kubernetes manifests' check; systemd for systemd-analyze), and
+# of tests/support/k8s for the Kubernetes manifests' check and of tests/support/gltf for the glTF
+# validator; systemd for systemd-analyze), and
 # fetches the test models (assimp-testmodels, libcgal-demo) into tests/data/cache without their
 # dependencies.
 # Idempotent: re-running it only checks. Needs root (or sudo) for apt-get.
@@ -65,13 +66,19 @@ if [ ! -e "$cache/meshes/bunny00.off" ]; then
   [ -n "$f" ] && [ "$f" != "$cache/meshes/bunny00.off" ] && cp "$f" "$cache/meshes/bunny00.off"
 fi
 [ -e "$cache/meshes/bunny00.off" ] || { echo "install-deps: could not extract bunny00.off" >&2; exit 1; }
-# The Kubernetes manifests' schema check (tests/integration/kubernetes.sh): the npm packages of
-# tests/support/k8s, at the versions of its lock file.
-npmdir="$cache/npm"
-if ! cmp -s "$here/tests/support/k8s/package-lock.json" "$npmdir/package-lock.json" ||
-  [ ! -e "$npmdir/node_modules/kubernetes-models/package.json" ]; then
-  mkdir -p "$npmdir"
-  cp "$here/tests/support/k8s/package.json" "$here/tests/support/k8s/package-lock.json" "$npmdir/"
-  (cd "$npmdir" && npm ci --no-audit --no-fund --loglevel=error >/dev/null)
-fi
+# npm packages of the tests, each at the versions of its lock file: tests/support/$1 installed into
+# the cache folder $2 (unless its lock file is there already with package $3).
+npm_install() {
+  local src="$here/tests/support/$1" dst="$cache/$2"
+  if ! cmp -s "$src/package-lock.json" "$dst/package-lock.json" ||
+    [ ! -e "$dst/node_modules/$3/package.json" ]; then
+    mkdir -p "$dst"
+    cp "$src/package.json" "$src/package-lock.json" "$dst/"
+    (cd "$dst" && npm ci --no-audit --no-fund --loglevel=error >/dev/null)
+  fi
+}
+# The Kubernetes manifests' schema check (tests/integration/kubernetes.sh).
+npm_install k8s npm kubernetes-models
+# The Khronos glTF-Validator for every GLB lumesh writes (tests/integration/gltf_validator.sh).
+npm_install gltf npm-gltf gltf-validator
 echo "install-deps: ok"

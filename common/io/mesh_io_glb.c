@@ -6,6 +6,7 @@
  * the bottom left, so v is written as 1 - v. Written atomically. A chain of levels of detail goes
  * into one file the same way, each level's part nodes under a node "LODk", the first level's node
  * in the scene and the others named by its MSFT_lod extension. */
+#include <math.h>
 #include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
@@ -112,9 +113,15 @@ static void get_pos(const lm_mesh *m, uint32_t w, float *out)
 {
     memcpy(out, m->pos[m->wedges[w].vertex], 3 * sizeof *out);
 }
+/* glTF wants unit normals (the Khronos validator's ACCESSOR_VECTOR3_NON_UNIT); lumesh's may be
+ * scaled (interpolated by the image-driven collapses, scaled by the optimizer). One already unit
+ * within 1e-5 is written as it is, the others divided by their length (a zero one stays). */
 static void get_normal(const lm_mesh *m, uint32_t w, float *out)
 {
-    memcpy(out, m->wedges[w].normal, 3 * sizeof *out);
+    const float *n = m->wedges[w].normal;
+    double len = sqrt((double)n[0] * n[0] + (double)n[1] * n[1] + (double)n[2] * n[2]);
+    for (int k = 0; k < 3; k++)
+        out[k] = fabs(len - 1.0) > 1e-5 && len > 0.0 ? (float)(n[k] / len) : n[k];
 }
 static void get_uv(const lm_mesh *m, uint32_t w, float *out)
 {

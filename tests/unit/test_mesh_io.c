@@ -243,6 +243,20 @@ static void test_roundtrip_positions_only(void **state)
 }
 
 /* Dead elements are skipped: the file holds the live mesh only. */
+/* glTF's normals are unit (mesh_io_glb.c): what a GLB of m gives back. */
+static lm_mesh *with_unit_normals(const lm_mesh *m)
+{
+    lm_mesh *u = NULL;
+    assert_int_equal(lm_mesh_clone(m, &u), LM_OK);
+    for (uint32_t w = 0; w < u->n_wedges; w++) {
+        float *n = u->wedges[w].normal;
+        double len = sqrt((double)n[0] * n[0] + (double)n[1] * n[1] + (double)n[2] * n[2]);
+        for (int k = 0; len > 0.0 && fabs(len - 1.0) > 1e-5 && k < 3; k++)
+            n[k] = (float)(n[k] / len);
+    }
+    return u;
+}
+
 static void test_roundtrip_skips_dead(void **state)
 {
     (void)state;
@@ -257,7 +271,10 @@ static void test_roundtrip_skips_dead(void **state)
         lm_mesh *back = roundtrip(m, dir, names[i]);
         assert_int_equal(back->n_tris, m->live_tris);
         assert_int_equal(back->n_verts, m->live_verts);
-        assert_same_mesh(m, back, 0.5f / 255.0f, i != 1);
+        lm_mesh *want = i == 2 ? with_unit_normals(m) : m; /* the collapse interpolated some */
+        assert_same_mesh(want, back, 0.5f / 255.0f, i != 1);
+        if (want != m)
+            lm_mesh_destroy(want);
         lm_mesh_destroy(back);
     }
     lm_mesh_destroy(m);

@@ -1,0 +1,59 @@
+#!/usr/bin/env bash
+# tests/integration/gltf_validator.sh — every kind of GLB lumesh writes passes the Khronos
+# glTF-Validator (npm gltf-validator, installed by scripts/install-deps.sh from
+# tests/support/gltf) with no error and no warning: gen-frog's textured multi-part model, simplify
+# (qem, image, from an OBJ with its texture, from the assimp duck (Collada, textured), with
+# --cull-unseen), optimize, lod one file per level and --msft-lod, pm-extract. Every model is
+# converted with its texture beside it. Exits 77 (skipped, with the reason) without Node.js or
+# the package.
+set -uo pipefail
+here=$(cd "$(dirname "$0")" && pwd)
+source "$here/lib.bash"
+root=$(cd "$here/../.." && pwd)
+npmdir=${LUMESH_TEST_DATA:-$root/tests/data}/cache/npm-gltf
+skip() {
+  echo "SKIP: gltf_validator.sh: $*"
+  exit 77
+}
+command -v node >/dev/null || skip "no node (Node.js: scripts/install-deps.sh)"
+[ -e "$npmdir/node_modules/gltf-validator/package.json" ] ||
+  skip "no gltf-validator under $npmdir (scripts/install-deps.sh)"
+
+scratch
+# validate.mjs finds its package beside it
+cp "$root/tests/support/gltf/validate.mjs" "$tmp/validate.mjs"
+ln -s "$npmdir/node_modules" "$tmp/node_modules"
+small=(--views 4 --size 32 --device host)
+
+expect_exit 0 "$LUMESH" gen-frog -o "$tmp/frog.glb" --tris 1500 --seed 3
+expect_exit 0 "$LUMESH" gen-frog -o "$tmp/obj/frog.obj" --tris 1500 --seed 3
+expect_exit 0 "$LUMESH" simplify "$tmp/frog.glb" -o "$tmp/out/qem.glb" --target-verts 150
+expect_exit 0 "$LUMESH" simplify "$tmp/obj/frog.obj" -o "$tmp/out/from_obj.glb" --target-verts 150
+expect_exit 0 "$LUMESH" simplify "$tmp/frog.glb" -o "$tmp/out/image.glb" --target-verts 150 \
+  --method image --pm "$tmp/frog.pm" "${small[@]}"
+expect_exit 0 "$LUMESH" pm-extract "$tmp/frog.pm" -o "$tmp/out/pm.glb" --verts 300
+expect_exit 0 "$LUMESH" simplify "$tmp/frog.glb" -o "$tmp/out/culled.glb" --target-verts 150 \
+  --views upper:4 --size 32 --cull-unseen
+expect_exit 0 "$LUMESH" optimize "$tmp/frog.glb" -o "$tmp/out/optimized.glb" --target-verts 120 \
+  --start qem --evals 300 --seed 1 "${small[@]}"
+expect_exit 0 "$LUMESH" lod "$tmp/frog.glb" -o "$tmp/out/lod.glb" --levels 50%,20% --method qem \
+  --no-optimize "${small[@]}"
+expect_exit 0 "$LUMESH" lod "$tmp/frog.glb" -o "$tmp/out/msft.glb" --levels 50%,20% --method qem \
+  --no-optimize --msft-lod "${small[@]}"
+duck=${LUMESH_TEST_DATA:-$root/tests/data}/cache/root/usr/share/assimp/models/Collada/duck.dae
+if [ -e "$duck" ]; then
+  expect_exit 0 "$LUMESH" simplify "$duck" -o "$tmp/duck/duck.glb" --target-verts 300
+  cp "$(dirname "$duck")"/duckCM.* "$tmp/duck/" 2>/dev/null
+else
+  fail "test model missing: $duck (scripts/install-deps.sh fetches it)"
+fi
+
+glbs=("$tmp/frog.glb" "$tmp"/out/*.glb "$tmp"/duck/*.glb)
+checks=$((checks + 1))
+[ "${#glbs[@]}" -ge 11 ] || fail "expected at least 11 GLBs, got ${#glbs[@]}: ${glbs[*]}"
+checks=$((checks + 1))
+# (without the sanitizer run's LD_PRELOAD: Node.js does not run under the ASan runtime)
+env -u LD_PRELOAD node "$tmp/validate.mjs" "${glbs[@]}" >"$tmp/report.txt" 2>&1 ||
+  fail "the glTF-Validator found errors or warnings: $(grep -v ' 0 errors, 0 warnings' "$tmp/report.txt" | head -20)"
+cat "$tmp/report.txt"
+finish
