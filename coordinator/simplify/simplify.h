@@ -6,7 +6,13 @@
 
 #include "common/mesh.h"
 
-typedef enum co_simplify_method { CO_SIMPLIFY_QEM, CO_SIMPLIFY_CLUSTER } co_simplify_method;
+/* CO_SIMPLIFY_ADAPTIVE: Park, Lee & Lee's shape-adaptive simplification (adaptive.h), its
+ * tolerance searched for the target, which it then meets exactly where it can. */
+typedef enum co_simplify_method {
+    CO_SIMPLIFY_QEM,
+    CO_SIMPLIFY_CLUSTER,
+    CO_SIMPLIFY_ADAPTIVE
+} co_simplify_method;
 
 /* At most target_verts live vertices (an upper bound, as meshoptimizer and gltfpack treat it; the
  * searches aim within 5% of it and a result up to 5% above meets it). A model already at or below
