@@ -16,6 +16,9 @@
 /* The checks hold the points they test within this share of the tolerance, so that the surface
  * between them (a sampled distance) stays within the whole tolerance too. */
 #define CO_ADAPT_CHECK_SHARE 0.97
+/* Points on the original's features (feature-line and corner vertices, feature-edge midpoints)
+ * are held within this share of the tolerance: sharp edges kept tighter than smooth parts. */
+#define CO_ADAPT_FEATURE_SHARE 0.25
 #define CO_ADAPT_SAMPLE_STEPS 4     /* a changed triangle's sample grid: at least 12 points */
 #define CO_ADAPT_SAMPLE_SPACING 3.0 /* and a step at most this x the tolerance */
 #define CO_ADAPT_MAX_VALENCE 12     /* the paper's limit on edges at a vertex after a collapse */

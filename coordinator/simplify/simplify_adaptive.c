@@ -35,6 +35,7 @@ typedef struct adapt_base {
     double (*pts)[3]; /* the tolerance's points of the original: its vertices (by id), then its
                          triangles' centroids and its edges' midpoints */
     uint32_t *owner;  /* [n_pts]: the vertex that holds each point first (itself for a vertex) */
+    uint8_t *sharp;   /* [n_pts]: 1 for a point on a feature (held to CO_ADAPT_FEATURE_SHARE) */
     uint32_t n_pts;
     double (*nrm)[3];
     uint8_t *cls;
@@ -52,7 +53,7 @@ typedef struct adapt {
     lm_journal *j;
     owned *own;
     lm_iheap heap;
-    double e, e2, cos_max;
+    double e, e2, f2, cos_max; /* f2: the squared tolerance of feature points */
     uint32_t collapses, refused;
     uint32_t ring[RING_CAP], ring_b[RING_CAP], ring_a[RING_CAP], fan[RING_CAP];
     uint32_t before_ids[RING_CAP], n_before;
@@ -162,8 +163,9 @@ static uint32_t gather_fan(adapt *s, uint32_t v)
 static int near_fan(const adapt *s, uint32_t n, uint32_t p)
 {
     const double *q = s->base->pts[p];
+    double r2 = s->base->sharp[p] ? s->f2 : s->e2;
     for (uint32_t i = 0; i < n; i++)
-        if (lm_point_triangle_sq(q, s->corners[i][0], s->corners[i][1], s->corners[i][2]) <= s->e2)
+        if (lm_point_triangle_sq(q, s->corners[i][0], s->corners[i][1], s->corners[i][2]) <= r2)
             return 1;
     return 0;
 }
@@ -400,6 +402,7 @@ static lm_status pass(const adapt_base *base, double e_frac, uint32_t stop, co_a
     s->base = base;
     s->e = e_frac * base->diag;
     s->e2 = (CO_ADAPT_CHECK_SHARE * s->e) * (CO_ADAPT_CHECK_SHARE * s->e);
+    s->f2 = (CO_ADAPT_FEATURE_SHARE * s->e) * (CO_ADAPT_FEATURE_SHARE * s->e);
     s->cos_max = cos(CO_ADAPT_FEATURE_DEG * 3.14159265358979323846 / 180.0);
     lm_iheap_init(&s->heap);
     lm_status r = lm_mesh_clone(base->mesh, &s->m);
@@ -441,13 +444,15 @@ static void base_free(adapt_base *b)
     lm_bvh_destroy(b->bvh);
     free(b->pts);
     free(b->owner);
+    free(b->sharp);
     free(b->nrm);
     free(b->cls);
     lm_mesh_destroy(b->mesh);
 }
 
-static void add_point(adapt_base *b, uint32_t owner, const uint32_t *v, int n)
+static void add_point(adapt_base *b, uint32_t owner, const uint32_t *v, int n, int sharp)
 {
+    b->sharp[b->n_pts] = (uint8_t)sharp;
     double *p = b->pts[b->n_pts];
     for (int k = 0; k < 3; k++) {
         double sum = 0;
@@ -471,12 +476,13 @@ static lm_status base_points(adapt_base *b)
     size_t n = (size_t)m->n_verts + m->n_tris + ne;
     b->pts = malloc((n + 1) * sizeof *b->pts);
     b->owner = malloc((n + 1) * sizeof *b->owner);
-    if (!b->pts || !b->owner || n > UINT32_MAX) {
+    b->sharp = malloc(n + 1);
+    if (!b->pts || !b->owner || !b->sharp || n > UINT32_MAX) {
         free(e);
         return lm_fail(LM_E_NOMEM, "out of memory simplifying");
     }
     for (uint32_t v = 0; v < m->n_verts; v++)
-        add_point(b, v, &v, 1);
+        add_point(b, v, &v, 1, b->cls[v] != CO_ADAPT_SMOOTH);
     for (uint32_t t = 0; t < m->n_tris; t++) {
         if (!m->tri_alive[t])
             continue;
@@ -484,10 +490,11 @@ static lm_status base_points(adapt_base *b)
         for (int k = 0; k < 3; k++)
             c[k] = m->wedges[m->tris[t].w[k]].vertex;
         uint32_t lo = c[0] < c[1] ? c[0] : c[1];
-        add_point(b, lo < c[2] ? lo : c[2], c, 3);
+        add_point(b, lo < c[2] ? lo : c[2], c, 3, 0);
     }
+    double cos_max = cos(CO_ADAPT_FEATURE_DEG * 3.14159265358979323846 / 180.0);
     for (size_t i = 0; i < ne; i++)
-        add_point(b, e[i][0], e[i], 2);
+        add_point(b, e[i][0], e[i], 2, co_adapt_is_feature_edge(m, e[i][0], e[i][1], cos_max));
     free(e);
     return LM_OK;
 }
