@@ -151,8 +151,8 @@ static int check_target(const simplify_args *a)
     if (a->tolerance >= 0 && (a->image || a->method != CO_SIMPLIFY_ADAPTIVE))
         return co_cli_usage_error(CMD, "--tolerance goes with --method adaptive");
     if (a->tolerance == 0)
-        return co_cli_usage_error(CMD, "--tolerance expects a number above 0 (a fraction of the "
-                                       "bounding-box diagonal), got 0");
+        return co_cli_usage_error(CMD, "--tolerance must be above 0 (a fraction of the "
+                                       "bounding-box diagonal)");
     if (a->tolerance > 0 && a->target)
         return co_cli_usage_error(CMD, "give --tolerance E or --target-verts N, not both");
     if (a->tolerance < 0 && !a->target)

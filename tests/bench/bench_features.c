@@ -5,7 +5,9 @@
  * at least one an edge); each one's distance to the nearest feature edge of RESULT is measured.
  * Prints one JSON line: the feature edges of both, the samples, the mean and max of those
  * distances as fractions of the original's bounding-box diagonal, and the share of samples within
- * 0.001, 0.002 and 0.005 of the diagonal of a feature edge of RESULT.
+ * 0.001, 0.002 and 0.005 of the diagonal of a feature edge of RESULT; and for the original's
+ * corners (vertices with 1 or 3 and more feature edges), the share that RESULT has as a vertex
+ * (within 1e-6 of the diagonal) and their mean distance to RESULT's nearest vertex.
  *
  * usage: bench_features ORIGINAL RESULT [ANGLE (default 30)] */
 #include <math.h>
@@ -61,6 +63,37 @@ static double seg_dist_sq(const double p[3], const seg *s)
     return r;
 }
 
+/* Over the corners of o: the share with a vertex of r within 1e-6 x diag, the mean distance to
+ * r's nearest vertex (/ diag); returns the corners' count. */
+static uint32_t corners(const lm_mesh *o, const lm_mesh *r, double cos_max, double diag,
+                        double *kept, double *mean)
+{
+    uint8_t *cls = malloc(o->n_verts + 1);
+    uint32_t n = 0, k = 0;
+    double sum = 0;
+    if (cls && !co_adapt_vertex_classes(o, cos_max, cls))
+        for (uint32_t v = 0; v < o->n_verts; v++) {
+            if (!o->vert_alive[v] || cls[v] != CO_ADAPT_CORNER)
+                continue;
+            double best = INFINITY;
+            for (uint32_t u = 0; u < r->n_verts; u++) {
+                double d = 0;
+                for (int x = 0; x < 3; x++)
+                    d += ((double)o->pos[v][x] - r->pos[u][x]) *
+                         ((double)o->pos[v][x] - r->pos[u][x]);
+                best = fmin(best, d);
+            }
+            best = sqrt(best) / diag;
+            k += best <= 1e-6;
+            sum += best;
+            n++;
+        }
+    free(cls);
+    *kept = n ? (double)k / n : 1;
+    *mean = n ? sum / n : 0;
+    return n;
+}
+
 static double diagonal(const lm_mesh *m)
 {
     double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
@@ -92,8 +125,9 @@ int main(int argc, char **argv)
     size_t samples = 0, within[3] = {0, 0, 0};
     const double tol[3] = {0.001, 0.002, 0.005};
     for (size_t i = 0; fo && fr && i < no; i++) {
-        double len = sqrt(seg_dist_sq(fo[i].b, &(seg){{fo[i].a[0], fo[i].a[1], fo[i].a[2]},
-                                                      {fo[i].a[0], fo[i].a[1], fo[i].a[2]}}));
+        double len = sqrt((fo[i].b[0] - fo[i].a[0]) * (fo[i].b[0] - fo[i].a[0]) +
+                          (fo[i].b[1] - fo[i].a[1]) * (fo[i].b[1] - fo[i].a[1]) +
+                          (fo[i].b[2] - fo[i].a[2]) * (fo[i].b[2] - fo[i].a[2]));
         int k = (int)ceil(len / step);
         k = k < 1 ? 1 : k;
         for (int j = 0; j < k; j++) {
@@ -110,11 +144,14 @@ int main(int argc, char **argv)
             samples++;
         }
     }
-    double n = samples ? (double)samples : 1;
+    double n = samples ? (double)samples : 1, kept = 0, cmean = 0;
+    uint32_t nc = corners(o, r, cos_max, diag, &kept, &cmean);
     printf("{\"original_feature_edges\": %zu, \"result_feature_edges\": %zu, \"samples\": %zu, "
            "\"mean\": %.6g, \"max\": %.6g, \"within_0.001\": %.4f, \"within_0.002\": %.4f, "
-           "\"within_0.005\": %.4f}\n",
-           no, nr, samples, sum / n, mx, within[0] / n, within[1] / n, within[2] / n);
+           "\"within_0.005\": %.4f, \"corners\": %u, \"corners_kept\": %.4f, "
+           "\"corner_mean\": %.6g}\n",
+           no, nr, samples, sum / n, mx, within[0] / n, within[1] / n, within[2] / n, nc, kept,
+           cmean);
     free(fo);
     free(fr);
     lm_mesh_destroy(o);
