@@ -281,8 +281,9 @@ static void print_summary(const simplify_args *a, const lm_mesh *in, const lm_me
     if (a->method == CO_SIMPLIFY_QEM)
         snprintf(how, sizeof how, "qem");
     else if (a->method == CO_SIMPLIFY_ADAPTIVE)
-        snprintf(how, sizeof how, "adaptive, tolerance %.4g of the diagonal, %u pass%s",
-                 st->tolerance, st->runs, st->runs == 1 ? "" : "es");
+        snprintf(how, sizeof how, "adaptive, tolerance %.4g of the diagonal, %u pass%s%s",
+                 st->tolerance, st->runs, st->runs == 1 ? "" : "es",
+                 st->soft_features ? ", features held by the tolerance alone" : "");
     printf("lumesh simplify: %s %u vertices / %u triangles -> %u vertices / %u triangles "
            "(%s, load %.2f s, simplify %.2f s) -> %s\n",
            a->input, in->live_verts, in->live_tris, out->live_verts, out->live_tris, how, load_s,

@@ -28,12 +28,17 @@ typedef struct co_adapt_stats {
     uint32_t runs;      /* simplification passes (the --target-verts search makes several) */
     uint32_t collapses; /* collapses kept in the final pass */
     uint32_t refused;   /* collapses tried and undone in the final pass */
+    int soft_features;  /* 1 when --target-verts could not be reached with corners fixed and
+                           feature-line vertices moving along their lines only: then features
+                           are held by CO_ADAPT_FEATURE_SHARE of the tolerance alone */
 } co_adapt_stats;
 
 /* Simplify `in` (validated, with triangles). tolerance > 0: every collapse that keeps the surface
  * within tolerance x diagonal (see SIMPLIFY.md, "Shape-adaptive"), target_verts ignored.
  * tolerance 0: the smallest tolerance (searched) whose pass reaches target_verts (>= 4), stopped
- * at exactly target_verts; LM_E_RANGE with the best mesh when no tolerance reaches it. The
+ * at exactly target_verts (where the features' rules stop short of the target at any tolerance,
+ * a scan's noise, the search runs again with the features held by the tolerance alone);
+ * LM_E_RANGE with the best mesh when no tolerance reaches it. The
  * result keeps materials, attributes and parts (co_simplify_keep_parts). stats may be NULL. */
 lm_status co_simplify_adaptive(const lm_mesh *in, double tolerance, uint32_t target_verts,
                                co_adapt_stats *stats, lm_mesh **out);

@@ -41,6 +41,7 @@ typedef struct adapt_base {
     uint8_t *cls;
     lm_bvh *bvh;
     double diag;
+    int soft; /* features held by the tighter tolerance only: corners and lines may move */
 } adapt_base;
 
 typedef struct owned {
@@ -99,6 +100,8 @@ static double omega(const adapt *s, uint32_t b, uint32_t a)
 static int eligible(const adapt *s, uint32_t b, uint32_t a)
 {
     uint8_t c = s->base->cls[b];
+    if (s->base->soft)
+        return 1;
     if (c == CO_ADAPT_CORNER)
         return 0;
     return c == CO_ADAPT_SMOOTH || co_adapt_is_feature_edge(s->m, b, a, s->cos_max);
@@ -540,11 +543,19 @@ static lm_status count_at(const adapt_base *b, double e, co_adapt_stats *st, uin
 }
 
 /* The --target-verts search: the least tolerance (within the bisection) that reaches target. */
-static lm_status search(const adapt_base *b, uint32_t target, co_adapt_stats *st, lm_mesh **out)
+static lm_status search(adapt_base *b, uint32_t target, co_adapt_stats *st, lm_mesh **out)
 {
     double lo = 0, hi = CO_ADAPT_SEARCH_START;
-    uint32_t n = 0;
+    uint32_t n = 0, most = 0;
     lm_status s = count_at(b, hi, st, &n);
+    if (!s && n > target) /* can the features' rules reach the target at all? */
+        s = count_at(b, CO_ADAPT_SEARCH_MAX, st, &most);
+    if (!s && n > target && most > target) { /* no: features held by the tolerance alone */
+        b->soft = 1;
+        if (st)
+            st->soft_features = 1;
+        s = count_at(b, hi, st, &n);
+    }
     while (!s && n > target && hi < CO_ADAPT_SEARCH_MAX) { /* too many: a larger tolerance */
         lo = hi;
         hi = 2 * hi < CO_ADAPT_SEARCH_MAX ? 2 * hi : CO_ADAPT_SEARCH_MAX;
@@ -554,8 +565,8 @@ static lm_status search(const adapt_base *b, uint32_t target, co_adapt_stats *st
         s = pass(b, hi, target, st, out);
         if (!s)
             s = lm_fail(LM_E_RANGE,
-                        "no legal collapse is left at %u vertices (corners, "
-                        "feature lines and closed parts stop the adaptive method)",
+                        "no legal collapse is left at %u vertices (closed parts and "
+                        "folds stop the adaptive method)",
                         (*out)->live_verts);
         return s;
     }
