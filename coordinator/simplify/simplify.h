@@ -1,6 +1,7 @@
 /* coordinator/simplify/simplify.h — initial simplifiers that make the coarse mesh M: QEM through
- * meshoptimizer (attribute-aware where the library allows, UV seams preserved) and Rossignac–Borrel
- * vertex clustering (the paper's Figure 7a input). The result keeps materials and attributes. */
+ * meshoptimizer (attribute-aware where the library allows, UV seams preserved), Rossignac–Borrel
+ * vertex clustering (the paper's Figure 7a input) and Park, Lee & Lee's shape-adaptive
+ * simplification (adaptive.h). The result keeps materials and attributes. */
 #ifndef LM_COMMON_SIMPLIFY_H
 #define LM_COMMON_SIMPLIFY_H
 
