@@ -5,7 +5,7 @@
 #include <math.h>
 #include <string.h>
 
-static void tri_normal(const lm_mesh *m, uint32_t t, double n[3])
+void co_adapt_tri_cross(const lm_mesh *m, uint32_t t, double n[3])
 {
     const float *p[3];
     for (int k = 0; k < 3; k++)
@@ -15,7 +15,7 @@ static void tri_normal(const lm_mesh *m, uint32_t t, double n[3])
         u[i] = (double)p[1][i] - (double)p[0][i];
         v[i] = (double)p[2][i] - (double)p[0][i];
     }
-    n[0] = u[1] * v[2] - u[2] * v[1]; /* |n| = twice the area: area weighting */
+    n[0] = u[1] * v[2] - u[2] * v[1];
     n[1] = u[2] * v[0] - u[0] * v[2];
     n[2] = u[0] * v[1] - u[1] * v[0];
 }
@@ -27,7 +27,7 @@ void co_adapt_vertex_normals(const lm_mesh *m, double (*out)[3])
         if (!m->tri_alive[t])
             continue;
         double n[3];
-        tri_normal(m, t, n);
+        co_adapt_tri_cross(m, t, n); /* |n| = twice the area: area weighting */
         for (int k = 0; k < 3; k++) {
             double *o = out[m->wedges[m->tris[t].w[k]].vertex];
             o[0] += n[0];

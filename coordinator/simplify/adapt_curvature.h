@@ -8,6 +8,9 @@
 
 #include "common/mesh.h"
 
+/* n = (p1 - p0) x (p2 - p0) of triangle t (twice its area long), in double precision. */
+void co_adapt_tri_cross(const lm_mesh *m, uint32_t t, double n[3]);
+
 /* out[v] = unit area-weighted normal of vertex v over its live triangles ((0,0,0) where none or
  * degenerate). out holds m->n_verts entries. */
 void co_adapt_vertex_normals(const lm_mesh *m, double (*out)[3]);

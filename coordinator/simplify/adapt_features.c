@@ -6,20 +6,11 @@
 #include <stdlib.h>
 
 #include "common/mesh_topology.h"
+#include "coordinator/simplify/adapt_curvature.h"
 
 static void unit_normal(const lm_mesh *m, uint32_t t, double n[3])
 {
-    const float *p[3];
-    for (int k = 0; k < 3; k++)
-        p[k] = m->pos[m->wedges[m->tris[t].w[k]].vertex];
-    double u[3], v[3];
-    for (int i = 0; i < 3; i++) {
-        u[i] = (double)p[1][i] - (double)p[0][i];
-        v[i] = (double)p[2][i] - (double)p[0][i];
-    }
-    n[0] = u[1] * v[2] - u[2] * v[1];
-    n[1] = u[2] * v[0] - u[0] * v[2];
-    n[2] = u[0] * v[1] - u[1] * v[0];
+    co_adapt_tri_cross(m, t, n);
     double len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
     for (int i = 0; i < 3 && len > 0; i++)
         n[i] /= len;

@@ -71,21 +71,6 @@ static void posd(const lm_mesh *m, uint32_t v, double p[3])
     p[2] = m->pos[v][2];
 }
 
-static void tri_cross(const lm_mesh *m, uint32_t t, double n[3])
-{
-    double p[3][3];
-    for (int k = 0; k < 3; k++)
-        posd(m, m->wedges[m->tris[t].w[k]].vertex, p[k]);
-    double u[3], v[3];
-    for (int i = 0; i < 3; i++) {
-        u[i] = p[1][i] - p[0][i];
-        v[i] = p[2][i] - p[0][i];
-    }
-    n[0] = u[1] * v[2] - u[2] * v[1];
-    n[1] = u[2] * v[0] - u[0] * v[2];
-    n[2] = u[0] * v[1] - u[1] * v[0];
-}
-
 static double omega(const adapt *s, uint32_t b, uint32_t a)
 {
     double pa[3], pb[3];
@@ -141,7 +126,7 @@ static int fold_ok(adapt *s)
         if (!s->m->tri_alive[t])
             continue;
         double n[3], *o = s->before[i];
-        tri_cross(s->m, t, n);
+        co_adapt_tri_cross(s->m, t, n);
         double dot = n[0] * o[0] + n[1] * o[1] + n[2] * o[2];
         double nn = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
         double on = sqrt(o[0] * o[0] + o[1] * o[1] + o[2] * o[2]);
@@ -282,7 +267,7 @@ static int try_collapse(adapt *s, uint32_t b, uint32_t a)
     if (s->n_before > RING_CAP || na > RING_CAP || nb > RING_CAP)
         return 0;
     for (uint32_t i = 0; i < s->n_before; i++)
-        tri_cross(s->m, s->before_ids[i], s->before[i]);
+        co_adapt_tri_cross(s->m, s->before_ids[i], s->before[i]);
     if (lm_mesh_collapse_edge(s->m, a, b, s->m->pos[a], s->j) != LM_OK)
         return 0;
     if (collapse_ok(s, b, a, na, nb))
