@@ -299,3 +299,36 @@ double lm_bvh_closest_sq(const lm_bvh *b, const double p[3])
     }
     return best;
 }
+
+int lm_bvh_within(const lm_bvh *b, const double p[3], double r2)
+{
+    uint32_t stack[BVH_STACK];
+    int top = 0;
+    if (box_sq(&b->nodes[0], p) > r2)
+        return 0;
+    stack[top++] = 0;
+    while (top > 0) {
+        const bvh_node *nd = &b->nodes[stack[--top]];
+        if (nd->count) {
+            for (uint32_t i = nd->first; i < nd->first + nd->count; i++) {
+                double t[3][3];
+                for (int v = 0; v < 3; v++)
+                    for (int k = 0; k < 3; k++)
+                        t[v][k] = b->tri[i][v][k];
+                if (lm_point_triangle_sq(p, t[0], t[1], t[2]) <= r2)
+                    return 1;
+            }
+            continue;
+        }
+        uint32_t near = (uint32_t)(nd - b->nodes) + 1, far = nd->first;
+        double dn = box_sq(&b->nodes[near], p), df = box_sq(&b->nodes[far], p);
+        LM_ASSERT(top + 2 <= BVH_STACK);
+        if (df <= r2 && df >= dn)
+            stack[top++] = far;
+        if (dn <= r2)
+            stack[top++] = near;
+        if (df <= r2 && df < dn)
+            stack[top++] = far;
+    }
+    return 0;
+}

@@ -20,6 +20,10 @@ void lm_bvh_destroy(lm_bvh *b);
 /* Squared distance from p to the closest point of the surface. */
 double lm_bvh_closest_sq(const lm_bvh *b, const double p[3]);
 
+/* 1 when some triangle is within squared distance r2 of p (lm_bvh_closest_sq(b, p) <= r2,
+ * answered at the first such triangle). */
+int lm_bvh_within(const lm_bvh *b, const double p[3], double r2);
+
 /* Squared distance from p to triangle (a, b, c) (Ericson, Real-Time Collision Detection 5.1.5);
  * exposed for tests, which compare the hierarchy against every triangle. */
 double lm_point_triangle_sq(const double p[3], const double a[3], const double b[3],

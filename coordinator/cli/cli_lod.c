@@ -20,7 +20,7 @@ static void usage(FILE *f)
 {
     fprintf(f,
             "usage: lumesh lod ORIGINAL -o OUT --levels 50%%,25%%,10%%[,...] [--method "
-            "image|shard|qem]\n"
+            "image|shard|qem|adaptive]\n"
             "                  [--evals N] [--no-optimize] [--msft-lod] [--manifest PATH]\n"
             "                  [--screen-height PX] [--fov DEG] [--pixel-error P]\n"
             "                  [--views N] [--size S] [--device D] [--workers N]\n"
@@ -54,7 +54,8 @@ static void usage(FILE *f)
             "  --levels LIST        vertex counts, as percentages of ORIGINAL's (100%% is\n"
             "                       ORIGINAL as it is) or as numbers, strictly decreasing\n"
             "  --method M           image (default): image-driven collapses; shard: Pfeiffer's\n"
-            "                       shards; qem: meshoptimizer's QEM\n"
+            "                       shards; qem: meshoptimizer's QEM; adaptive: Park, Lee &\n"
+            "                       Lee's shape-adaptive simplification (sharp edges kept)\n"
             "  --evals N            optimisation budget per level in evaluations (default %llu)\n"
             "  --no-optimize        levels as simplified\n"
             "  --views N, --size S  the views (default %u of %d pixels); --views upper[:N]: on\n"
@@ -83,9 +84,11 @@ static int parse_method(void *to, const char *v)
 {
     co_lod_options *o = to;
     o->qem = !strcmp(v, "qem");
+    o->adaptive = !strcmp(v, "adaptive");
     o->method = !strcmp(v, "shard") ? CO_PRICE_SHARD : CO_PRICE_IMAGE;
-    if (!o->qem && strcmp(v, "image") && strcmp(v, "shard"))
-        return co_cli_usage_error(CMD, "--method expects image, shard or qem, got '%s'", v);
+    if (!o->qem && !o->adaptive && strcmp(v, "image") && strcmp(v, "shard"))
+        return co_cli_usage_error(CMD, "--method expects image, shard, qem or adaptive, got '%s'",
+                                  v);
     return -1;
 }
 

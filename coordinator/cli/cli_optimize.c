@@ -16,7 +16,7 @@
 #include "coordinator/quality/report.h"
 
 static const char co_optimize_help[] =
-    "usage: lumesh optimize ORIGINAL -o OUT [--initial COARSE | [--start image|qem]\n"
+    "usage: lumesh optimize ORIGINAL -o OUT [--initial COARSE | [--start image|qem|adaptive]\n"
     "                       [--target-verts N]] [--views 30] [--size 208] [--evals N]\n"
     "                       [--time SECONDS] [--seed S]\n"
     "                       [--checkpoint FILE [--checkpoint-every N|Ns]] [--resume FILE]\n"
@@ -41,8 +41,10 @@ static const char co_optimize_help[] =
     "                          to 10x the target, then the edge collapses that change the images\n"
     "                          least, with the geometric term below; on the job's workers, for\n"
     "                          about as long as 100,000 evaluations; the better result on every\n"
-    "                          model measured) or qem (quadric error only: seconds, the paper's\n"
-    "                          start). Part of the job, like the seed\n"
+    "                          model measured), qem (quadric error only: seconds, the paper's\n"
+    "                          start) or adaptive (Park, Lee & Lee's shape-adaptive\n"
+    "                          simplification, sharp edges kept; lumesh simplify --method\n"
+    "                          adaptive). Part of the job, like the seed\n"
     "  --save-initial FILE     also write the coarse mesh the optimisation starts from (after\n"
     "                          its preparation) to FILE\n"
     "  --target-verts N        vertices of the coarse mesh (default: 1%% of the original's\n"
@@ -157,8 +159,10 @@ static int parse_start(void *to, const char *val)
         o->start = CO_JOB_START_IMAGE;
     else if (!strcmp(val, "qem"))
         o->start = CO_JOB_START_QEM;
+    else if (!strcmp(val, "adaptive"))
+        o->start = CO_JOB_START_ADAPTIVE;
     else
-        return co_cli_usage_error(CMD, "--start expects image or qem, got '%s'", val);
+        return co_cli_usage_error(CMD, "--start expects image, qem or adaptive, got '%s'", val);
     return -1;
 }
 

@@ -1,8 +1,9 @@
 /* coordinator/cli/cli_simplify.c — `lumesh simplify ORIGINAL -o OUT --target-verts N
- * [--method qem|cluster|image|shard]`: load a model, make the coarse mesh with QEM
- * (meshoptimizer), Rossignac–Borrel vertex clustering, or image-driven edge collapses (priced by
- * the exact image energy, or by shards: coordinator/simplify/), write it atomically, print a
- * one-line summary. The target is
+ * [--method qem|cluster|adaptive|image|shard]` (adaptive also with --tolerance E instead of
+ * the target): load a model, make the coarse mesh with QEM (meshoptimizer), Rossignac–Borrel
+ * vertex clustering, Park, Lee & Lee's shape-adaptive simplification, or image-driven edge
+ * collapses (priced by the exact image energy, or by shards: coordinator/simplify/), write it
+ * atomically, print a one-line summary. The target is
  * an upper bound: a model already small enough is written as it is (with a note), and where the
  * simplifier cannot reach the target the best mesh it reached is written with a warning (exit 0).
  * Exit 1 is kept for real errors (unreadable model, bad flag), which write nothing. */
@@ -16,6 +17,7 @@
 #include "common/io/mesh_io.h"
 #include "coordinator/cli/cli_args.h"
 #include "coordinator/quality/cull_unseen.h"
+#include "coordinator/simplify/adaptive.h"
 #include "coordinator/simplify/simplify.h"
 #include "coordinator/simplify/simplify_job.h"
 
@@ -25,7 +27,8 @@ typedef struct simplify_args {
     const char *input, *output;
     uint32_t target;
     co_simplify_method method;
-    int image; /* --method image or shard: coordinator/simplify */
+    double tolerance; /* --tolerance (adaptive); -1: not given */
+    int image;        /* --method image or shard: coordinator/simplify */
     co_simplify_options image_opts;
 } simplify_args;
 
@@ -34,6 +37,8 @@ static void usage(FILE *f)
     fputs(
         "usage: lumesh simplify ORIGINAL -o OUT --target-verts N [--method qem|cluster|image|"
         "shard]\n"
+        "       lumesh simplify ORIGINAL -o OUT --method adaptive (--tolerance E | --target-verts "
+        "N)\n"
         "                       [--views N] [--size S] [--device D] [--workers N]\n"
         "                       [--listen tcp://ADDR:PORT] [--keys DIR] [--renderer ID]\n"
         "                       [--presimplify M] [--reference MODEL] [--pm FILE]\n"
@@ -52,6 +57,13 @@ static void usage(FILE *f)
         "                         UV seams, materials and separate parts;\n"
         "                         cluster: Rossignac-Borrel vertex clustering on a grid, with\n"
         "                         double-sided faces removed (the paper's Figure 7a input);\n"
+        "                         adaptive: Park, Lee & Lee's shape-adaptive simplification:\n"
+        "                         edges collapsed toward the optimal length that the curvature\n"
+        "                         along them allows for a tolerance; sharp edges (above 30\n"
+        "                         degrees), seams, borders and corners kept; for scans and CAD\n"
+        "                         parts, where the surface matters more than looks; with\n"
+        "                         --target-verts it searches the tolerance and ends at exactly N\n"
+        "                         (where the features allow);\n"
         "                         image: greedy edge collapses, each priced by the exact change\n"
         "                         of the image energy against the model's own images over the\n"
         "                         views (Lindstrom & Turk); crosses seams and part borders when\n"
@@ -62,6 +74,11 @@ static void usage(FILE *f)
         "  --cull-unseen          remove from OUT the triangles no view sees (--views, --size\n"
         "                         or --views-from as below, also with qem and cluster; the\n"
         "                         views rendered 4x larger by the exact CPU rasteriser)\n"
+        "adaptive:\n"
+        "  --tolerance E          instead of --target-verts: simplify as far as the surface stays\n"
+        "                         within E x the bounding-box diagonal (0 < E <= 1; checked from\n"
+        "                         the removed vertices to the result and from sampled points of\n"
+        "                         the result to ORIGINAL)\n"
         "image and shard:\n"
         "  --views N, --size S    the views (default 20 of 256 pixels); --views upper[:N]: on\n"
         "                         the hemisphere above the model (+Y up)\n"
@@ -104,9 +121,11 @@ static int parse_method(void *to, const char *val)
         a->method = CO_SIMPLIFY_QEM;
     else if (!strcmp(val, "cluster"))
         a->method = CO_SIMPLIFY_CLUSTER;
+    else if (!strcmp(val, "adaptive"))
+        a->method = CO_SIMPLIFY_ADAPTIVE;
     else if (!a->image)
-        return co_cli_usage_error(CMD, "--method expects qem, cluster, image or shard, got '%s'",
-                                  val);
+        return co_cli_usage_error(
+            CMD, "--method expects qem, cluster, adaptive, image or shard, got '%s'", val);
     return -1;
 }
 
@@ -132,6 +151,21 @@ static int check_method(const simplify_args *a)
     return co_cli_check_simplify_workers(CMD, &o->workers);
 }
 
+/* -1 when --target-verts and --tolerance go together as given, else 1 (said). */
+static int check_target(const simplify_args *a)
+{
+    if (a->tolerance >= 0 && (a->image || a->method != CO_SIMPLIFY_ADAPTIVE))
+        return co_cli_usage_error(CMD, "--tolerance goes with --method adaptive");
+    if (a->tolerance == 0)
+        return co_cli_usage_error(CMD, "--tolerance must be above 0 (a fraction of the "
+                                       "bounding-box diagonal)");
+    if (a->tolerance > 0 && a->target)
+        return co_cli_usage_error(CMD, "give --tolerance E or --target-verts N, not both");
+    if (a->tolerance < 0 && !a->target)
+        return co_cli_usage_error(CMD, "missing --target-verts N (see --help)");
+    return -1;
+}
+
 static const co_cli_spec spec = {CMD, usage, 1, 1, "missing ORIGINAL model (see --help)", NULL, 1};
 
 static int parse(int argc, char **argv, simplify_args *a)
@@ -140,7 +174,8 @@ static int parse(int argc, char **argv, simplify_args *a)
     const co_opt opts[] = {
         CO_OPT_OUTPUT_NEEDED(&a->output, "missing -o OUT (see --help)"),
         {CO_OPT_ROW("target-verts", 'n', CO_OPT_KIND_U32, uint32_t, &a->target), .lo = 1,
-         .hi = LM_MESH_MAX_VERTS, .needed = "missing --target-verts N (see --help)"},
+         .hi = LM_MESH_MAX_VERTS},
+        CO_OPT_DOUBLE("tolerance", &a->tolerance, 0, 1),
         CO_OPT_CALL("method", 'm', parse_method, a),
         CO_OPT_VIEWS(&o->views),
         CO_OPT_SIZE_INT(&o->size),
@@ -157,7 +192,8 @@ static int parse(int argc, char **argv, simplify_args *a)
     if (rc >= 0)
         return rc;
     a->input = argv[optind];
-    return check_method(a);
+    rc = check_target(a);
+    return rc >= 0 ? rc : check_method(a);
 }
 
 static double now_s(void)
@@ -239,9 +275,43 @@ static int run_image(simplify_args *a)
     return 0;
 }
 
+/* --method adaptive: by tolerance, or by target (above the model's size: an error). */
+static lm_status run_adaptive(const simplify_args *a, const lm_mesh *in, co_adapt_stats *st,
+                              lm_mesh **out)
+{
+    if (a->target > in->live_verts)
+        return lm_fail(LM_E_INVALID, "--target-verts %u is above the %u vertices of %s", a->target,
+                       in->live_verts, a->input);
+    if (a->target && a->target == in->live_verts)
+        return co_simplify(in, CO_SIMPLIFY_ADAPTIVE, a->target, out);
+    lm_status s = co_simplify_adaptive(in, a->tolerance > 0 ? a->tolerance : 0,
+                                       a->target && a->target < 4 ? 4 : a->target, st, out);
+    if (!s && a->target && a->target < 4)
+        s = lm_fail(LM_E_RANGE, "a target of %u vertices is below the minimum of 4 (best: %u)",
+                    a->target, (*out)->live_verts);
+    return s;
+}
+
+static void print_summary(const simplify_args *a, const lm_mesh *in, const lm_mesh *out,
+                          const co_adapt_stats *st, double load_s, double simplify_s,
+                          const char *culled)
+{
+    char how[128] = "cluster";
+    if (a->method == CO_SIMPLIFY_QEM)
+        snprintf(how, sizeof how, "qem");
+    else if (a->method == CO_SIMPLIFY_ADAPTIVE)
+        snprintf(how, sizeof how, "adaptive, tolerance %.4g of the diagonal, %u pass%s%s",
+                 st->tolerance, st->runs, st->runs == 1 ? "" : "es",
+                 st->soft_features ? ", features held by the tolerance alone" : "");
+    printf("lumesh simplify: %s %u vertices / %u triangles -> %u vertices / %u triangles "
+           "(%s, load %.2f s, simplify %.2f s%s) -> %s\n",
+           a->input, in->live_verts, in->live_tris, out->live_verts, out->live_tris, how, load_s,
+           simplify_s, culled, a->output);
+}
+
 int co_cli_simplify(int argc, char **argv)
 {
-    simplify_args a = {.method = CO_SIMPLIFY_QEM};
+    simplify_args a = {.method = CO_SIMPLIFY_QEM, .tolerance = -1};
     int rc = parse(argc, argv, &a);
     if (rc >= 0)
         return rc;
@@ -252,8 +322,10 @@ int co_cli_simplify(int argc, char **argv)
     double t0 = now_s();
     lm_status s = lm_mesh_load(a.input, NULL, &in), reach = LM_OK;
     double t1 = now_s();
+    co_adapt_stats ast = {0};
     if (!s)
-        s = reach = co_simplify(in, a.method, a.target, &out);
+        s = reach = a.method == CO_SIMPLIFY_ADAPTIVE ? run_adaptive(&a, in, &ast, &out)
+                                                     : co_simplify(in, a.method, a.target, &out);
     if (s == LM_E_RANGE && out) { /* the best mesh reached: written, with a warning */
         snprintf(why, sizeof why, "%s", lm_last_error());
         s = LM_OK;
@@ -268,11 +340,7 @@ int co_cli_simplify(int argc, char **argv)
     if (!s) {
         report_target(&a, in, out, reach, why);
         co_simplify_warn_lost_parts(CMD, in, out);
-        printf("lumesh simplify: %s %u vertices / %u triangles -> %u vertices / %u triangles "
-               "(%s, load %.2f s, simplify %.2f s%s) -> %s\n",
-               a.input, in->live_verts, in->live_tris, out->live_verts, out->live_tris,
-               a.method == CO_SIMPLIFY_QEM ? "qem" : "cluster", t1 - t0, t2 - t1,
-               culled_note(o, culled), a.output);
+        print_summary(&a, in, out, &ast, t1 - t0, t2 - t1, culled_note(o, culled));
     }
     lm_mesh_destroy(in);
     lm_mesh_destroy(out);

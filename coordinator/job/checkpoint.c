@@ -264,9 +264,10 @@ static lm_status verify_frame(const char *path, const uint8_t *d, size_t n, uint
 /* The flag that made a start (initial_hash). */
 static const char *start_flag(uint64_t initial_hash)
 {
-    return initial_hash == 0                           ? "--start qem"
-           : initial_hash == CO_CHECKPOINT_IMAGE_START ? "--start image"
-                                                       : "--initial";
+    return initial_hash == 0                              ? "--start qem"
+           : initial_hash == CO_CHECKPOINT_IMAGE_START    ? "--start image"
+           : initial_hash == CO_CHECKPOINT_ADAPTIVE_START ? "--start adaptive"
+                                                          : "--initial";
 }
 
 static lm_status verify_key(const char *path, const co_checkpoint_key *got,

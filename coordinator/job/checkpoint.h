@@ -31,7 +31,8 @@
 typedef struct co_checkpoint_key {
     uint64_t original_hash; /* co_checkpoint_hash_file() of the original model file */
     uint64_t initial_hash;  /* same for the --initial file; 0 when the coarse mesh came from QEM,
-                               CO_CHECKPOINT_IMAGE_START from the image-driven simplification */
+                               CO_CHECKPOINT_IMAGE_START from the image-driven simplification,
+                               CO_CHECKPOINT_ADAPTIVE_START from the shape-adaptive one */
     uint64_t seed;
     uint32_t target_verts; /* resolved target of the initial simplification; 0 with --initial */
     uint32_t views;
@@ -44,6 +45,8 @@ typedef struct co_checkpoint_key {
 
 /* initial_hash of a job that started from the image-driven simplification ("image-v1"). */
 #define CO_CHECKPOINT_IMAGE_START 0x696d6167652d7631ull
+/* initial_hash of a job that started from the shape-adaptive simplification ("adapt-v1"). */
+#define CO_CHECKPOINT_ADAPTIVE_START 0x61646170742d7631ull
 
 /* Writes the payload to fp (a memory stream); returns LM_OK or an error (nothing is written then).
  */

@@ -341,7 +341,8 @@ static lm_status image_start(co_job *j, lm_mesh **out)
     return st;
 }
 
-/* QEM of the original, the image-driven simplification, or the user's --initial mesh. */
+/* QEM or the shape-adaptive simplification of the original, the image-driven one, or the user's
+ * --initial mesh. */
 static lm_status make_coarse(co_job *j, lm_mesh **out)
 {
     *out = NULL;
@@ -350,9 +351,11 @@ static lm_status make_coarse(co_job *j, lm_mesh **out)
     if (j->o.start == CO_JOB_START_IMAGE)
         return image_start(j, out);
     int short_of;
-    co_meter_phase(&j->meter, "start: QEM to %" PRIu32 " vertices", j->o.target_verts);
-    lm_status st =
-        co_simplify_best(j->original, CO_SIMPLIFY_QEM, j->o.target_verts, out, &short_of);
+    int adaptive = j->o.start == CO_JOB_START_ADAPTIVE;
+    co_meter_phase(&j->meter, "start: %s to %" PRIu32 " vertices",
+                   adaptive ? "shape-adaptive" : "QEM", j->o.target_verts);
+    lm_status st = co_simplify_best(j->original, adaptive ? CO_SIMPLIFY_ADAPTIVE : CO_SIMPLIFY_QEM,
+                                    j->o.target_verts, out, &short_of);
     co_meter_end(&j->meter);
     if (short_of)
         note(j, "warning", "%s; going on with %" PRIu32 " vertices", lm_last_error(),
@@ -375,9 +378,10 @@ static lm_status prepare_coarse(co_job *j, lm_mesh *m)
         st = lm_mesh_validate(m);
     if (st == LM_OK)
         note(j, "coarse", "%s: %" PRIu32 " vertices, %" PRIu32 " triangles",
-             j->o.initial_path                  ? j->o.initial_path
-             : j->o.start == CO_JOB_START_IMAGE ? "image-driven"
-                                                : "QEM",
+             j->o.initial_path                     ? j->o.initial_path
+             : j->o.start == CO_JOB_START_IMAGE    ? "image-driven"
+             : j->o.start == CO_JOB_START_ADAPTIVE ? "shape-adaptive"
+                                                   : "QEM",
              m->live_verts, m->live_tris);
     return st;
 }
@@ -477,6 +481,8 @@ static lm_status make_key(co_job *j)
         st = co_checkpoint_hash_file(j->o.initial_path, &k->initial_hash);
     else if (j->o.start == CO_JOB_START_IMAGE)
         k->initial_hash = CO_CHECKPOINT_IMAGE_START;
+    else if (j->o.start == CO_JOB_START_ADAPTIVE)
+        k->initial_hash = CO_CHECKPOINT_ADAPTIVE_START;
     k->seed = j->o.seed;
     k->target_verts = j->o.initial_path ? 0 : j->o.target_verts;
     k->views = j->o.views.count;

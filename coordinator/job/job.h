@@ -59,6 +59,7 @@ typedef enum co_job_start {
     CO_JOB_START_DEFAULT = 0,
     CO_JOB_START_QEM,
     CO_JOB_START_IMAGE,
+    CO_JOB_START_ADAPTIVE, /* Park, Lee & Lee's shape-adaptive simplification at the target */
 } co_job_start;
 #define CO_JOB_DEFAULT_START CO_JOB_START_IMAGE
 /* The geometric term's share for the image start's collapses when the job's is 0 (the default);

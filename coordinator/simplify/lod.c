@@ -123,22 +123,24 @@ static lm_status make_views(lod *L)
     return st;
 }
 
-/* QEM when asked (or to 10 x the target first), then image-driven or shard collapses. */
+/* QEM or the shape-adaptive method when asked (or QEM to 10 x the target first), then
+ * image-driven or shard collapses. */
 static lm_status simplify_level(lod *L, uint32_t k, lm_mesh **out)
 {
     const lm_mesh *prev = k ? L->levels[k - 1] : L->orig;
     uint32_t t = L->target[k];
-    uint32_t start = L->o->qem ? t : co_simplify_start_verts(prev->live_verts, t, 0);
+    int geometric = L->o->qem || L->o->adaptive;
+    uint32_t start = geometric ? t : co_simplify_start_verts(prev->live_verts, t, 0);
     int short_of = 0;
-    lm_status st = start < prev->live_verts
-                       ? co_simplify_best(prev, CO_SIMPLIFY_QEM, start, out, &short_of)
-                       : lm_mesh_clone(prev, out);
+    co_simplify_method how = L->o->adaptive ? CO_SIMPLIFY_ADAPTIVE : CO_SIMPLIFY_QEM;
+    lm_status st = start < prev->live_verts ? co_simplify_best(prev, how, start, out, &short_of)
+                                            : lm_mesh_clone(prev, out);
     if (short_of)
         lm_clear_error();
     int derived;
     if (st == LM_OK)
         st = co_simplify_prepare(*out, &derived);
-    if (st != LM_OK || L->o->qem || (*out)->live_verts <= t)
+    if (st != LM_OK || geometric || (*out)->live_verts <= t)
         return st;
     int shard = L->o->method == CO_PRICE_SHARD;
     co_isimp_config cfg = {

@@ -37,6 +37,7 @@ typedef struct co_lod_options {
     co_lod_spec levels[LM_MESH_MAX_LODS];
     uint32_t n_levels;
     int qem;                /* simplify each level by QEM instead of image-driven collapses */
+    int adaptive;           /* or by the shape-adaptive method (coordinator/simplify/adaptive.h) */
     co_price_method method; /* image or shard */
     uint64_t evals;         /* optimisation budget per level; 0 = 20000 */
     int no_optimize;        /* levels as simplified (no optimisation) */

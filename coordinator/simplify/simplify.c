@@ -1,7 +1,7 @@
 /* coordinator/simplify/simplify.c — co_simplify(): argument checks, the cases no simplifier is
  * needed for (target at or above the model's size: a compact copy; targets below 4), dispatch to
- * QEM or clustering, the helpers both simplifiers share to build their compact output meshes, and
- * the parts a simplification lost, named for a warning. */
+ * QEM, clustering or the shape-adaptive method, the helpers both simplifiers share to build their
+ * compact output meshes, and the parts a simplification lost, named for a warning. */
 #include "coordinator/simplify/simplify.h"
 
 #include <stdio.h>
@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "common/mesh_topology.h"
+#include "coordinator/simplify/adaptive.h"
 #include "coordinator/simplify/simplify_internal.h"
 
 int co_simplify_within(uint32_t live, uint32_t target)
@@ -162,7 +163,8 @@ lm_status co_simplify(const lm_mesh *in, co_simplify_method method, uint32_t tar
     *out = NULL;
     if (!in || in->live_tris == 0)
         return lm_fail(LM_E_INVALID, "co_simplify: the input mesh has no triangles");
-    if (method != CO_SIMPLIFY_QEM && method != CO_SIMPLIFY_CLUSTER)
+    if (method != CO_SIMPLIFY_QEM && method != CO_SIMPLIFY_CLUSTER &&
+        method != CO_SIMPLIFY_ADAPTIVE)
         return lm_fail(LM_E_INVALID, "co_simplify: unknown method %d", (int)method);
     lm_status s = lm_mesh_validate(in);
     if (s)
@@ -170,8 +172,11 @@ lm_status co_simplify(const lm_mesh *in, co_simplify_method method, uint32_t tar
     if (target_verts >= in->live_verts)
         return copy_whole(in, out);
     uint32_t aim = target_verts < 4 ? 4 : target_verts;
-    s = method == CO_SIMPLIFY_QEM ? co_simplify_qem(in, aim, NULL, out)
-                                  : co_simplify_cluster(in, aim, NULL, out);
+    if (method == CO_SIMPLIFY_ADAPTIVE)
+        s = co_simplify_adaptive(in, 0, aim, NULL, out);
+    else
+        s = method == CO_SIMPLIFY_QEM ? co_simplify_qem(in, aim, NULL, out)
+                                      : co_simplify_cluster(in, aim, NULL, out);
     if (target_verts < 4 && *out && !co_simplify_reached((*out)->live_verts, target_verts))
         return lm_fail(LM_E_RANGE, "a target of %u vertices is below the minimum of 4 (best: %u)",
                        target_verts, (*out)->live_verts);

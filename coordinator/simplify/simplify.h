@@ -1,12 +1,19 @@
 /* coordinator/simplify/simplify.h — initial simplifiers that make the coarse mesh M: QEM through
- * meshoptimizer (attribute-aware where the library allows, UV seams preserved) and Rossignac–Borrel
- * vertex clustering (the paper's Figure 7a input). The result keeps materials and attributes. */
+ * meshoptimizer (attribute-aware where the library allows, UV seams preserved), Rossignac–Borrel
+ * vertex clustering (the paper's Figure 7a input) and Park, Lee & Lee's shape-adaptive
+ * simplification (adaptive.h). The result keeps materials and attributes. */
 #ifndef LM_COMMON_SIMPLIFY_H
 #define LM_COMMON_SIMPLIFY_H
 
 #include "common/mesh.h"
 
-typedef enum co_simplify_method { CO_SIMPLIFY_QEM, CO_SIMPLIFY_CLUSTER } co_simplify_method;
+/* CO_SIMPLIFY_ADAPTIVE: Park, Lee & Lee's shape-adaptive simplification (adaptive.h), its
+ * tolerance searched for the target, which it then meets exactly where it can. */
+typedef enum co_simplify_method {
+    CO_SIMPLIFY_QEM,
+    CO_SIMPLIFY_CLUSTER,
+    CO_SIMPLIFY_ADAPTIVE
+} co_simplify_method;
 
 /* At most target_verts live vertices (an upper bound, as meshoptimizer and gltfpack treat it; the
  * searches aim within 5% of it and a result up to 5% above meets it). A model already at or below
