@@ -2,7 +2,7 @@
 # tests/integration/gltf_validator.sh — every kind of GLB lumesh writes passes the Khronos
 # glTF-Validator (npm gltf-validator, installed by scripts/install-deps.sh from
 # tests/support/gltf) with no error and no warning: gen-frog's textured multi-part model, simplify
-# (qem, image, from an OBJ with its texture, from the assimp duck (Collada, textured), with
+# (qem, image, adaptive, from an OBJ with its texture, from the assimp duck (Collada, textured), with
 # --cull-unseen), optimize, lod one file per level and --msft-lod, pm-extract. Every model is
 # converted with its texture beside it. Exits 77 (skipped, with the reason) without Node.js or
 # the package.
@@ -31,6 +31,8 @@ expect_exit 0 "$LUMESH" simplify "$tmp/frog.glb" -o "$tmp/out/qem.glb" --target-
 expect_exit 0 "$LUMESH" simplify "$tmp/obj/frog.obj" -o "$tmp/out/from_obj.glb" --target-verts 150
 expect_exit 0 "$LUMESH" simplify "$tmp/frog.glb" -o "$tmp/out/image.glb" --target-verts 150 \
   --method image --pm "$tmp/frog.pm" "${small[@]}"
+expect_exit 0 "$LUMESH" simplify "$tmp/frog.glb" -o "$tmp/out/adaptive.glb" --target-verts 150 \
+  --method adaptive
 expect_exit 0 "$LUMESH" pm-extract "$tmp/frog.pm" -o "$tmp/out/pm.glb" --verts 300
 expect_exit 0 "$LUMESH" simplify "$tmp/frog.glb" -o "$tmp/out/culled.glb" --target-verts 150 \
   --views upper:4 --size 32 --cull-unseen
@@ -50,7 +52,7 @@ fi
 
 glbs=("$tmp/frog.glb" "$tmp"/out/*.glb "$tmp"/duck/*.glb)
 checks=$((checks + 1))
-[ "${#glbs[@]}" -ge 11 ] || fail "expected at least 11 GLBs, got ${#glbs[@]}: ${glbs[*]}"
+[ "${#glbs[@]}" -ge 12 ] || fail "expected at least 12 GLBs, got ${#glbs[@]}: ${glbs[*]}"
 checks=$((checks + 1))
 # (without the sanitizer run's LD_PRELOAD: Node.js does not run under the ASan runtime)
 env -u LD_PRELOAD node "$tmp/validate.mjs" "${glbs[@]}" >"$tmp/report.txt" 2>&1 ||
