@@ -5,7 +5,7 @@
 # commands that take views; an upper job stopped and resumed from its checkpoint ends
 # byte-identical, and a resume with other views is refused in one line; a glTF file's cameras
 # render (the orthographic one left out with a warning); --cull-unseen removes what the views never
-# see and nothing they see. The flag errors of
+# see (a part hidden inside another) and nothing they see. The flag errors of
 # --views and --views-from are in cli.sh.
 set -u
 . "$(dirname "$0")/lib.bash"
@@ -92,6 +92,25 @@ checks=$((checks + 1))
   --seed 1 --device host --start qem --evals 300 --cull-unseen --json 2>/dev/null |
   grep -q '"event":"cull","detail":"removed [1-9]' || fail "optimize --cull-unseen removed nothing"
 expect_fail_line "$LUMESH" simplify "$frog" -o "$tmp/x.obj" --target-verts 200 --views 8
+# A part hidden inside another (a small cube "core" in a large cube "shell"): culled from every
+# view of the sphere, the shell kept whole.
+python3 - "$tmp/nested.obj" <<'PY'
+import sys
+out = open(sys.argv[1], "w")
+quads = [(0, 1, 3, 2), (4, 6, 7, 5), (0, 4, 5, 1), (2, 3, 7, 6), (0, 2, 6, 4), (1, 5, 7, 3)]
+for k, (name, h) in enumerate((("shell", 1.0), ("core", 0.3))):
+    out.write("o %s\n" % name)
+    for i in range(8):
+        out.write("v %g %g %g\n" % tuple(h if i >> b & 1 else -h for b in (2, 1, 0)))
+    for q in quads:
+        a, b, c, d = (8 * k + i + 1 for i in q)
+        out.write("f %d %d %d\nf %d %d %d\n" % (a, b, c, a, c, d))
+PY
+expect_exit 0 "$LUMESH" simplify "$tmp/nested.obj" -o "$tmp/nested_out.obj" --target-verts 16 \
+  --cull-unseen --views 20 --size 32
+checks=$((checks + 1))
+[ "$(grep -c '^f ' "$tmp/nested_out.obj")" = 12 ] && ! grep -q '^[og] core' "$tmp/nested_out.obj" ||
+  fail "--cull-unseen kept the hidden core or lost the shell: $(grep -c '^f ' "$tmp/nested_out.obj") faces, $(grep '^[og] ' "$tmp/nested_out.obj" | tr '\n' ' ')"
 
 # 4. A glTF scene's cameras: Khronos' Cameras sample has one perspective and one orthographic
 # camera; render writes the perspective one's view and says it left the other out.
