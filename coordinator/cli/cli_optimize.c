@@ -27,7 +27,7 @@ static const char co_optimize_help[] =
     "                       [--edges-in-flight K] [--keys DIR] [--save-initial FILE]\n"
     "                       [--surface-weight W | --surface-share S] [--regrid-every N]\n"
     "                       [--energy image|geometric|image+geometric] [--c-rep C]\n"
-    "                       [--geo-improvements LIST]\n"
+    "                       [--geo-improvements LIST] [--geo-start-multiple K]\n"
     "\n"
     "Improve a coarse mesh so that its rendered images match the original's from many viewpoints\n"
     "(Lindstrom & Turk 2001): vertex positions and attributes by downhill simplex, connectivity "
@@ -91,11 +91,11 @@ static const char co_optimize_help[] =
     "                          optimization: E = E_dist + E_rep + E_spring over points sampled\n"
     "                          from ORIGINAL's surface; no rendering, for when fidelity to the\n"
     "                          surface matters more than looks: scans, CAD, collision meshes;\n"
-    "                          starts from ORIGINAL itself up to %ux the target, else from QEM at\n"
-    "                          %ux; see coordinator/geometric/GEOMETRIC.md) or image+geometric\n"
+    "                          starts as --geo-start-multiple says; see\n"
+    "                          coordinator/geometric/GEOMETRIC.md) or image+geometric\n"
     "                          (the geometric result as the start of the image optimizer, as\n"
     "                          with --initial). With geometric only -o, --target-verts, --seed,\n"
-    "                          --json, --save-initial and the two options below apply;\n"
+    "                          --json, --save-initial and the three options below apply;\n"
     "                          --checkpoint and --resume are refused with geometric and\n"
     "                          image+geometric (the geometric part is not checkpointed)\n"
     "  --c-rep C               the representation constant c_rep (> 0; default %g; distances in\n"
@@ -107,9 +107,14 @@ static const char co_optimize_help[] =
     "                          more careful order of collapses, slower)\n"
     "  --geo-improvements L    Ozdal & Gudukbay's improvements to the moves, a comma list of\n"
     "                          collapse-only (no swaps or splits), stored (later passes try only\n"
-    "                          the edges whose last collapse ΔE, re-weighed, says it now pays),\n"
-    "                          deferred (edges near a kept collapse wait for the next pass); or\n"
-    "                          all (default) or none (Hoppe's original moves)\n"
+    "                          the edges whose last collapse's change of E, re-weighed, says it\n"
+    "                          now pays), deferred (edges near a kept collapse wait for the\n"
+    "                          next pass); or all (default) or none (Hoppe's original moves)\n"
+    "  --geo-start-multiple K  the geometric method starts from ORIGINAL itself (Hoppe's start)\n"
+    "                          when it has at most K times the target's vertices, else from QEM\n"
+    "                          at K times (default %u; 1: QEM's mesh at the target, refined:\n"
+    "                          best measured on the CAD part fandisk, 2 on the scans; with 1 the\n"
+    "                          result may have a few vertices fewer than N, as QEM's may)\n"
     "  --device D              rendering device: auto (GPU if any, else cpu), cpu, host, egl:N\n"
     "                          (default auto; see lumesh devices); local workers use it too\n"
     "  --workers N             render in N lumesh-worker processes on this machine, each owning\n"
@@ -157,6 +162,7 @@ typedef struct optimize_args {
     int energy;                   /* ENERGY_* */
     double c_rep;                 /* 0: default */
     const char *geo_improvements; /* NULL: all */
+    uint32_t geo_start_multiple;  /* 0: CO_GEO_START_MULTIPLE */
     uint32_t geo_bits;
     const char *report_dir;
     char initial[4096]; /* DIR/initial.obj */
@@ -239,8 +245,8 @@ static void usage(FILE *f)
     fprintf(f, co_optimize_help, CO_JOB_MIN_TARGET_VERTS, CO_JOB_DEFAULT_VIEWS, CO_JOB_DEFAULT_SIZE,
             (unsigned long long)CO_JOB_DEFAULT_EVALS, CO_JOB_DEFAULT_CHECKPOINT_S,
             CO_JOB_IMAGE_START_SHARE, CO_SURFACE_SHARE,
-            (unsigned long long)CO_JOB_DEFAULT_REGRID_EVERY, CO_GEO_START_MULTIPLE,
-            CO_GEO_START_MULTIPLE, CO_GEO_DEFAULT_C_REP, CO_JOB_DEFAULT_IN_FLIGHT);
+            (unsigned long long)CO_JOB_DEFAULT_REGRID_EVERY, CO_GEO_DEFAULT_C_REP,
+            CO_GEO_START_MULTIPLE, CO_JOB_DEFAULT_IN_FLIGHT);
 }
 
 /* What a 0 given stands for: no geometric term (--surface-weight, --surface-share), one grid all
@@ -270,9 +276,9 @@ static int check_options(optimize_args *a)
         return co_cli_usage_error(CMD, "--initial and --target-verts exclude each other");
     if (o->initial_path && o->start)
         return co_cli_usage_error(CMD, "--initial and --start exclude each other");
-    if (a->energy == ENERGY_IMAGE && (a->c_rep > 0 || a->geo_improvements))
-        return co_cli_usage_error(CMD, "--c-rep and --geo-improvements need --energy geometric "
-                                       "or image+geometric");
+    if (a->energy == ENERGY_IMAGE && (a->c_rep > 0 || a->geo_improvements || a->geo_start_multiple))
+        return co_cli_usage_error(CMD, "--c-rep, --geo-improvements and --geo-start-multiple need "
+                                       "--energy geometric or image+geometric");
     if (a->energy != ENERGY_IMAGE && (o->checkpoint_path || o->resume_path))
         return co_cli_usage_error(CMD, "--checkpoint and --resume are not supported with "
                                        "--energy geometric or image+geometric");
@@ -325,6 +331,7 @@ static int parse_args(int argc, char **argv, optimize_args *a)
         CO_OPT_CALL("energy", 0, parse_energy, &a->energy),
         CO_OPT_CALL("c-rep", 0, parse_c_rep, &a->c_rep),
         CO_OPT_STR("geo-improvements", 0, &a->geo_improvements),
+        CO_OPT_U32("geo-start-multiple", 0, &a->geo_start_multiple, 1, 1000),
     };
     int rc = co_cli_parse(&spec, opts, CO_OPTS_N(opts), argc, argv);
     if (rc >= 0)
@@ -377,6 +384,7 @@ static lm_status run_geometric(const optimize_args *a, const char *geo_out)
                             .initial_output_path = geo_out ? NULL : a->o.initial_output_path,
                             .target_verts = a->o.target_verts,
                             .c_rep = a->c_rep,
+                            .start_multiple = a->geo_start_multiple,
                             .improvements = a->geo_bits,
                             .seed = a->o.seed,
                             .json = a->o.json,

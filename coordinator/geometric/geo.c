@@ -2,7 +2,7 @@
  * first inner loop, the spring constant's schedule (an outer loop at each κ, then the inner loop
  * again), and the target: --target-verts N is a floor no move crosses; while the mesh has more
  * than N vertices after the schedule, c_rep doubles and the outer loop runs again at the last κ.
- * Also the start (the original itself when small, else QEM at CO_GEO_START_MULTIPLE N). */
+ * Also the start (the original itself when small, else QEM at a multiple of N). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -47,10 +47,11 @@ lm_status co_geo_parse_improvements(const char *list, uint32_t *bits)
     return LM_OK;
 }
 
-lm_status co_geo_make_start(const lm_mesh *original, uint32_t target_verts, lm_mesh **out)
+lm_status co_geo_make_start(const lm_mesh *original, uint32_t target_verts, uint32_t multiple,
+                            lm_mesh **out)
 {
     *out = NULL;
-    uint64_t k = (uint64_t)target_verts * CO_GEO_START_MULTIPLE;
+    uint64_t k = (uint64_t)target_verts * (multiple ? multiple : CO_GEO_START_MULTIPLE);
     lm_status st;
     if (!target_verts || original->live_verts <= k) {
         st = lm_mesh_clone(original, out);

@@ -19,7 +19,7 @@ enum {
 };
 
 #define CO_GEO_DEFAULT_C_REP 1e-5 /* Hoppe's c_rep, in the units of GEOMETRIC.md */
-#define CO_GEO_START_MULTIPLE 3   /* originals above this many times N start from QEM at it */
+#define CO_GEO_START_MULTIPLE 2   /* originals above this many times N start from QEM at it */
 #define CO_GEO_POINTS_PER_VERT 20 /* points sampled per vertex of the target */
 #define CO_GEO_MIN_POINTS 20000
 
@@ -54,9 +54,10 @@ typedef struct co_geo_summary {
 lm_status co_geo_optimize(const lm_mesh *original, lm_mesh *start, const co_geo_options *o,
                           co_geo_summary *sum);
 
-/* The start Hoppe's method would take for `original` at target N: the original itself (a copy)
- * up to CO_GEO_START_MULTIPLE * N vertices, else QEM at that many. */
-lm_status co_geo_make_start(const lm_mesh *original, uint32_t target_verts, lm_mesh **out);
+/* The start for `original` at target N: the original itself (a copy, Hoppe's start) up to
+ * multiple * N vertices, else QEM at that many (multiple >= 1; 0 = CO_GEO_START_MULTIPLE). */
+lm_status co_geo_make_start(const lm_mesh *original, uint32_t target_verts, uint32_t multiple,
+                            lm_mesh **out);
 
 /* The energy from scratch of g's current mesh with g's current projections (tests). */
 double co_geo_energy_now(const co_geo_state *g);

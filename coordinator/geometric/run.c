@@ -72,7 +72,7 @@ static lm_status run(const co_geo_run_options *o, co_meter *meter, co_geo_summar
         st = resolve_target(o, orig, &target);
     if (st == LM_OK) {
         co_meter_phase(meter, "start for %" PRIu32 " vertices", target);
-        st = co_geo_make_start(orig, target, &start);
+        st = co_geo_make_start(orig, target, o->start_multiple, &start);
         co_meter_end(meter);
     }
     if (st == LM_OK && o->initial_output_path)

@@ -11,6 +11,7 @@ typedef struct co_geo_run_options {
     const char *initial_output_path; /* also save the start here (NULL: not) */
     uint32_t target_verts;           /* 0: as the image job's default (1%, at least 100) */
     double c_rep;                    /* 0: CO_GEO_DEFAULT_C_REP */
+    uint32_t start_multiple;         /* 0: CO_GEO_START_MULTIPLE */
     uint32_t improvements;
     uint64_t seed;  /* 0 = 1 */
     int json;       /* phase records and the summary as JSON on stdout */

@@ -56,5 +56,6 @@ expect_fail_line "$LUMESH" "${g[@]}" --target-verts 7000
 expect_fail_line "$LUMESH" "${g[@]}" --geo-improvements stored,fast
 expect_fail_line "$LUMESH" "${g[@]}" --checkpoint "$tmp/c.ckpt"
 expect_fail_line "$LUMESH" optimize "$model" -o "$tmp/x.obj" --energy xyz
+expect_fail_line "$LUMESH" "${g[@]}" --geo-start-multiple 0
 expect_fail_line "$LUMESH" optimize "$model" -o "$tmp/x.obj" --c-rep 1e-5
 finish
