@@ -297,58 +297,13 @@ static double box_sq(const bvh_node *nd, const double p[3])
 
 #define BVH_STACK 128 /* median splits: depth ~log2(n) + 1 */
 
-double lm_bvh_closest_sq(const lm_bvh *b, const double p[3])
-{
-    double best = DBL_MAX;
-    struct {
-        uint32_t node;
-        double d; /* its box's squared distance, a lower bound of its triangles' */
-    } stack[BVH_STACK];
-    int top = 0;
-    stack[top].node = 0;
-    stack[top++].d = box_sq(&b->nodes[0], p);
-    while (top > 0) {
-        --top;
-        if (stack[top].d >= best)
-            continue;
-        uint32_t id = stack[top].node;
-        const bvh_node *nd = &b->nodes[id];
-        if (nd->count) {
-            for (uint32_t i = nd->first; i < nd->first + nd->count; i++) {
-                double t[3][3];
-                for (int v = 0; v < 3; v++)
-                    for (int k = 0; k < 3; k++)
-                        t[v][k] = b->tri[i][v][k];
-                double d = lm_point_triangle_sq(p, t[0], t[1], t[2]);
-                best = d < best ? d : best;
-            }
-            continue;
-        }
-        uint32_t near = id + 1, far = nd->first;
-        double dn = box_sq(&b->nodes[near], p), df = box_sq(&b->nodes[far], p);
-        if (df < dn) {
-            uint32_t t = near;
-            double td = dn;
-            near = far, dn = df;
-            far = t, df = td;
-        }
-        LM_ASSERT(top + 2 <= BVH_STACK);
-        if (df < best) {
-            stack[top].node = far;
-            stack[top++].d = df;
-        }
-        if (dn < best) {
-            stack[top].node = near;
-            stack[top++].d = dn;
-        }
-    }
-    return best;
-}
-
-double lm_bvh_closest_tri(const lm_bvh *b, const double p[3], uint32_t *tri, double bary[3])
+/* The closest triangle's squared distance; with tri (not NULL) also its id and p's barycentrics
+ * on it. Inlined into both queries, so the distance-only one pays nothing for them. */
+static inline double closest(const lm_bvh *b, const double p[3], uint32_t *tri, double bary[3])
 {
     double best = DBL_MAX, w[3];
-    *tri = LM_NONE;
+    if (tri)
+        *tri = LM_NONE;
     struct {
         uint32_t node;
         double d; /* its box's squared distance, a lower bound of its triangles' */
@@ -368,6 +323,11 @@ double lm_bvh_closest_tri(const lm_bvh *b, const double p[3], uint32_t *tri, dou
                 for (int v = 0; v < 3; v++)
                     for (int k = 0; k < 3; k++)
                         t[v][k] = b->tri[i][v][k];
+                if (!tri) {
+                    double d = lm_point_triangle_sq(p, t[0], t[1], t[2]);
+                    best = d < best ? d : best;
+                    continue;
+                }
                 double d = lm_point_triangle_bary(p, t[0], t[1], t[2], w);
                 if (d < best) {
                     best = d;
@@ -396,4 +356,14 @@ double lm_bvh_closest_tri(const lm_bvh *b, const double p[3], uint32_t *tri, dou
         }
     }
     return best;
+}
+
+double lm_bvh_closest_sq(const lm_bvh *b, const double p[3])
+{
+    return closest(b, p, NULL, NULL);
+}
+
+double lm_bvh_closest_tri(const lm_bvh *b, const double p[3], uint32_t *tri, double bary[3])
+{
+    return closest(b, p, tri, bary);
 }
