@@ -21,6 +21,7 @@ typedef struct bvh_node {
 
 struct lm_bvh {
     float (*tri)[3][3]; /* [n] corner positions (the mesh's floats), in leaf order */
+    uint32_t *id;       /* [n] the mesh's triangle id of each slot */
     uint32_t n, n_nodes;
     bvh_node *nodes; /* [2n] at most */
 };
@@ -122,7 +123,8 @@ static lm_status gather(const lm_mesh *m, build_ctx *c, uint32_t n)
     c->src = malloc((size_t)n * sizeof *c->src);
     c->centre = malloc((size_t)n * sizeof *c->centre);
     c->order = malloc((size_t)n * sizeof *c->order);
-    if (!c->src || !c->centre || !c->order)
+    c->b->id = malloc((size_t)n * sizeof *c->b->id);
+    if (!c->src || !c->centre || !c->order || !c->b->id)
         return lm_fail(LM_E_NOMEM, "out of memory for the distance hierarchy");
     uint32_t i = 0;
     for (uint32_t t = 0; t < m->n_tris; t++) {
@@ -136,6 +138,7 @@ static lm_status gather(const lm_mesh *m, build_ctx *c, uint32_t n)
         for (int k = 0; k < 3; k++)
             c->centre[i][k] = (c->src[i][0][k] + c->src[i][1][k] + c->src[i][2][k]) / 3.0;
         c->order[i] = i;
+        c->b->id[i] = t;
         i++;
     }
     return LM_OK;
@@ -163,6 +166,10 @@ lm_status lm_bvh_create(const lm_mesh *m, lm_bvh **out)
             for (int v = 0; v < 3; v++)
                 for (int k = 0; k < 3; k++)
                     b->tri[i][v][k] = (float)c.src[c.order[i]][v][k]; /* exact: floats */
+        for (uint32_t i = 0; i < n; i++) /* slot -> mesh id, in leaf order like tri */
+            c.centre[i][0] = b->id[c.order[i]];
+        for (uint32_t i = 0; i < n; i++)
+            b->id[i] = (uint32_t)c.centre[i][0];
     }
     free(c.src);
     free(c.centre);
@@ -180,6 +187,7 @@ void lm_bvh_destroy(lm_bvh *b)
     if (!b)
         return;
     free(b->tri);
+    free(b->id);
     free(b->nodes);
     free(b);
 }
@@ -205,38 +213,75 @@ static double at(const double p[3], const double a[3], const double ab[3], const
     return dist_sq(p, q);
 }
 
-double lm_point_triangle_sq(const double p[3], const double a[3], const double b[3],
-                            const double c[3])
+/* Where the closest point of triangle (a, b, c) to p lies: a corner (PT_A, PT_B, PT_C), or
+ * a + s*ab + t*ac (PT_ST), or the triangle is degenerate (PT_FLAT: the nearest corner). */
+enum { PT_A, PT_B, PT_C, PT_ST, PT_FLAT };
+
+static int closest_region(const double p[3], const double a[3], const double b[3],
+                          const double c[3], double ab[3], double ac[3], double *s, double *t)
 {
-    double ab[3], ac[3], ap[3], bp[3], cp[3];
+    double ap[3], bp[3], cp[3];
     for (int k = 0; k < 3; k++) {
         ab[k] = b[k] - a[k], ac[k] = c[k] - a[k];
         ap[k] = p[k] - a[k], bp[k] = p[k] - b[k], cp[k] = p[k] - c[k];
     }
     double d1 = dot3(ab, ap), d2 = dot3(ac, ap);
     if (d1 <= 0 && d2 <= 0)
-        return dist_sq(p, a);
+        return PT_A;
     double d3 = dot3(ab, bp), d4 = dot3(ac, bp);
     if (d3 >= 0 && d4 <= d3)
-        return dist_sq(p, b);
+        return PT_B;
     double vc = d1 * d4 - d3 * d2;
     if (vc <= 0 && d1 >= 0 && d3 <= 0)
-        return at(p, a, ab, ac, d1 / (d1 - d3), 0);
+        return *s = d1 / (d1 - d3), *t = 0, PT_ST;
     double d5 = dot3(ab, cp), d6 = dot3(ac, cp);
     if (d6 >= 0 && d5 <= d6)
-        return dist_sq(p, c);
+        return PT_C;
     double vb = d5 * d2 - d1 * d6;
     if (vb <= 0 && d2 >= 0 && d6 <= 0)
-        return at(p, a, ab, ac, 0, d2 / (d2 - d6));
+        return *s = 0, *t = d2 / (d2 - d6), PT_ST;
     double va = d3 * d6 - d5 * d4;
     if (va <= 0 && d4 - d3 >= 0 && d5 - d6 >= 0) {
         double w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
-        return at(p, a, ab, ac, 1 - w, w);
+        return *s = 1 - w, *t = w, PT_ST;
     }
     double sum = va + vb + vc;
     if (!(sum > 0)) /* degenerate triangle: nearest of its corners */
+        return PT_FLAT;
+    return *s = vb / sum, *t = vc / sum, PT_ST;
+}
+
+double lm_point_triangle_sq(const double p[3], const double a[3], const double b[3],
+                            const double c[3])
+{
+    double ab[3], ac[3], s = 0, t = 0;
+    switch (closest_region(p, a, b, c, ab, ac, &s, &t)) {
+    case PT_A:
+        return dist_sq(p, a);
+    case PT_B:
+        return dist_sq(p, b);
+    case PT_C:
+        return dist_sq(p, c);
+    case PT_ST:
+        return at(p, a, ab, ac, s, t);
+    default:
         return fmin(dist_sq(p, a), fmin(dist_sq(p, b), dist_sq(p, c)));
-    return at(p, a, ab, ac, vb / sum, vc / sum);
+    }
+}
+
+double lm_point_triangle_bary(const double p[3], const double a[3], const double b[3],
+                              const double c[3], double bary[3])
+{
+    double ab[3], ac[3], s = 0, t = 0;
+    int r = closest_region(p, a, b, c, ab, ac, &s, &t);
+    if (r == PT_FLAT) {
+        double da = dist_sq(p, a), db = dist_sq(p, b), dc = dist_sq(p, c);
+        r = da <= db && da <= dc ? PT_A : db <= dc ? PT_B : PT_C;
+    }
+    bary[0] = r == PT_A, bary[1] = r == PT_B, bary[2] = r == PT_C;
+    if (r == PT_ST)
+        bary[0] = 1 - s - t, bary[1] = s, bary[2] = t;
+    return r == PT_ST ? at(p, a, ab, ac, s, t) : dist_sq(p, r == PT_A ? a : r == PT_B ? b : c);
 }
 
 static double box_sq(const bvh_node *nd, const double p[3])
@@ -252,9 +297,13 @@ static double box_sq(const bvh_node *nd, const double p[3])
 
 #define BVH_STACK 128 /* median splits: depth ~log2(n) + 1 */
 
-double lm_bvh_closest_sq(const lm_bvh *b, const double p[3])
+/* The closest triangle's squared distance; with tri (not NULL) also its id and p's barycentrics
+ * on it. Inlined into both queries, so the distance-only one pays nothing for them. */
+static inline double closest(const lm_bvh *b, const double p[3], uint32_t *tri, double bary[3])
 {
-    double best = DBL_MAX;
+    double best = DBL_MAX, w[3];
+    if (tri)
+        *tri = LM_NONE;
     struct {
         uint32_t node;
         double d; /* its box's squared distance, a lower bound of its triangles' */
@@ -274,8 +323,17 @@ double lm_bvh_closest_sq(const lm_bvh *b, const double p[3])
                 for (int v = 0; v < 3; v++)
                     for (int k = 0; k < 3; k++)
                         t[v][k] = b->tri[i][v][k];
-                double d = lm_point_triangle_sq(p, t[0], t[1], t[2]);
-                best = d < best ? d : best;
+                if (!tri) {
+                    double d = lm_point_triangle_sq(p, t[0], t[1], t[2]);
+                    best = d < best ? d : best;
+                    continue;
+                }
+                double d = lm_point_triangle_bary(p, t[0], t[1], t[2], w);
+                if (d < best) {
+                    best = d;
+                    *tri = b->id[i];
+                    memcpy(bary, w, sizeof w);
+                }
             }
             continue;
         }
@@ -331,4 +389,14 @@ int lm_bvh_within(const lm_bvh *b, const double p[3], double r2)
             stack[top++] = far;
     }
     return 0;
+}
+
+double lm_bvh_closest_sq(const lm_bvh *b, const double p[3])
+{
+    return closest(b, p, NULL, NULL);
+}
+
+double lm_bvh_closest_tri(const lm_bvh *b, const double p[3], uint32_t *tri, double bary[3])
+{
+    return closest(b, p, tri, bary);
 }

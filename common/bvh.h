@@ -24,9 +24,17 @@ double lm_bvh_closest_sq(const lm_bvh *b, const double p[3]);
  * answered at the first such triangle). */
 int lm_bvh_within(const lm_bvh *b, const double p[3], double r2);
 
+/* lm_bvh_closest_sq that also says where: the mesh's id of the closest triangle (the first
+ * in the hierarchy's order at a tie) and p's closest point on it in barycentric coordinates of
+ * its corners (corner k = lm_tri_vertex(m, tri, k)). */
+double lm_bvh_closest_tri(const lm_bvh *b, const double p[3], uint32_t *tri, double bary[3]);
+
 /* Squared distance from p to triangle (a, b, c) (Ericson, Real-Time Collision Detection 5.1.5);
  * exposed for tests, which compare the hierarchy against every triangle. */
 double lm_point_triangle_sq(const double p[3], const double a[3], const double b[3],
                             const double c[3]);
+/* The same distance and the closest point's barycentric coordinates (for a, b, c) in bary. */
+double lm_point_triangle_bary(const double p[3], const double a[3], const double b[3],
+                              const double c[3], double bary[3]);
 
 #endif

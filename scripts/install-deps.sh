@@ -18,7 +18,7 @@ PKGS=(
   clang libclang-rt-14-dev clang-format
   libegl-dev libgles-dev libgl-dev libegl-mesa0 libgl1-mesa-dri libgbm1
   libopenimageio-dev libusb-1.0-0-dev libassimp-dev libmeshoptimizer-dev libjansson-dev
-  libzmq3-dev libprotobuf-c-dev protobuf-c-compiler libsodium-dev libcmocka-dev
+  libzmq3-dev libprotobuf-c-dev protobuf-c-compiler libsodium-dev libcmocka-dev libsuitesparse-dev
   iproute2
 )
 # LUMESH_DEPS=build (deploy/Containerfile): only what building and running need; no test tools,

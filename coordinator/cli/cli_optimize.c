@@ -3,11 +3,13 @@
 #include <getopt.h>
 #include <signal.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "common/folders.h"
 #include "common/view.h"
 #include "coordinator/cli/cli_args.h"
+#include "coordinator/geometric/run.h"
 #include "coordinator/job/job.h"
 #include "coordinator/job/job_log.h"
 #include "coordinator/job/progress.h"
@@ -24,6 +26,8 @@ static const char co_optimize_help[] =
     "                       [--workers N] [--listen tcp://ADDR:PORT] [--renderer ID]\n"
     "                       [--edges-in-flight K] [--keys DIR] [--save-initial FILE]\n"
     "                       [--surface-weight W | --surface-share S] [--regrid-every N]\n"
+    "                       [--energy image|geometric|image+geometric] [--c-rep C]\n"
+    "                       [--geo-improvements LIST] [--geo-start-multiple K]\n"
     "\n"
     "Improve a coarse mesh so that its rendered images match the original's from many viewpoints\n"
     "(Lindstrom & Turk 2001): vertex positions and attributes by downhill simplex, connectivity "
@@ -89,6 +93,34 @@ static const char co_optimize_help[] =
     "                          pixel centres, so the energy shown predicts unseen views. Progress\n"
     "                          stays relative to the start across grids (a chain of ratios).\n"
     "                          Part of the job, like the seed\n"
+    "  --energy E              image (default: the above), geometric (Hoppe et al. 1993 mesh\n"
+    "                          optimization: E = E_dist + E_rep + E_spring over points sampled\n"
+    "                          from ORIGINAL's surface; no rendering, for when fidelity to the\n"
+    "                          surface matters more than looks: scans, CAD, collision meshes;\n"
+    "                          starts as --geo-start-multiple says; see\n"
+    "                          coordinator/geometric/GEOMETRIC.md) or image+geometric\n"
+    "                          (the geometric result as the start of the image optimizer, as\n"
+    "                          with --initial). With geometric only -o, --target-verts, --seed,\n"
+    "                          --json, --save-initial and the three options below apply;\n"
+    "                          --checkpoint and --resume are refused with geometric and\n"
+    "                          image+geometric (the geometric part is not checkpointed)\n"
+    "  --c-rep C               the representation constant c_rep (> 0; default %g; distances in\n"
+    "                          bounding-box diagonals, E_dist as if 10,000 points): a vertex is\n"
+    "                          kept when it lowers E_dist + E_spring by more than C.\n"
+    "                          --target-verts N is a floor no move crosses; while the mesh has\n"
+    "                          more than N vertices after the spring schedule, c_rep doubles and\n"
+    "                          the moves run again, so C is where that ramp begins (smaller: a\n"
+    "                          more careful order of collapses, slower)\n"
+    "  --geo-improvements L    Ozdal & Gudukbay's improvements to the moves, a comma list of\n"
+    "                          collapse-only (no swaps or splits), stored (later passes try only\n"
+    "                          the edges whose last collapse's change of E, re-weighed, says it\n"
+    "                          now pays), deferred (edges near a kept collapse wait for the\n"
+    "                          next pass); or all (default) or none (Hoppe's original moves)\n"
+    "  --geo-start-multiple K  the geometric method starts from ORIGINAL itself (Hoppe's start)\n"
+    "                          when it has at most K times the target's vertices, else from QEM\n"
+    "                          at K times (default %u; 1: QEM's mesh at the target, refined:\n"
+    "                          best measured on the CAD part fandisk, 2 on the scans; with 1 the\n"
+    "                          result may have a few vertices fewer than N, as QEM's may)\n"
     "  --device D              rendering device: auto (GPU if any, else cpu), cpu, host, egl:N\n"
     "                          (default auto; see lumesh devices); local workers use it too\n"
     "  --workers N             render in N lumesh-worker processes on this machine, each owning\n"
@@ -129,8 +161,15 @@ static const char co_optimize_help[] =
 /* Exit status of a run suspended by SIGUSR1 (EX_TEMPFAIL: try again, here with --resume). */
 #define CO_EXIT_SUSPENDED 75
 
+enum { ENERGY_IMAGE, ENERGY_GEOMETRIC, ENERGY_BOTH };
+
 typedef struct optimize_args {
     co_job_options o;
+    int energy;                   /* ENERGY_* */
+    double c_rep;                 /* 0: default */
+    const char *geo_improvements; /* NULL: all */
+    uint32_t geo_start_multiple;  /* 0: CO_GEO_START_MULTIPLE */
+    uint32_t geo_bits;
     const char *report_dir;
     char initial[4096]; /* DIR/initial.obj */
 } optimize_args;
@@ -166,6 +205,33 @@ static int parse_start(void *to, const char *val)
     return -1;
 }
 
+static int parse_energy(void *to, const char *val)
+{
+    int *e = to;
+    if (!strcmp(val, "image"))
+        *e = ENERGY_IMAGE;
+    else if (!strcmp(val, "geometric"))
+        *e = ENERGY_GEOMETRIC;
+    else if (!strcmp(val, "image+geometric"))
+        *e = ENERGY_BOTH;
+    else
+        return co_cli_usage_error(CMD,
+                                  "--energy expects image, geometric or image+geometric, "
+                                  "got '%s'",
+                                  val);
+    return -1;
+}
+
+static int parse_c_rep(void *to, const char *val)
+{
+    char *end = NULL;
+    double x = strtod(val, &end);
+    if (!*val || *end || !(x > 0) || !(x < 1e300))
+        return co_cli_usage_error(CMD, "--c-rep expects a number above 0, got '%s'", val);
+    *(double *)to = x;
+    return -1;
+}
+
 static int parse_attrs(void *to, const char *val)
 {
     co_job_options *o = to;
@@ -187,7 +253,8 @@ static void usage(FILE *f)
     fprintf(f, co_optimize_help, CO_JOB_MIN_TARGET_VERTS, CO_JOB_DEFAULT_VIEWS, CO_JOB_DEFAULT_SIZE,
             (unsigned long long)CO_JOB_DEFAULT_EVALS, CO_JOB_DEFAULT_CHECKPOINT_S,
             CO_JOB_IMAGE_START_SHARE, CO_SURFACE_SHARE,
-            (unsigned long long)CO_JOB_DEFAULT_REGRID_EVERY, CO_JOB_DEFAULT_IN_FLIGHT);
+            (unsigned long long)CO_JOB_DEFAULT_REGRID_EVERY, CO_GEO_DEFAULT_C_REP,
+            CO_GEO_START_MULTIPLE, CO_JOB_DEFAULT_IN_FLIGHT);
 }
 
 /* What a 0 given stands for: no geometric term (--surface-weight, --surface-share), one grid all
@@ -210,13 +277,29 @@ static const co_cli_spec spec = {
     CMD, usage, 1, 1, "missing ORIGINAL model (try lumesh optimize --help)", NULL, 0};
 
 /* -1 when the options given go together, else 1 (said). */
-static int check_options(const optimize_args *a)
+static int check_options(optimize_args *a)
 {
     const co_job_options *o = &a->o;
     if (o->initial_path && o->target_verts)
         return co_cli_usage_error(CMD, "--initial and --target-verts exclude each other");
     if (o->initial_path && o->start)
         return co_cli_usage_error(CMD, "--initial and --start exclude each other");
+    if (a->energy == ENERGY_IMAGE && (a->c_rep > 0 || a->geo_improvements || a->geo_start_multiple))
+        return co_cli_usage_error(CMD, "--c-rep, --geo-improvements and --geo-start-multiple need "
+                                       "--energy geometric or image+geometric");
+    if (a->energy != ENERGY_IMAGE && (o->checkpoint_path || o->resume_path))
+        return co_cli_usage_error(CMD, "--checkpoint and --resume are not supported with "
+                                       "--energy geometric or image+geometric");
+    if (a->energy != ENERGY_IMAGE && (o->initial_path || o->start))
+        return co_cli_usage_error(CMD, "--initial and --start exclude --energy geometric and "
+                                       "image+geometric (the geometric method makes the start)");
+    if (a->energy == ENERGY_GEOMETRIC && a->report_dir)
+        return co_cli_usage_error(CMD, "--report needs rendering: use --energy image+geometric "
+                                       "or lumesh report on the result");
+    if (a->geo_improvements && co_geo_parse_improvements(a->geo_improvements, &a->geo_bits))
+        return co_cli_fail(CMD, LM_E_INVALID);
+    if (!a->geo_improvements)
+        a->geo_bits = CO_GEO_ALL;
     if (o->initial_output_path && a->report_dir)
         return co_cli_usage_error(CMD, "--save-initial and --report exclude each other (the "
                                        "report keeps the start as DIR/initial.obj)");
@@ -254,6 +337,10 @@ static int parse_args(int argc, char **argv, optimize_args *a)
         OPT_SURFACE("surface-share", &o->surface_share, 1e6),
         CO_OPT_CALL("start", 0, parse_start, o),
         OPT_REGRID(&o->regrid_every),
+        CO_OPT_CALL("energy", 0, parse_energy, &a->energy),
+        CO_OPT_CALL("c-rep", 0, parse_c_rep, &a->c_rep),
+        CO_OPT_STR("geo-improvements", 0, &a->geo_improvements),
+        CO_OPT_U32("geo-start-multiple", 0, &a->geo_start_multiple, 1, 1000),
     };
     int rc = co_cli_parse(&spec, opts, CO_OPTS_N(opts), argc, argv);
     if (rc >= 0)
@@ -298,12 +385,55 @@ static lm_status prepare_report(optimize_args *a, co_run_log *log)
     return lm_make_folders(a->report_dir);
 }
 
+/* The geometric method (Hoppe et al. 1993) alone, or into `geo_out` as the image job's start. */
+static lm_status run_geometric(const optimize_args *a, const char *geo_out)
+{
+    co_geo_run_options g = {.original_path = a->o.original_path,
+                            .output_path = geo_out ? geo_out : a->o.output_path,
+                            .initial_output_path = geo_out ? NULL : a->o.initial_output_path,
+                            .target_verts = a->o.target_verts,
+                            .c_rep = a->c_rep,
+                            .start_multiple = a->geo_start_multiple,
+                            .improvements = a->geo_bits,
+                            .seed = a->o.seed,
+                            .json = a->o.json,
+                            .then_image = geo_out != NULL};
+    co_geo_summary sum;
+    return co_geo_run(&g, &sum);
+}
+
+/* image+geometric: the geometric result (written beside OUT, removed after) is the --initial. */
+static int run_both(optimize_args *a)
+{
+    char tmp[4200];
+    int n = snprintf(tmp, sizeof tmp, "%s.geometric.glb", a->o.output_path);
+    if (n < 0 || (size_t)n >= sizeof tmp)
+        return co_cli_usage_error(CMD, "-o: '%s' is too long", a->o.output_path);
+    lm_status st = run_geometric(a, tmp);
+    if (st != LM_OK)
+        return co_cli_fail(CMD, st);
+    a->o.initial_path = tmp;
+    a->o.target_verts = 0;
+    return -1;
+}
+
 int co_cli_optimize(int argc, char **argv)
 {
     optimize_args a = {.o = {0}};
     int rc = parse_args(argc, argv, &a);
     if (rc >= 0)
         return rc;
+    if (a.energy == ENERGY_GEOMETRIC) {
+        lm_status gst = run_geometric(&a, NULL);
+        return gst == LM_OK ? 0 : co_cli_fail(CMD, gst);
+    }
+    const char *both_tmp = NULL;
+    if (a.energy == ENERGY_BOTH) {
+        rc = run_both(&a);
+        if (rc >= 0)
+            return rc;
+        both_tmp = a.o.initial_path;
+    }
     co_run_log log;
     co_run_log_init(&log);
     co_job_summary s;
@@ -314,6 +444,8 @@ int co_cli_optimize(int argc, char **argv)
     if (st == LM_OK && a.report_dir && !suspended)
         st = write_report(&a, &s, &log);
     co_run_log_free(&log);
+    if (both_tmp)
+        remove(both_tmp);
     if (st != LM_OK) { /* a signal before the optimisation began (the start): nothing written */
         int code = co_cli_fail(CMD, st);
         if (!co_pool_interrupted())
