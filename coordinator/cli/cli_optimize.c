@@ -24,6 +24,7 @@ static const char co_optimize_help[] =
     "                       [--workers N] [--listen tcp://ADDR:PORT] [--renderer ID]\n"
     "                       [--edges-in-flight K] [--keys DIR] [--save-initial FILE]\n"
     "                       [--surface-weight W | --surface-share S] [--regrid-every N]\n"
+    "                       [--validate-every K [--validate-views N] [--validate-patience P]]\n"
     "\n"
     "Improve a coarse mesh so that its rendered images match the original's from many viewpoints\n"
     "(Lindstrom & Turk 2001): vertex positions and attributes by downhill simplex, connectivity "
@@ -83,6 +84,17 @@ static const char co_optimize_help[] =
     "                          pixel centres, so the energy shown predicts unseen views. Progress\n"
     "                          stays relative to the start across grids (a chain of ratios).\n"
     "                          Part of the job, like the seed\n"
+    "  --validate-every K      every K evaluations (default %llu; 0 = never) render the mesh on\n"
+    "                          validation views the optimizer never fits (the job's views turned\n"
+    "                          by a rotation drawn from the seed: about the centre for the\n"
+    "                          sphere, about +Y for upper, each camera by up to 15 degrees about\n"
+    "                          +Y for --views-from), keep the best mesh on them, and write it as\n"
+    "                          the output: more evaluations never end worse on them. Progress\n"
+    "                          shows their energy and the best. Part of the job, like the seed\n"
+    "  --validate-views N      validation views (default: as many as --views)\n"
+    "  --validate-patience P   after P checks without a new best, fit new training views of the\n"
+    "                          same distribution (turned by another rotation; default %u; 0 =\n"
+    "                          never). Part of the job, like the seed\n"
     "  --device D              rendering device: auto (GPU if any, else cpu), cpu, host, egl:N\n"
     "                          (default auto; see lumesh devices); local workers use it too\n"
     "  --workers N             render in N lumesh-worker processes on this machine, each owning\n"
@@ -179,13 +191,16 @@ static void usage(FILE *f)
     fprintf(f, co_optimize_help, CO_JOB_MIN_TARGET_VERTS, CO_JOB_DEFAULT_VIEWS, CO_JOB_DEFAULT_SIZE,
             (unsigned long long)CO_JOB_DEFAULT_EVALS, CO_JOB_DEFAULT_CHECKPOINT_S,
             CO_JOB_IMAGE_START_SHARE, CO_SURFACE_SHARE,
-            (unsigned long long)CO_JOB_DEFAULT_REGRID_EVERY, CO_JOB_DEFAULT_IN_FLIGHT);
+            (unsigned long long)CO_JOB_DEFAULT_REGRID_EVERY,
+            (unsigned long long)CO_JOB_DEFAULT_VALIDATE_EVERY, CO_JOB_DEFAULT_VALIDATE_PATIENCE,
+            CO_JOB_DEFAULT_IN_FLIGHT);
 }
 
 /* What a 0 given stands for: no geometric term (--surface-weight, --surface-share), one grid all
  * along (--regrid-every). */
 static const double no_term = CO_JOB_NONE;
 static const uint64_t never = CO_JOB_NONE;
+static const uint32_t never_u32 = CO_JOB_NONE;
 
 /* The rows of the optimiser's own options (o: the job's). */
 #define OPT_SURFACE(n, p, hi)                                                                      \
@@ -245,6 +260,11 @@ static int parse_args(int argc, char **argv, optimize_args *a)
         OPT_SURFACE("surface-share", &o->surface_share, 1e6),
         CO_OPT_CALL("start", 0, parse_start, o),
         OPT_REGRID(&o->regrid_every),
+        {CO_OPT_ROW("validate-every", 0, CO_OPT_KIND_U64, uint64_t, &o->validate_every), .lo = 0,
+         .hi = UINT64_MAX / 2, .zero = &never},
+        CO_OPT_U32("validate-views", 0, &o->validate_views, 1, LM_MAX_VIEWS),
+        {CO_OPT_ROW("validate-patience", 0, CO_OPT_KIND_U32, uint32_t, &o->validate_patience),
+         .lo = 0, .hi = 1000000, .zero = &never_u32},
     };
     int rc = co_cli_parse(&spec, opts, CO_OPTS_N(opts), argc, argv);
     if (rc >= 0)
