@@ -29,7 +29,7 @@
  * coordinator/OPTIMIZER.md, ninth round). */
 #define CO_JOB_DEFAULT_REGRID_EVERY 10000ull
 /* Validation (`--validate-every`, validate.h): off unless asked (why: coordinator/OPTIMIZER.md,
- * twenty-... round: validation); when on, as many validation views as training views, and new
+ * validation views (issue 38)); when on, as many validation views as training views, and new
  * training views after this many checks without a new best. */
 #define CO_JOB_DEFAULT_VALIDATE_EVERY 0ull
 #define CO_JOB_DEFAULT_VALIDATE_PATIENCE 4u
