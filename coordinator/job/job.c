@@ -165,7 +165,7 @@ static void resolve_surface_term(co_job *j)
 
 /* Validation's options, the one place they are resolved: off unless asked; as many views as the
  * job's (a camera file's count: its cameras turned, view_turn.h); a patience of
- * CO_JOB_DEFAULT_VALIDATE_PATIENCE checks. */
+ * CO_JOB_DEFAULT_VALIDATE_PATIENCE checks (0: the training views never change). */
 static lm_status resolve_validation(co_job *j)
 {
     co_job_options *o = &j->o;
@@ -191,7 +191,9 @@ static lm_status resolve_validation(co_job *j)
                        LM_MAX_VIEWS);
     if (!o->validate_patience)
         o->validate_patience = CO_JOB_DEFAULT_VALIDATE_PATIENCE;
-    j->validate_patience = co_job_is_none(o->validate_patience) ? 0 : o->validate_patience;
+    if (co_job_is_none(o->validate_patience))
+        o->validate_patience = 0;
+    j->validate_patience = o->validate_patience;
     return LM_OK;
 }
 
@@ -489,11 +491,14 @@ static lm_status make_validation_views(co_job *j)
     lm_status st =
         create_views_of(j, j->o.validate_views, CO_VIEW_TURN_VALIDATION, 0, 1, &j->val.views);
     co_meter_end(&j->meter);
-    if (st == LM_OK)
+    if (st == LM_OK && j->validate_patience)
         note(j, "validation views",
              "%" PRIu32 " views of %dx%d every %" PRIu64
              " evaluations; new training views after %" PRIu32 " checks without a new best",
              j->o.validate_views, j->o.size, j->o.size, j->validate_every, j->validate_patience);
+    else if (st == LM_OK)
+        note(j, "validation views", "%" PRIu32 " views of %dx%d every %" PRIu64 " evaluations",
+             j->o.validate_views, j->o.size, j->o.size, j->validate_every);
     return st;
 }
 

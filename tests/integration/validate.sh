@@ -2,8 +2,9 @@
 # Integration: validation views (`optimize --validate-every`, issue 38) — a job made to overfit
 # (3 training views of 48²) ends no worse on its validation views than its best point: the
 # summary's best is the minimum of every check, the run did get worse after it, and the output is
-# byte-identical to a run stopped at the best point; the output is the same with --workers 0 and
-# 2; a job stopped at a checkpoint and resumed ends byte-identical (checkpoint version 4), and a
+# byte-identical to a run stopped at the best point; with new training views on a plateau
+# (--validate-patience 2) the output is the same with --workers 0 and 2, and a job stopped at a
+# checkpoint after the views changed and resumed ends byte-identical (checkpoint version 4); a
 # resume with other validation options is refused in one line; bad flags get one line, exit 1.
 set -u
 . "$(dirname "$0")/lib.bash"
@@ -14,7 +15,7 @@ scratch
 frog=$tmp/frog.obj
 opts=(--views 3 --size 48 --target-verts 120 --seed 1 --device host --start qem)
 val=(--validate-every 500)
-mkdir -p "$tmp/a" "$tmp/b" "$tmp/c" "$tmp/d"
+mkdir -p "$tmp/a" "$tmp/b" "$tmp/c" "$tmp/d" "$tmp/e"
 
 # 1. Overfitting: the output is the best validation point, and the run went past it.
 checks=$((checks + 1))
@@ -42,23 +43,29 @@ expect_exit 0 "$LUMESH" optimize "$frog" -o "$tmp/b/out.obj" "${opts[@]}" --eval
   --workers 0
 diff -r "$tmp/a" "$tmp/b" >/dev/null || fail "the output is not the mesh of the best point"
 
-# 2. Worker count: the same bytes with 2 workers.
-expect_exit 0 "$LUMESH" optimize "$frog" -o "$tmp/c/out.obj" "${opts[@]}" "${val[@]}" \
+# 2. New training views on a plateau (--validate-patience 2): the same bytes with 2 workers, and
+# after a resume from a checkpoint written after the views changed (checkpoint version 4).
+pat=(--validate-every 500 --validate-patience 2)
+checks=$((checks + 1))
+"$LUMESH" optimize "$frog" -o "$tmp/e/out.obj" "${opts[@]}" "${pat[@]}" --evals 6000 \
+  --workers 0 --json >"$tmp/e.jsonl" 2>"$tmp/e.err" || fail "patience run: $(cat "$tmp/e.err")"
+grep -q '"event":"new views"' "$tmp/e.jsonl" || fail "no new training views with patience 2"
+expect_exit 0 "$LUMESH" optimize "$frog" -o "$tmp/c/out.obj" "${opts[@]}" "${pat[@]}" \
   --evals 6000 --workers 2
 checks=$((checks + 1))
-diff -r "$tmp/a" "$tmp/c" >/dev/null || fail "--workers 2 differs from --workers 0"
+diff -r "$tmp/e" "$tmp/c" >/dev/null || fail "--workers 2 differs from --workers 0"
 
 # 3. Stopped at a checkpoint and resumed: the bytes of the straight run.
-expect_exit 0 "$LUMESH" optimize "$frog" -o "$tmp/part.obj" "${opts[@]}" "${val[@]}" \
-  --evals 3000 --workers 0 --checkpoint "$tmp/ck" --checkpoint-every 1
+expect_exit 0 "$LUMESH" optimize "$frog" -o "$tmp/part.obj" "${opts[@]}" "${pat[@]}" \
+  --evals 5000 --workers 0 --checkpoint "$tmp/ck" --checkpoint-every 1
 checks=$((checks + 1))
 [ "$(od -A n -t u4 -j 8 -N 4 "$tmp/ck" | tr -d ' ')" = 4 ] || fail "checkpoint is not version 4"
-expect_exit 0 "$LUMESH" optimize "$frog" -o "$tmp/d/out.obj" "${opts[@]}" "${val[@]}" \
+expect_exit 0 "$LUMESH" optimize "$frog" -o "$tmp/d/out.obj" "${opts[@]}" "${pat[@]}" \
   --evals 6000 --workers 0 --resume "$tmp/ck"
 checks=$((checks + 1))
-diff -r "$tmp/a" "$tmp/d" >/dev/null || fail "resumed validating job differs from the straight run"
+diff -r "$tmp/e" "$tmp/d" >/dev/null || fail "resumed validating job differs from the straight run"
 expect_fail_line "$LUMESH" optimize "$frog" -o "$tmp/x.obj" "${opts[@]}" --validate-every 400 \
-  --evals 6000 --workers 0 --resume "$tmp/ck"
+  --validate-patience 2 --evals 6000 --workers 0 --resume "$tmp/ck"
 checks=$((checks + 1))
 "$LUMESH" optimize "$frog" -o "$tmp/x.obj" "${opts[@]}" --evals 6000 --workers 0 \
   --resume "$tmp/ck" 2>&1 | grep -q "written with --validate-every 500, this run uses --validate-every 0" ||
