@@ -193,6 +193,38 @@ void lm_view_shift(lm_view *v, double dx, double dy)
     mat4_mul(v->proj, v->view, v->view_proj);
 }
 
+void lm_view_turn(lm_view *v, const float centre[3], const double r[9])
+{
+    /* world point p of the turned scene was R^T (p - c) + c before: view' = view · M */
+    float m[16] = {0}, view[16];
+    for (int c = 0; c < 3; c++)
+        for (int k = 0; k < 3; k++)
+            m[c * 4 + k] = (float)r[c * 3 + k]; /* (R^T)[k][c] = R[c][k] */
+    for (int k = 0; k < 3; k++) {
+        double t = centre[k];
+        for (int c = 0; c < 3; c++)
+            t -= r[c * 3 + k] * centre[c];
+        m[12 + k] = (float)t;
+    }
+    m[15] = 1.0f;
+    double eye[3], dir[3];
+    for (int i = 0; i < 3; i++) {
+        eye[i] = centre[i];
+        dir[i] = 0;
+        for (int k = 0; k < 3; k++) {
+            eye[i] += r[i * 3 + k] * ((double)v->eye[k] - centre[k]);
+            dir[i] += r[i * 3 + k] * v->dir[k];
+        }
+    }
+    for (int i = 0; i < 3; i++) {
+        v->eye[i] = (float)eye[i];
+        v->dir[i] = (float)dir[i];
+    }
+    mat4_mul(v->view, m, view);
+    memcpy(v->view, view, sizeof view);
+    mat4_mul(v->proj, v->view, v->view_proj);
+}
+
 static lm_status check_args(int size, const float centre[3], float radius)
 {
     if (size < 16 || size > LM_MAX_VIEW_SIZE)

@@ -119,6 +119,11 @@ const char *lm_view_dist_name(lm_view_dist d);
  * perspective; proj and view_proj updated). */
 void lm_view_shift(lm_view *v, double dx, double dy);
 
+/* Turn view v with the scene's rotation r (row-major 3x3, orthonormal) about `centre`: the camera
+ * moves to centre + r (eye - centre) and looks along r dir; its picture is the same as before of
+ * the model turned by r^T (a validation set or a new training set of the same distribution). */
+void lm_view_turn(lm_view *v, const float centre[3], const double r[9]);
+
 /* Project a world point: window coordinates in pixels (x right, y up from the bottom row as GL
  * does) and clip w. Returns 0 if w <= a small epsilon (behind or at the eye). */
 int lm_view_project(const lm_view *v, const float p[3], float win[2], float *w);

@@ -28,6 +28,7 @@ static const char co_optimize_help[] =
     "                       [--surface-weight W | --surface-share S] [--regrid-every N]\n"
     "                       [--energy image|geometric|image+geometric] [--c-rep C]\n"
     "                       [--geo-improvements LIST] [--geo-start-multiple K]\n"
+    "                       [--validate-every K [--validate-views N] [--validate-patience P]]\n"
     "\n"
     "Improve a coarse mesh so that its rendered images match the original's from many viewpoints\n"
     "(Lindstrom & Turk 2001): vertex positions and attributes by downhill simplex, connectivity "
@@ -121,6 +122,18 @@ static const char co_optimize_help[] =
     "                          at K times (default %u; 1: QEM's mesh at the target, refined:\n"
     "                          best measured on the CAD part fandisk, 2 on the scans; with 1 the\n"
     "                          result may have a few vertices fewer than N, as QEM's may)\n"
+    "  --validate-every K      every K evaluations (default %llu; 0 = never) render the mesh on\n"
+    "                          validation views the optimizer never fits (the job's views turned\n"
+    "                          by a rotation drawn from the seed: about the centre for the\n"
+    "                          sphere, about +Y for upper, each camera by up to 15 degrees about\n"
+    "                          +Y for --views-from), keep the best mesh on them, and write it as\n"
+    "                          the output: more evaluations never end worse on them. Progress\n"
+    "                          shows their energy and the best. Part of the job, like the seed\n"
+    "  --validate-views N      validation views (default: as many as --views)\n"
+    "  --validate-patience P   after P checks without a new best, fit new training views of the\n"
+    "                          same distribution (turned by another rotation; default %u =\n"
+    "                          never: measured worse, see coordinator/OPTIMIZER.md). Part of the\n"
+    "                          job, like the seed\n"
     "  --device D              rendering device: auto (GPU if any, else cpu), cpu, host, egl:N\n"
     "                          (default auto; see lumesh devices); local workers use it too\n"
     "  --workers N             render in N lumesh-worker processes on this machine, each owning\n"
@@ -254,13 +267,15 @@ static void usage(FILE *f)
             (unsigned long long)CO_JOB_DEFAULT_EVALS, CO_JOB_DEFAULT_CHECKPOINT_S,
             CO_JOB_IMAGE_START_SHARE, CO_SURFACE_SHARE,
             (unsigned long long)CO_JOB_DEFAULT_REGRID_EVERY, CO_GEO_DEFAULT_C_REP,
-            CO_GEO_START_MULTIPLE, CO_JOB_DEFAULT_IN_FLIGHT);
+            CO_GEO_START_MULTIPLE, (unsigned long long)CO_JOB_DEFAULT_VALIDATE_EVERY,
+            CO_JOB_DEFAULT_VALIDATE_PATIENCE, CO_JOB_DEFAULT_IN_FLIGHT);
 }
 
 /* What a 0 given stands for: no geometric term (--surface-weight, --surface-share), one grid all
  * along (--regrid-every). */
 static const double no_term = CO_JOB_NONE;
 static const uint64_t never = CO_JOB_NONE;
+static const uint32_t never_u32 = CO_JOB_NONE;
 
 /* The rows of the optimiser's own options (o: the job's). */
 #define OPT_SURFACE(n, p, hi)                                                                      \
@@ -293,6 +308,9 @@ static int check_options(optimize_args *a)
     if (a->energy != ENERGY_IMAGE && (o->initial_path || o->start))
         return co_cli_usage_error(CMD, "--initial and --start exclude --energy geometric and "
                                        "image+geometric (the geometric method makes the start)");
+    if (a->energy == ENERGY_GEOMETRIC && (o->validate_every || o->cull_unseen))
+        return co_cli_usage_error(CMD, "--validate-every and --cull-unseen need rendering: use "
+                                       "--energy image+geometric");
     if (a->energy == ENERGY_GEOMETRIC && a->report_dir)
         return co_cli_usage_error(CMD, "--report needs rendering: use --energy image+geometric "
                                        "or lumesh report on the result");
@@ -341,6 +359,11 @@ static int parse_args(int argc, char **argv, optimize_args *a)
         CO_OPT_CALL("c-rep", 0, parse_c_rep, &a->c_rep),
         CO_OPT_STR("geo-improvements", 0, &a->geo_improvements),
         CO_OPT_U32("geo-start-multiple", 0, &a->geo_start_multiple, 1, 1000),
+        {CO_OPT_ROW("validate-every", 0, CO_OPT_KIND_U64, uint64_t, &o->validate_every), .lo = 0,
+         .hi = UINT64_MAX / 2, .zero = &never},
+        CO_OPT_U32("validate-views", 0, &o->validate_views, 1, LM_MAX_VIEWS),
+        {CO_OPT_ROW("validate-patience", 0, CO_OPT_KIND_U32, uint32_t, &o->validate_patience),
+         .lo = 0, .hi = 1000000, .zero = &never_u32},
     };
     int rc = co_cli_parse(&spec, opts, CO_OPTS_N(opts), argc, argv);
     if (rc >= 0)

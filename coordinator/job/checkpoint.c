@@ -14,8 +14,9 @@
 static const char co_magic[8] = {'L', 'U', 'M', 'E', 'S', 'H', 'C', 'K'};
 
 enum {
-    CO_KEY_BYTES = 64,
+    CO_KEY_BYTES_V3 = 64,
     CO_KEY_BYTES_V2 = 48, /* version 2: no view distribution, no camera hash (sphere views) */
+    CO_KEY_BYTES = 80,    /* version 4: the validation's options after version 3's key */
     CO_HEADER_BYTES = 8 + 4 + 4 + CO_KEY_BYTES + 8,
     CO_TRAILER_BYTES = 8,
 };
@@ -82,11 +83,24 @@ static uint64_t get_u64(const uint8_t *p)
     return v;
 }
 
-static void encode_header(uint8_t *h, const co_checkpoint_key *key, uint64_t payload_len)
+/* The version a key is written in: 3 (its bytes as ever) unless the job validates. */
+static uint32_t key_version(const co_checkpoint_key *key)
 {
+    return key->validate_every ? CO_CHECKPOINT_VERSION : 3u;
+}
+
+static uint32_t version_key_bytes(uint32_t version)
+{
+    return version == 2 ? CO_KEY_BYTES_V2 : version == 3 ? CO_KEY_BYTES_V3 : CO_KEY_BYTES;
+}
+
+/* Writes the header; returns its size. */
+static size_t encode_header(uint8_t *h, const co_checkpoint_key *key, uint64_t payload_len)
+{
+    uint32_t version = key_version(key), kb = version_key_bytes(version);
     memcpy(h, co_magic, 8);
-    put_u32(h + 8, CO_CHECKPOINT_VERSION);
-    put_u32(h + 12, CO_KEY_BYTES);
+    put_u32(h + 8, version);
+    put_u32(h + 12, kb);
     uint8_t *k = h + 16;
     put_u64(k, key->original_hash);
     put_u64(k + 8, key->initial_hash);
@@ -99,7 +113,13 @@ static void encode_header(uint8_t *h, const co_checkpoint_key *key, uint64_t pay
     put_u32(k + 48, key->view_dist);
     put_u32(k + 52, 0);
     put_u64(k + 56, key->cameras_hash);
-    put_u64(h + 16 + CO_KEY_BYTES, payload_len);
+    if (kb > CO_KEY_BYTES_V3) {
+        put_u64(k + 64, key->validate_every);
+        put_u32(k + 72, key->validate_views);
+        put_u32(k + 76, key->validate_patience);
+    }
+    put_u64(h + 16 + kb, payload_len);
+    return header_bytes(kb);
 }
 
 static void decode_key(const uint8_t *k, uint32_t key_bytes, co_checkpoint_key *key)
@@ -114,6 +134,9 @@ static void decode_key(const uint8_t *k, uint32_t key_bytes, co_checkpoint_key *
     key->regrid_every = get_u64(k + 40);
     key->view_dist = key_bytes > CO_KEY_BYTES_V2 ? get_u32(k + 48) : LM_VIEW_DIST_SPHERE;
     key->cameras_hash = key_bytes > CO_KEY_BYTES_V2 ? get_u64(k + 56) : 0;
+    key->validate_every = key_bytes > CO_KEY_BYTES_V3 ? get_u64(k + 64) : 0;
+    key->validate_views = key_bytes > CO_KEY_BYTES_V3 ? get_u32(k + 72) : 0;
+    key->validate_patience = key_bytes > CO_KEY_BYTES_V3 ? get_u32(k + 76) : 0;
 }
 
 uint64_t co_checkpoint_hash_cameras(const lm_view_spec *views)
@@ -170,14 +193,14 @@ lm_status co_checkpoint_write(const char *path, const co_checkpoint_key *key,
     if (st != LM_OK)
         return st;
     uint8_t header[CO_HEADER_BYTES], trailer[CO_TRAILER_BYTES];
-    encode_header(header, key, len);
-    uint64_t sum = co_fnv1a(co_fnv1a(CO_FNV_OFFSET, header, sizeof header), payload, len);
+    size_t head = encode_header(header, key, len);
+    uint64_t sum = co_fnv1a(co_fnv1a(CO_FNV_OFFSET, header, head), payload, len);
     put_u64(trailer, sum);
 
     lm_atomic_file af;
     st = lm_atomic_open(&af, path);
     if (st == LM_OK) {
-        st = write_all(&af, path, header, sizeof header);
+        st = write_all(&af, path, header, head);
         if (st == LM_OK)
             st = write_all(&af, path, payload, len);
         if (st == LM_OK)
@@ -233,12 +256,12 @@ static lm_status verify_frame(const char *path, const uint8_t *d, size_t n, uint
     if (n < header_bytes(CO_KEY_BYTES_V2) + CO_TRAILER_BYTES)
         return lm_fail(LM_E_FORMAT, "checkpoint '%s' is truncated (%zu bytes)", path, n);
     uint32_t version = get_u32(d + 8);
-    if (version != CO_CHECKPOINT_VERSION && version != 2)
+    if (version < 2 || version > CO_CHECKPOINT_VERSION)
         return lm_fail(LM_E_FORMAT,
                        "checkpoint '%s' has version %" PRIu32 ", expected %u (%s lumesh wrote it)",
                        path, version, CO_CHECKPOINT_VERSION,
                        version < CO_CHECKPOINT_VERSION ? "an older" : "a newer");
-    uint32_t kb = version == 2 ? CO_KEY_BYTES_V2 : CO_KEY_BYTES;
+    uint32_t kb = version_key_bytes(version);
     size_t head = header_bytes(kb);
     if (get_u32(d + 12) != kb)
         return lm_fail(LM_E_FORMAT, "checkpoint '%s' is corrupted (bad header)", path);
@@ -304,6 +327,9 @@ static lm_status verify_key(const char *path, const co_checkpoint_key *got,
     CO_KEY_CHECK(size, "--size", PRIu32)
     CO_KEY_CHECK(attrs, "--attrs mask", PRIu32)
     CO_KEY_CHECK(regrid_every, "--regrid-every", PRIu64)
+    CO_KEY_CHECK(validate_every, "--validate-every", PRIu64)
+    CO_KEY_CHECK(validate_views, "--validate-views", PRIu32)
+    CO_KEY_CHECK(validate_patience, "--validate-patience", PRIu32)
 #undef CO_KEY_CHECK
     return LM_OK;
 }

@@ -13,7 +13,11 @@
  * one, and the folder is fsync'ed; a failure at any point leaves the previous checkpoint as it was.
  * Reads verify magic, version, length, checksum and key before handing the payload to the loader,
  * and name the first problem in one line. Version 2 (a 48-byte key: no distribution, no camera
- * hash) is still read, as sphere views without cameras. */
+ * hash) is still read, as sphere views without cameras. Version 4 (an 80-byte key: version 3's,
+ * then u64 evaluations between validation checks, u32 validation views, u32 plateau patience) is
+ * written only by a job that validates (its payload then also holds the training views' epoch and
+ * the validation state: coordinator/job/job.c); every other job writes version 3 as before, and
+ * versions 2 and 3 read as jobs without validation. */
 #ifndef LM_COORDINATOR_CHECKPOINT_H
 #define LM_COORDINATOR_CHECKPOINT_H
 
@@ -23,7 +27,7 @@
 #include "common/error.h"
 #include "common/view.h"
 
-#define CO_CHECKPOINT_VERSION 3u
+#define CO_CHECKPOINT_VERSION 4u
 /* Refuse to read checkpoints larger than this (a corrupted length must not allocate terabytes). */
 #define CO_CHECKPOINT_MAX_BYTES ((uint64_t)1 << 34)
 
@@ -37,10 +41,13 @@ typedef struct co_checkpoint_key {
     uint32_t target_verts; /* resolved target of the initial simplification; 0 with --initial */
     uint32_t views;
     uint32_t size;
-    uint32_t attrs;        /* LM_ATTR_* optimised besides positions */
-    uint64_t regrid_every; /* evaluations between the views' regrid draws; 0 = never */
-    uint32_t view_dist;    /* lm_view_dist: sphere, upper hemisphere or a camera file */
-    uint64_t cameras_hash; /* co_checkpoint_hash_cameras of the views */
+    uint32_t attrs;             /* LM_ATTR_* optimised besides positions */
+    uint64_t regrid_every;      /* evaluations between the views' regrid draws; 0 = never */
+    uint32_t view_dist;         /* lm_view_dist: sphere, upper hemisphere or a camera file */
+    uint64_t cameras_hash;      /* co_checkpoint_hash_cameras of the views */
+    uint64_t validate_every;    /* evaluations between validation checks; 0 = none (version 3) */
+    uint32_t validate_views;    /* the validation views' count (0 without validation) */
+    uint32_t validate_patience; /* checks without a new best before new training views */
 } co_checkpoint_key;
 
 /* initial_hash of a job that started from the image-driven simplification ("image-v1"). */

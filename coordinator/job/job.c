@@ -21,6 +21,8 @@
 #include "common/view.h"
 #include "coordinator/job/checkpoint.h"
 #include "coordinator/job/regrid.h"
+#include "coordinator/job/validate.h"
+#include "coordinator/job/view_turn.h"
 #include "coordinator/optimizer/optimizer.h"
 #include "coordinator/optimizer/optimizer_tuning.h"
 #include "coordinator/pool/pool.h"
@@ -44,8 +46,11 @@ typedef struct co_job {
     co_worker_report *workers; /* what progress shows of them */
     uint32_t cap_workers;
     lm_views *views;
-    uint32_t draw;         /* the regrid draw the views are made with (regrid.h) */
-    uint64_t regrid_every; /* 0 = never */
+    uint32_t draw;              /* the regrid draw the views are made with (regrid.h) */
+    uint64_t regrid_every;      /* 0 = never */
+    co_validation val;          /* with validate_every: the validation views, best mesh and state */
+    uint64_t validate_every;    /* 0 = no validation */
+    uint32_t validate_patience; /* 0 = the training views never change */
     co_optimizer *opt;
     co_checkpoint_key key;
     co_reporter rep;
@@ -159,6 +164,40 @@ static void resolve_surface_term(co_job *j)
         o->surface_share = CO_SURFACE_SHARE;
 }
 
+/* Validation's options, the one place they are resolved: off unless asked; as many views as the
+ * job's (a camera file's count: its cameras turned, view_turn.h); a patience of
+ * CO_JOB_DEFAULT_VALIDATE_PATIENCE checks (0: the training views never change). */
+static lm_status resolve_validation(co_job *j)
+{
+    co_job_options *o = &j->o;
+    if (!o->validate_every)
+        o->validate_every = CO_JOB_DEFAULT_VALIDATE_EVERY;
+    j->validate_every =
+        !o->validate_every || co_job_is_none(o->validate_every) ? 0 : o->validate_every;
+    if (!j->validate_every) {
+        o->validate_views = 0;
+        o->validate_patience = 0;
+        return LM_OK;
+    }
+    if (o->views.dist == LM_VIEW_DIST_CAMERAS && o->validate_views &&
+        o->validate_views != o->views.count)
+        return lm_fail(LM_E_INVALID,
+                       "--validate-views %" PRIu32 ": with --views-from the validation views are "
+                       "the %" PRIu32 " cameras turned",
+                       o->validate_views, o->views.count);
+    if (!o->validate_views)
+        o->validate_views = o->views.count;
+    if (o->validate_views > LM_MAX_VIEWS)
+        return lm_fail(LM_E_RANGE, "--validate-views %" PRIu32 " is above %d", o->validate_views,
+                       LM_MAX_VIEWS);
+    if (!o->validate_patience)
+        o->validate_patience = CO_JOB_DEFAULT_VALIDATE_PATIENCE;
+    if (co_job_is_none(o->validate_patience))
+        o->validate_patience = 0;
+    j->validate_patience = o->validate_patience;
+    return LM_OK;
+}
+
 static lm_status resolve_options(co_job *j, const co_job_options *in)
 {
     j->o = *in;
@@ -198,6 +237,9 @@ static lm_status resolve_options(co_job *j, const co_job_options *in)
         o->regrid_every = CO_JOB_DEFAULT_REGRID_EVERY;
     resolve_surface_term(j);
     j->regrid_every = co_job_is_none(o->regrid_every) ? 0 : o->regrid_every;
+    lm_status vst = resolve_validation(j);
+    if (vst != LM_OK)
+        return vst;
     j->checkpoint_path = o->checkpoint_path ? o->checkpoint_path : o->resume_path;
     lm_status st = check_output_path(o->output_path);
     if (st == LM_OK && j->checkpoint_path)
@@ -265,6 +307,7 @@ static lm_status resolve_target(co_job *j)
 
 static void note(co_job *j, const char *event, const char *fmt, ...)
     __attribute__((format(printf, 3, 4)));
+static void report_validation(co_job *j);
 static void note(co_job *j, const char *event, const char *fmt, ...)
 {
     char buf[512];
@@ -408,20 +451,24 @@ static lm_status make_pool(co_job *j)
     return st;
 }
 
-/* Views of the original in regrid draw `draw`, with the coarse mesh's materials (an --initial
- * file has its own; the optimizer keeps the coarse mesh's table). */
-static lm_status create_views(co_job *j, uint32_t draw, lm_views **out)
+/* Views of the original: `count` of the job's distribution turned by stream `turn` (view_turn.h)
+ * in regrid draw `draw`, with the coarse mesh's materials (an --initial file has its own; the
+ * optimizer keeps the coarse mesh's table). */
+static lm_status create_views_of(co_job *j, uint32_t count, uint32_t turn, uint32_t draw, int local,
+                                 lm_views **out)
 {
     lm_view_set *vs = malloc(sizeof *vs);
     if (!vs)
         return lm_fail(LM_E_NOMEM, "out of memory for the view set");
     float centre[3], radius;
     lm_mesh_bounding_sphere(j->original, centre, &radius);
-    lm_status st =
-        lm_view_set_make_spec(vs, &j->o.views, LM_VIEWS_TRAINING, j->o.size, centre, radius);
+    lm_view_spec spec = j->o.views;
+    spec.count = count;
+    lm_status st = lm_view_set_make_spec(vs, &spec, LM_VIEWS_TRAINING, j->o.size, centre, radius);
+    co_view_turn_apply(vs, spec.dist, j->o.seed, turn, centre);
     co_regrid_apply(vs, j->o.seed, draw);
     const lm_mesh *m = j->coarse ? j->coarse : co_optimizer_mesh(j->opt);
-    co_views_desc d = {.kind = j->pool ? CO_VIEWS_REMOTE : CO_VIEWS_LOCAL,
+    co_views_desc d = {.kind = j->pool && !local ? CO_VIEWS_REMOTE : CO_VIEWS_LOCAL,
                        .original = j->original,
                        .views = vs,
                        .materials = m->materials,
@@ -431,6 +478,32 @@ static lm_status create_views(co_job *j, uint32_t draw, lm_views **out)
     if (st == LM_OK)
         st = co_views_create(&d, out);
     free(vs);
+    return st;
+}
+
+/* The training views in regrid draw `draw` (of the training views' epoch in force). */
+static lm_status create_views(co_job *j, uint32_t draw, lm_views **out)
+{
+    return create_views_of(j, j->o.views.count, j->val.epoch, draw, 0, out);
+}
+
+/* The validation views: never fitted, one pixel grid, rendered in this process with the job's
+ * device (the workers serve one view set at a time: the training views'). */
+static lm_status make_validation_views(co_job *j)
+{
+    co_meter_phase(&j->meter, "the original's validation images (%" PRIu32 " views of %dx%d)",
+                   j->o.validate_views, j->o.size, j->o.size);
+    lm_status st =
+        create_views_of(j, j->o.validate_views, CO_VIEW_TURN_VALIDATION, 0, 1, &j->val.views);
+    co_meter_end(&j->meter);
+    if (st == LM_OK && j->validate_patience)
+        note(j, "validation views",
+             "%" PRIu32 " views of %dx%d every %" PRIu64
+             " evaluations; new training views after %" PRIu32 " checks without a new best",
+             j->o.validate_views, j->o.size, j->o.size, j->validate_every, j->validate_patience);
+    else if (st == LM_OK)
+        note(j, "validation views", "%" PRIu32 " views of %dx%d every %" PRIu64 " evaluations",
+             j->o.validate_views, j->o.size, j->o.size, j->validate_every);
     return st;
 }
 
@@ -451,7 +524,7 @@ static lm_status make_views(co_job *j)
     else
         note(j, "views", "%" PRIu32 " views of %dx%d on %s", info.n_views, info.width, info.height,
              info.renderer);
-    return LM_OK;
+    return j->validate_every ? make_validation_views(j) : LM_OK;
 }
 
 /* The optimizer onto views of regrid draw `draw` (the old ones go). rescale_start as in
@@ -491,35 +564,70 @@ static lm_status make_key(co_job *j)
     k->size = (uint32_t)j->o.size;
     k->attrs = j->attrs;
     k->regrid_every = j->regrid_every;
+    k->validate_every = j->validate_every;
+    k->validate_views = j->validate_every ? j->o.validate_views : 0;
+    k->validate_patience = j->validate_patience;
     return st;
 }
 
-/* The payload: the regrid draw the views were in (u32, little-endian), then the optimizer. */
+static lm_status put_u32_le(FILE *fp, uint32_t v, const char *what)
+{
+    uint8_t d[4];
+    for (int i = 0; i < 4; i++)
+        d[i] = (uint8_t)(v >> (8 * i));
+    return fwrite(d, 1, 4, fp) == 4 ? LM_OK
+                                    : lm_fail(LM_E_IO, "cannot write the checkpoint's %s", what);
+}
+
+static lm_status get_u32_le(FILE *fp, uint32_t *v, const char *what)
+{
+    uint8_t d[4];
+    if (fread(d, 1, 4, fp) != 4)
+        return lm_fail(LM_E_INVALID, "checkpoint is truncated (no %s)", what);
+    *v = 0;
+    for (int i = 0; i < 4; i++)
+        *v |= (uint32_t)d[i] << (8 * i);
+    return LM_OK;
+}
+
+/* The payload: the regrid draw the views were in (u32, little-endian), with validation the
+ * training views' epoch (u32), then the optimizer, with validation then its state
+ * (validate.h). */
 static lm_status save_payload(const void *ctx, FILE *fp)
 {
     const co_job *j = ctx;
-    uint8_t d[4];
-    for (int i = 0; i < 4; i++)
-        d[i] = (uint8_t)(j->draw >> (8 * i));
-    if (fwrite(d, 1, 4, fp) != 4)
-        return lm_fail(LM_E_IO, "cannot write the checkpoint's regrid draw");
-    return co_optimizer_save(j->opt, fp);
+    lm_status st = put_u32_le(fp, j->draw, "regrid draw");
+    if (st == LM_OK && j->validate_every)
+        st = put_u32_le(fp, j->val.epoch, "training views");
+    if (st == LM_OK)
+        st = co_optimizer_save(j->opt, fp);
+    if (st == LM_OK && j->validate_every)
+        st = co_validation_save(&j->val, fp);
+    return st;
 }
 
 static lm_status load_payload(void *ctx, FILE *fp)
 {
     co_job *j = ctx;
-    uint8_t d[4];
-    if (fread(d, 1, 4, fp) != 4)
-        return lm_fail(LM_E_INVALID, "checkpoint is truncated (no regrid draw)");
-    uint32_t draw = 0;
-    for (int i = 0; i < 4; i++)
-        draw |= (uint32_t)d[i] << (8 * i);
+    uint32_t draw = 0, epoch = 0;
+    lm_status st = get_u32_le(fp, &draw, "regrid draw");
+    if (st == LM_OK && j->validate_every)
+        st = get_u32_le(fp, &epoch, "training views");
+    if (st != LM_OK)
+        return st;
     if (draw && !j->regrid_every)
         return lm_fail(LM_E_INVALID,
                        "checkpoint names regrid draw %" PRIu32 " of a job without one", draw);
-    lm_status st = draw != j->draw ? switch_draw(j, draw, 0) : LM_OK;
-    return st == LM_OK ? co_optimizer_load(j->opt, fp) : st;
+    int other = draw != j->draw || epoch != j->val.epoch;
+    j->val.epoch = epoch;
+    st = other ? switch_draw(j, draw, 0) : LM_OK;
+    if (st == LM_OK)
+        st = co_optimizer_load(j->opt, fp);
+    if (st == LM_OK && j->validate_every)
+        st = co_validation_load(&j->val, co_optimizer_mesh(j->opt), fp);
+    if (st == LM_OK && j->validate_every)
+        report_validation(j);
+    return st;
 }
 
 static lm_status make_coarse_mesh(co_job *j)
@@ -606,6 +714,20 @@ static void report_workers(co_job *j)
     co_reporter_set_workers(&j->rep, j->workers, k);
 }
 
+/* What progress shows of the validation. */
+static void report_validation(co_job *j)
+{
+    const co_validation *v = &j->val;
+    co_validation_report r = {.on = 1,
+                              .energy = v->last_energy,
+                              .best = v->best_energy,
+                              .first = v->first_energy,
+                              .best_evals = v->best_evals,
+                              .checks = v->checks,
+                              .epoch = v->epoch};
+    co_reporter_set_validation(&j->rep, &r);
+}
+
 /* The reporter, and the caller's progress hook. */
 static void progress(co_job *j, const co_progress *p, double t, int force)
 {
@@ -673,6 +795,51 @@ static lm_status regrid_if_due(co_job *j, co_progress *p)
     return st;
 }
 
+/* Fit new training views of the same distribution (the next epoch): the run has stopped paying on
+ * the validation views with these ones. */
+static lm_status new_training_views(co_job *j, co_progress *p)
+{
+    j->val.epoch++;
+    j->val.since_best = 0;
+    meter_heard_reporter(j);
+    co_meter_phase(&j->meter, "new training views (%" PRIu32 "): the original's target images",
+                   j->val.epoch);
+    lm_status st = switch_draw(j, j->draw, 1);
+    co_meter_end(&j->meter);
+    if (st == LM_OK)
+        co_optimizer_progress(j->opt, p);
+    if (st == LM_OK)
+        note(j, "new views",
+             "training views %" PRIu32 " at %" PRIu64 " evaluations (%" PRIu32
+             " checks without a new best on the validation views)",
+             j->val.epoch, p->evals, j->validate_patience);
+    return st;
+}
+
+/* A validation check when the evaluations have reached the next one's count (before the next
+ * step, as a regrid), and on a plateau new training views. */
+static lm_status validate_if_due(co_job *j, co_progress *p)
+{
+    co_validation *v = &j->val;
+    if (!j->validate_every || p->evals < v->next_evals)
+        return LM_OK;
+    int improved;
+    lm_status st = co_validation_check(v, co_optimizer_mesh(j->opt), p->evals, 1, &improved);
+    if (st != LM_OK)
+        return st;
+    v->next_evals = (p->evals / j->validate_every + 1) * j->validate_every;
+    report_validation(j);
+    if (j->rep.style == CO_REPORT_JSON)
+        note(j, "validation",
+             "%" PRIu64 " evaluations: %" PRId64 " on the validation views%s (best %" PRId64
+             " at %" PRIu64 ")",
+             p->evals, v->last_energy, improved ? ", a new best" : "", v->best_energy,
+             v->best_evals);
+    if (j->validate_patience && v->since_best >= j->validate_patience)
+        st = new_training_views(j, p);
+    return st;
+}
+
 /* Optimise until the budget, the time limit, or nothing is left to evaluate. The optimizer stops
  * between moves when it reaches the evaluation count it is given and goes on with the same
  * iteration at the next call, so the chunking changes nothing in the result. Periodic checkpoints
@@ -689,11 +856,15 @@ static lm_status run_loop(co_job *j, const char **reason)
     while (!(*reason = stop_reason(j, &p, t, idle))) {
         uint64_t before = p.evals, before_it = p.iterations;
         lm_status st = regrid_if_due(j, &p);
+        if (st == LM_OK)
+            st = validate_if_due(j, &p);
         if (st != LM_OK)
             return st;
         uint64_t target = p.evals + step_chunk(p.evals - evals0, t);
         uint64_t regrid = co_regrid_next(j->draw, j->regrid_every);
         target = target < regrid ? target : regrid;
+        if (j->validate_every && j->val.next_evals < target)
+            target = j->val.next_evals;
         st = co_optimizer_step(j->opt, target < j->o.max_evals ? target : j->o.max_evals);
         if (st != LM_OK)
             return st;
@@ -733,11 +904,33 @@ static lm_status cull_unseen(co_job *j, lm_mesh *out)
     return st;
 }
 
-/* Output: a compacted copy of the optimizer's mesh, written atomically (textures kept). */
+/* The last look at the final mesh on the validation views (after the last checkpoint, which does
+ * not keep it): the output is the best of every check and of it. */
+static lm_status validate_final(co_job *j)
+{
+    co_progress p;
+    co_optimizer_progress(j->opt, &p);
+    int improved;
+    lm_status st = co_validation_check(&j->val, co_optimizer_mesh(j->opt), p.evals, 0, &improved);
+    if (st != LM_OK)
+        return st;
+    report_validation(j);
+    if (j->rep.style == CO_REPORT_JSON)
+        note(j, "validation",
+             "%" PRIu64 " evaluations (the end): %" PRId64
+             " on the validation views%s (best %" PRId64 " at %" PRIu64 ", the output)",
+             p.evals, j->val.last_energy, improved ? ", a new best" : "", j->val.best_energy,
+             j->val.best_evals);
+    return LM_OK;
+}
+
+/* Output: a compacted copy of the optimizer's mesh (with validation: the best one), written
+ * atomically (textures kept). */
 static lm_status write_output(co_job *j)
 {
     lm_mesh *copy;
-    lm_status st = lm_mesh_clone(co_optimizer_mesh(j->opt), &copy);
+    const lm_mesh *m = j->validate_every && j->val.best ? j->val.best : co_optimizer_mesh(j->opt);
+    lm_status st = lm_mesh_clone(m, &copy);
     if (st != LM_OK)
         return st;
     meter_heard_reporter(j);
@@ -779,6 +972,8 @@ static lm_status job_stages(co_job *j, co_job_summary *summary)
     const char *reason = NULL;
     st = run_loop(j, &reason);
     int suspended = st == LM_OK && strcmp(reason, "suspended") == 0;
+    if (st == LM_OK && !suspended && j->validate_every)
+        st = validate_final(j);
     if (st == LM_OK && !suspended)
         st = write_output(j);
     if (st != LM_OK)
@@ -841,6 +1036,7 @@ lm_status co_job_run(const co_job_options *opts, co_job_summary *summary)
     if (j->opt)
         co_optimizer_destroy(j->opt);
     lm_views_destroy(j->views);
+    co_validation_free(&j->val);
     co_pool_destroy(j->pool);
     free(j->workers);
     if (j->coarse)

@@ -28,6 +28,12 @@
 /* A new sub-pixel grid of the views every so many evaluations (regrid.h; why 10,000:
  * coordinator/OPTIMIZER.md, ninth round). */
 #define CO_JOB_DEFAULT_REGRID_EVERY 10000ull
+/* Validation (`--validate-every`, validate.h): off unless asked (why: coordinator/OPTIMIZER.md,
+ * validation views (issue 38)); when on, as many validation views as training views, and the
+ * training views kept on a plateau (a patience of 0: new training views after P checks without a
+ * new best measured worse on bunny at 100k, same place). */
+#define CO_JOB_DEFAULT_VALIDATE_EVERY 0ull
+#define CO_JOB_DEFAULT_VALIDATE_PATIENCE 0u
 #define CO_JOB_WORKER_START_S 60.0 /* local workers must say hello within this */
 
 /* "None" for the options whose 0 means the default (no geometric term, no regrid, no worker
@@ -95,14 +101,21 @@ typedef struct co_job_options {
     const char *renderer; /* accept only workers of this renderer id; NULL = the first one's */
     const char *keys;     /* CURVE key folder for the workers' connections (proto/keys.h) */
     uint32_t
-        edges_in_flight;   /* edges optimised at once (co_params); 0 = CO_JOB_DEFAULT_IN_FLIGHT */
-    double surface_weight; /* the optimizer's geometric term (co_tuning.surface_weight): 0 =
-                              default, CO_JOB_NONE = none */
-    double surface_share;  /* its weight relative to the start (co_tuning.surface_share): 0 =
-                              default (CO_JOB_IMAGE_START_SHARE for the image start's collapses,
-                              CO_SURFACE_SHARE after), CO_JOB_NONE = none */
-    uint64_t regrid_every; /* move the views' pixel grid every so many evaluations (regrid.h): 0 =
-                              CO_JOB_DEFAULT_REGRID_EVERY, CO_JOB_NONE = never */
+        edges_in_flight;     /* edges optimised at once (co_params); 0 = CO_JOB_DEFAULT_IN_FLIGHT */
+    double surface_weight;   /* the optimizer's geometric term (co_tuning.surface_weight): 0 =
+                                default, CO_JOB_NONE = none */
+    double surface_share;    /* its weight relative to the start (co_tuning.surface_share): 0 =
+                                default (CO_JOB_IMAGE_START_SHARE for the image start's collapses,
+                                CO_SURFACE_SHARE after), CO_JOB_NONE = none */
+    uint64_t regrid_every;   /* move the views' pixel grid every so many evaluations (regrid.h): 0 =
+                                CO_JOB_DEFAULT_REGRID_EVERY, CO_JOB_NONE = never */
+    uint64_t validate_every; /* judge the mesh on validation views every so many evaluations
+                                and output the best (validate.h): 0 =
+                                CO_JOB_DEFAULT_VALIDATE_EVERY, CO_JOB_NONE = never */
+    uint32_t validate_views; /* their count: 0 = the training views' count */
+    uint32_t validate_patience;      /* checks without a new best before the job fits new training
+                                        views (view_turn.h): 0 = CO_JOB_DEFAULT_VALIDATE_PATIENCE,
+                                        CO_JOB_NONE = never */
     const char *initial_output_path; /* write the coarse mesh the optimisation starts from (after
                                         its preparation) here; NULL = not */
     int cull_unseen; /* remove the output's triangles no view sees (quality/cull_unseen.h); not

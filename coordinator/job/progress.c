@@ -123,6 +123,33 @@ static void json_workers(FILE *fp, const co_reporter *r)
     fputc(']', fp);
 }
 
+void co_reporter_set_validation(co_reporter *r, const co_validation_report *v)
+{
+    r->val = *v;
+}
+
+static double val_rel(const co_validation_report *v, int64_t e)
+{
+    return v->first > 0 ? (double)e / (double)v->first : 1.0;
+}
+
+/* ,"validation":E,... (nothing for a job without validation) */
+static void json_validation(FILE *fp, const co_reporter *r, int summary)
+{
+    const co_validation_report *v = &r->val;
+    if (!v->on)
+        return;
+    fprintf(fp,
+            ",\"validation\":%" PRId64 ",\"validation_rel\":%.6f,\"validation_best\":%" PRId64
+            ",\"validation_best_rel\":%.6f,\"validation_best_evals\":%" PRIu64,
+            v->energy, val_rel(v, v->energy), v->best, val_rel(v, v->best), v->best_evals);
+    if (summary)
+        fprintf(fp,
+                ",\"validation_start\":%" PRId64 ",\"validation_checks\":%" PRIu32
+                ",\"training_views_epoch\":%" PRIu32,
+                v->first, v->checks, v->epoch);
+}
+
 static uint32_t alive_workers(const co_reporter *r)
 {
     uint32_t n = 0;
@@ -149,6 +176,7 @@ static void json_progress(const co_reporter *r, const co_progress *p, double ela
         fprintf(fp, "%.1f", eta);
     else
         fputs("null", fp);
+    json_validation(fp, r, 0);
     json_workers(fp, r);
     fputs("}\n", fp);
     fflush(fp);
@@ -179,6 +207,9 @@ static void human_progress(co_reporter *r, const co_progress *p, double rate, do
     CO_APPEND(" | accepted:");
     for (int k = 0; k < CO_MOVE_KINDS; k++)
         CO_APPEND(" %s %" PRIu64, co_report_move_name((co_move_kind)k), p->accepted[k]);
+    if (r->val.on)
+        CO_APPEND(" | validation %.2f%% (best %.2f%%)", 100.0 * val_rel(&r->val, r->val.energy),
+                  100.0 * val_rel(&r->val, r->val.best));
     CO_APPEND(" | %" PRIu32 " verts", p->live_verts);
     if (r->n_workers)
         CO_APPEND(" | %" PRIu32 " worker%s", alive_workers(r), alive_workers(r) == 1 ? "" : "s");
@@ -281,6 +312,7 @@ static void json_summary(FILE *fp, const co_reporter *r, const co_job_summary *s
     json_counts(fp, "accepted", p->accepted);
     fputc(',', fp);
     json_counts(fp, "attempted", p->attempted);
+    json_validation(fp, r, 1);
     json_workers(fp, r);
     fputs("}\n", fp);
 }
@@ -319,6 +351,12 @@ static void human_summary(FILE *fp, const co_reporter *r, const co_job_summary *
                 p->accepted[k], p->attempted[k], k + 1 < CO_MOVE_KINDS ? "," : "");
     fprintf(fp, "; %" PRIu32 " vertices, %" PRIu32 " triangles\n", p->live_verts, p->live_tris);
     human_workers(fp, r);
+    if (r->val.on)
+        fprintf(fp,
+                "validation: %.2f%% of the start at the end, best %.2f%% at %" PRIu64
+                " evaluations (the output; %" PRIu32 " checks, %" PRIu32 " new training views)\n",
+                100.0 * val_rel(&r->val, r->val.energy), 100.0 * val_rel(&r->val, r->val.best),
+                r->val.best_evals, r->val.checks, r->val.epoch);
     if (s->output_path)
         fprintf(fp, "wrote %s (renderer: %s)\n", s->output_path, s->renderer);
     else

@@ -30,6 +30,17 @@ typedef struct co_worker_report {
     int lost;
 } co_worker_report;
 
+/* A validating job's numbers as progress shows them (coordinator/job/validate.h). */
+typedef struct co_validation_report {
+    int on;              /* 0: the job does not validate (nothing shown) */
+    int64_t energy;      /* the last check's energy on the validation views */
+    int64_t best;        /* the best so far (the mesh the job outputs) */
+    int64_t first;       /* the first check's (the start's): the fractions' base */
+    uint64_t best_evals; /* evaluations at the best */
+    uint32_t checks;     /* checks so far */
+    uint32_t epoch;      /* training views in force (0 = the job's; n after n plateaus) */
+} co_validation_report;
+
 typedef struct co_reporter {
     co_report_style style;
     FILE *out;            /* progress records */
@@ -42,6 +53,7 @@ typedef struct co_reporter {
     int line_open;        /* a TTY line is showing and needs a newline before other output */
     const co_worker_report *workers; /* shown with every report (owned by the caller) */
     uint32_t n_workers;
+    co_validation_report val;
 } co_reporter;
 
 /* What a finished job reports. */
@@ -66,6 +78,8 @@ void co_reporter_init(co_reporter *r, co_report_style style, FILE *out, uint64_t
                       double time_limit_s);
 /* The workers the next reports show (the array stays the caller's; n = 0: none). */
 void co_reporter_set_workers(co_reporter *r, const co_worker_report *w, uint32_t n);
+/* The validation numbers the next reports and the summary show. */
+void co_reporter_set_validation(co_reporter *r, const co_validation_report *v);
 /* Report if enough time passed since the last report (always when `force`). */
 void co_reporter_update(co_reporter *r, const co_progress *p, double elapsed_s, int force);
 /* A set-up step or event ("original", "views", "checkpoint", "warning"...): a JSON event record;

@@ -81,5 +81,10 @@ const lm_mesh *co_optimizer_mesh(const co_optimizer *opt);
  * optimizer created on the same original, views and params. Versioned binary, checked on read. */
 lm_status co_optimizer_save(const co_optimizer *opt, FILE *fp);
 lm_status co_optimizer_load(co_optimizer *opt, FILE *fp);
+/* A mesh in the optimizer state's record (dead slots included), for a job's copies of meshes
+ * (the best validation mesh): save m, or load into m one saved from a mesh with m's materials and
+ * parts (m's arrays replaced; adjacency not built). */
+lm_status co_optimizer_save_mesh(const lm_mesh *m, FILE *fp);
+lm_status co_optimizer_load_mesh(lm_mesh *m, FILE *fp);
 
 #endif

@@ -541,3 +541,24 @@ lm_status co_optimizer_load(co_optimizer *opt, FILE *fp)
     loaded_free(&l);
     return st;
 }
+
+lm_status co_optimizer_save_mesh(const lm_mesh *m, FILE *fp)
+{
+    co_bin b;
+    co_bin_init(&b, fp, "mesh");
+    save_mesh(&b, m);
+    return b.status;
+}
+
+lm_status co_optimizer_load_mesh(lm_mesh *m, FILE *fp)
+{
+    co_bin b;
+    co_bin_init(&b, fp, "mesh");
+    mesh_arrays a;
+    memset(&a, 0, sizeof a);
+    lm_status st = load_mesh(&b, m, &a);
+    if (!st)
+        install(m, &a);
+    arrays_free(&a);
+    return st;
+}

@@ -369,6 +369,47 @@ static void test_version2_read_as_sphere(void **state)
     lmt_rmdir(dir);
 }
 
+/* A validating job writes version 4 (an 80-byte key); every other job version 3 as before. Each
+ * validation option is part of the key, and a version-3 file is a job without validation. */
+static void test_version4_validation(void **state)
+{
+    (void)state;
+    char *dir = lmt_mkdtemp();
+    char *p3 = path_in(dir, "v3.ckpt"), *p4 = path_in(dir, "v4.ckpt");
+    payload in, out;
+    make_payload(&in, 300, 9);
+    co_checkpoint_key kv = key0;
+    kv.validate_every = 2000;
+    kv.validate_views = 30;
+    kv.validate_patience = 4;
+    assert_int_equal(co_checkpoint_write(p3, &key0, save_fn, &in), LM_OK);
+    assert_int_equal(co_checkpoint_write(p4, &kv, save_fn, &in), LM_OK);
+    size_t n3, n4;
+    uint8_t *d3 = read_file(p3, &n3), *d4 = read_file(p4, &n4);
+    assert_int_equal(d3[8], 3);
+    assert_int_equal(d3[12], 64);
+    assert_int_equal(d4[8], CO_CHECKPOINT_VERSION);
+    assert_int_equal(d4[12], 80);
+    assert_int_equal(n4, n3 + 16);
+    memset(&out, 0, sizeof out);
+    assert_int_equal(co_checkpoint_read(p4, &kv, load_fn, &out), LM_OK);
+    assert_int_equal(out.n, in.n);
+    assert_memory_equal(out.bytes, in.bytes, in.n);
+    expect_key_refused(p3, &kv, "--validate-every 0, this run uses --validate-every 2000");
+    expect_key_refused(p4, &key0, "--validate-every 2000, this run uses --validate-every 0");
+    co_checkpoint_key k = kv;
+    k.validate_views = 12;
+    expect_key_refused(p4, &k, "--validate-views 30, this run uses --validate-views 12");
+    k = kv;
+    k.validate_patience = 0;
+    expect_key_refused(p4, &k, "--validate-patience 4, this run uses --validate-patience 0");
+    free(d3);
+    free(d4);
+    free(p3);
+    free(p4);
+    lmt_rmdir(dir);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -381,6 +422,7 @@ int main(void)
         cmocka_unit_test(test_unread_payload_refused),
         cmocka_unit_test(test_hash_file),
         cmocka_unit_test(test_version2_read_as_sphere),
+        cmocka_unit_test(test_version4_validation),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
