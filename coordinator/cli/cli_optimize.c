@@ -184,7 +184,8 @@ typedef struct optimize_args {
     uint32_t geo_start_multiple;  /* 0: CO_GEO_START_MULTIPLE */
     uint32_t geo_bits;
     const char *report_dir;
-    char initial[4096]; /* DIR/initial.obj */
+    char initial[4096];   /* DIR/initial.obj */
+    char geometric[4200]; /* image+geometric: OUT.geometric.glb, the image job's --initial */
 } optimize_args;
 
 /* "5000" = every 5000 evaluations, "30s" = every 30 seconds. */
@@ -428,9 +429,9 @@ static lm_status run_geometric(const optimize_args *a, const char *geo_out)
 /* image+geometric: the geometric result (written beside OUT, removed after) is the --initial. */
 static int run_both(optimize_args *a)
 {
-    char tmp[4200];
-    int n = snprintf(tmp, sizeof tmp, "%s.geometric.glb", a->o.output_path);
-    if (n < 0 || (size_t)n >= sizeof tmp)
+    char *tmp = a->geometric; /* outlives this function: the job reads it as its --initial */
+    int n = snprintf(tmp, sizeof a->geometric, "%s.geometric.glb", a->o.output_path);
+    if (n < 0 || (size_t)n >= sizeof a->geometric)
         return co_cli_usage_error(CMD, "-o: '%s' is too long", a->o.output_path);
     lm_status st = run_geometric(a, tmp);
     if (st != LM_OK)
