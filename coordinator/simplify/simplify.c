@@ -140,8 +140,7 @@ lm_status co_simplify_build_from_tris(const lm_mesh *in, const lm_tri *tris, siz
     return LM_OK;
 }
 
-/* The model is already at (or below) the target: a compact copy is the answer. */
-static lm_status copy_whole(const lm_mesh *in, lm_mesh **out)
+lm_status co_simplify_copy_live(const lm_mesh *in, lm_mesh **out)
 {
     lm_tri *tris = malloc(((size_t)in->live_tris + 1) * sizeof *tris);
     if (!tris)
@@ -170,7 +169,7 @@ lm_status co_simplify(const lm_mesh *in, co_simplify_method method, uint32_t tar
     if (s)
         return s;
     if (target_verts >= in->live_verts)
-        return copy_whole(in, out);
+        return co_simplify_copy_live(in, out); /* already at (or below) the target */
     uint32_t aim = target_verts < 4 ? 4 : target_verts;
     if (method == CO_SIMPLIFY_ADAPTIVE)
         s = co_simplify_adaptive(in, 0, aim, NULL, out);

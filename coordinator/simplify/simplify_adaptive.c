@@ -364,15 +364,7 @@ static lm_status loop(adapt *s, uint32_t stop)
 /* The live triangles of m as a compact mesh, every part of the original kept. */
 static lm_status output(const adapt_base *base, const lm_mesh *m, lm_mesh **out)
 {
-    lm_tri *tris = malloc(((size_t)m->live_tris + 1) * sizeof *tris);
-    if (!tris)
-        return lm_fail(LM_E_NOMEM, "out of memory writing the simplified mesh");
-    size_t n = 0;
-    for (uint32_t t = 0; t < m->n_tris; t++)
-        if (m->tri_alive[t])
-            tris[n++] = m->tris[t];
-    lm_status s = co_simplify_build_from_tris(m, tris, n, NULL, out);
-    free(tris);
+    lm_status s = co_simplify_copy_live(m, out);
     uint32_t kept = 0;
     if (!s)
         s = co_simplify_keep_parts(base->mesh, *out, &kept);

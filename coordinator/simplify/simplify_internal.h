@@ -40,6 +40,9 @@ int co_simplify_within(uint32_t live, uint32_t target);
 int co_simplify_reached(uint32_t live, uint32_t target);
 /* Copy every material of src into dst (textures cloned). */
 lm_status co_simplify_copy_materials(const lm_mesh *src, lm_mesh *dst);
+/* A compact copy of in's live triangles (and what they use), its parts and materials kept. */
+lm_status co_simplify_copy_live(const lm_mesh *in, lm_mesh **out);
+
 /* Build a compact mesh from `n` triangles given as input wedge ids (w[3], material, part) of `in`:
  * only the vertices and wedges they use are kept (ascending input order), every material and part
  * is kept.
