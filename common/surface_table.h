@@ -5,7 +5,7 @@
  *   e(t) = round(k · area(t) · mean over q of dist(q, surface)²)
  *
  * with q the three edge midpoints and the centroid of t (what k means: the optimizer's
- * coordinator/optimizer/surface_term.h). Every e(t) is an int64 computed from the triangle's
+ * common/optimizer/surface_term.h). Every e(t) is an int64 computed from the triangle's
  * corner positions alone, in double precision without contracted multiply-adds, so the same
  * triangle gives the same bits in the coordinator and in every worker, on every platform.
  *

@@ -7,13 +7,13 @@
 #include <string.h>
 
 #include "common/folders.h"
+#include "common/optimizer/optimizer_tuning.h"
 #include "common/view.h"
 #include "coordinator/cli/cli_args.h"
 #include "coordinator/geometric/run.h"
 #include "coordinator/job/job.h"
 #include "coordinator/job/job_log.h"
 #include "coordinator/job/progress.h"
-#include "coordinator/optimizer/optimizer_tuning.h"
 #include "coordinator/pool/pool.h"
 #include "coordinator/quality/report.h"
 
@@ -266,7 +266,7 @@ static void usage(FILE *f)
 {
     fprintf(f, co_optimize_help, CO_JOB_MIN_TARGET_VERTS, CO_JOB_DEFAULT_VIEWS, CO_JOB_DEFAULT_SIZE,
             (unsigned long long)CO_JOB_DEFAULT_EVALS, CO_JOB_DEFAULT_CHECKPOINT_S,
-            CO_JOB_IMAGE_START_SHARE, CO_SURFACE_SHARE,
+            CO_JOB_IMAGE_START_SHARE, LM_SURFACE_SHARE,
             (unsigned long long)CO_JOB_DEFAULT_REGRID_EVERY, CO_GEO_DEFAULT_C_REP,
             CO_GEO_START_MULTIPLE, (unsigned long long)CO_JOB_DEFAULT_VALIDATE_EVERY,
             CO_JOB_DEFAULT_VALIDATE_PATIENCE, CO_JOB_DEFAULT_IN_FLIGHT);
@@ -348,7 +348,7 @@ static int parse_args(int argc, char **argv, optimize_args *a)
         CO_OPT_STR("listen", 0, &o->listen),
         CO_OPT_STR("renderer", 0, &o->renderer),
         CO_OPT_STR("report", 0, &a->report_dir),
-        CO_OPT_U32("edges-in-flight", 0, &o->edges_in_flight, 1, CO_MAX_EDGES_IN_FLIGHT),
+        CO_OPT_U32("edges-in-flight", 0, &o->edges_in_flight, 1, LM_MAX_EDGES_IN_FLIGHT),
         CO_OPT_STR("keys", 0, &o->keys),
         CO_OPT_STR("save-initial", 0, &o->initial_output_path),
         CO_OPT_FLAG("cull-unseen", 0, &o->cull_unseen),

@@ -119,9 +119,9 @@ lm_status co_geo_set_add(co_geo_edge_set *s, uint64_t key)
     return co_geo_map_put(&s->where, key, s->n++);
 }
 
-uint64_t co_geo_set_take(co_geo_edge_set *s, co_rng *r)
+uint64_t co_geo_set_take(co_geo_edge_set *s, lm_rng *r)
 {
-    uint32_t i = (uint32_t)co_rng_below(r, s->n);
+    uint32_t i = (uint32_t)lm_rng_below(r, s->n);
     uint64_t key = s->item[i];
     co_geo_map_del(&s->where, key);
     if (i != --s->n) {

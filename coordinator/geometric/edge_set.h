@@ -7,7 +7,7 @@
 #include <stdint.h>
 
 #include "common/error.h"
-#include "coordinator/optimizer/rng.h"
+#include "common/optimizer/rng.h"
 
 typedef struct co_geo_map {
     uint64_t *key; /* 0: empty (no edge has key 0: a < b) */
@@ -37,6 +37,6 @@ void co_geo_set_clear(co_geo_edge_set *s);
 /* Adds the edge unless present. */
 lm_status co_geo_set_add(co_geo_edge_set *s, uint64_t key);
 /* Removes and returns a uniformly drawn edge (the set must not be empty). */
-uint64_t co_geo_set_take(co_geo_edge_set *s, co_rng *r);
+uint64_t co_geo_set_take(co_geo_edge_set *s, lm_rng *r);
 
 #endif

@@ -108,7 +108,7 @@ static lm_status setup(co_geo_state *g, const lm_mesh *original)
     g->pt = malloc((size_t)n * sizeof *g->pt);
     if (!g->pt)
         return lm_fail(LM_E_NOMEM, "out of memory for %u points", n);
-    co_rng_seed(&g->rng, g->o.seed);
+    lm_rng_seed(&g->rng, g->o.seed);
     lm_status st = co_geo_sample(original, n, g->o.seed, g->pt);
     if (st == LM_OK)
         st = lm_journal_create(&g->j);

@@ -5,8 +5,8 @@
 #define LM_COORDINATOR_GEOMETRIC_GEO_INTERNAL_H
 
 #include "common/mesh_topology.h"
+#include "common/optimizer/rng.h"
 #include "coordinator/geometric/geo.h"
-#include "coordinator/optimizer/rng.h"
 
 typedef struct co_geo_point {
     double x[3];
@@ -28,7 +28,7 @@ struct co_geo_state {
     double kappa, c_rep;
     double e_dist, e_spring; /* tracked: w_dist Σ d², kappa w_len Σ |e|² */
     co_geo_options o;
-    co_rng rng;
+    lm_rng rng;
     co_geo_summary *sum;
     uint32_t *pidx;     /* [pcap] scratch: the points a move re-projects */
     co_geo_point *ptmp; /* [pcap] scratch: their projections after the move */

@@ -45,11 +45,11 @@ lm_status co_geo_sample(const lm_mesh *original, uint32_t n, uint64_t seed, co_g
             cdf[k] = acc;
             id[k++] = t;
         }
-    co_rng r;
-    co_rng_seed(&r, seed ^ 0x9e0a5a11e5ULL);
+    lm_rng r;
+    lm_rng_seed(&r, seed ^ 0x9e0a5a11e5ULL);
     for (uint32_t i = 0; i < n; i++) {
-        uint32_t t = id[pick(cdf, nt, co_rng_unit(&r) * acc)];
-        double r1 = sqrt(co_rng_unit(&r)), r2 = co_rng_unit(&r);
+        uint32_t t = id[pick(cdf, nt, lm_rng_unit(&r) * acc)];
+        double r1 = sqrt(lm_rng_unit(&r)), r2 = lm_rng_unit(&r);
         double w[3] = {1 - r1, r1 * (1 - r2), r1 * r2};
         for (int c = 0; c < 3; c++)
             out[i].x[c] = 0;

@@ -18,13 +18,13 @@
 #include "common/io/mesh_io.h"
 #include "common/mesh.h"
 #include "common/mesh_topology.h"
+#include "common/optimizer/optimizer.h"
+#include "common/optimizer/optimizer_tuning.h"
 #include "common/view.h"
 #include "coordinator/job/checkpoint.h"
 #include "coordinator/job/regrid.h"
 #include "coordinator/job/validate.h"
 #include "coordinator/job/view_turn.h"
-#include "coordinator/optimizer/optimizer.h"
-#include "coordinator/optimizer/optimizer_tuning.h"
 #include "coordinator/pool/pool.h"
 #include "coordinator/quality/cull_unseen.h"
 #include "coordinator/simplify/simplify.h"
@@ -51,7 +51,7 @@ typedef struct co_job {
     co_validation val;          /* with validate_every: the validation views, best mesh and state */
     uint64_t validate_every;    /* 0 = no validation */
     uint32_t validate_patience; /* 0 = the training views never change */
-    co_optimizer *opt;
+    lm_optimizer *opt;
     co_checkpoint_key key;
     co_reporter rep;
     co_meter meter; /* the set-up's long phases, and the regrids' (once meter_on) */
@@ -154,14 +154,14 @@ static lm_status check_output_path(const char *path)
 
 /* The geometric term's share, the one place it is resolved: none (a negative weight or share)
  * turns it off everywhere; a share of 0 is CO_JOB_IMAGE_START_SHARE for the image start's
- * collapses and the optimizer's CO_SURFACE_SHARE after them, from a QEM start or --initial. */
+ * collapses and the optimizer's LM_SURFACE_SHARE after them, from a QEM start or --initial. */
 static void resolve_surface_term(co_job *j)
 {
     co_job_options *o = &j->o;
     int none = co_job_is_none(o->surface_weight) || co_job_is_none(o->surface_share);
     j->start_share = none ? 0 : o->surface_share > 0 ? o->surface_share : CO_JOB_IMAGE_START_SHARE;
     if (o->surface_share == 0)
-        o->surface_share = CO_SURFACE_SHARE;
+        o->surface_share = LM_SURFACE_SHARE;
 }
 
 /* Validation's options, the one place they are resolved: off unless asked; as many views as the
@@ -224,9 +224,9 @@ static lm_status resolve_options(co_job *j, const co_job_options *in)
         o->seed = 1;
     if (!o->edges_in_flight)
         o->edges_in_flight = CO_JOB_DEFAULT_IN_FLIGHT;
-    if (o->edges_in_flight > CO_MAX_EDGES_IN_FLIGHT)
+    if (o->edges_in_flight > LM_MAX_EDGES_IN_FLIGHT)
         return lm_fail(LM_E_RANGE, "--edges-in-flight %" PRIu32 " is above %u", o->edges_in_flight,
-                       CO_MAX_EDGES_IN_FLIGHT);
+                       LM_MAX_EDGES_IN_FLIGHT);
     if (!(o->time_limit_s >= 0) || !(o->checkpoint_every_s >= 0))
         return lm_fail(LM_E_RANGE, "time limits must be positive numbers");
     if (!o->checkpoint_every_s && !o->checkpoint_every_evals)
@@ -467,7 +467,7 @@ static lm_status create_views_of(co_job *j, uint32_t count, uint32_t turn, uint3
     lm_status st = lm_view_set_make_spec(vs, &spec, LM_VIEWS_TRAINING, j->o.size, centre, radius);
     co_view_turn_apply(vs, spec.dist, j->o.seed, turn, centre);
     co_regrid_apply(vs, j->o.seed, draw);
-    const lm_mesh *m = j->coarse ? j->coarse : co_optimizer_mesh(j->opt);
+    const lm_mesh *m = j->coarse ? j->coarse : lm_optimizer_mesh(j->opt);
     co_views_desc d = {.kind = j->pool && !local ? CO_VIEWS_REMOTE : CO_VIEWS_LOCAL,
                        .original = j->original,
                        .views = vs,
@@ -528,13 +528,13 @@ static lm_status make_views(co_job *j)
 }
 
 /* The optimizer onto views of regrid draw `draw` (the old ones go). rescale_start as in
- * co_optimizer_replace_views: 1 in the loop, 0 before a resume loads the energies. */
+ * lm_optimizer_replace_views: 1 in the loop, 0 before a resume loads the energies. */
 static lm_status switch_draw(co_job *j, uint32_t draw, int rescale_start)
 {
     lm_views *v = NULL;
     lm_status st = create_views(j, draw, &v);
     if (st == LM_OK)
-        st = co_optimizer_replace_views(j->opt, v, rescale_start);
+        st = lm_optimizer_replace_views(j->opt, v, rescale_start);
     if (st != LM_OK) {
         lm_views_destroy(v); /* the optimizer is left without views: the job ends here */
         return st;
@@ -600,7 +600,7 @@ static lm_status save_payload(const void *ctx, FILE *fp)
     if (st == LM_OK && j->validate_every)
         st = put_u32_le(fp, j->val.epoch, "training views");
     if (st == LM_OK)
-        st = co_optimizer_save(j->opt, fp);
+        st = lm_optimizer_save(j->opt, fp);
     if (st == LM_OK && j->validate_every)
         st = co_validation_save(&j->val, fp);
     return st;
@@ -622,9 +622,9 @@ static lm_status load_payload(void *ctx, FILE *fp)
     j->val.epoch = epoch;
     st = other ? switch_draw(j, draw, 0) : LM_OK;
     if (st == LM_OK)
-        st = co_optimizer_load(j->opt, fp);
+        st = lm_optimizer_load(j->opt, fp);
     if (st == LM_OK && j->validate_every)
-        st = co_validation_load(&j->val, co_optimizer_mesh(j->opt), fp);
+        st = co_validation_load(&j->val, lm_optimizer_mesh(j->opt), fp);
     if (st == LM_OK && j->validate_every)
         report_validation(j);
     return st;
@@ -642,20 +642,20 @@ static lm_status make_coarse_mesh(co_job *j)
 
 static lm_status make_optimizer(co_job *j)
 {
-    co_params params = {.seed = j->o.seed,
+    lm_params params = {.seed = j->o.seed,
                         .attrs = j->attrs,
                         .edges_in_flight = j->o.edges_in_flight,
                         .surface = j->original};
     /* From an image start the term keeps the weight the collapses were priced with (the share of
        QEM's mesh), as from a QEM start: one energy from the original to the result. */
-    co_tuning tuning = {.surface_weight =
+    lm_tuning tuning = {.surface_weight =
                             j->start_weight > 0 ? j->start_weight : j->o.surface_weight,
                         .surface_share = j->o.surface_share};
     lm_mesh *coarse = j->coarse;
     j->coarse = NULL; /* the optimizer owns it from here on, even when its creation fails */
     co_meter_phase(&j->meter, "the optimizer's first energies (%" PRIu32 " vertices)",
                    coarse->live_verts);
-    lm_status st = co_optimizer_create_tuned(coarse, j->views, &params, &tuning, &j->opt);
+    lm_status st = lm_optimizer_create_tuned(coarse, j->views, &params, &tuning, &j->opt);
     co_meter_end(&j->meter);
     if (st != LM_OK || !j->o.resume_path)
         return st;
@@ -664,14 +664,14 @@ static lm_status make_optimizer(co_job *j)
     co_meter_end(&j->meter);
     if (st != LM_OK)
         return st;
-    co_progress p;
-    co_optimizer_progress(j->opt, &p);
+    lm_progress p;
+    lm_optimizer_progress(j->opt, &p);
     j->resumed_from_evals = p.evals;
     note(j, "resumed", "%s at %" PRIu64 " evaluations", j->o.resume_path, p.evals);
     return LM_OK;
 }
 
-static void write_checkpoint(co_job *j, const co_progress *p)
+static void write_checkpoint(co_job *j, const lm_progress *p)
 {
     lm_status st = co_checkpoint_write(j->checkpoint_path, &j->key, save_payload, j);
     if (st != LM_OK)
@@ -729,7 +729,7 @@ static void report_validation(co_job *j)
 }
 
 /* The reporter, and the caller's progress hook. */
-static void progress(co_job *j, const co_progress *p, double t, int force)
+static void progress(co_job *j, const lm_progress *p, double t, int force)
 {
     report_workers(j);
     co_reporter_update(&j->rep, p, t, force);
@@ -738,7 +738,7 @@ static void progress(co_job *j, const co_progress *p, double t, int force)
 }
 
 /* Why the loop stops now, or NULL to go on. */
-static const char *stop_reason(const co_job *j, const co_progress *p, double t, int idle)
+static const char *stop_reason(const co_job *j, const lm_progress *p, double t, int idle)
 {
     if (p->evals >= j->o.max_evals)
         return "evals";
@@ -773,7 +773,7 @@ static void meter_heard_reporter(co_job *j)
 
 /* A new pixel grid when the evaluations have reached the next draw's start: before the next step,
  * so that a run resumed from a checkpoint written in between switches at the same point. */
-static lm_status regrid_if_due(co_job *j, co_progress *p)
+static lm_status regrid_if_due(co_job *j, lm_progress *p)
 {
     uint32_t draw = co_regrid_draw(p->evals, j->regrid_every);
     if (draw == j->draw)
@@ -786,7 +786,7 @@ static lm_status regrid_if_due(co_job *j, co_progress *p)
     lm_status st = switch_draw(j, draw, 1);
     co_meter_end(&j->meter);
     if (st == LM_OK)
-        co_optimizer_progress(j->opt, p);
+        lm_optimizer_progress(j->opt, p);
     if (st == LM_OK && j->rep.style == CO_REPORT_JSON)
         note(j, "regrid",
              "draw %" PRIu32 " at %" PRIu64 " evaluations: energy %" PRId64
@@ -797,7 +797,7 @@ static lm_status regrid_if_due(co_job *j, co_progress *p)
 
 /* Fit new training views of the same distribution (the next epoch): the run has stopped paying on
  * the validation views with these ones. */
-static lm_status new_training_views(co_job *j, co_progress *p)
+static lm_status new_training_views(co_job *j, lm_progress *p)
 {
     j->val.epoch++;
     j->val.since_best = 0;
@@ -807,7 +807,7 @@ static lm_status new_training_views(co_job *j, co_progress *p)
     lm_status st = switch_draw(j, j->draw, 1);
     co_meter_end(&j->meter);
     if (st == LM_OK)
-        co_optimizer_progress(j->opt, p);
+        lm_optimizer_progress(j->opt, p);
     if (st == LM_OK)
         note(j, "new views",
              "training views %" PRIu32 " at %" PRIu64 " evaluations (%" PRIu32
@@ -818,13 +818,13 @@ static lm_status new_training_views(co_job *j, co_progress *p)
 
 /* A validation check when the evaluations have reached the next one's count (before the next
  * step, as a regrid), and on a plateau new training views. */
-static lm_status validate_if_due(co_job *j, co_progress *p)
+static lm_status validate_if_due(co_job *j, lm_progress *p)
 {
     co_validation *v = &j->val;
     if (!j->validate_every || p->evals < v->next_evals)
         return LM_OK;
     int improved;
-    lm_status st = co_validation_check(v, co_optimizer_mesh(j->opt), p->evals, 1, &improved);
+    lm_status st = co_validation_check(v, lm_optimizer_mesh(j->opt), p->evals, 1, &improved);
     if (st != LM_OK)
         return st;
     v->next_evals = (p->evals / j->validate_every + 1) * j->validate_every;
@@ -846,8 +846,8 @@ static lm_status validate_if_due(co_job *j, co_progress *p)
  * are written at iteration boundaries, and a last one when the loop stops. */
 static lm_status run_loop(co_job *j, const char **reason)
 {
-    co_progress p;
-    co_optimizer_progress(j->opt, &p);
+    lm_progress p;
+    lm_optimizer_progress(j->opt, &p);
     const uint64_t evals0 = p.evals;
     uint64_t ck_evals = p.evals;
     double ck_s = 0.0, t = 0.0;
@@ -865,10 +865,10 @@ static lm_status run_loop(co_job *j, const char **reason)
         target = target < regrid ? target : regrid;
         if (j->validate_every && j->val.next_evals < target)
             target = j->val.next_evals;
-        st = co_optimizer_step(j->opt, target < j->o.max_evals ? target : j->o.max_evals);
+        st = lm_optimizer_step(j->opt, target < j->o.max_evals ? target : j->o.max_evals);
         if (st != LM_OK)
             return st;
-        co_optimizer_progress(j->opt, &p);
+        lm_optimizer_progress(j->opt, &p);
         idle = p.evals == before ? idle + 1 : 0;
         t = seconds_since(&j->t0) - j->loop_start_s;
         progress(j, &p, t, 0);
@@ -908,10 +908,10 @@ static lm_status cull_unseen(co_job *j, lm_mesh *out)
  * not keep it): the output is the best of every check and of it. */
 static lm_status validate_final(co_job *j)
 {
-    co_progress p;
-    co_optimizer_progress(j->opt, &p);
+    lm_progress p;
+    lm_optimizer_progress(j->opt, &p);
     int improved;
-    lm_status st = co_validation_check(&j->val, co_optimizer_mesh(j->opt), p.evals, 0, &improved);
+    lm_status st = co_validation_check(&j->val, lm_optimizer_mesh(j->opt), p.evals, 0, &improved);
     if (st != LM_OK)
         return st;
     report_validation(j);
@@ -929,7 +929,7 @@ static lm_status validate_final(co_job *j)
 static lm_status write_output(co_job *j)
 {
     lm_mesh *copy;
-    const lm_mesh *m = j->validate_every && j->val.best ? j->val.best : co_optimizer_mesh(j->opt);
+    const lm_mesh *m = j->validate_every && j->val.best ? j->val.best : lm_optimizer_mesh(j->opt);
     lm_status st = lm_mesh_clone(m, &copy);
     if (st != LM_OK)
         return st;
@@ -981,7 +981,7 @@ static lm_status job_stages(co_job *j, co_job_summary *summary)
     if (co_pool_interrupt_signal() == SIGUSR1 && !j->checkpoint_path)
         note(j, "warning", "SIGUSR1 without --checkpoint: stopped as for SIGTERM (output written)");
     memset(summary, 0, sizeof *summary);
-    co_optimizer_progress(j->opt, &summary->progress);
+    lm_optimizer_progress(j->opt, &summary->progress);
     summary->wall_s = seconds_since(&j->t0);
     summary->optimize_s = summary->wall_s - j->loop_start_s;
     summary->loop_cpu_s = process_cpu_s() - j->loop_cpu_s;
@@ -1034,7 +1034,7 @@ lm_status co_job_run(const co_job_options *opts, co_job_summary *summary)
     if (st != LM_OK)
         snprintf(why, sizeof why, "%s", lm_last_error());
     if (j->opt)
-        co_optimizer_destroy(j->opt);
+        lm_optimizer_destroy(j->opt);
     lm_views_destroy(j->views);
     co_validation_free(&j->val);
     co_pool_destroy(j->pool);

@@ -69,7 +69,7 @@ typedef enum co_job_start {
 } co_job_start;
 #define CO_JOB_DEFAULT_START CO_JOB_START_IMAGE
 /* The geometric term's share for the image start's collapses when the job's is 0 (the default);
- * the optimizer's CO_SURFACE_SHARE stays the share after them, from a QEM start or --initial (why:
+ * the optimizer's LM_SURFACE_SHARE stays the share after them, from a QEM start or --initial (why:
  * coordinator/OPTIMIZER.md, seventh round). */
 #define CO_JOB_IMAGE_START_SHARE 0.2
 
@@ -101,12 +101,12 @@ typedef struct co_job_options {
     const char *renderer; /* accept only workers of this renderer id; NULL = the first one's */
     const char *keys;     /* CURVE key folder for the workers' connections (proto/keys.h) */
     uint32_t
-        edges_in_flight;     /* edges optimised at once (co_params); 0 = CO_JOB_DEFAULT_IN_FLIGHT */
-    double surface_weight;   /* the optimizer's geometric term (co_tuning.surface_weight): 0 =
+        edges_in_flight;     /* edges optimised at once (lm_params); 0 = CO_JOB_DEFAULT_IN_FLIGHT */
+    double surface_weight;   /* the optimizer's geometric term (lm_tuning.surface_weight): 0 =
                                 default, CO_JOB_NONE = none */
-    double surface_share;    /* its weight relative to the start (co_tuning.surface_share): 0 =
+    double surface_share;    /* its weight relative to the start (lm_tuning.surface_share): 0 =
                                 default (CO_JOB_IMAGE_START_SHARE for the image start's collapses,
-                                CO_SURFACE_SHARE after), CO_JOB_NONE = none */
+                                LM_SURFACE_SHARE after), CO_JOB_NONE = none */
     uint64_t regrid_every;   /* move the views' pixel grid every so many evaluations (regrid.h): 0 =
                                 CO_JOB_DEFAULT_REGRID_EVERY, CO_JOB_NONE = never */
     uint64_t validate_every; /* judge the mesh on validation views every so many evaluations
@@ -122,7 +122,7 @@ typedef struct co_job_options {
                         part of the optimisation, so a checkpoint does not record it */
     /* Called with the counters at the start, after every optimizer step and at the end (the
        quality report's history); NULL = none. */
-    void (*on_progress)(void *ctx, const co_progress *p, double elapsed_s);
+    void (*on_progress)(void *ctx, const lm_progress *p, double elapsed_s);
     void *progress_ctx;
 } co_job_options;
 

@@ -1,19 +1,19 @@
-/* coordinator/job/job_log.c — co_progress samples and the job summary into a co_run_log. */
+/* coordinator/job/job_log.c — lm_progress samples and the job summary into a co_run_log. */
 #include "coordinator/job/job_log.h"
 
 #include <stdio.h>
 
-_Static_assert(CO_MOVE_KINDS <= CO_RUN_LOG_KINDS, "a run log names every move kind");
+_Static_assert(LM_MOVE_KINDS <= CO_RUN_LOG_KINDS, "a run log names every move kind");
 
-void co_job_log_progress(void *ctx, const co_progress *p, double elapsed_s)
+void co_job_log_progress(void *ctx, const lm_progress *p, double elapsed_s)
 {
     (void)elapsed_s;
     co_run_log *log = ctx;
     if (log->n_kinds == 0) {
-        const char *names[CO_MOVE_KINDS];
-        for (int k = 0; k < CO_MOVE_KINDS; k++)
-            names[k] = co_report_move_name((co_move_kind)k);
-        if (co_run_log_set_kinds(log, names, CO_MOVE_KINDS) != LM_OK)
+        const char *names[LM_MOVE_KINDS];
+        for (int k = 0; k < LM_MOVE_KINDS; k++)
+            names[k] = co_report_move_name((lm_move_kind)k);
+        if (co_run_log_set_kinds(log, names, LM_MOVE_KINDS) != LM_OK)
             return;
     }
     if (log->n && log->samples[log->n - 1].evals == p->evals)

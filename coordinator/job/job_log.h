@@ -10,7 +10,7 @@
 
 /* on_progress hook: ctx is a co_run_log (the move kinds are named at the first call). Samples at
  * an evaluation count already logged are not repeated. Out of memory stops the logging only. */
-void co_job_log_progress(void *ctx, const co_progress *p, double elapsed_s);
+void co_job_log_progress(void *ctx, const lm_progress *p, double elapsed_s);
 
 /* The totals of the finished job. */
 void co_job_log_finish(co_run_log *log, const co_job_summary *s);

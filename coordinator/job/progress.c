@@ -17,16 +17,16 @@ static const double co_report_period[] = {
     [CO_REPORT_JSON] = 1.0,
 };
 
-const char *co_report_move_name(co_move_kind k)
+const char *co_report_move_name(lm_move_kind k)
 {
     switch (k) {
-    case CO_MOVE_NOOP:
+    case LM_MOVE_NOOP:
         return "noop";
-    case CO_MOVE_SWAP:
+    case LM_MOVE_SWAP:
         return "swap";
-    case CO_MOVE_SPLIT:
+    case LM_MOVE_SPLIT:
         return "split";
-    case CO_MOVE_COLLAPSE:
+    case LM_MOVE_COLLAPSE:
         return "collapse";
     default:
         return "?";
@@ -60,20 +60,20 @@ void co_json_end_with_renderer(FILE *fp, const char *renderer)
     fputs("}\n", fp);
 }
 
-static double relative(const co_progress *p)
+static double relative(const lm_progress *p)
 {
     return p->energy_start > 0 ? (double)p->energy / (double)p->energy_start : 1.0;
 }
 
 /* Evaluations per second in this process, and the ETA (< 0 when unbounded or unknown). */
-static double rate_of(const co_reporter *r, const co_progress *p, double elapsed_s)
+static double rate_of(const co_reporter *r, const lm_progress *p, double elapsed_s)
 {
     if (r->start_evals == UINT64_MAX || elapsed_s <= 0 || p->evals < r->start_evals)
         return 0.0;
     return (double)(p->evals - r->start_evals) / elapsed_s;
 }
 
-static double eta_of(const co_reporter *r, const co_progress *p, double elapsed_s, double rate)
+static double eta_of(const co_reporter *r, const lm_progress *p, double elapsed_s, double rate)
 {
     double eta = -1.0;
     if (r->max_evals && rate > 0)
@@ -89,8 +89,8 @@ static double eta_of(const co_reporter *r, const co_progress *p, double elapsed_
 static void json_counts(FILE *fp, const char *name, const uint64_t *counts)
 {
     fprintf(fp, "\"%s\":{", name);
-    for (int k = 0; k < CO_MOVE_KINDS; k++)
-        fprintf(fp, "%s\"%s\":%" PRIu64, k ? "," : "", co_report_move_name((co_move_kind)k),
+    for (int k = 0; k < LM_MOVE_KINDS; k++)
+        fprintf(fp, "%s\"%s\":%" PRIu64, k ? "," : "", co_report_move_name((lm_move_kind)k),
                 counts[k]);
     fputc('}', fp);
 }
@@ -158,7 +158,7 @@ static uint32_t alive_workers(const co_reporter *r)
     return n;
 }
 
-static void json_progress(const co_reporter *r, const co_progress *p, double elapsed_s, double rate,
+static void json_progress(const co_reporter *r, const lm_progress *p, double elapsed_s, double rate,
                           double eta)
 {
     FILE *fp = r->out;
@@ -191,7 +191,7 @@ static void tty_line(co_reporter *r, const char *text)
     fflush(r->out);
 }
 
-static void human_progress(co_reporter *r, const co_progress *p, double rate, double eta)
+static void human_progress(co_reporter *r, const lm_progress *p, double rate, double eta)
 {
     char line[512];
     size_t n = 0;
@@ -205,8 +205,8 @@ static void human_progress(co_reporter *r, const co_progress *p, double rate, do
     if (eta >= 0)
         CO_APPEND(" | ETA %d:%02d", (int)(eta / 60), (int)eta % 60);
     CO_APPEND(" | accepted:");
-    for (int k = 0; k < CO_MOVE_KINDS; k++)
-        CO_APPEND(" %s %" PRIu64, co_report_move_name((co_move_kind)k), p->accepted[k]);
+    for (int k = 0; k < LM_MOVE_KINDS; k++)
+        CO_APPEND(" %s %" PRIu64, co_report_move_name((lm_move_kind)k), p->accepted[k]);
     if (r->val.on)
         CO_APPEND(" | validation %.2f%% (best %.2f%%)", 100.0 * val_rel(&r->val, r->val.energy),
                   100.0 * val_rel(&r->val, r->val.best));
@@ -222,7 +222,7 @@ static void human_progress(co_reporter *r, const co_progress *p, double rate, do
     }
 }
 
-void co_reporter_update(co_reporter *r, const co_progress *p, double elapsed_s, int force)
+void co_reporter_update(co_reporter *r, const lm_progress *p, double elapsed_s, int force)
 {
     if (r->start_evals == UINT64_MAX)
         r->start_evals = p->evals;
@@ -282,7 +282,7 @@ void co_reporter_note(co_reporter *r, const char *event, const char *detail)
 
 static void json_summary(FILE *fp, const co_reporter *r, const co_job_summary *s)
 {
-    const co_progress *p = &s->progress;
+    const lm_progress *p = &s->progress;
     double run_evals = (double)(p->evals - s->resumed_from_evals);
     fprintf(fp,
             "{\"type\":\"summary\",\"energy_start\":%" PRId64 ",\"energy_end\":%" PRId64
@@ -333,7 +333,7 @@ static void human_workers(FILE *fp, const co_reporter *r)
 
 static void human_summary(FILE *fp, const co_reporter *r, const co_job_summary *s)
 {
-    const co_progress *p = &s->progress;
+    const lm_progress *p = &s->progress;
     uint64_t run_evals = p->evals - s->resumed_from_evals;
     fprintf(fp, "energy %" PRId64 " -> %" PRId64 " (%.2f%% of start) after %" PRIu64 " evaluations",
             p->energy_start, p->energy, 100.0 * relative(p), p->evals);
@@ -346,9 +346,9 @@ static void human_summary(FILE *fp, const co_reporter *r, const co_job_summary *
         fprintf(fp, "coordinator: %.1f CPU seconds in the loop, %.0f us per evaluation\n",
                 s->loop_cpu_s, 1e6 * s->loop_cpu_s / (double)run_evals);
     fputs("accepted moves:", fp);
-    for (int k = 0; k < CO_MOVE_KINDS; k++)
-        fprintf(fp, " %s %" PRIu64 "/%" PRIu64 "%s", co_report_move_name((co_move_kind)k),
-                p->accepted[k], p->attempted[k], k + 1 < CO_MOVE_KINDS ? "," : "");
+    for (int k = 0; k < LM_MOVE_KINDS; k++)
+        fprintf(fp, " %s %" PRIu64 "/%" PRIu64 "%s", co_report_move_name((lm_move_kind)k),
+                p->accepted[k], p->attempted[k], k + 1 < LM_MOVE_KINDS ? "," : "");
     fprintf(fp, "; %" PRIu32 " vertices, %" PRIu32 " triangles\n", p->live_verts, p->live_tris);
     human_workers(fp, r);
     if (r->val.on)

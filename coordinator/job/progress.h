@@ -8,7 +8,7 @@
 #include <stdint.h>
 #include <stdio.h>
 
-#include "coordinator/optimizer/optimizer.h"
+#include "common/optimizer/optimizer.h"
 #include "coordinator/quality/json_text.h"
 
 typedef enum co_report_style {
@@ -58,7 +58,7 @@ typedef struct co_reporter {
 
 /* What a finished job reports. */
 typedef struct co_job_summary {
-    co_progress progress;    /* final counters (energy_start, energy, evals, accepted...) */
+    lm_progress progress;    /* final counters (energy_start, energy, evals, accepted...) */
     double wall_s;           /* seconds the whole job took in this process (load to output) */
     double optimize_s;       /* of which the optimisation loop */
     double loop_cpu_s;       /* CPU seconds of this process in the loop (with workers: the
@@ -81,7 +81,7 @@ void co_reporter_set_workers(co_reporter *r, const co_worker_report *w, uint32_t
 /* The validation numbers the next reports and the summary show. */
 void co_reporter_set_validation(co_reporter *r, const co_validation_report *v);
 /* Report if enough time passed since the last report (always when `force`). */
-void co_reporter_update(co_reporter *r, const co_progress *p, double elapsed_s, int force);
+void co_reporter_update(co_reporter *r, const lm_progress *p, double elapsed_s, int force);
 /* A set-up step or event ("original", "views", "checkpoint", "warning"...): a JSON event record;
  * on a terminal a transient status on the progress line; otherwise an info-level log line
  * (hidden by default). "warning" events are always shown (log warning) except in JSON style. */
@@ -96,6 +96,6 @@ void co_reporter_summary(co_reporter *r, const co_job_summary *s);
 /* The end of a JSON record that names its renderer: `, "renderer": "R"}` and a newline. */
 void co_json_end_with_renderer(FILE *fp, const char *renderer);
 /* Name of a move kind for reports: "noop", "swap", "split", "collapse". */
-const char *co_report_move_name(co_move_kind k);
+const char *co_report_move_name(lm_move_kind k);
 
 #endif

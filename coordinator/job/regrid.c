@@ -3,7 +3,7 @@
 
 #include <math.h>
 
-#include "coordinator/optimizer/rng.h"
+#include "common/optimizer/rng.h"
 
 /* The R2 sequence's steps: 1/g and 1/g² with g the plastic number (Roberts 2018). */
 #define R2_A1 0.7548776662466927
@@ -29,9 +29,9 @@ void co_regrid_offset(uint64_t seed, uint32_t draw, uint32_t view, double off[2]
     off[0] = off[1] = 0.0;
     if (!draw)
         return;
-    co_rng r;
-    co_rng_seed(&r, seed ^ 0x7265677269642d31ull ^ ((uint64_t)view << 32));
-    double u = co_rng_unit(&r), v = co_rng_unit(&r);
+    lm_rng r;
+    lm_rng_seed(&r, seed ^ 0x7265677269642d31ull ^ ((uint64_t)view << 32));
+    double u = lm_rng_unit(&r), v = lm_rng_unit(&r);
     double k = (double)draw;
     off[0] = fmod(u + k * R2_A1, 1.0) - 0.5;
     off[1] = fmod(v + k * R2_A2, 1.0) - 0.5;

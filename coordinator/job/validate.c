@@ -5,8 +5,8 @@
 #include <stdlib.h>
 
 #include "common/mesh_topology.h"
-#include "coordinator/optimizer/binio.h"
-#include "coordinator/optimizer/optimizer.h"
+#include "common/optimizer/binio.h"
+#include "common/optimizer/optimizer.h"
 
 #define VALIDATION_MAGIC 0x314c4156u /* "VAL1" */
 
@@ -44,46 +44,46 @@ lm_status co_validation_check(co_validation *v, const lm_mesh *m, uint64_t evals
 
 lm_status co_validation_save(const co_validation *v, FILE *fp)
 {
-    co_bin b;
-    co_bin_init(&b, fp, "validation state");
-    co_put_u32(&b, VALIDATION_MAGIC);
-    co_put_i64(&b, v->best_energy);
-    co_put_i64(&b, v->first_energy);
-    co_put_i64(&b, v->last_energy);
-    co_put_u64(&b, v->best_evals);
-    co_put_u64(&b, v->next_evals);
-    co_put_u32(&b, v->checks);
-    co_put_u32(&b, v->since_best);
-    co_put_u32(&b, v->epoch);
-    co_put_u32(&b, v->best != NULL);
+    lm_bin b;
+    lm_bin_init(&b, fp, "validation state");
+    lm_put_u32(&b, VALIDATION_MAGIC);
+    lm_put_i64(&b, v->best_energy);
+    lm_put_i64(&b, v->first_energy);
+    lm_put_i64(&b, v->last_energy);
+    lm_put_u64(&b, v->best_evals);
+    lm_put_u64(&b, v->next_evals);
+    lm_put_u32(&b, v->checks);
+    lm_put_u32(&b, v->since_best);
+    lm_put_u32(&b, v->epoch);
+    lm_put_u32(&b, v->best != NULL);
     if (b.status || !v->best)
         return b.status;
-    return co_optimizer_save_mesh(v->best, fp);
+    return lm_optimizer_save_mesh(v->best, fp);
 }
 
 lm_status co_validation_load(co_validation *v, const lm_mesh *like, FILE *fp)
 {
-    co_bin b;
-    co_bin_init(&b, fp, "validation state");
-    if (co_get_u32(&b) != VALIDATION_MAGIC)
-        return b.status ? b.status : co_bin_bad(&b, "no validation record");
+    lm_bin b;
+    lm_bin_init(&b, fp, "validation state");
+    if (lm_get_u32(&b) != VALIDATION_MAGIC)
+        return b.status ? b.status : lm_bin_bad(&b, "no validation record");
     co_validation s = *v;
-    s.best_energy = co_get_i64(&b);
-    s.first_energy = co_get_i64(&b);
-    s.last_energy = co_get_i64(&b);
-    s.best_evals = co_get_u64(&b);
-    s.next_evals = co_get_u64(&b);
-    s.checks = co_get_u32(&b);
-    s.since_best = co_get_u32(&b);
-    s.epoch = co_get_u32(&b);
-    uint32_t has_best = co_get_u32(&b);
+    s.best_energy = lm_get_i64(&b);
+    s.first_energy = lm_get_i64(&b);
+    s.last_energy = lm_get_i64(&b);
+    s.best_evals = lm_get_u64(&b);
+    s.next_evals = lm_get_u64(&b);
+    s.checks = lm_get_u32(&b);
+    s.since_best = lm_get_u32(&b);
+    s.epoch = lm_get_u32(&b);
+    uint32_t has_best = lm_get_u32(&b);
     if (b.status)
         return b.status;
     lm_mesh *best = NULL;
     if (has_best) {
         lm_status st = lm_mesh_clone(like, &best);
         if (st == LM_OK)
-            st = co_optimizer_load_mesh(best, fp);
+            st = lm_optimizer_load_mesh(best, fp);
         if (st == LM_OK)
             st = lm_mesh_build_adjacency(best);
         if (st != LM_OK) {

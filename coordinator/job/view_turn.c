@@ -3,7 +3,7 @@
 
 #include <math.h>
 
-#include "coordinator/optimizer/rng.h"
+#include "common/optimizer/rng.h"
 
 #define TURN_PI 3.14159265358979323846
 
@@ -31,9 +31,9 @@ static void turn_any(double u1, double u2, double u3, double r[9])
 
 void co_view_turn_matrix(lm_view_dist dist, uint64_t seed, uint32_t stream, double r[9])
 {
-    co_rng g;
-    co_rng_seed(&g, seed ^ 0x7475726e2d766965ull ^ ((uint64_t)stream << 20));
-    double u1 = co_rng_unit(&g), u2 = co_rng_unit(&g), u3 = co_rng_unit(&g);
+    lm_rng g;
+    lm_rng_seed(&g, seed ^ 0x7475726e2d766965ull ^ ((uint64_t)stream << 20));
+    double u1 = lm_rng_unit(&g), u2 = lm_rng_unit(&g), u3 = lm_rng_unit(&g);
     if (dist == LM_VIEW_DIST_SPHERE)
         turn_any(u1, u2, u3, r);
     else if (dist == LM_VIEW_DIST_UPPER)

@@ -4,7 +4,7 @@
 
 #include <string.h>
 
-#include "coordinator/optimizer/moves.h"
+#include "common/optimizer/moves.h"
 
 #define CO_OP_MAX_RING 1024
 
@@ -68,9 +68,9 @@ static lm_status derive_normals(lm_mesh *m, uint32_t v, lm_journal *j)
     uint32_t n = lm_mesh_vertex_neighbors(m, v, ring, CO_OP_MAX_RING);
     if (n > CO_OP_MAX_RING)
         return LM_E_RANGE;
-    co_moves_derive_normal(m, v, j);
+    lm_moves_derive_normal(m, v, j);
     for (uint32_t i = 0; i < n; i++)
-        co_moves_derive_normal(m, ring[i], j);
+        lm_moves_derive_normal(m, ring[i], j);
     return LM_OK;
 }
 

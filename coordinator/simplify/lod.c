@@ -11,7 +11,7 @@
 
 #include "common/folders.h"
 #include "common/mesh_topology.h"
-#include "coordinator/optimizer/optimizer.h"
+#include "common/optimizer/optimizer.h"
 #include "coordinator/pool/pool.h"
 #include "coordinator/quality/view_setup.h"
 #include "coordinator/simplify/isimp.h"
@@ -172,31 +172,31 @@ static lm_status optimize_level(lod *L, uint32_t k, lm_mesh *m, lm_mesh **out)
     uint64_t budget = L->o->evals;
     lm_mesh_merge_wedges(m, LM_ATTR_UV | LM_ATTR_COLOR);
     lm_mesh_compute_normals(m);
-    co_params params = {.seed = L->o->seed, .attrs = optimizer_attrs(L->orig)};
-    co_optimizer *opt = NULL;
+    lm_params params = {.seed = L->o->seed, .attrs = optimizer_attrs(L->orig)};
+    lm_optimizer *opt = NULL;
     lm_status st = lm_mesh_compact(m);
     if (st == LM_OK)
         st = lm_mesh_build_adjacency(m);
     if (st == LM_OK)
-        st = co_optimizer_create(m, L->views, &params, &opt);
+        st = lm_optimizer_create(m, L->views, &params, &opt);
     else
         lm_mesh_destroy(m);
-    co_progress p = {0};
+    lm_progress p = {0};
     for (int idle = 0; st == LM_OK && idle < CO_LOD_MAX_IDLE_STEPS;) {
-        co_optimizer_progress(opt, &p);
+        lm_optimizer_progress(opt, &p);
         if (p.evals >= budget)
             break;
         uint64_t before = p.evals;
-        st = co_optimizer_step(opt, budget);
-        co_optimizer_progress(opt, &p);
+        st = lm_optimizer_step(opt, budget);
+        lm_optimizer_progress(opt, &p);
         idle = p.evals == before ? idle + 1 : 0;
     }
     if (st == LM_OK) {
         L->sum->level[k].optimize_evals = p.evals;
         L->sum->level[k].energy_optimized = p.energy;
-        st = co_simplify_output_copy(co_optimizer_mesh(opt), out);
+        st = co_simplify_output_copy(lm_optimizer_mesh(opt), out);
     }
-    co_optimizer_destroy(opt);
+    lm_optimizer_destroy(opt);
     return st;
 }
 

@@ -11,7 +11,7 @@
 
 #include "common/folders.h"
 #include "common/io/mesh_io.h"
-#include "coordinator/optimizer/surface_term.h"
+#include "common/optimizer/surface_term.h"
 #include "coordinator/pool/pool.h"
 #include "coordinator/quality/view_setup.h"
 #include "coordinator/simplify/simplify.h"
@@ -93,7 +93,7 @@ static lm_status share_weight(sjob *j, double *w)
     if (st == LM_OK)
         st = lm_views_set_mesh_from(j->views, qem);
     if (st == LM_OK)
-        st = co_surface_views_weight_for_share(j->views, j->o->surface_share, w);
+        st = lm_surface_views_weight_for_share(j->views, j->o->surface_share, w);
     lm_mesh_destroy(qem);
     return st;
 }
@@ -104,11 +104,11 @@ static lm_status wrap_surface(sjob *j, const lm_mesh *ref)
     double w = j->o->surface_weight > 0 ? j->o->surface_weight : 1.0;
     j->image_views = j->views;
     j->views = NULL;
-    lm_status st = co_surface_views_create(j->image_views, ref, w, &j->views);
+    lm_status st = lm_surface_views_create(j->image_views, ref, w, &j->views);
     if (st == LM_OK && !(j->o->surface_weight > 0)) {
         st = share_weight(j, &w);
         if (st == LM_OK)
-            st = co_surface_views_set_weight(j->views, w);
+            st = lm_surface_views_set_weight(j->views, w);
     }
     j->sum->surface_weight = w;
     return st == LM_OK ? lm_views_set_mesh_from(j->views, j->work) : st;

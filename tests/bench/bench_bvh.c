@@ -13,7 +13,7 @@
 
 #include "common/bvh.h"
 #include "common/io/mesh_io.h"
-#include "coordinator/optimizer/rng.h"
+#include "common/optimizer/rng.h"
 #include "coordinator/simplify/simplify.h"
 
 static double now(void)
@@ -41,8 +41,8 @@ static void tri_points(const lm_mesh *m, uint32_t t, double q[4][3])
 static double *make_queries(const lm_mesh *m, double jitter, size_t *n)
 {
     double *q = malloc((size_t)m->n_tris * 8 * 3 * sizeof *q);
-    co_rng rng;
-    co_rng_seed(&rng, 1);
+    lm_rng rng;
+    lm_rng_seed(&rng, 1);
     *n = 0;
     for (uint32_t t = 0; q && t < m->n_tris; t++) {
         if (!m->tri_alive[t])
@@ -52,7 +52,7 @@ static double *make_queries(const lm_mesh *m, double jitter, size_t *n)
         for (int i = 0; i < 4; i++)
             for (int moved = 0; moved < 2; moved++, (*n)++)
                 for (int k = 0; k < 3; k++) {
-                    double r = co_rng_unit(&rng) - 0.5;
+                    double r = lm_rng_unit(&rng) - 0.5;
                     q[3 * *n + (size_t)k] = p[i][k] + (moved ? 2 * r * jitter : 0);
                 }
     }

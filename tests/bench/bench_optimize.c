@@ -15,9 +15,9 @@
 #include "common/io/mesh_io.h"
 #include "common/log.h"
 #include "common/mesh_topology.h"
+#include "common/optimizer/optimizer.h"
+#include "common/optimizer/optimizer_tuning.h"
 #include "common/view.h"
-#include "coordinator/optimizer/optimizer.h"
-#include "coordinator/optimizer/optimizer_tuning.h"
 #include "coordinator/simplify/simplify.h"
 #include "worker/render/views_local.h"
 
@@ -28,11 +28,11 @@ typedef struct opts {
     int size, cluster;
     uint64_t evals, every, seed;
     uint32_t evals_per_dim;
-    co_tuning tune;
+    lm_tuning tune;
 } opts;
 
 /* --set NAME=VALUE for the tuning numbers. */
-static int set_tuning(co_tuning *t, const char *kv)
+static int set_tuning(lm_tuning *t, const char *kv)
 {
     const char *eq = strchr(kv, '=');
     if (!eq)
@@ -169,12 +169,12 @@ static lm_status make_coarse(const opts *o, const lm_mesh *orig, lm_mesh **out)
     return st;
 }
 
-static void report(co_optimizer *opt, lm_views *held, int64_t held0, double t0)
+static void report(lm_optimizer *opt, lm_views *held, int64_t held0, double t0)
 {
-    co_progress p;
-    co_optimizer_progress(opt, &p);
+    lm_progress p;
+    lm_optimizer_progress(opt, &p);
     int64_t h = 0;
-    energy_of(held, co_optimizer_mesh(opt), &h);
+    energy_of(held, lm_optimizer_mesh(opt), &h);
     double dt = now() - t0;
     printf("evals %8llu  train %6.2f%%  heldout %6.2f%%  %6.0f ev/s  %5.0fs  it %llu  "
            "noop %llu/%llu swap %llu/%llu tele %llu/%llu coll %llu/%llu  verts %u\n",
@@ -205,30 +205,30 @@ static lm_status bench(const opts *o)
         !(st = wk_views_local_create(orig, vs, 0, 0, o->device, &v)) &&
         !(st = wk_views_local_create(orig, hs, 0, 0, o->device, &held)))
         st = energy_of(held, coarse, &held0);
-    co_optimizer *opt = NULL;
-    co_params p = {.seed = o->seed,
+    lm_optimizer *opt = NULL;
+    lm_params p = {.seed = o->seed,
                    .attrs = o->attrs,
                    .simplex_evals_per_dim = o->evals_per_dim,
                    .surface = orig};
     if (!st)
-        st = co_optimizer_create_tuned(coarse, v, &p, &o->tune, &opt);
+        st = lm_optimizer_create_tuned(coarse, v, &p, &o->tune, &opt);
     else
         lm_mesh_destroy(coarse);
     double t0 = now();
     for (uint64_t next = o->every; !st;) {
-        co_progress pr;
-        co_optimizer_progress(opt, &pr);
+        lm_progress pr;
+        lm_optimizer_progress(opt, &pr);
         if (pr.evals >= next || pr.evals >= o->evals) {
             report(opt, held, held0, t0);
             next += o->every;
         }
         if (pr.evals >= o->evals)
             break;
-        st = co_optimizer_step(opt, o->evals);
+        st = lm_optimizer_step(opt, o->evals);
     }
     if (!st && o->out)
-        st = lm_mesh_save(o->out, co_optimizer_mesh(opt));
-    co_optimizer_destroy(opt);
+        st = lm_mesh_save(o->out, lm_optimizer_mesh(opt));
+    lm_optimizer_destroy(opt);
     lm_views_destroy(v);
     lm_views_destroy(held);
     lm_mesh_destroy(orig);

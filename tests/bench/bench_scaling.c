@@ -31,7 +31,7 @@
 
 #include "common/io/mesh_io.h"
 #include "common/mesh_topology.h"
-#include "coordinator/optimizer/optimizer.h"
+#include "common/optimizer/optimizer.h"
 #include "coordinator/simplify/simplify.h"
 #include "scaling/scaling.h"
 
@@ -104,7 +104,7 @@ static int parse(int argc, char **argv, opts *o)
     }
     if (!o->model || !o->evals || !o->edge_evals || o->round < 1 || o->round > 65536 ||
         o->in_flight < 1 || !positive(o->lags, o->n_lags) || !positive(o->groups, o->n_groups) ||
-        o->in_flight > CO_MAX_EDGES_IN_FLIGHT || o->views < 1 || o->views > LM_MAX_VIEWS ||
+        o->in_flight > LM_MAX_EDGES_IN_FLIGHT || o->views < 1 || o->views > LM_MAX_VIEWS ||
         o->size < 16)
         return fprintf(stderr, "bench_scaling: bad arguments (see the comment at the top of "
                                "tests/bench/bench_scaling.c)\n"),

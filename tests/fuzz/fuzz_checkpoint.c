@@ -1,13 +1,13 @@
 /* tests/fuzz/fuzz_checkpoint.c — libFuzzer target for job checkpoints
- * (coordinator/job/checkpoint.h) and the optimizer state inside them (co_optimizer_load). Every
+ * (coordinator/job/checkpoint.h) and the optimizer state inside them (lm_optimizer_load). Every
  * input is tried three ways:
  *   1. as it is, as a checkpoint file: co_checkpoint_verify (frame, checksum, key);
  *   2. when it starts with the checkpoint magic, with its FNV-1a trailer recomputed so that
  *      mutations get past the checksum: co_checkpoint_read, the payload going to a loader like the
- *      job's (coordinator/job/job.c: u32 regrid draw, then co_optimizer_load);
+ *      job's (coordinator/job/job.c: u32 regrid draw, then lm_optimizer_load);
  *   3. as a bare payload, on a memory stream (fmemopen), to that loader.
  * The job key, the optimizer and its views are the seeds': an octahedron optimised towards a
- * stretched one, seen by 2 views of 16x16 on the CPU rasteriser, made once. co_optimizer_load
+ * stretched one, seen by 2 views of 16x16 on the CPU rasteriser, made once. lm_optimizer_load
  * checks everything before it changes anything; past the checks it installs the loaded mesh and
  * state, and may still fail after that (adjacency, re-render). So whenever a load got that far (the
  * mesh's arrays were replaced) the optimizer and its views are made anew before the next input:
@@ -27,9 +27,9 @@
 
 #include "common/log.h"
 #include "common/mesh_topology.h"
+#include "common/optimizer/optimizer.h"
 #include "common/view.h"
 #include "coordinator/job/checkpoint.h"
-#include "coordinator/optimizer/optimizer.h"
 #include "worker/render/views_local.h"
 
 int LLVMFuzzerInitialize(int *argc, char ***argv);
@@ -49,7 +49,7 @@ static const co_checkpoint_key g_key = {.original_hash = 0x6f63746168656472ull,
 static lm_view_set g_vs;
 static lm_mesh *g_orig;
 static lm_views *g_views;
-static co_optimizer *g_opt;
+static lm_optimizer *g_opt;
 static char g_path[512];
 
 static void one_line_error(void)
@@ -87,11 +87,11 @@ static lm_mesh *octahedron(float apex)
 /* Views of the original and an optimizer on the regular octahedron, in a fresh state. */
 static void make_optimizer(void)
 {
-    co_optimizer_destroy(g_opt);
+    lm_optimizer_destroy(g_opt);
     lm_views_destroy(g_views);
     LM_ASSERT(wk_views_local_create(g_orig, &g_vs, 0, 0, "cpu", &g_views) == LM_OK);
-    co_params params = {.seed = g_key.seed, .attrs = g_key.attrs};
-    LM_ASSERT(co_optimizer_create(octahedron(1.0f), g_views, &params, &g_opt) == LM_OK);
+    lm_params params = {.seed = g_key.seed, .attrs = g_key.attrs};
+    LM_ASSERT(lm_optimizer_create(octahedron(1.0f), g_views, &params, &g_opt) == LM_OK);
 }
 
 /* The job's payload loader, for a job without regrid draws. */
@@ -106,7 +106,7 @@ static lm_status load_like_job(void *ctx, FILE *fp)
     if (draw)
         return lm_fail(LM_E_INVALID, "checkpoint names regrid draw %u of a job without one",
                        (unsigned)draw);
-    return co_optimizer_load(g_opt, fp);
+    return lm_optimizer_load(g_opt, fp);
 }
 
 static lm_status save_like_job(const void *ctx, FILE *fp)
@@ -115,7 +115,7 @@ static lm_status save_like_job(const void *ctx, FILE *fp)
     static const uint8_t draw[4] = {0};
     if (fwrite(draw, 1, 4, fp) != 4)
         return lm_fail(LM_E_IO, "cannot write the checkpoint's regrid draw");
-    return co_optimizer_save(g_opt, fp);
+    return lm_optimizer_save(g_opt, fp);
 }
 
 /* After a load: a successful one must save again; one that replaced the state gets a fresh
@@ -127,13 +127,13 @@ static void after_load(lm_status s, const float (*pos_before)[3])
         size_t len = 0;
         FILE *ms = open_memstream(&buf, &len);
         LM_ASSERT(ms);
-        LM_ASSERT(co_optimizer_save(g_opt, ms) == LM_OK);
+        LM_ASSERT(lm_optimizer_save(g_opt, ms) == LM_OK);
         LM_ASSERT(fclose(ms) == 0);
         free(buf);
     } else {
         one_line_error();
     }
-    if (co_optimizer_mesh(g_opt)->pos != pos_before)
+    if (lm_optimizer_mesh(g_opt)->pos != pos_before)
         make_optimizer();
 }
 
@@ -152,12 +152,12 @@ static void write_seeds(const char *dir)
     snprintf(path, sizeof path, "%s/full_fresh", dir);
     LM_ASSERT(co_checkpoint_write(path, &g_key, save_like_job, NULL) == LM_OK);
     /* 300 evaluations end in the middle of an iteration, with moves accepted and tried. */
-    co_progress p;
+    lm_progress p;
     for (int guard = 0; guard < 1000; guard++) {
-        co_optimizer_progress(g_opt, &p);
+        lm_optimizer_progress(g_opt, &p);
         if (p.evals >= 300)
             break;
-        LM_ASSERT(co_optimizer_step(g_opt, 300) == LM_OK);
+        LM_ASSERT(lm_optimizer_step(g_opt, 300) == LM_OK);
     }
     fprintf(stderr, "seeds at %llu evaluations, %llu iterations\n", (unsigned long long)p.evals,
             (unsigned long long)p.iterations);
@@ -175,7 +175,7 @@ static void write_seeds(const char *dir)
 static void cleanup(void)
 {
     unlink(g_path);
-    co_optimizer_destroy(g_opt);
+    lm_optimizer_destroy(g_opt);
     lm_views_destroy(g_views);
     lm_mesh_destroy(g_orig);
 }
@@ -239,7 +239,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         LM_ASSERT(s != LM_OK || get_u64(data + size - TRAILER_BYTES) == sum);
         write_file(g_path, copy, size);
         free(copy);
-        const float(*pos)[3] = co_optimizer_mesh(g_opt)->pos;
+        const float(*pos)[3] = lm_optimizer_mesh(g_opt)->pos;
         after_load(co_checkpoint_read(g_path, &g_key, load_like_job, NULL), pos);
     }
 
@@ -247,7 +247,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     if (size > 0) {
         FILE *ms = fmemopen((void *)data, size, "rb");
         LM_ASSERT(ms);
-        const float(*pos)[3] = co_optimizer_mesh(g_opt)->pos;
+        const float(*pos)[3] = lm_optimizer_mesh(g_opt)->pos;
         after_load(load_like_job(NULL, ms), pos);
         fclose(ms);
     }

@@ -1,4 +1,4 @@
-/* tests/unit/test_fiber.c — fibers (coordinator/optimizer/fiber.h), as the lanes use them: each
+/* tests/unit/test_fiber.c — fibers (common/optimizer/fiber.h), as the lanes use them: each
  * resume runs a fiber exactly up to its next yield, several fibers interleave in the order they
  * are resumed with their own stacks and locals intact, a fiber whose function returns says so, a
  * deep call chain fits in a lane's stack, and a suspended or never started fiber can be destroyed.
@@ -6,11 +6,11 @@
 #include <stdint.h>
 #include <string.h>
 
-#include "coordinator/optimizer/fiber.h"
+#include "common/optimizer/fiber.h"
 #include "test_support.h"
 
 typedef struct walker {
-    co_fiber *f;
+    lm_fiber *f;
     int id, steps;
     int *log, *n_log;
 } walker;
@@ -21,7 +21,7 @@ static void walk(void *arg)
     volatile int mine = w->id * 1000; /* a local that must survive every switch */
     for (int i = 0; i < w->steps; i++) {
         w->log[(*w->n_log)++] = mine + i;
-        co_fiber_yield(w->f);
+        lm_fiber_yield(w->f);
     }
 }
 
@@ -32,20 +32,20 @@ static void test_interleave(void **state)
     walker w[3];
     for (int k = 0; k < 3; k++) {
         w[k] = (walker){.id = k + 1, .steps = k + 2, .log = log, .n_log = &n_log};
-        assert_int_equal(co_fiber_create(CO_FIBER_STACK_BYTES, walk, &w[k], &w[k].f), LM_OK);
+        assert_int_equal(lm_fiber_create(LM_FIBER_STACK_BYTES, walk, &w[k], &w[k].f), LM_OK);
     }
     int done[3] = {0};
     for (int round = 0; round < 5; round++)
         for (int k = 0; k < 3; k++)
             if (!done[k])
-                done[k] = co_fiber_resume(w[k].f);
+                done[k] = lm_fiber_resume(w[k].f);
     /* walker k logs k+2 steps, then returns on the resume after its last yield */
     int want[] = {1000, 2000, 3000, 1001, 2001, 3001, 2002, 3002, 3003};
     assert_int_equal(n_log, 9);
     assert_memory_equal(log, want, sizeof want);
     for (int k = 0; k < 3; k++) {
         assert_true(done[k]);
-        co_fiber_destroy(w[k].f);
+        lm_fiber_destroy(w[k].f);
     }
 }
 
@@ -58,28 +58,28 @@ static uint64_t deep(int n)
 
 typedef struct digger {
     uint64_t result;
-    co_fiber *self;
+    lm_fiber *self;
 } digger;
 
 static void dig(void *arg)
 {
     digger *d = arg;
     d->result = deep(4000); /* some 2-3 MB of stack, more under sanitizers */
-    co_fiber_yield(d->self);
+    lm_fiber_yield(d->self);
 }
 
 static void test_deep_stack_and_destroy(void **state)
 {
     (void)state;
     digger d = {0, NULL};
-    assert_int_equal(co_fiber_create(CO_FIBER_STACK_BYTES, dig, &d, &d.self), LM_OK);
-    assert_int_equal(co_fiber_resume(d.self), 0); /* suspended in its yield */
+    assert_int_equal(lm_fiber_create(LM_FIBER_STACK_BYTES, dig, &d, &d.self), LM_OK);
+    assert_int_equal(lm_fiber_resume(d.self), 0); /* suspended in its yield */
     assert_true(d.result == deep(4000));
-    co_fiber_destroy(d.self); /* suspended: dropped */
-    co_fiber *never = NULL;
-    assert_int_equal(co_fiber_create(0, dig, &d, &never), LM_OK); /* the least stack */
-    co_fiber_destroy(never);
-    co_fiber_destroy(NULL);
+    lm_fiber_destroy(d.self); /* suspended: dropped */
+    lm_fiber *never = NULL;
+    assert_int_equal(lm_fiber_create(0, dig, &d, &never), LM_OK); /* the least stack */
+    lm_fiber_destroy(never);
+    lm_fiber_destroy(NULL);
 }
 
 int main(void)

@@ -8,9 +8,9 @@
 #include <string.h>
 
 #include "common/mesh_topology.h"
+#include "common/optimizer/moves.h"
+#include "common/optimizer/teleport.h"
 #include "common/view.h"
-#include "coordinator/optimizer/moves.h"
-#include "coordinator/optimizer/teleport.h"
 #include "test_support.h"
 #include "worker/render/views_local.h"
 
@@ -20,7 +20,7 @@
 typedef struct rig {
     lm_mesh *orig, *m;
     lm_views *v;
-    co_moves *mv;
+    lm_moves *mv;
     lm_view_set *vs;
 } rig;
 
@@ -58,14 +58,14 @@ static void rig_init(rig *r, lm_mesh *orig, lm_mesh *coarse, uint32_t attrs)
     send_mesh(r->v, coarse);
     /* a finer simplex tolerance than the optimizer's default (0.25): these tests check how far a
      * single move gets */
-    co_moves_config cfg = {.attrs = attrs, .bound_radius = 4 * rad, .size_tol = 1.0 / 16};
+    lm_moves_config cfg = {.attrs = attrs, .bound_radius = 4 * rad, .size_tol = 1.0 / 16};
     memcpy(cfg.centre, c, sizeof c);
-    assert_int_equal(co_moves_create(coarse, r->v, &cfg, &r->mv), LM_OK);
+    assert_int_equal(lm_moves_create(coarse, r->v, &cfg, &r->mv), LM_OK);
 }
 
 static void rig_free(rig *r)
 {
-    co_moves_destroy(r->mv);
+    lm_moves_destroy(r->mv);
     lm_views_destroy(r->v);
     lm_mesh_destroy(r->orig);
     lm_mesh_destroy(r->m);
@@ -110,7 +110,7 @@ static uint32_t first_neighbor(const lm_mesh *m, uint32_t v)
     return nb[0];
 }
 
-static void accept_checks(rig *r, const co_move_result *res, int64_t e0)
+static void accept_checks(rig *r, const lm_move_result *res, int64_t e0)
 {
     assert_true(res->legal);
     assert_true(res->accepted);
@@ -127,8 +127,8 @@ static void test_noop_accept(void **state)
     rig_init(&r, lmt_make_sphere(3), sphere_with(2, 0, 0.7f), 0);
     int64_t e0 = energy(r.v);
     uint32_t b = first_neighbor(r.m, 0);
-    co_move_result res;
-    assert_int_equal(co_moves_try(r.mv, CO_MOVE_NOOP, 1, 0, b, 0, &res), LM_OK);
+    lm_move_result res;
+    assert_int_equal(lm_moves_try(r.mv, LM_MOVE_NOOP, 1, 0, b, 0, &res), LM_OK);
     accept_checks(&r, &res, e0);
     assert_int_equal(res.set_size, 2);
     assert_true(norm3(r.m->pos[0]) > 0.75); /* pushed back out towards the sphere */
@@ -145,8 +145,8 @@ static void test_color_accept(void **state)
     rig r;
     rig_init(&r, lmt_make_sphere(3), coarse, LM_ATTR_COLOR);
     int64_t e0 = energy(r.v);
-    co_move_result res;
-    assert_int_equal(co_moves_try(r.mv, CO_MOVE_NOOP, 1, 0, first_neighbor(r.m, 0), 0, &res),
+    lm_move_result res;
+    assert_int_equal(lm_moves_try(r.mv, LM_MOVE_NOOP, 1, 0, first_neighbor(r.m, 0), 0, &res),
                      LM_OK);
     accept_checks(&r, &res, e0);
     assert_true(r.m->wedges[0].color[0] > 0.35f);
@@ -178,8 +178,8 @@ static void test_swap_accept(void **state)
     rig_init(&r, ridge(1), ridge(0), 0);
     int64_t e0 = energy(r.v);
     assert_true(e0 > 0);
-    co_move_result res;
-    assert_int_equal(co_moves_try(r.mv, CO_MOVE_SWAP, 0, 2, 3, 0, &res), LM_OK);
+    lm_move_result res;
+    assert_int_equal(lm_moves_try(r.mv, LM_MOVE_SWAP, 0, 2, 3, 0, &res), LM_OK);
     accept_checks(&r, &res, e0);
     assert_int_equal(res.evals, 1); /* level 0: no optimisation */
     assert_true(lm_mesh_edge_exists(r.m, 0, 1));
@@ -194,8 +194,8 @@ static void test_split_accept(void **state)
     rig r;
     rig_init(&r, lmt_make_sphere(3), lmt_make_sphere(0), 0);
     int64_t e0 = energy(r.v);
-    co_move_result res;
-    assert_int_equal(co_moves_try(r.mv, CO_MOVE_SPLIT, 1, 0, 2, 0, &res), LM_OK);
+    lm_move_result res;
+    assert_int_equal(lm_moves_try(r.mv, LM_MOVE_SPLIT, 1, 0, 2, 0, &res), LM_OK);
     accept_checks(&r, &res, e0);
     assert_int_equal(r.m->live_verts, 7);
     assert_true(res.site.v != LM_NONE);
@@ -216,8 +216,8 @@ static void test_collapse_accept(void **state)
     rig_init(&r, lmt_make_sphere(1), coarse, 0);
     uint32_t verts = r.m->live_verts;
     int64_t e0 = energy(r.v);
-    co_move_result res;
-    assert_int_equal(co_moves_try(r.mv, CO_MOVE_COLLAPSE, 1, b, v, 0, &res), LM_OK);
+    lm_move_result res;
+    assert_int_equal(lm_moves_try(r.mv, LM_MOVE_COLLAPSE, 1, b, v, 0, &res), LM_OK);
     accept_checks(&r, &res, e0);
     assert_int_equal(r.m->live_verts, verts - 1);
     assert_false(r.m->vert_alive[v]);
@@ -231,14 +231,14 @@ static void test_reject_restores(void **state)
     rig r;
     rig_init(&r, lmt_make_sphere(3), sphere_with(2, 0, 0.8f), 0);
     uint32_t b = first_neighbor(r.m, 0);
-    const co_move_kind kinds[4] = {CO_MOVE_NOOP, CO_MOVE_SWAP, CO_MOVE_SPLIT, CO_MOVE_COLLAPSE};
+    const lm_move_kind kinds[4] = {LM_MOVE_NOOP, LM_MOVE_SWAP, LM_MOVE_SPLIT, LM_MOVE_COLLAPSE};
     for (int k = 0; k < 4; k++)
         for (int level = k == 0 ? 1 : 0; level < 4; level++) {
             uint64_t h = lm_mesh_hash(r.m);
             uint32_t nv = r.m->n_verts, nt = r.m->n_tris;
             int64_t e0 = energy(r.v);
-            co_move_result res;
-            assert_int_equal(co_moves_try(r.mv, kinds[k], level, 0, b, INT64_MIN, &res), LM_OK);
+            lm_move_result res;
+            assert_int_equal(lm_moves_try(r.mv, kinds[k], level, 0, b, INT64_MIN, &res), LM_OK);
             assert_true(res.legal);
             assert_false(res.accepted);
             assert_true(res.evals > 0);
@@ -258,36 +258,36 @@ static void test_illegal(void **state)
     rig r;
     rig_init(&r, lmt_make_grid(4), lmt_make_grid(4), 0);
     uint64_t h = lm_mesh_hash(r.m);
-    co_move_result res;
+    lm_move_result res;
     /* (0, 1) is a boundary edge: no swap */
-    assert_int_equal(co_moves_try(r.mv, CO_MOVE_SWAP, 1, 0, 1, 0, &res), LM_OK);
+    assert_int_equal(lm_moves_try(r.mv, LM_MOVE_SWAP, 1, 0, 1, 0, &res), LM_OK);
     assert_false(res.legal);
     assert_int_equal(res.evals, 0);
     /* not an edge at all */
-    assert_int_equal(co_moves_try(r.mv, CO_MOVE_NOOP, 1, 0, 15, 0, &res), LM_OK);
+    assert_int_equal(lm_moves_try(r.mv, LM_MOVE_NOOP, 1, 0, 15, 0, &res), LM_OK);
     assert_false(res.legal);
-    assert_int_equal(co_moves_try(r.mv, CO_MOVE_COLLAPSE, 1, 0, 99999, 0, &res), LM_OK);
+    assert_int_equal(lm_moves_try(r.mv, LM_MOVE_COLLAPSE, 1, 0, 99999, 0, &res), LM_OK);
     assert_false(res.legal);
     assert_true(lm_mesh_hash(r.m) == h);
-    assert_int_not_equal(co_moves_try(r.mv, CO_MOVE_NOOP, 0, 0, 1, 0, &res), LM_OK);
+    assert_int_not_equal(lm_moves_try(r.mv, LM_MOVE_NOOP, 0, 0, 1, 0, &res), LM_OK);
     rig_free(&r);
 }
 
-static int has(const co_idset *s, uint32_t v)
+static int has(const lm_idset *s, uint32_t v)
 {
-    return co_idset_has(s, v);
+    return lm_idset_has(s, v);
 }
 
 static void test_vertex_sets(void **state)
 {
     (void)state;
     lm_mesh *m = lmt_make_sphere(2);
-    co_idset s;
-    co_idset_init(&s);
+    lm_idset s;
+    lm_idset_init(&s);
     uint32_t a = 0, b = first_neighbor(m, 0);
     uint32_t t[2];
     assert_int_equal(lm_mesh_edge_tris(m, a, b, t, 2), 2);
-    co_move_site site = {.kind = CO_MOVE_NOOP, .a = a, .b = b, .v = LM_NONE};
+    lm_move_site site = {.kind = LM_MOVE_NOOP, .a = a, .b = b, .v = LM_NONE};
     for (int k = 0; k < 3; k++) {
         uint32_t x = lm_tri_vertex(m, t[0], k), y = lm_tri_vertex(m, t[1], k);
         if (x != a && x != b)
@@ -295,38 +295,38 @@ static void test_vertex_sets(void **state)
         if (y != a && y != b)
             site.d = y;
     }
-    assert_int_equal(co_moves_vertex_set(m, &site, 1, &s), LM_OK);
+    assert_int_equal(lm_moves_vertex_set(m, &site, 1, &s), LM_OK);
     assert_int_equal(s.n, 2);
     assert_true(s.ids[0] == a && s.ids[1] == b);
-    assert_int_equal(co_moves_vertex_set(m, &site, 2, &s), LM_OK);
+    assert_int_equal(lm_moves_vertex_set(m, &site, 2, &s), LM_OK);
     assert_int_equal(s.n, 4);
     assert_true(has(&s, site.c) && has(&s, site.d));
-    assert_int_equal(co_moves_vertex_set(m, &site, 3, &s), LM_OK);
+    assert_int_equal(lm_moves_vertex_set(m, &site, 3, &s), LM_OK);
     uint32_t na[64], nb[64];
     uint32_t ka = lm_mesh_vertex_neighbors(m, a, na, 64),
              kb = lm_mesh_vertex_neighbors(m, b, nb, 64);
     assert_int_equal(s.n, ka + kb - 2); /* a, b, and their rings; c, d and a, b shared */
     assert_true(s.ids[0] == a && s.ids[1] == b);
-    site.kind = CO_MOVE_SWAP;
-    assert_int_equal(co_moves_vertex_set(m, &site, 0, &s), LM_OK);
+    site.kind = LM_MOVE_SWAP;
+    assert_int_equal(lm_moves_vertex_set(m, &site, 0, &s), LM_OK);
     assert_int_equal(s.n, 0);
-    assert_int_equal(co_moves_vertex_set(m, &site, 1, &s), LM_OK);
+    assert_int_equal(lm_moves_vertex_set(m, &site, 1, &s), LM_OK);
     assert_true(s.n == 2 && s.ids[0] == site.c && s.ids[1] == site.d);
-    assert_int_equal(co_moves_vertex_set(m, &site, 2, &s), LM_OK);
+    assert_int_equal(lm_moves_vertex_set(m, &site, 2, &s), LM_OK);
     assert_int_equal(s.n, 4);
-    site.kind = CO_MOVE_COLLAPSE;
+    site.kind = LM_MOVE_COLLAPSE;
     site.v = a;
-    assert_int_equal(co_moves_vertex_set(m, &site, 1, &s), LM_OK);
+    assert_int_equal(lm_moves_vertex_set(m, &site, 1, &s), LM_OK);
     assert_true(s.n == 1 && s.ids[0] == a);
-    assert_int_equal(co_moves_vertex_set(m, &site, 2, &s), LM_OK);
+    assert_int_equal(lm_moves_vertex_set(m, &site, 2, &s), LM_OK);
     assert_true(s.n == 3 && s.ids[0] == a && has(&s, site.c) && has(&s, site.d));
-    assert_int_equal(co_moves_vertex_set(m, &site, 3, &s), LM_OK);
+    assert_int_equal(lm_moves_vertex_set(m, &site, 3, &s), LM_OK);
     assert_int_equal(s.n, 1 + ka);
-    site.kind = CO_MOVE_SPLIT;
+    site.kind = LM_MOVE_SPLIT;
     site.v = 5;
-    assert_int_equal(co_moves_vertex_set(m, &site, 3, &s), LM_OK);
+    assert_int_equal(lm_moves_vertex_set(m, &site, 3, &s), LM_OK);
     assert_true(s.ids[0] == 5 && has(&s, a) && has(&s, b));
-    co_idset_free(&s);
+    lm_idset_free(&s);
     lm_mesh_destroy(m);
 }
 
@@ -340,16 +340,16 @@ static void test_teleport(void **state)
     assert_int_equal(lm_mesh_split_edge(coarse, 0, first_neighbor(coarse, 0), &w, NULL), LM_OK);
     rig r;
     rig_init(&r, lmt_make_sphere(3), coarse, 0);
-    co_teleport tp;
-    assert_int_equal(co_teleport_init(&tp, NULL, r.m), LM_OK);
+    lm_teleport tp;
+    assert_int_equal(lm_teleport_init(&tp, NULL, r.m), LM_OK);
     uint32_t verts = r.m->live_verts;
     int64_t e0 = energy(r.v);
     /* rejection: a huge recent collapse cost makes no split worth it */
     tp.last_collapse = INT64_MAX / 4;
-    tp.last_time = co_moves_evals(r.mv);
+    tp.last_time = lm_moves_evals(r.mv);
     uint64_t h = lm_mesh_hash(r.m);
-    co_teleport_result res;
-    assert_int_equal(co_teleport_try(&tp, r.mv, 1, 1, first_neighbor(r.m, 1), &res), LM_OK);
+    lm_teleport_result res;
+    assert_int_equal(lm_teleport_try(&tp, r.mv, 1, 1, first_neighbor(r.m, 1), &res), LM_OK);
     assert_true(res.legal);
     assert_false(res.accepted);
     assert_true(lm_mesh_hash(r.m) == h && energy(r.v) == e0);
@@ -358,8 +358,8 @@ static void test_teleport(void **state)
     int accepted = 0;
     for (uint32_t v = 1; v < 6 && !accepted; v++) {
         int64_t before = energy(r.v);
-        assert_int_equal(co_teleport_try(&tp, r.mv, 1, v, first_neighbor(r.m, v), &res), LM_OK);
-        co_moves_forget(r.mv);
+        assert_int_equal(lm_teleport_try(&tp, r.mv, 1, v, first_neighbor(r.m, v), &res), LM_OK);
+        lm_moves_forget(r.mv);
         assert_int_equal(r.m->live_verts, verts);
         assert_true(energy(r.v) == before + res.delta);
         accepted = res.accepted;
@@ -369,7 +369,7 @@ static void test_teleport(void **state)
     assert_true(accepted);
     assert_true(tp.searches > 0);
     check_fresh(&r);
-    co_teleport_free(&tp);
+    lm_teleport_free(&tp);
     rig_free(&r);
 }
 

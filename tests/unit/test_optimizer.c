@@ -12,10 +12,10 @@
 #include <string.h>
 
 #include "common/mesh_topology.h"
+#include "common/optimizer/optimizer.h"
+#include "common/optimizer/optimizer_tuning.h"
+#include "common/optimizer/surface_term.h"
 #include "common/view.h"
-#include "coordinator/optimizer/optimizer.h"
-#include "coordinator/optimizer/optimizer_tuning.h"
-#include "coordinator/optimizer/surface_term.h"
 #include "test_support.h"
 #include "worker/render/views_local.h"
 
@@ -32,7 +32,7 @@ typedef struct run {
     lm_mesh *orig;
     lm_view_set vs;
     lm_views *v;
-    co_optimizer *o;
+    lm_optimizer *o;
 } run;
 
 static lm_mesh *noisy_sphere(void)
@@ -52,27 +52,27 @@ static void run_start(run *r, uint64_t seed)
     lm_mesh_bounding_sphere(r->orig, c, &rad);
     assert_int_equal(lm_view_set_make(&r->vs, N_VIEWS, SIZE, c, rad), LM_OK);
     assert_int_equal(wk_views_local_create(r->orig, &r->vs, 0, 0, "host", &r->v), LM_OK);
-    co_params p = {.seed = seed, .surface = g_surface ? r->orig : NULL};
-    co_tuning t = {.surface_weight = g_surface == 1 ? SURFACE_WEIGHT : 0,
+    lm_params p = {.seed = seed, .surface = g_surface ? r->orig : NULL};
+    lm_tuning t = {.surface_weight = g_surface == 1 ? SURFACE_WEIGHT : 0,
                    .surface_share = g_surface == 2 ? SURFACE_SHARE : 0};
-    assert_int_equal(co_optimizer_create_tuned(noisy_sphere(), r->v, &p, &t, &r->o), LM_OK);
+    assert_int_equal(lm_optimizer_create_tuned(noisy_sphere(), r->v, &p, &t, &r->o), LM_OK);
 }
 
 static void run_free(run *r)
 {
-    co_optimizer_destroy(r->o);
+    lm_optimizer_destroy(r->o);
     lm_views_destroy(r->v);
     lm_mesh_destroy(r->orig);
 }
 
 static void run_to(run *r, uint64_t evals)
 {
-    co_progress p;
+    lm_progress p;
     for (int guard = 0; guard < 10000; guard++) {
-        co_optimizer_progress(r->o, &p);
+        lm_optimizer_progress(r->o, &p);
         if (p.evals >= evals)
             return;
-        assert_int_equal(co_optimizer_step(r->o, evals), LM_OK);
+        assert_int_equal(lm_optimizer_step(r->o, evals), LM_OK);
     }
     fail_msg("no progress towards %llu evaluations", (unsigned long long)evals);
 }
@@ -89,29 +89,29 @@ static void test_energy_falls(void **state)
     (void)state;
     run r;
     run_start(&r, 1);
-    co_progress p0, p;
-    co_optimizer_progress(r.o, &p0);
+    lm_progress p0, p;
+    lm_optimizer_progress(r.o, &p0);
     assert_true(p0.energy_start > 0 && p0.energy == p0.energy_start && p0.evals == 0);
     run_to(&r, 3000);
-    co_optimizer_progress(r.o, &p);
+    lm_optimizer_progress(r.o, &p);
     assert_true(p.evals >= 3000);
     assert_true(p.energy < p0.energy_start * 0.8);
     assert_true(p.energy == views_energy(r.v));
     assert_int_equal(p.live_verts, p0.live_verts);
-    assert_true(p.attempted[CO_MOVE_NOOP] > 0 && p.accepted[CO_MOVE_NOOP] > 0);
+    assert_true(p.attempted[LM_MOVE_NOOP] > 0 && p.accepted[LM_MOVE_NOOP] > 0);
     uint64_t att = 0, acc = 0;
-    for (int k = 0; k < CO_MOVE_KINDS; k++) {
+    for (int k = 0; k < LM_MOVE_KINDS; k++) {
         att += p.attempted[k];
         acc += p.accepted[k];
     }
     assert_true(acc <= att);
-    assert_int_equal(lm_mesh_validate(co_optimizer_mesh(r.o)), LM_OK);
+    assert_int_equal(lm_mesh_validate(lm_optimizer_mesh(r.o)), LM_OK);
     /* a fresh full render of the result agrees with the tracked energy */
     lm_views *f;
     assert_int_equal(wk_views_local_create(r.orig, &r.vs, 0, 0, "host", &f), LM_OK);
     lm_tri_data *t;
     size_t n;
-    assert_int_equal(lm_mesh_export_tris(co_optimizer_mesh(r.o), &t, &n), LM_OK);
+    assert_int_equal(lm_mesh_export_tris(lm_optimizer_mesh(r.o), &t, &n), LM_OK);
     assert_int_equal(f->ops->set_mesh(f, t, n), LM_OK);
     free(t);
     assert_true(views_energy(f) == p.energy);
@@ -129,29 +129,29 @@ static void test_determinism(void **state)
     run_to(&a, 1500);
     run_to(&b, 1500);
     run_to(&c, 1500);
-    uint64_t ha = lm_mesh_hash(co_optimizer_mesh(a.o)), hb = lm_mesh_hash(co_optimizer_mesh(b.o));
+    uint64_t ha = lm_mesh_hash(lm_optimizer_mesh(a.o)), hb = lm_mesh_hash(lm_optimizer_mesh(b.o));
     assert_true(ha == hb);
-    assert_true(lm_mesh_hash(co_optimizer_mesh(c.o)) != ha); /* the seed matters */
+    assert_true(lm_mesh_hash(lm_optimizer_mesh(c.o)) != ha); /* the seed matters */
     run_free(&a);
     run_free(&b);
     run_free(&c);
 }
 
-static char *save_bytes(const co_optimizer *o, size_t *len)
+static char *save_bytes(const lm_optimizer *o, size_t *len)
 {
     char *buf = NULL;
     FILE *fp = open_memstream(&buf, len);
     assert_non_null(fp);
-    assert_int_equal(co_optimizer_save(o, fp), LM_OK);
+    assert_int_equal(lm_optimizer_save(o, fp), LM_OK);
     assert_int_equal(fclose(fp), 0);
     return buf;
 }
 
-static lm_status load_bytes(co_optimizer *o, const char *buf, size_t len)
+static lm_status load_bytes(lm_optimizer *o, const char *buf, size_t len)
 {
     FILE *fp = fmemopen((void *)buf, len, "rb");
     assert_non_null(fp);
-    lm_status st = co_optimizer_load(o, fp);
+    lm_status st = lm_optimizer_load(o, fp);
     fclose(fp);
     return st;
 }
@@ -169,18 +169,18 @@ static void test_resume_equals_uninterrupted(void **state)
         run_to(&a, 3200);
         run_start(&b, 3);
         assert_int_equal(load_bytes(b.o, ck, len), LM_OK);
-        co_progress pa, pb;
-        co_optimizer_progress(b.o, &pb);
+        lm_progress pa, pb;
+        lm_optimizer_progress(b.o, &pb);
         assert_true(pb.evals >= stops[s]);
         run_to(&b, 3200);
-        co_optimizer_progress(a.o, &pa);
-        co_optimizer_progress(b.o, &pb);
+        lm_optimizer_progress(a.o, &pa);
+        lm_optimizer_progress(b.o, &pb);
         assert_memory_equal(&pa, &pb, sizeof pa);
         /* the run went through every kind of move, teleports (split + collapse search) included */
-        for (int k = 0; k < CO_MOVE_KINDS; k++)
+        for (int k = 0; k < LM_MOVE_KINDS; k++)
             assert_true(pa.attempted[k] > 0);
-        assert_true(pa.accepted[CO_MOVE_SPLIT] > 0);
-        assert_true(lm_mesh_hash(co_optimizer_mesh(a.o)) == lm_mesh_hash(co_optimizer_mesh(b.o)));
+        assert_true(pa.accepted[LM_MOVE_SPLIT] > 0);
+        assert_true(lm_mesh_hash(lm_optimizer_mesh(a.o)) == lm_mesh_hash(lm_optimizer_mesh(b.o)));
         size_t la, lb;
         char *sa = save_bytes(a.o, &la), *sb = save_bytes(b.o, &lb);
         assert_int_equal(la, lb);
@@ -203,7 +203,7 @@ static void test_bad_checkpoints(void **state)
     size_t len;
     char *ck = save_bytes(a.o, &len);
     run_start(&b, 9);
-    uint64_t h = lm_mesh_hash(co_optimizer_mesh(b.o));
+    uint64_t h = lm_mesh_hash(lm_optimizer_mesh(b.o));
     /* truncated anywhere */
     const size_t cuts[] = {0, 5, 40, len / 3, len / 2, len - 1};
     for (size_t i = 0; i < sizeof cuts / sizeof *cuts; i++)
@@ -214,9 +214,9 @@ static void test_bad_checkpoints(void **state)
     bad[0] ^= 0x55;
     assert_int_equal(load_bytes(b.o, bad, len), LM_E_FORMAT);
     free(bad);
-    assert_true(lm_mesh_hash(co_optimizer_mesh(b.o)) == h);
-    co_progress p;
-    co_optimizer_progress(b.o, &p);
+    assert_true(lm_mesh_hash(lm_optimizer_mesh(b.o)) == h);
+    lm_progress p;
+    lm_optimizer_progress(b.o, &p);
     assert_int_equal(p.evals, 0);
     /* another seed */
     run c;
@@ -224,7 +224,7 @@ static void test_bad_checkpoints(void **state)
     assert_int_equal(load_bytes(c.o, ck, len), LM_E_FORMAT);
     /* and the real thing still loads */
     assert_int_equal(load_bytes(b.o, ck, len), LM_OK);
-    assert_true(lm_mesh_hash(co_optimizer_mesh(b.o)) == lm_mesh_hash(co_optimizer_mesh(a.o)));
+    assert_true(lm_mesh_hash(lm_optimizer_mesh(b.o)) == lm_mesh_hash(lm_optimizer_mesh(a.o)));
     free(ck);
     run_free(&a);
     run_free(&b);
@@ -235,9 +235,9 @@ static void test_bad_checkpoints(void **state)
 static int64_t fresh_geometric(run *r, const lm_mesh *m)
 {
     lm_views *g;
-    assert_int_equal(co_surface_views_create(r->v, r->orig, SURFACE_WEIGHT, &g), LM_OK);
+    assert_int_equal(lm_surface_views_create(r->v, r->orig, SURFACE_WEIGHT, &g), LM_OK);
     assert_int_equal(lm_views_set_mesh_from(g, m), LM_OK);
-    int64_t e = co_surface_views_energy(g);
+    int64_t e = lm_surface_views_energy(g);
     lm_views_destroy(g);
     return e;
 }
@@ -249,18 +249,18 @@ static void test_geometric_term(void **state)
     run a, b;
     run_start(&a, 5);
     run_start(&b, 5);
-    co_progress p0, p;
-    co_optimizer_progress(a.o, &p0);
+    lm_progress p0, p;
+    lm_optimizer_progress(a.o, &p0);
     assert_true(p0.geometric_start > 0 && p0.geometric == p0.geometric_start);
     assert_true(p0.energy_start == views_energy(a.v));
     run_to(&a, 2500);
     run_to(&b, 2500);
-    co_optimizer_progress(a.o, &p);
+    lm_optimizer_progress(a.o, &p);
     assert_true(p.energy == views_energy(a.v));
     assert_true(p.energy < p0.energy_start);
     assert_true(p.geometric < p0.geometric_start); /* the noisy sphere moves towards the surface */
-    assert_true(p.geometric == fresh_geometric(&a, co_optimizer_mesh(a.o)));
-    assert_true(lm_mesh_hash(co_optimizer_mesh(a.o)) == lm_mesh_hash(co_optimizer_mesh(b.o)));
+    assert_true(p.geometric == fresh_geometric(&a, lm_optimizer_mesh(a.o)));
+    assert_true(lm_mesh_hash(lm_optimizer_mesh(a.o)) == lm_mesh_hash(lm_optimizer_mesh(b.o)));
     /* a checkpoint with the term is not for an optimizer without it, and the other way round */
     size_t len, len2;
     char *ck = save_bytes(a.o, &len);
@@ -291,8 +291,8 @@ static void test_relative_weight(void **state)
     g_surface = 2;
     run a;
     run_start(&a, 5);
-    co_progress p0;
-    co_optimizer_progress(a.o, &p0);
+    lm_progress p0;
+    lm_optimizer_progress(a.o, &p0);
     double want = SURFACE_SHARE * (double)p0.energy_start;
     assert_true(p0.geometric_start > 0 && fabs((double)p0.geometric_start - want) <= 1e-3 * want);
     run_free(&a);

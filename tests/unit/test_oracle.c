@@ -8,7 +8,7 @@
 #include <string.h>
 
 #include "common/mesh_topology.h"
-#include "coordinator/optimizer/oracle.h"
+#include "common/optimizer/oracle.h"
 #include "test_support.h"
 
 typedef struct fake_views {
@@ -97,7 +97,7 @@ static void teardown_fixture(fixture *f)
     lm_mesh_destroy(f->m);
 }
 
-static double edge_distance(const fixture *f, const co_ranked_edge *e)
+static double edge_distance(const fixture *f, const lm_ranked_edge *e)
 {
     double d = 0;
     for (int k = 0; k < 3; k++) {
@@ -114,8 +114,8 @@ static void test_planted_error_ranks_first(void **state)
     for (int p = 0; p < 3; p++) {
         fixture f;
         setup_fixture(&f, planted[p]);
-        co_ranked_edge *r;
-        assert_int_equal(co_oracle_rank(&f.fv.base, f.m, (const uint32_t(*)[2])f.edges, f.n, &r),
+        lm_ranked_edge *r;
+        assert_int_equal(lm_oracle_rank(&f.fv.base, f.m, (const uint32_t(*)[2])f.edges, f.n, &r),
                          LM_OK);
         assert_int_equal(f.fv.calls, 1); /* one potentials call for all points */
         assert_int_equal(r[0].a, f.edges[planted[p]][0]);
@@ -135,18 +135,18 @@ static void test_plan(void **state)
     (void)state;
     fixture f;
     setup_fixture(&f, 5);
-    co_ranked_edge *r;
-    assert_int_equal(co_oracle_rank(&f.fv.base, f.m, (const uint32_t(*)[2])f.edges, f.n, &r),
+    lm_ranked_edge *r;
+    assert_int_equal(lm_oracle_rank(&f.fv.base, f.m, (const uint32_t(*)[2])f.edges, f.n, &r),
                      LM_OK);
-    co_oracle o;
-    co_oracle_init(&o);
-    co_rng rng, rng2;
-    co_rng_seed(&rng, 7);
-    co_rng_seed(&rng2, 7);
-    co_planned_edge p[64], q[64];
+    lm_oracle o;
+    lm_oracle_init(&o);
+    lm_rng rng, rng2;
+    lm_rng_seed(&rng, 7);
+    lm_rng_seed(&rng2, 7);
+    lm_planned_edge p[64], q[64];
     uint32_t n, n2;
-    assert_int_equal(co_oracle_plan(&o, r, f.n, &rng, 64, p, &n), LM_OK);
-    assert_int_equal(co_oracle_plan(&o, r, f.n, &rng2, 64, q, &n2), LM_OK);
+    assert_int_equal(lm_oracle_plan(&o, r, f.n, &rng, 64, p, &n), LM_OK);
+    assert_int_equal(lm_oracle_plan(&o, r, f.n, &rng2, 64, q, &n2), LM_OK);
     assert_int_equal(n, 64);
     assert_int_equal(n2, 64);
     assert_memory_equal(p, q, sizeof p); /* deterministic */
@@ -172,11 +172,11 @@ static void test_plan(void **state)
                 assert_false(p[i].a == p[j].a || p[i].a == p[j].b || p[i].b == p[j].a ||
                              p[i].b == p[j].b);
     /* the best edge made no progress: it is skipped next time; oracle did better than random */
-    uint64_t stale = co_edge_key(r[0].a, r[0].b);
-    co_oracle_balance(&o, 1000, 32, 10, 32);
-    assert_int_equal(co_oracle_update_stale(&o, 0, &stale, 1, NULL, NULL), LM_OK);
+    uint64_t stale = lm_edge_key(r[0].a, r[0].b);
+    lm_oracle_balance(&o, 1000, 32, 10, 32);
+    assert_int_equal(lm_oracle_update_stale(&o, 0, &stale, 1, NULL, NULL), LM_OK);
     assert_true(o.share > 0.5 && o.share <= o.max_share);
-    assert_int_equal(co_oracle_plan(&o, r, f.n, &rng, 64, p, &n), LM_OK);
+    assert_int_equal(lm_oracle_plan(&o, r, f.n, &rng, 64, p, &n), LM_OK);
     from_oracle = 0;
     for (uint32_t i = 0; i < n; i++) {
         if (p[i].from_oracle)
@@ -187,9 +187,9 @@ static void test_plan(void **state)
     assert_true(p[0].a == r[1].a && p[0].b == r[1].b);
     /* random edges doing better push the share down, never below its minimum */
     for (int i = 0; i < 20; i++)
-        co_oracle_balance(&o, 0, 32, 500, 32);
+        lm_oracle_balance(&o, 0, 32, 500, 32);
     assert_true(fabs(o.share - o.min_share) < 1e-12);
-    co_oracle_free(&o);
+    lm_oracle_free(&o);
     free(r);
     teardown_fixture(&f);
 }
@@ -204,19 +204,19 @@ static void test_small_mesh_plan(void **state)
     memset(&f.fv, 0, sizeof f.fv);
     f.fv.base.ops = &fake_ops;
     f.fv.width = 1;
-    co_ranked_edge *r;
-    assert_int_equal(co_oracle_rank(&f.fv.base, f.m, (const uint32_t(*)[2])f.edges, f.n, &r),
+    lm_ranked_edge *r;
+    assert_int_equal(lm_oracle_rank(&f.fv.base, f.m, (const uint32_t(*)[2])f.edges, f.n, &r),
                      LM_OK);
-    co_oracle o;
-    co_oracle_init(&o);
-    co_rng rng;
-    co_rng_seed(&rng, 1);
-    co_planned_edge p[64];
+    lm_oracle o;
+    lm_oracle_init(&o);
+    lm_rng rng;
+    lm_rng_seed(&rng, 1);
+    lm_planned_edge p[64];
     uint32_t n;
-    assert_int_equal(co_oracle_plan(&o, r, f.n, &rng, 64, p, &n), LM_OK);
+    assert_int_equal(lm_oracle_plan(&o, r, f.n, &rng, 64, p, &n), LM_OK);
     assert_true(n <= f.n); /* never more than there are edges, each once */
     assert_true(n >= 12 * 3 / 4);
-    co_oracle_free(&o);
+    lm_oracle_free(&o);
     free(r);
     teardown_fixture(&f);
 }
@@ -229,28 +229,28 @@ static int touches_vertex(const void *ctx, uint32_t v)
 static void test_stale_edges(void **state)
 {
     (void)state;
-    co_oracle o;
-    co_oracle_init(&o);
+    lm_oracle o;
+    lm_oracle_init(&o);
     o.max_age = 3;
-    uint64_t k1 = co_edge_key(1, 2), k2 = co_edge_key(5, 3), k3 = co_edge_key(7, 8);
+    uint64_t k1 = lm_edge_key(1, 2), k2 = lm_edge_key(5, 3), k3 = lm_edge_key(7, 8);
     uint64_t first[2] = {k2, k1};
-    assert_int_equal(co_oracle_update_stale(&o, 10, first, 2, NULL, NULL), LM_OK);
+    assert_int_equal(lm_oracle_update_stale(&o, 10, first, 2, NULL, NULL), LM_OK);
     assert_int_equal(o.n_stale, 2);
     assert_true(o.stale[0].key == k1 && o.stale[1].key == k2); /* sorted */
     /* a move touched vertex 3: edge (3, 5) is forgotten; (7, 8) joins */
     uint32_t v = 3;
-    assert_int_equal(co_oracle_update_stale(&o, 11, &k3, 1, touches_vertex, &v), LM_OK);
+    assert_int_equal(lm_oracle_update_stale(&o, 11, &k3, 1, touches_vertex, &v), LM_OK);
     assert_int_equal(o.n_stale, 2);
     assert_true(o.stale[0].key == k1 && o.stale[1].key == k3);
     /* tried again without progress: its age restarts; too old ones go */
-    assert_int_equal(co_oracle_update_stale(&o, 13, &k3, 1, NULL, NULL), LM_OK);
-    assert_int_equal(co_oracle_update_stale(&o, 14, NULL, 0, NULL, NULL), LM_OK);
+    assert_int_equal(lm_oracle_update_stale(&o, 13, &k3, 1, NULL, NULL), LM_OK);
+    assert_int_equal(lm_oracle_update_stale(&o, 14, NULL, 0, NULL, NULL), LM_OK);
     assert_int_equal(o.n_stale, 1);
     assert_true(o.stale[0].key == k3 && o.stale[0].iteration == 13);
-    co_stale_edge e[2] = {{k3, 4}, {k1, 2}};
-    assert_int_equal(co_oracle_set_stale(&o, e, 2), LM_OK);
+    lm_stale_edge e[2] = {{k3, 4}, {k1, 2}};
+    assert_int_equal(lm_oracle_set_stale(&o, e, 2), LM_OK);
     assert_true(o.n_stale == 2 && o.stale[0].key == k1);
-    co_oracle_free(&o);
+    lm_oracle_free(&o);
 }
 
 int main(void)

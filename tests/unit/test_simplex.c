@@ -6,7 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "coordinator/optimizer/simplex.h"
+#include "common/optimizer/simplex.h"
 #include "test_support.h"
 
 typedef struct counter {
@@ -53,13 +53,13 @@ static double rosenbrock(const double *x, uint32_t n)
 static void test_bowl_converges(void **state)
 {
     (void)state;
-    co_simplex *s;
-    assert_int_equal(co_simplex_create(8, &s), LM_OK);
+    lm_simplex *s;
+    assert_int_equal(lm_simplex_create(8, &s), LM_OK);
     double x[3] = {0, 0, 0}, step[3] = {0.5, 0.5, 0.5};
     counter c = {.f = bowl, .dim = 3};
-    co_simplex_opts o = {.max_evals = 2000, .size_tol = 1e-5};
-    co_simplex_result r;
-    assert_int_equal(co_simplex_minimize(s, 3, x, step, NULL, &o, eval, &c, &r), LM_OK);
+    lm_simplex_opts o = {.max_evals = 2000, .size_tol = 1e-5};
+    lm_simplex_result r;
+    assert_int_equal(lm_simplex_minimize(s, 3, x, step, NULL, &o, eval, &c, &r), LM_OK);
     assert_true(r.converged);
     for (int i = 0; i < 3; i++)
         assert_true(fabs(x[i] - (0.3 + 0.1 * i)) < 1e-3);
@@ -67,29 +67,29 @@ static void test_bowl_converges(void **state)
     assert_int_equal(r.evals, c.points);
     assert_int_equal(c.first_batch, 4); /* the initial n+1 points in one batch */
     assert_true(bowl(x, 3) == r.f_best);
-    co_simplex_destroy(s);
+    lm_simplex_destroy(s);
 }
 
 static void rosen(uint32_t dim, uint32_t max_evals, double tol)
 {
-    co_simplex *s;
-    assert_int_equal(co_simplex_create(dim, &s), LM_OK);
+    lm_simplex *s;
+    assert_int_equal(lm_simplex_create(dim, &s), LM_OK);
     double x[4], step[4];
     for (uint32_t i = 0; i < dim; i++) {
         x[i] = i % 2 ? 1.0 : -1.2;
         step[i] = 0.5;
     }
     counter c = {.f = rosenbrock, .dim = dim};
-    co_simplex_opts o = {.max_evals = max_evals, .size_tol = 1e-9, .f_tol = 1e-14};
-    co_simplex_result r;
+    lm_simplex_opts o = {.max_evals = max_evals, .size_tol = 1e-9, .f_tol = 1e-14};
+    lm_simplex_result r;
     double start = rosenbrock(x, dim);
     /* restart from the best point, as Numerical Recipes recommends */
     for (int round = 0; round < 3; round++)
-        assert_int_equal(co_simplex_minimize(s, dim, x, step, NULL, &o, eval, &c, &r), LM_OK);
+        assert_int_equal(lm_simplex_minimize(s, dim, x, step, NULL, &o, eval, &c, &r), LM_OK);
     assert_true(r.f_best < start);
     for (uint32_t i = 0; i < dim; i++)
         assert_true(fabs(x[i] - 1.0) < tol);
-    co_simplex_destroy(s);
+    lm_simplex_destroy(s);
 }
 
 static void test_rosenbrock_2d(void **state)
@@ -113,46 +113,46 @@ static void test_rosenbrock_4d(void **state)
 static void test_eval_limit(void **state)
 {
     (void)state;
-    co_simplex *s;
-    assert_int_equal(co_simplex_create(4, &s), LM_OK);
+    lm_simplex *s;
+    assert_int_equal(lm_simplex_create(4, &s), LM_OK);
     for (uint32_t dim = 1; dim <= 4; dim++) {
         double x[4] = {-1.2, 1, -1.2, 1}, step[4] = {0.01, 0.01, 0.01, 0.01};
         counter c = {.f = rosenbrock, .dim = dim};
-        co_simplex_result r;
+        lm_simplex_result r;
         /* default limit: 32 n evaluations; tiny steps on Rosenbrock never converge that fast */
-        assert_int_equal(co_simplex_minimize(s, dim, x, step, NULL, NULL, eval, &c, &r), LM_OK);
+        assert_int_equal(lm_simplex_minimize(s, dim, x, step, NULL, NULL, eval, &c, &r), LM_OK);
         assert_true(c.points <= 32 * dim);
         assert_int_equal(r.evals, c.points);
         assert_true(c.max_batch <= dim + 1);
-        co_simplex_opts o = {.max_evals = 7};
+        lm_simplex_opts o = {.max_evals = 7};
         counter c2 = {.f = bowl, .dim = dim};
-        assert_int_equal(co_simplex_minimize(s, dim, x, step, NULL, &o, eval, &c2, &r), LM_OK);
+        assert_int_equal(lm_simplex_minimize(s, dim, x, step, NULL, &o, eval, &c2, &r), LM_OK);
         assert_true(c2.points <= 7);
     }
-    co_simplex_destroy(s);
+    lm_simplex_destroy(s);
 }
 
 static void test_known_f0_and_dim0(void **state)
 {
     (void)state;
-    co_simplex *s;
-    assert_int_equal(co_simplex_create(3, &s), LM_OK);
+    lm_simplex *s;
+    assert_int_equal(lm_simplex_create(3, &s), LM_OK);
     double x[3] = {0, 0, 0}, step[3] = {0.2, 0.2, 0.2};
     double f0 = bowl(x, 3);
     counter c = {.f = bowl, .dim = 3};
-    co_simplex_result r;
-    assert_int_equal(co_simplex_minimize(s, 3, x, step, &f0, NULL, eval, &c, &r), LM_OK);
+    lm_simplex_result r;
+    assert_int_equal(lm_simplex_minimize(s, 3, x, step, &f0, NULL, eval, &c, &r), LM_OK);
     assert_int_equal(c.first_batch, 3); /* x0 not re-evaluated */
     assert_true(r.f_best < f0);
     /* dim 0: one evaluation, or none when f0 is known */
     counter c0 = {.f = bowl, .dim = 0};
-    assert_int_equal(co_simplex_minimize(s, 0, x, step, NULL, NULL, eval, &c0, &r), LM_OK);
+    assert_int_equal(lm_simplex_minimize(s, 0, x, step, NULL, NULL, eval, &c0, &r), LM_OK);
     assert_int_equal(c0.points, 1);
     assert_int_equal(r.evals, 1);
     counter c1 = {.f = bowl, .dim = 0};
-    assert_int_equal(co_simplex_minimize(s, 0, x, step, &f0, NULL, eval, &c1, &r), LM_OK);
+    assert_int_equal(lm_simplex_minimize(s, 0, x, step, &f0, NULL, eval, &c1, &r), LM_OK);
     assert_int_equal(c1.points, 0);
-    co_simplex_destroy(s);
+    lm_simplex_destroy(s);
 }
 
 static double flat(const double *x, uint32_t n)
@@ -165,29 +165,29 @@ static double flat(const double *x, uint32_t n)
 static void test_flat_stops_at_once(void **state)
 {
     (void)state;
-    co_simplex *s;
-    assert_int_equal(co_simplex_create(6, &s), LM_OK);
+    lm_simplex *s;
+    assert_int_equal(lm_simplex_create(6, &s), LM_OK);
     double x[6] = {0}, step[6] = {1, 1, 1, 1, 1, 1};
     counter c = {.f = flat, .dim = 6};
-    co_simplex_result r;
-    assert_int_equal(co_simplex_minimize(s, 6, x, step, NULL, NULL, eval, &c, &r), LM_OK);
+    lm_simplex_result r;
+    assert_int_equal(lm_simplex_minimize(s, 6, x, step, NULL, NULL, eval, &c, &r), LM_OK);
     assert_true(r.converged);
     assert_int_equal(c.points, 7); /* all values agree after the initial batch */
-    co_simplex_destroy(s);
+    lm_simplex_destroy(s);
 }
 
 static void test_errors(void **state)
 {
     (void)state;
-    co_simplex *s;
-    assert_int_not_equal(co_simplex_create(0, &s), LM_OK);
-    assert_int_equal(co_simplex_create(2, &s), LM_OK);
+    lm_simplex *s;
+    assert_int_not_equal(lm_simplex_create(0, &s), LM_OK);
+    assert_int_equal(lm_simplex_create(2, &s), LM_OK);
     double x[3] = {0, 0, 0}, step[3] = {1, 1, 1};
     counter c = {.f = bowl, .dim = 2, .fail_after = 5};
-    co_simplex_result r;
-    assert_int_equal(co_simplex_minimize(s, 2, x, step, NULL, NULL, eval, &c, &r), LM_E_DEVICE);
-    assert_int_equal(co_simplex_minimize(s, 3, x, step, NULL, NULL, eval, &c, &r), LM_E_RANGE);
-    co_simplex_destroy(s);
+    lm_simplex_result r;
+    assert_int_equal(lm_simplex_minimize(s, 2, x, step, NULL, NULL, eval, &c, &r), LM_E_DEVICE);
+    assert_int_equal(lm_simplex_minimize(s, 3, x, step, NULL, NULL, eval, &c, &r), LM_E_RANGE);
+    lm_simplex_destroy(s);
 }
 
 int main(void)

@@ -8,8 +8,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "common/optimizer/surface_term.h"
 #include "common/patch.h"
-#include "coordinator/optimizer/surface_term.h"
 #include "test_support.h"
 
 typedef struct zero_views {
@@ -108,7 +108,7 @@ static void setup(fixture *f)
     memset(f, 0, sizeof *f);
     f->inner.base.ops = &zero_ops;
     f->plane = lmt_make_grid(9);
-    assert_int_equal(co_surface_views_create(&f->inner.base, f->plane, 2.0, &f->v), LM_OK);
+    assert_int_equal(lm_surface_views_create(&f->inner.base, f->plane, 2.0, &f->v), LM_OK);
 }
 
 static void teardown(fixture *f)
@@ -134,7 +134,7 @@ static int64_t corner_energy(const lm_views *v, const lm_tri_data *t)
     float p[3][3];
     for (int c = 0; c < 3; c++)
         memcpy(p[c], t->c[c].pos, sizeof p[c]);
-    return co_surface_views_tri(v, (const float(*)[3])p);
+    return lm_surface_views_tri(v, (const float(*)[3])p);
 }
 
 static int64_t energy(lm_views *v)
@@ -150,7 +150,7 @@ static void test_scale(void **state)
     fixture f;
     setup(&f);
     float on[3][3] = {{0.2f, 0.2f, 0}, {0.5f, 0.2f, 0}, {0.2f, 0.5f, 0}};
-    assert_true(co_surface_views_tri(f.v, (const float(*)[3])on) == 0);
+    assert_true(lm_surface_views_tri(f.v, (const float(*)[3])on) == 0);
     /* lifted by h everywhere (inside the plane's extent): k · area · h² */
     const float h = 0.01f;
     float up[3][3] = {{0.2f, 0.2f, h}, {0.5f, 0.2f, h}, {0.2f, 0.5f, h}};
@@ -159,13 +159,13 @@ static void test_scale(void **state)
     double px = 128.0 / (2.0 * r), px256 = 256.0 / (2.0 * r);
     double k = 2.0 * 10 * px * px * px256 * px256;
     double want = k * 0.5 * 0.3 * 0.3 * (double)h * h;
-    int64_t got = co_surface_views_tri(f.v, (const float(*)[3])up);
+    int64_t got = lm_surface_views_tri(f.v, (const float(*)[3])up);
     assert_true(want > 100);
     assert_true(fabs((double)got - want) <= 1e-3 * want + 1);
     /* twice as far costs four times as much */
     for (int v = 0; v < 3; v++)
         up[v][2] = 2 * h;
-    assert_true(fabs((double)co_surface_views_tri(f.v, (const float(*)[3])up) - 4 * want) <=
+    assert_true(fabs((double)lm_surface_views_tri(f.v, (const float(*)[3])up) - 4 * want) <=
                 4e-3 * want + 1);
     teardown(&f);
 }
@@ -180,7 +180,7 @@ static void test_delta_is_what_commit_changes(void **state)
     assert_int_equal(f.v->ops->set_mesh(f.v, t, 3), LM_OK);
     assert_int_equal(f.inner.set_mesh, 1);
     int64_t e0 = energy(f.v);
-    assert_true(e0 > 0 && e0 == co_surface_views_energy(f.v));
+    assert_true(e0 > 0 && e0 == lm_surface_views_energy(f.v));
     lm_patch p[2];
     lm_patch_init(&p[0]);
     lm_patch_init(&p[1]);
@@ -246,16 +246,16 @@ static void test_set_weight(void **state)
         t[i] = tri((uint32_t)i, (float)lmt_urand(&seed) * 0.7f, (float)lmt_urand(&seed) * 0.7f,
                    0.1f + 0.2f * (float)lmt_urand(&seed), 0.1f * (float)lmt_urand(&seed) - 0.05f);
     assert_int_equal(a.v->ops->set_mesh(a.v, t, 8), LM_OK);
-    double unit = co_surface_views_unit_energy(a.v);
+    double unit = lm_surface_views_unit_energy(a.v);
     assert_true(unit > 0 && fabs(2.0 * unit - (double)energy(a.v)) <= 8);
     lm_views_destroy(b.v);
-    assert_int_equal(co_surface_views_create(&b.inner.base, b.plane, 7.5, &b.v), LM_OK);
+    assert_int_equal(lm_surface_views_create(&b.inner.base, b.plane, 7.5, &b.v), LM_OK);
     assert_int_equal(b.v->ops->set_mesh(b.v, t, 8), LM_OK);
-    co_surface_views_set_weight(a.v, 7.5);
+    lm_surface_views_set_weight(a.v, 7.5);
     assert_true(energy(a.v) == energy(b.v));
     for (int i = 0; i < 8; i++)
         assert_true(corner_energy(a.v, &t[i]) == corner_energy(b.v, &t[i]));
-    assert_true(co_surface_views_unit_energy(a.v) == unit);
+    assert_true(lm_surface_views_unit_energy(a.v) == unit);
     teardown(&a);
     teardown(&b);
 }
@@ -272,15 +272,15 @@ static void test_share_weight(void **state)
                    0.1f + 0.2f * (float)lmt_urand(&seed), 0.1f * (float)lmt_urand(&seed) - 0.05f);
     assert_int_equal(f.v->ops->set_mesh(f.v, t, 6), LM_OK);
     double w = 0;
-    assert_int_equal(co_surface_views_weight_for_share(f.v, 0.1, &w), LM_OK);
+    assert_int_equal(lm_surface_views_weight_for_share(f.v, 0.1, &w), LM_OK);
     assert_true(w == 1.0); /* no image energy: weight 1 */
     f.inner.image = 40000000;
-    assert_int_equal(co_surface_views_weight_for_share(f.v, 0.1, &w), LM_OK);
-    double unit = co_surface_views_unit_energy(f.v);
+    assert_int_equal(lm_surface_views_weight_for_share(f.v, 0.1, &w), LM_OK);
+    double unit = lm_surface_views_unit_energy(f.v);
     assert_true(w > 0 && fabs(w * unit - 4000000.0) <= 1e-6 * 4000000.0);
-    co_surface_views_set_weight(f.v, w);
+    lm_surface_views_set_weight(f.v, w);
     int64_t geo = energy(f.v) - f.inner.image;
-    assert_true(geo == co_surface_views_energy(f.v));
+    assert_true(geo == lm_surface_views_energy(f.v));
     assert_true(llabs(geo - 4000000) <= 6); /* one rounding per triangle */
     teardown(&f);
 }
@@ -291,9 +291,9 @@ static void test_refuses_bad_arguments(void **state)
     fixture f;
     setup(&f);
     lm_views *v = NULL;
-    assert_int_equal(co_surface_views_create(&f.inner.base, f.plane, 0, &v), LM_E_INVALID);
-    assert_int_equal(co_surface_views_create(&f.inner.base, f.plane, NAN, &v), LM_E_INVALID);
-    assert_int_equal(co_surface_views_create(&f.inner.base, NULL, 1, &v), LM_E_INVALID);
+    assert_int_equal(lm_surface_views_create(&f.inner.base, f.plane, 0, &v), LM_E_INVALID);
+    assert_int_equal(lm_surface_views_create(&f.inner.base, f.plane, NAN, &v), LM_E_INVALID);
+    assert_int_equal(lm_surface_views_create(&f.inner.base, NULL, 1, &v), LM_E_INVALID);
     assert_null(v);
     teardown(&f);
 }
@@ -308,9 +308,9 @@ static void test_pricing_where_the_cores_are_full(void **state)
         zero_views inner = {.base.ops = &zero_ops, .overlap_costs = full, .holds = 1};
         lm_mesh *plane = lmt_make_grid(9);
         lm_views *v = NULL;
-        assert_int_equal(co_surface_views_create(&inner.base, plane, 2.0, &v), LM_OK);
-        assert_true(co_surface_views_offloaded(v));
-        co_surface_views_set_pricing(v, CO_SURFACE_AUTO);
+        assert_int_equal(lm_surface_views_create(&inner.base, plane, 2.0, &v), LM_OK);
+        assert_true(lm_surface_views_offloaded(v));
+        lm_surface_views_set_pricing(v, LM_SURFACE_AUTO);
         lm_tri_data t[2] = {tri(0, 0.1f, 0.1f, 0.3f, 0.0f), tri(1, 0.5f, 0.5f, 0.3f, 0.0f)};
         assert_int_equal(v->ops->set_mesh(v, t, 2), LM_OK);
         lm_patch p;
@@ -325,7 +325,7 @@ static void test_pricing_where_the_cores_are_full(void **state)
         /* full: never probed here either (past SV_PROBE_EVERY batches) */
         for (int i = 0; full && i < 40; i++)
             assert_int_equal(v->ops->evaluate(v, &p, 1, &d), LM_OK);
-        assert_true(co_surface_views_worker_share(v) == (full ? 1.0 : 0.0));
+        assert_true(lm_surface_views_worker_share(v) == (full ? 1.0 : 0.0));
         lm_views_destroy(v);
         lm_mesh_destroy(plane);
     }

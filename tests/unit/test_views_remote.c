@@ -10,9 +10,9 @@
 
 #include "common/io/mesh_io.h"
 #include "common/mesh_topology.h"
+#include "common/optimizer/surface_term.h"
 #include "common/patch.h"
 #include "coordinator/cli/bench_moves.h"
-#include "coordinator/optimizer/surface_term.h"
 #include "coordinator/pool/pool.h"
 #include "coordinator/simplify/simplify.h"
 #include "coordinator/views/views.h"
@@ -148,10 +148,10 @@ static void check_surface(const char *path, uint32_t views, uint32_t workers)
     rig r;
     rig_init(&r, path, views, workers);
     lm_views *g1 = NULL, *g2 = NULL;
-    assert_int_equal(co_surface_views_create(r.one, r.orig, 3.0, &g1), LM_OK);
-    assert_int_equal(co_surface_views_create(r.remote, r.orig, 3.0, &g2), LM_OK);
-    assert_false(co_surface_views_offloaded(g1));
-    assert_true(co_surface_views_offloaded(g2));
+    assert_int_equal(lm_surface_views_create(r.one, r.orig, 3.0, &g1), LM_OK);
+    assert_int_equal(lm_surface_views_create(r.remote, r.orig, 3.0, &g2), LM_OK);
+    assert_false(lm_surface_views_offloaded(g1));
+    assert_true(lm_surface_views_offloaded(g2));
     assert_int_equal(lm_views_set_mesh_from(g1, r.coarse), LM_OK);
     assert_int_equal(lm_views_set_mesh_from(g2, r.coarse), LM_OK);
     lm_patch p[N_PATCHES];
@@ -161,9 +161,9 @@ static void check_surface(const char *path, uint32_t views, uint32_t workers)
     int64_t d1[N_PATCHES], d2[N_PATCHES], d3[N_PATCHES], img[N_PATCHES];
     for (int round = 0; round < 3; round++) {
         assert_int_equal(g1->ops->evaluate(g1, p, N_PATCHES, d1), LM_OK);
-        co_surface_views_set_pricing(g2, CO_SURFACE_WORKERS);
+        lm_surface_views_set_pricing(g2, LM_SURFACE_WORKERS);
         assert_int_equal(g2->ops->evaluate(g2, p, N_PATCHES, d2), LM_OK);
-        co_surface_views_set_pricing(g2, CO_SURFACE_HERE);
+        lm_surface_views_set_pricing(g2, LM_SURFACE_HERE);
         assert_int_equal(g2->ops->evaluate(g2, p, N_PATCHES, d3), LM_OK);
         assert_memory_equal(d2, d3, sizeof d2);
         assert_int_equal(r.one->ops->evaluate(r.one, p, N_PATCHES, img), LM_OK);
@@ -176,18 +176,18 @@ static void check_surface(const char *path, uint32_t views, uint32_t workers)
         int64_t e1, e2;
         assert_int_equal(g1->ops->energy(g1, &e1, NULL), LM_OK);
         assert_int_equal(g2->ops->energy(g2, &e2, NULL), LM_OK);
-        assert_true(e1 == e2 && co_surface_views_energy(g1) == co_surface_views_energy(g2));
+        assert_true(e1 == e2 && lm_surface_views_energy(g1) == lm_surface_views_energy(g2));
         if (round == 0) { /* commits: both tables follow */
             for (int i = 0; i < 3; i++) {
                 assert_int_equal(g1->ops->commit(g1, &p[i * 5]), LM_OK);
                 assert_int_equal(g2->ops->commit(g2, &p[i * 5]), LM_OK);
             }
         } else if (round == 1) { /* a new weight reaches the workers */
-            assert_int_equal(co_surface_views_set_weight(g1, 40.0), LM_OK);
-            assert_int_equal(co_surface_views_set_weight(g2, 40.0), LM_OK);
+            assert_int_equal(lm_surface_views_set_weight(g1, 40.0), LM_OK);
+            assert_int_equal(lm_surface_views_set_weight(g2, 40.0), LM_OK);
         }
     }
-    assert_true(co_surface_views_worker_share(g2) == 0.5);
+    assert_true(lm_surface_views_worker_share(g2) == 0.5);
     for (int i = 0; i < N_PATCHES; i++)
         lm_patch_free(&p[i]);
     lm_views_destroy(g1);

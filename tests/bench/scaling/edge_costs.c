@@ -1,7 +1,7 @@
 /* tests/bench/scaling/edge_costs.c — the whole-edge run: the costs of every edge, optimised one
  * at a time, that the whole-edge models (rounds.c, window.c) are made of.
  *
- * The third run, one edge at a time, one planned edge per co_optimizer_step (the evaluation budget
+ * The third run, one edge at a time, one planned edge per lm_optimizer_step (the evaluation budget
  * stops a step between edges; a planned edge gone before its turn costs nothing and goes with the
  * next), until --edge-evals, records for every edge e: its evaluations; cost_e, its cost in process
  * on one worker (the views' time and all the edge's other CPU: simplex, moves, geometric term,
@@ -9,7 +9,7 @@
  * coordinator's CPU around the oracle's potentials, and pot_e, their views' work; apply_e, the
  * views' CPU of its commits (what every worker spends applying them); b_e, the bytes of its Commit
  * messages; and merge_e, the coordinator's merge: its accepted operations (the optimizer's move
- * observer) done again with co_moves_replay on a copy of the mesh as lanes.c merges them, the patch
+ * observer) done again with lm_moves_replay on a copy of the mesh as lanes.c merges them, the patch
  * of the lot (checked against the optimizer's mesh: the mismatches are printed), encoded twice (the
  * re-validation's Evaluate, the Commit) with the replica it is encoded against.
  * With its operations it also records its footprint (the vertices of the triangles of its merged
@@ -22,13 +22,13 @@
 
 #include "common/grow.h"
 #include "common/mesh_topology.h"
-#include "coordinator/optimizer/optimizer.h"
-#include "coordinator/optimizer/optimizer_internal.h" /* read only: the move observer, the plan */
+#include "common/optimizer/optimizer.h"
+#include "common/optimizer/optimizer_internal.h" /* read only: the move observer, the plan */
 #include "scaling.h"
 
 /* The accepted operations of the step being run (the optimizer's move observer). */
 typedef struct recorded {
-    co_move_record r;
+    lm_move_record r;
     size_t x_at; /* its parameters in x */
 } recorded;
 
@@ -39,7 +39,7 @@ typedef struct recorder {
     size_t nx, capx;
 } recorder;
 
-static void rec_accepted(void *ctx, const co_move_record *r)
+static void rec_accepted(void *ctx, const lm_move_record *r)
 {
     recorder *rc = ctx;
     bool grown = LM_GROW32(&rc->r, &rc->cap, (size_t)rc->n + 1, 16) &&
@@ -60,40 +60,40 @@ static void rec_reverted(void *ctx, size_t mark)
 /* The coordinator's copy of the mesh, on which a worker's operations are done again. */
 typedef struct shadow {
     lm_mesh *mesh;
-    co_moves *mv;
+    lm_moves *mv;
     lm_patch patch;
 } shadow;
 
 static void shadow_free(shadow *s)
 {
-    co_moves_destroy(s->mv);
+    lm_moves_destroy(s->mv);
     lm_mesh_destroy(s->mesh);
     s->mv = NULL, s->mesh = NULL;
 }
 
-static lm_status shadow_make(shadow *s, const co_optimizer *opt, lm_views *v)
+static lm_status shadow_make(shadow *s, const lm_optimizer *opt, lm_views *v)
 {
     shadow_free(s);
     lm_status st = lm_mesh_clone(opt->mesh, &s->mesh);
-    return st == LM_OK ? co_moves_create(s->mesh, v, &opt->moves_cfg, &s->mv) : st;
+    return st == LM_OK ? lm_moves_create(s->mesh, v, &opt->moves_cfg, &s->mv) : st;
 }
 
 /* The step's operations again on the shadow, and the patch of the lot (as a merge does them:
- * coordinator/optimizer/lanes.c); *ok = 0 when one no longer fits. */
+ * common/optimizer/lanes.c); *ok = 0 when one no longer fits. */
 static lm_status shadow_replay(shadow *s, const recorder *rc, int *ok)
 {
     uint32_t from[64], to[64], nm = 0;
-    size_t mark = co_moves_mark(s->mv);
+    size_t mark = lm_moves_mark(s->mv);
     *ok = 1;
     for (uint32_t i = 0; i < rc->n; i++) {
-        co_move_record r = rc->r[i].r;
+        lm_move_record r = rc->r[i].r;
         for (uint32_t k = 0; k < nm; k++) {
             r.a = r.a == from[k] ? to[k] : r.a;
             r.b = r.b == from[k] ? to[k] : r.b;
         }
         r.x = rc->x + rc->r[i].x_at;
         uint32_t v;
-        lm_status st = co_moves_replay(s->mv, &r, &v);
+        lm_status st = lm_moves_replay(s->mv, &r, &v);
         if (st == LM_E_ILLEGAL) {
             lm_clear_error();
             *ok = 0;
@@ -101,12 +101,12 @@ static lm_status shadow_replay(shadow *s, const recorder *rc, int *ok)
         }
         if (st != LM_OK)
             return st;
-        if (r.kind == CO_MOVE_SPLIT && nm < 64)
+        if (r.kind == LM_MOVE_SPLIT && nm < 64)
             from[nm] = rc->r[i].r.v, to[nm++] = v;
     }
     lm_status st =
-        *ok ? lm_patch_from_journal(&s->patch, s->mesh, co_moves_journal(s->mv), mark) : LM_OK;
-    co_moves_forget(s->mv);
+        *ok ? lm_patch_from_journal(&s->patch, s->mesh, lm_moves_journal(s->mv), mark) : LM_OK;
+    lm_moves_forget(s->mv);
     return st;
 }
 
@@ -159,7 +159,7 @@ static lm_status footprint_near(edges_run *er, const lm_mesh *mesh, const lm_pat
 
 /* The step just run as an edge record; the coordinator's replay of its operations timed here. */
 static lm_status record_edge(const tally *a, const tally *b, shadow *s, const recorder *rc,
-                             const co_optimizer *opt, uint32_t edges, uint32_t plans, edges_run *er)
+                             const lm_optimizer *opt, uint32_t edges, uint32_t plans, edges_run *er)
 {
     double r0 = sc_cpu();
     int ok = 1;
@@ -203,16 +203,16 @@ static lm_status record_edge(const tally *a, const tally *b, shadow *s, const re
     return LM_OK;
 }
 
-static lm_status run_edge_steps(const opts *o, co_optimizer *opt, meter *m, edges_run *er)
+static lm_status run_edge_steps(const opts *o, lm_optimizer *opt, meter *m, edges_run *er)
 {
     recorder rc = {.n = 0};
     shadow s = {.mesh = NULL};
     lm_patch_init(&s.patch);
     lm_status st = shadow_make(&s, opt, opt->views);
-    co_moves_observe(opt->mv, &(co_moves_observer){rec_accepted, rec_reverted, &rc});
+    lm_moves_observe(opt->mv, &(lm_moves_observer){rec_accepted, rec_reverted, &rc});
     for (int guard = 0; st == LM_OK && guard < 10000000; guard++) {
-        co_progress p;
-        co_optimizer_progress(opt, &p);
+        lm_progress p;
+        lm_optimizer_progress(opt, &p);
         if (p.evals >= o->edge_evals)
             break;
         uint32_t pos0 = opt->it.active ? opt->it.pos : 0;
@@ -221,14 +221,14 @@ static lm_status run_edge_steps(const opts *o, co_optimizer *opt, meter *m, edge
         double c0 = sc_cpu();
         m->step_c0 = c0;
         tally a = tally_of(m, c0);
-        st = co_optimizer_step(opt, p.evals + 1); /* one edge: the budget stops it between edges */
+        st = lm_optimizer_step(opt, p.evals + 1); /* one edge: the budget stops it between edges */
         sc_close_plan(m);
         tally b = tally_of(m, sc_cpu());
         if (st == LM_OK)
             st = record_edge(&a, &b, &s, &rc, opt, opt->it.pos - pos0,
                              (uint32_t)(m->round_trips - trips0), er);
     }
-    co_moves_observe(opt->mv, NULL);
+    lm_moves_observe(opt->mv, NULL);
     shadow_free(&s);
     lm_patch_free(&s.patch);
     free(rc.r), free(rc.x);
@@ -240,21 +240,21 @@ lm_status sc_run_edges(const opts *o, const lm_mesh *orig, const lm_mesh *coarse
                        const lm_view_set *vs, meter *m, edges_run *er)
 {
     lm_mesh *mesh = NULL;
-    co_optimizer *opt = NULL;
+    lm_optimizer *opt = NULL;
     memset(er, 0, sizeof *er);
     lm_status st = sc_meter_start(o, orig, coarse, vs, 1, m, &mesh);
-    co_params params = {.seed = 1, .edges_in_flight = 1, .surface = orig};
+    lm_params params = {.seed = 1, .edges_in_flight = 1, .surface = orig};
     if (st == LM_OK)
-        st = co_optimizer_create(mesh, &m->base, &params, &opt);
+        st = lm_optimizer_create(mesh, &m->base, &params, &opt);
     uint32_t(*edges)[2] = NULL;
     if (st == LM_OK)
-        st = lm_mesh_list_edges(co_optimizer_mesh(opt), &edges, &er->mesh_edges);
+        st = lm_mesh_list_edges(lm_optimizer_mesh(opt), &edges, &er->mesh_edges);
     free(edges);
     m->views_s = m->views_cpu_s = m->overlap_cpu_s = 0;
     m->patches = 0;
     if (st == LM_OK)
         st = run_edge_steps(o, opt, m, er);
-    co_optimizer_destroy(opt);
+    lm_optimizer_destroy(opt);
     lm_views_destroy(m->in);
     lm_replica_free(&m->rep);
     lm_wire_arena_free(&m->arena);

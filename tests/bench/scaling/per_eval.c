@@ -24,35 +24,35 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "coordinator/optimizer/optimizer.h"
+#include "common/optimizer/optimizer.h"
 #include "scaling.h"
 
 lm_status sc_run_once(const opts *o, const lm_mesh *orig, const lm_mesh *coarse,
                       const lm_view_set *vs, uint32_t k, meter *m, costs *c)
 {
     lm_mesh *mesh = NULL;
-    co_optimizer *opt = NULL;
+    lm_optimizer *opt = NULL;
     lm_status st = sc_meter_start(o, orig, coarse, vs, 0, m, &mesh);
-    /* as a job from a QEM start: the geometric term on, its weight from CO_SURFACE_SHARE */
-    co_params params = {.seed = 1, .edges_in_flight = k, .surface = orig};
+    /* as a job from a QEM start: the geometric term on, its weight from LM_SURFACE_SHARE */
+    lm_params params = {.seed = 1, .edges_in_flight = k, .surface = orig};
     double c_create = sc_cpu();
     if (st == LM_OK)
-        st = co_optimizer_create(mesh, &m->base, &params, &opt);
+        st = lm_optimizer_create(mesh, &m->base, &params, &opt);
     /* the optimizer's set-up (the start's energies, the term's weight, the edge queue) is done
        once a job: not a cost per evaluation */
     double c0 = sc_cpu(), state0 = m->state_cpu_s;
     uint64_t trips0 = m->round_trips;
     for (int guard = 0; st == LM_OK && guard < 100000; guard++) {
-        co_progress p;
-        co_optimizer_progress(opt, &p);
+        lm_progress p;
+        lm_optimizer_progress(opt, &p);
         if (p.evals >= o->evals)
             break;
-        st = co_optimizer_step(opt, o->evals);
+        st = lm_optimizer_step(opt, o->evals);
     }
     double total_cpu = sc_cpu() - c0;
     m->state_cpu_s -= state0;
     m->round_trips -= trips0;
-    co_optimizer_destroy(opt);
+    lm_optimizer_destroy(opt);
     lm_views_destroy(m->in);
     lm_replica_free(&m->rep);
     if (st != LM_OK)

@@ -1,0 +1,123 @@
+/* common/optimizer/binio.c — sticky-error little-endian binary I/O. */
+#include "common/optimizer/binio.h"
+
+#include <stdarg.h>
+#include <string.h>
+
+void lm_bin_init(lm_bin *b, FILE *fp, const char *what)
+{
+    b->fp = fp;
+    b->status = LM_OK;
+    b->what = what;
+}
+
+void lm_put_bytes(lm_bin *b, const void *p, size_t n)
+{
+    if (b->status || n == 0)
+        return;
+    if (fwrite(p, 1, n, b->fp) != n)
+        b->status = lm_fail(LM_E_IO, "writing %s failed", b->what);
+}
+
+static void put_le(lm_bin *b, uint64_t v, int bytes)
+{
+    uint8_t buf[8];
+    for (int i = 0; i < bytes; i++)
+        buf[i] = (uint8_t)(v >> (8 * i));
+    lm_put_bytes(b, buf, (size_t)bytes);
+}
+
+void lm_put_u32(lm_bin *b, uint32_t v)
+{
+    put_le(b, v, 4);
+}
+
+void lm_put_u64(lm_bin *b, uint64_t v)
+{
+    put_le(b, v, 8);
+}
+
+void lm_put_i64(lm_bin *b, int64_t v)
+{
+    put_le(b, (uint64_t)v, 8);
+}
+
+void lm_put_f32(lm_bin *b, float v)
+{
+    uint32_t u;
+    memcpy(&u, &v, sizeof u);
+    put_le(b, u, 4);
+}
+
+void lm_put_f64(lm_bin *b, double v)
+{
+    uint64_t u;
+    memcpy(&u, &v, sizeof u);
+    put_le(b, u, 8);
+}
+
+void lm_get_bytes(lm_bin *b, void *p, size_t n)
+{
+    if (b->status) {
+        memset(p, 0, n);
+        return;
+    }
+    if (n && fread(p, 1, n, b->fp) != n) {
+        memset(p, 0, n);
+        b->status = lm_fail(LM_E_FORMAT, "%s is truncated", b->what);
+    }
+}
+
+static uint64_t get_le(lm_bin *b, int bytes)
+{
+    uint8_t buf[8];
+    lm_get_bytes(b, buf, (size_t)bytes);
+    uint64_t v = 0;
+    for (int i = 0; i < bytes; i++)
+        v |= (uint64_t)buf[i] << (8 * i);
+    return v;
+}
+
+uint32_t lm_get_u32(lm_bin *b)
+{
+    return (uint32_t)get_le(b, 4);
+}
+
+uint64_t lm_get_u64(lm_bin *b)
+{
+    return get_le(b, 8);
+}
+
+int64_t lm_get_i64(lm_bin *b)
+{
+    return (int64_t)get_le(b, 8);
+}
+
+float lm_get_f32(lm_bin *b)
+{
+    uint32_t u = (uint32_t)get_le(b, 4);
+    float v;
+    memcpy(&v, &u, sizeof v);
+    return v;
+}
+
+double lm_get_f64(lm_bin *b)
+{
+    uint64_t u = get_le(b, 8);
+    double v;
+    memcpy(&v, &u, sizeof v);
+    return v;
+}
+
+lm_status lm_bin_bad(lm_bin *b, const char *fmt, ...)
+{
+    if (b->status)
+        return b->status;
+    char msg[256];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(msg, sizeof msg, fmt, ap);
+    va_end(ap);
+    b->status = lm_fail(LM_E_FORMAT, "%s: %s", b->what, msg);
+    return b->status;
+}

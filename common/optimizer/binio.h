@@ -1,0 +1,38 @@
+/* common/optimizer/binio.h — little-endian binary reading and writing for the optimizer's
+ * state: integers in fixed widths, floating-point values as their raw IEEE-754 bits (so a resumed
+ * run continues from bit-identical numbers). Errors are sticky: after the first failure every call
+ * is a no-op and the status names the first problem. */
+#ifndef LM_COMMON_OPTIMIZER_BINIO_H
+#define LM_COMMON_OPTIMIZER_BINIO_H
+
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+
+#include "common/error.h"
+
+typedef struct lm_bin {
+    FILE *fp;
+    lm_status status;
+    const char *what; /* what is being read or written, for messages */
+} lm_bin;
+
+void lm_bin_init(lm_bin *b, FILE *fp, const char *what);
+
+void lm_put_bytes(lm_bin *b, const void *p, size_t n);
+void lm_put_u32(lm_bin *b, uint32_t v);
+void lm_put_u64(lm_bin *b, uint64_t v);
+void lm_put_i64(lm_bin *b, int64_t v);
+void lm_put_f32(lm_bin *b, float v);
+void lm_put_f64(lm_bin *b, double v);
+
+void lm_get_bytes(lm_bin *b, void *p, size_t n);
+uint32_t lm_get_u32(lm_bin *b);
+uint64_t lm_get_u64(lm_bin *b);
+int64_t lm_get_i64(lm_bin *b);
+float lm_get_f32(lm_bin *b);
+double lm_get_f64(lm_bin *b);
+/* Record a format error (first one wins) and return the status. */
+lm_status lm_bin_bad(lm_bin *b, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+
+#endif

@@ -1,0 +1,246 @@
+/* common/optimizer/collapse_queue.c — an indexed binary min-heap (common/indexed_heap.h) over
+ * an open-addressing hash map (linear probing with backward-shift deletion) of edge entries. */
+#include "common/optimizer/collapse_queue.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+#include "common/grow.h"
+#include "common/indexed_heap.h"
+
+struct lm_cq {
+    uint64_t *keys; /* 0 = empty; else key of the edge */
+    uint32_t *vals; /* index into slots */
+    uint32_t cap;   /* power of two */
+    uint32_t count;
+    lm_cq_entry *slots;
+    uint32_t n_slots, cap_slots;
+    uint32_t *free_slots;
+    uint32_t n_free;
+    lm_iheap heap; /* slots by (est, a, b) */
+};
+
+static uint64_t key_of(uint32_t a, uint32_t b)
+{
+    return a < b ? (uint64_t)a << 32 | b : (uint64_t)b << 32 | a;
+}
+
+static uint32_t hash(uint64_t k, uint32_t cap)
+{
+    k ^= k >> 33;
+    k *= 0xff51afd7ed558ccdull;
+    k ^= k >> 33;
+    return (uint32_t)k & (cap - 1);
+}
+
+lm_status lm_cq_create(lm_cq **out)
+{
+    lm_cq *q = calloc(1, sizeof *q);
+    if (!q)
+        return lm_fail(LM_E_NOMEM, "out of memory creating the collapse queue");
+    lm_iheap_init(&q->heap);
+    *out = q;
+    return LM_OK;
+}
+
+void lm_cq_destroy(lm_cq *q)
+{
+    if (!q)
+        return;
+    free(q->keys);
+    free(q->vals);
+    free(q->slots);
+    free(q->free_slots);
+    lm_iheap_free(&q->heap);
+    free(q);
+}
+
+void lm_cq_clear(lm_cq *q)
+{
+    if (q->keys)
+        memset(q->keys, 0, (size_t)q->cap * sizeof *q->keys);
+    q->count = q->n_slots = q->n_free = 0;
+    lm_iheap_clear(&q->heap);
+}
+
+static int find(const lm_cq *q, uint64_t k, uint32_t *pos)
+{
+    if (!q->cap)
+        return 0;
+    for (uint32_t i = hash(k, q->cap);; i = (i + 1) & (q->cap - 1)) {
+        if (q->keys[i] == 0)
+            return 0;
+        if (q->keys[i] == k) {
+            *pos = i;
+            return 1;
+        }
+    }
+}
+
+static lm_status rehash(lm_cq *q, uint32_t cap)
+{
+    uint64_t *keys = calloc(cap, sizeof *keys);
+    uint32_t *vals = malloc((size_t)cap * sizeof *vals);
+    if (!keys || !vals) {
+        free(keys);
+        free(vals);
+        return lm_fail(LM_E_NOMEM, "out of memory growing the collapse queue to %u", cap);
+    }
+    for (uint32_t i = 0; i < q->cap; i++) {
+        if (!q->keys[i])
+            continue;
+        uint32_t j = hash(q->keys[i], cap);
+        while (keys[j])
+            j = (j + 1) & (cap - 1);
+        keys[j] = q->keys[i];
+        vals[j] = q->vals[i];
+    }
+    free(q->keys);
+    free(q->vals);
+    q->keys = keys;
+    q->vals = vals;
+    q->cap = cap;
+    return LM_OK;
+}
+
+static lm_status reserve(lm_cq *q)
+{
+    if ((uint64_t)(q->count + 1) * 4 > (uint64_t)q->cap * 3) {
+        lm_status s = rehash(q, q->cap ? q->cap * 2 : 1024);
+        if (s)
+            return s;
+    }
+    if (q->n_free == 0 && q->n_slots == q->cap_slots) {
+        size_t c = lm_grow_cap(q->cap_slots, q->n_slots + 1, 1024, UINT32_MAX);
+        if (!c || !LM_RESIZE(&q->slots, c) || !LM_RESIZE(&q->free_slots, c) ||
+            !lm_iheap_reserve(&q->heap, (uint32_t)c))
+            return lm_fail(LM_E_NOMEM, "out of memory growing the collapse queue");
+        q->cap_slots = (uint32_t)c;
+    }
+    return LM_OK;
+}
+
+/* An entry's place in the heap: by (est, a, b), in it while poppable. */
+static void heap_update(lm_cq *q, uint32_t s)
+{
+    const lm_cq_entry *e = &q->slots[s];
+    if (e->in_heap)
+        lm_iheap_set(&q->heap, s, e->est, (uint64_t)e->a << 32 | e->b);
+    else
+        lm_iheap_remove(&q->heap, s);
+}
+
+/* ---- map ----------------------------------------------------------------------------------- */
+
+lm_status lm_cq_set(lm_cq *q, uint32_t a, uint32_t b, int64_t est, int level, int in_heap)
+{
+    uint64_t k = key_of(a, b);
+    uint32_t pos, s;
+    if (find(q, k, &pos)) {
+        s = q->vals[pos];
+    } else {
+        lm_status st = reserve(q);
+        if (st)
+            return st;
+        s = q->n_free ? q->free_slots[--q->n_free] : q->n_slots++;
+        uint32_t i = hash(k, q->cap);
+        while (q->keys[i])
+            i = (i + 1) & (q->cap - 1);
+        q->keys[i] = k;
+        q->vals[i] = s;
+        q->count++;
+    }
+    lm_cq_entry *e = &q->slots[s];
+    e->a = (uint32_t)(k >> 32);
+    e->b = (uint32_t)k;
+    e->est = est;
+    e->level = level;
+    e->in_heap = in_heap ? 1 : 0;
+    heap_update(q, s);
+    return LM_OK;
+}
+
+lm_status lm_cq_reset(lm_cq *q, uint32_t a, uint32_t b)
+{
+    return lm_cq_set(q, a, b, 0, -1, 1);
+}
+
+void lm_cq_remove(lm_cq *q, uint32_t a, uint32_t b)
+{
+    uint32_t pos;
+    if (!find(q, key_of(a, b), &pos))
+        return;
+    uint32_t s = q->vals[pos];
+    lm_iheap_remove(&q->heap, s);
+    q->free_slots[q->n_free++] = s;
+    q->count--;
+    /* backward-shift deletion keeps probe chains intact */
+    uint32_t i = pos;
+    for (uint32_t j = (i + 1) & (q->cap - 1); q->keys[j]; j = (j + 1) & (q->cap - 1)) {
+        uint32_t h = hash(q->keys[j], q->cap);
+        int movable = i <= j ? (h <= i || h > j) : (h <= i && h > j);
+        if (movable) {
+            q->keys[i] = q->keys[j];
+            q->vals[i] = q->vals[j];
+            i = j;
+        }
+    }
+    q->keys[i] = 0;
+}
+
+int lm_cq_get(const lm_cq *q, uint32_t a, uint32_t b, lm_cq_entry *out)
+{
+    uint32_t pos;
+    if (!find(q, key_of(a, b), &pos))
+        return 0;
+    *out = q->slots[q->vals[pos]];
+    return 1;
+}
+
+int lm_cq_peek(const lm_cq *q, lm_cq_entry *out)
+{
+    uint32_t s = lm_iheap_top(&q->heap);
+    if (s == LM_IHEAP_OUT)
+        return 0;
+    *out = q->slots[s];
+    return 1;
+}
+
+int lm_cq_pop(lm_cq *q, lm_cq_entry *out)
+{
+    uint32_t s = lm_iheap_top(&q->heap);
+    if (s == LM_IHEAP_OUT)
+        return 0;
+    lm_iheap_remove(&q->heap, s);
+    q->slots[s].in_heap = 0;
+    *out = q->slots[s];
+    return 1;
+}
+
+uint32_t lm_cq_count(const lm_cq *q)
+{
+    return q->count;
+}
+
+static int cmp_entry(const void *x, const void *y)
+{
+    const lm_cq_entry *a = x, *b = y;
+    if (a->a != b->a)
+        return a->a < b->a ? -1 : 1;
+    return (a->b > b->b) - (a->b < b->b);
+}
+
+lm_status lm_cq_export(const lm_cq *q, lm_cq_entry **out, uint32_t *n)
+{
+    lm_cq_entry *e = malloc(((size_t)q->count + 1) * sizeof *e);
+    if (!e)
+        return lm_fail(LM_E_NOMEM, "out of memory exporting %u queue entries", q->count);
+    uint32_t k = 0;
+    for (uint32_t i = 0; i < q->cap; i++)
+        if (q->keys[i])
+            e[k++] = q->slots[q->vals[i]];
+    qsort(e, k, sizeof *e, cmp_entry);
+    *out = e;
+    *n = k;
+    return LM_OK;
+}

@@ -1,0 +1,571 @@
+/* common/optimizer/lanes.c — edges in flight: lane fibers handing a baton, one batch of
+ * evaluations per round, and the merge of the lanes' changes in order (lanes.h). */
+#include "common/optimizer/lanes.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "common/grow.h"
+#include "common/log.h"
+#include "common/mesh_topology.h"
+#include "common/optimizer/edge.h"
+#include "common/optimizer/fiber.h"
+#include "common/optimizer/lane_views.h"
+
+#define GROUP_RINGS 2  /* edges whose vertices lie within this many rings of each other wait */
+#define GROUP_WINDOW 4 /* a group is chosen among the next GROUP_WINDOW x K planned edges */
+
+enum { LANE_IDLE, LANE_RUNNING, LANE_WAITING, LANE_DONE };
+
+/* An accepted operation kept for the merge, with the lane's ΔE before it (to undo on a revert). */
+typedef struct lane_record {
+    lm_move_record r;
+    size_t x_at;     /* its parameters in the lane's pool */
+    int64_t d_acc_0; /* the lane's ΔE before it */
+} lane_record;
+
+struct lm_lane {
+    lm_lanes *owner;
+    uint32_t index;
+    lm_fiber *fiber;
+    int state;
+    lm_status post_status; /* what the request in flight came back with */
+    lm_mesh *mesh;
+    lm_moves *mv;
+    lm_lane_views views;
+    lm_edge_ctx ctx;
+    uint32_t a, b;
+    int64_t total;
+    lm_status st;
+    char msg[512];
+    lane_record *recs;
+    uint32_t n_recs, cap_recs;
+    double *xs;
+    size_t n_xs, cap_xs;
+};
+
+struct lm_lanes {
+    lm_optimizer *o;
+    uint32_t k;
+    lm_lane *lanes;
+    lm_tri_data *start; /* the group's start, sorted by id */
+    size_t n_start;
+    lm_patch *batch; /* shallow copies of the lanes' requests */
+    int64_t *deltas;
+    uint32_t cap_batch;
+    uint32_t *stamp; /* per vertex: the group member whose neighbourhood holds it */
+    uint32_t cap_stamp, epoch;
+    uint32_t base;   /* the current group's first tag: member i's is base + i */
+    uint32_t *queue; /* breadth-first search */
+    uint32_t cap_queue;
+    lm_patch merged;
+};
+
+/* ---- the baton ------------------------------------------------------------------------------- */
+
+/* Scheduler side: the lane about to run gets the collapse search's veto. */
+static void hand_veto(lm_lanes *l, lm_lane *lane);
+
+/* Scheduler side: let lane go on (its first edge, its next one, or its answer), until it waits
+ * again or is done. */
+static void resume(lm_lanes *l, lm_lane *lane)
+{
+    hand_veto(l, lane);
+    lane->state = LANE_RUNNING;
+    lm_fiber_resume(lane->fiber);
+}
+
+lm_status lm_lane_post(lm_lane *lane)
+{
+    lane->state = LANE_WAITING;
+    lm_fiber_yield(lane->fiber);
+    lm_status st = lane->post_status;
+    return st ? lm_fail(st, "the lanes' batch failed") : LM_OK;
+}
+
+static void run_edge(lm_lane *lane)
+{
+    lane->total = 0;
+    lane->st = lm_edge_optimise(&lane->ctx, lane->a, lane->b, &lane->total);
+    if (lane->st != LM_OK)
+        snprintf(lane->msg, sizeof lane->msg, "%s", lm_last_error());
+}
+
+/* A lane's fiber: one edge each time the scheduler starts it (it never returns). */
+static void lane_main(void *arg)
+{
+    lm_lane *lane = arg;
+    for (;;) {
+        run_edge(lane);
+        lane->state = LANE_DONE;
+        lm_fiber_yield(lane->fiber);
+    }
+}
+
+/* ---- keeping lanes apart ----------------------------------------------------------------------
+ */
+
+static uint32_t tag_of(const lm_lane *lane)
+{
+    return lane->owner->base + lane->index;
+}
+
+/* Vertex v is another member's: within its neighbourhood or its collapses. */
+static int others(const lm_lane *lane, uint32_t v)
+{
+    const lm_lanes *l = lane->owner;
+    return v < l->cap_stamp && l->stamp[v] >= l->base && l->stamp[v] != tag_of(lane);
+}
+
+/* The collapse search of a lane leaves the other members' vertices alone. */
+static int lane_veto(void *ctx, uint32_t a, uint32_t b)
+{
+    const lm_lane *lane = ctx;
+    return others(lane, a) || others(lane, b);
+}
+
+/* A collapse the lane accepted: its vertices and the ring around them become the lane's (where no
+ * other member holds them), so that no other lane collapses there too. */
+static void claim_collapse(lm_lane *lane, uint32_t a, uint32_t b)
+{
+    lm_lanes *l = lane->owner;
+    uint32_t nb[1024], v[2] = {a, b};
+    for (int i = 0; i < 2; i++) {
+        if (v[i] >= lane->mesh->n_verts || !lane->mesh->vert_alive[v[i]])
+            continue;
+        uint32_t n = lm_mesh_vertex_neighbors(lane->mesh, v[i], nb, 1024);
+        for (uint32_t k = 0; k <= n && k <= 1024; k++) {
+            uint32_t x = k < n && k < 1024 ? nb[k] : v[i];
+            if (x < l->cap_stamp && l->stamp[x] < l->base)
+                l->stamp[x] = tag_of(lane);
+        }
+    }
+}
+
+/* The lane about to run gets the collapse search's veto. */
+static void hand_veto(lm_lanes *l, lm_lane *lane)
+{
+    l->o->tp.veto = lane_veto;
+    l->o->tp.veto_ctx = lane;
+}
+
+/* ---- records (the lane's observer) ----------------------------------------------------------- */
+
+static void on_accepted(void *ctx, const lm_move_record *r)
+{
+    lm_lane *lane = ctx;
+    lane->views.pending = r->delta;
+    if (r->kind == LM_MOVE_COLLAPSE)
+        claim_collapse(lane, r->a, r->b);
+    bool grown = LM_GROW32(&lane->recs, &lane->cap_recs, (size_t)lane->n_recs + 1, 16) &&
+                 LM_GROW(&lane->xs, &lane->cap_xs, lane->n_xs + r->dim, 1024);
+    LM_ASSERT(grown);
+    memcpy(lane->xs + lane->n_xs, r->x, (size_t)r->dim * sizeof *r->x);
+    lane->recs[lane->n_recs++] = (lane_record){*r, lane->n_xs, lane->views.d_acc};
+    lane->n_xs += r->dim;
+}
+
+/* A revert to journal position mark: the operations after it are forgotten with their ΔE. */
+static void on_reverted(void *ctx, size_t mark)
+{
+    lm_lane *lane = ctx;
+    while (lane->n_recs && lane->recs[lane->n_recs - 1].r.mark >= mark) {
+        lane_record *r = &lane->recs[--lane->n_recs];
+        lane->views.d_acc = r->d_acc_0;
+        lane->n_xs = r->x_at;
+    }
+}
+
+/* ---- creation -------------------------------------------------------------------------------- */
+
+static lm_status lane_init(lm_lanes *l, lm_lane *lane)
+{
+    lane->owner = l;
+    lane->index = (uint32_t)(lane - l->lanes);
+    lm_lane_views_init(&lane->views, lane, l->o->views);
+    lm_status st = lm_mesh_create(&lane->mesh);
+    if (st == LM_OK)
+        st = lm_moves_create(lane->mesh, &lane->views.base, &l->o->moves_cfg, &lane->mv);
+    if (st != LM_OK)
+        return st;
+    lm_moves_share_clock(lane->mv, lm_moves_clock_ptr(l->o->mv));
+    lm_moves_observe(lane->mv, &(lm_moves_observer){on_accepted, on_reverted, lane});
+    lane->ctx = (lm_edge_ctx){.o = l->o, .mesh = lane->mesh, .mv = lane->mv, .deferred = 1};
+    return lm_fiber_create(LM_FIBER_STACK_BYTES, lane_main, lane, &lane->fiber);
+}
+
+void lm_lanes_set_views(lm_lanes *l, lm_views *views)
+{
+    for (uint32_t i = 0; i < l->k; i++)
+        l->lanes[i].views.real = views;
+}
+
+lm_status lm_lanes_create(lm_optimizer *o, uint32_t k, lm_lanes **out)
+{
+    *out = NULL;
+    lm_lanes *l = calloc(1, sizeof *l);
+    if (!l)
+        return lm_fail(LM_E_NOMEM, "out of memory for lanes");
+    l->o = o;
+    l->k = k;
+    lm_patch_init(&l->merged);
+    l->lanes = calloc(k, sizeof *l->lanes);
+    l->cap_queue = 65536;
+    l->queue = malloc(l->cap_queue * sizeof *l->queue);
+    lm_status st = l->lanes && l->queue ? LM_OK : lm_fail(LM_E_NOMEM, "out of memory for lanes");
+    for (uint32_t i = 0; i < k && st == LM_OK; i++)
+        st = lane_init(l, &l->lanes[i]);
+    if (st != LM_OK) {
+        lm_lanes_destroy(l);
+        return st;
+    }
+    *out = l;
+    return LM_OK;
+}
+
+static void lane_free(lm_lanes *l, lm_lane *lane)
+{
+    (void)l;
+    lm_fiber_destroy(lane->fiber); /* suspended between edges: its stack holds nothing */
+    lm_moves_destroy(lane->mv);
+    lm_mesh_destroy(lane->mesh);
+    lm_lane_views_free(&lane->views);
+    free(lane->recs);
+    free(lane->xs);
+}
+
+void lm_lanes_destroy(lm_lanes *l)
+{
+    if (!l)
+        return;
+    for (uint32_t i = 0; l->lanes && i < l->k; i++)
+        if (l->lanes[i].owner)
+            lane_free(l, &l->lanes[i]);
+    free(l->lanes);
+    free(l->start);
+    free(l->batch);
+    free(l->deltas);
+    free(l->stamp);
+    free(l->queue);
+    lm_patch_free(&l->merged);
+    free(l);
+}
+
+/* ---- groups ---------------------------------------------------------------------------------- */
+
+/* stamp[] for n vertices, new entries zero (below every group's base). */
+static int reserve_stamps(lm_lanes *l, uint32_t n)
+{
+    if (n <= l->cap_stamp)
+        return 1;
+    uint32_t *p = realloc(l->stamp, (size_t)n * sizeof *p);
+    if (!p)
+        return 0;
+    memset(p + l->cap_stamp, 0, (size_t)(n - l->cap_stamp) * sizeof *p);
+    l->stamp = p;
+    l->cap_stamp = n;
+    return 1;
+}
+
+/* Breadth-first over GROUP_RINGS rings from {a, b}: 1 if a vertex carries another member's stamp
+ * (then nothing is stamped), else every vertex reached gets `tag`. */
+static int meets(lm_lanes *l, uint32_t a, uint32_t b, uint32_t tag, uint32_t base)
+{
+    const lm_mesh *m = l->o->mesh;
+    uint32_t n = 0, head = 0, nb[1024];
+    l->queue[n++] = a;
+    l->queue[n++] = b;
+    for (int ring = 0; ring <= GROUP_RINGS; ring++) {
+        uint32_t end = n;
+        for (; head < end; head++) {
+            uint32_t v = l->queue[head];
+            if (l->stamp[v] >= base && l->stamp[v] != tag)
+                return 1;
+            if (ring == GROUP_RINGS)
+                continue;
+            uint32_t k = lm_mesh_vertex_neighbors(m, v, nb, 1024);
+            for (uint32_t i = 0; i < k && i < 1024 && n < l->cap_queue; i++)
+                l->queue[n++] = nb[i];
+        }
+    }
+    for (uint32_t i = 0; i < n; i++)
+        l->stamp[l->queue[i]] = tag;
+    return 0;
+}
+
+/* 1 when planned edge e can no longer be optimised (a vertex gone): it goes in any group. */
+static int gone(const lm_mesh *m, const lm_planned_edge *e)
+{
+    return e->a >= m->n_verts || e->b >= m->n_verts || !m->vert_alive[e->a] || !m->vert_alive[e->b];
+}
+
+uint32_t lm_lanes_group(lm_lanes *l, lm_planned_edge *plan, uint32_t n)
+{
+    const lm_mesh *m = l->o->mesh;
+    if (!reserve_stamps(l, m->n_verts + 1))
+        return 1;
+    if (l->epoch > UINT32_MAX - 2 * l->k - 2) {
+        memset(l->stamp, 0, (size_t)l->cap_stamp * sizeof *l->stamp);
+        l->epoch = 0;
+    }
+    uint32_t base = l->base = l->epoch + 1, g = 0,
+             window = n < GROUP_WINDOW * l->k ? n : GROUP_WINDOW * l->k;
+    /* in plan order, every edge of the window that meets no member joins; members move to the
+     * front, the others keep their order behind them */
+    for (uint32_t i = 0; i < window && g < l->k; i++) {
+        if (!gone(m, &plan[i]) && meets(l, plan[i].a, plan[i].b, base + g, base))
+            continue;
+        lm_planned_edge e = plan[i];
+        memmove(plan + g + 1, plan + g, (size_t)(i - g) * sizeof *plan);
+        plan[g++] = e;
+    }
+    l->epoch = base + l->k;
+    return g ? g : 1;
+}
+
+/* ---- a group --------------------------------------------------------------------------------- */
+
+/* The group's start: the optimizer's mesh as records; every lane's copy and views start there. */
+static lm_status begin_group(lm_lanes *l, const lm_planned_edge *plan, uint32_t n)
+{
+    free(l->start);
+    l->start = NULL;
+    lm_status st = lm_mesh_export_tris(l->o->mesh, &l->start, &l->n_start);
+    for (uint32_t i = 0; i < n && st == LM_OK; i++) {
+        lm_lane *lane = &l->lanes[i];
+        st = lm_mesh_copy_geometry(lane->mesh, l->o->mesh);
+        lm_lane_views_reset(&lane->views, l->start, l->n_start);
+        lm_moves_forget(lane->mv);
+        lane->n_recs = 0;
+        lane->n_xs = 0;
+        memset(lane->ctx.accepted, 0, sizeof lane->ctx.accepted);
+        lane->a = plan[i].a;
+        lane->b = plan[i].b;
+        lane->st = LM_OK;
+        lane->post_status = LM_OK;
+    }
+    return st;
+}
+
+static lm_status reserve_batch(lm_lanes *l, uint32_t n)
+{
+    if (n <= l->cap_batch)
+        return LM_OK;
+    lm_patch *b = realloc(l->batch, n * sizeof *b);
+    int64_t *d = realloc(l->deltas, n * sizeof *d);
+    if (b)
+        l->batch = b;
+    if (d)
+        l->deltas = d;
+    if (!b || !d)
+        return lm_fail(LM_E_NOMEM, "out of memory for a batch of %u patches", n);
+    l->cap_batch = n;
+    return LM_OK;
+}
+
+/* The waiting lanes' requests as one batch to the real views, in lane order. */
+static lm_status evaluate_round(lm_lanes *l, uint32_t n, uint32_t *total)
+{
+    *total = 0;
+    for (uint32_t i = 0; i < n; i++)
+        if (l->lanes[i].state == LANE_WAITING)
+            *total += l->lanes[i].views.n_req;
+    lm_status st = *total ? reserve_batch(l, *total) : LM_OK;
+    uint32_t at = 0;
+    for (uint32_t i = 0; i < n && st == LM_OK; i++) {
+        const lm_lane_views *v = &l->lanes[i].views;
+        if (l->lanes[i].state == LANE_WAITING) {
+            memcpy(l->batch + at, v->req, v->n_req * sizeof *v->req);
+            at += v->n_req;
+        }
+    }
+    if (st == LM_OK && *total)
+        st = l->o->views->ops->evaluate(l->o->views, l->batch, *total, l->deltas);
+    at = 0;
+    for (uint32_t i = 0; i < n && st == LM_OK; i++) {
+        lm_lane_views *v = &l->lanes[i].views;
+        if (l->lanes[i].state == LANE_WAITING) {
+            memcpy(v->res, l->deltas + at, v->n_req * sizeof *v->res);
+            at += v->n_req;
+        }
+    }
+    return st;
+}
+
+/* Rounds until every lane is done; a failure of the views is handed to every waiting lane (its
+ * moves fail and end) and returned. */
+static lm_status run_rounds(lm_lanes *l, uint32_t n)
+{
+    lm_status failed = LM_OK;
+    char msg[512] = "";
+    for (;;) {
+        uint32_t waiting = 0;
+        lm_status st = failed ? LM_OK : evaluate_round(l, n, &waiting);
+        lm_status answer = st == LM_E_POISON ? st : LM_OK; /* poison: the lanes' moves refused */
+        if (st != LM_OK && st != LM_E_POISON) {
+            failed = st;
+            snprintf(msg, sizeof msg, "%s", lm_last_error());
+        }
+        int any = 0;
+        for (uint32_t i = 0; i < n; i++)
+            if (l->lanes[i].state == LANE_WAITING) {
+                l->lanes[i].post_status = failed ? failed : answer;
+                resume(l, &l->lanes[i]);
+                any = 1;
+            }
+        if (!any)
+            break;
+    }
+    return failed ? lm_fail(failed, "%s", msg) : LM_OK;
+}
+
+/* ---- the merge ------------------------------------------------------------------------------- */
+
+/* Vertex ids a lane created (splits) and the ids their replays got. */
+typedef struct vmap {
+    uint32_t from[64], to[64];
+    uint32_t n;
+} vmap;
+
+static uint32_t mapped(const vmap *m, uint32_t v)
+{
+    for (uint32_t i = 0; i < m->n; i++)
+        if (m->from[i] == v)
+            return m->to[i];
+    return v;
+}
+
+/* The lane's accepted operations again on the optimizer's mesh; *ok = 0 (mesh as it was) when
+ * one of them no longer fits. */
+static lm_status replay_lane(lm_lanes *l, lm_lane *lane, size_t mark, int *ok)
+{
+    vmap map = {.n = 0};
+    *ok = 1;
+    for (uint32_t i = 0; i < lane->n_recs; i++) {
+        lm_move_record r = lane->recs[i].r;
+        r.a = mapped(&map, r.a);
+        r.b = mapped(&map, r.b);
+        r.x = lane->xs + lane->recs[i].x_at;
+        uint32_t v;
+        lm_status st = lm_moves_replay(l->o->mv, &r, &v);
+        if (st == LM_E_ILLEGAL || (st == LM_OK && r.kind == LM_MOVE_SPLIT && map.n == 64)) {
+            lm_clear_error();
+            lm_moves_rollback(l->o->mv, mark);
+            *ok = 0;
+            return LM_OK;
+        }
+        if (st != LM_OK)
+            return st;
+        if (r.kind == LM_MOVE_SPLIT) {
+            map.from[map.n] = lane->recs[i].r.v;
+            map.to[map.n++] = v;
+        }
+    }
+    return LM_OK;
+}
+
+/* The collapse queue around the triangles the merge added. */
+static lm_status note_merged(lm_lanes *l)
+{
+    uint32_t ids[4096];
+    const lm_patch *p = &l->merged;
+    lm_status st = LM_OK;
+    for (uint32_t at = 0; at < p->n_added && st == LM_OK; at += 4096) {
+        uint32_t k = p->n_added - at < 4096 ? p->n_added - at : 4096;
+        for (uint32_t i = 0; i < k; i++)
+            ids[i] = p->added[at + i].id;
+        st = lm_teleport_note_change(&l->o->tp, l->o->mesh, ids, k);
+    }
+    return st;
+}
+
+/* Lane's changes onto the optimizer's mesh and views. *delta the ΔE committed; *kept 0 when they
+ * were rolled back (they no longer fit, or no longer pay). The first lane to change anything
+ * commits with its own exact ΔE when the replay rebuilt its mesh bit for bit; every other one is
+ * evaluated again against the views as the merges before it left them. */
+static lm_status merge_lane(lm_lanes *l, lm_lane *lane, int first, int *kept, int64_t *delta)
+{
+    lm_optimizer *o = l->o;
+    size_t mark = lm_moves_mark(o->mv);
+    lm_status st = replay_lane(l, lane, mark, kept);
+    if (st != LM_OK || !*kept)
+        return st;
+    st = lm_patch_from_journal(&l->merged, o->mesh, lm_moves_journal(o->mv), mark);
+    if (st != LM_OK)
+        return st;
+    int64_t d_lane = lane->views.d_acc;
+    if (first && lm_mesh_hash(o->mesh) == lm_mesh_hash(lane->mesh)) {
+        *delta = d_lane;
+    } else {
+        st = o->views->ops->evaluate(o->views, &l->merged, 1, delta);
+        if (st == LM_E_POISON) { /* the re-validation failed everywhere: not merged */
+            lm_clear_error();
+            lm_moves_rollback(o->mv, mark);
+            *kept = 0;
+            return LM_OK;
+        }
+        if (st != LM_OK)
+            return st;
+        lm_moves_set_evals(o->mv, lm_moves_evals(o->mv) + 1); /* the re-validation counts */
+        if (!(*delta < 0 || *delta <= d_lane)) {
+            lm_moves_rollback(o->mv, mark);
+            *kept = 0;
+            return LM_OK;
+        }
+    }
+    st = o->views->ops->commit(o->views, &l->merged);
+    return st == LM_OK ? note_merged(l) : st;
+}
+
+/* The lane's accepted moves no longer count (its changes were rolled back). */
+static void forget_accepted(lm_optimizer *o, const lm_lane *lane)
+{
+    for (int k = 0; k < LM_MOVE_KINDS; k++)
+        o->prog.accepted[k] -= lane->ctx.accepted[k];
+}
+
+static lm_status merge(lm_lanes *l, uint32_t n, int64_t *totals)
+{
+    lm_optimizer *o = l->o;
+    lm_status st = LM_OK;
+    int first = 1;
+    for (uint32_t i = 0; i < n && st == LM_OK; i++) {
+        lm_lane *lane = &l->lanes[i];
+        totals[i] = 0;
+        if (!lane->n_recs)
+            continue;
+        int kept = 0;
+        int64_t delta = 0;
+        st = merge_lane(l, lane, first, &kept, &delta);
+        char kinds[64] = "";
+        for (uint32_t q = 0; q < lane->n_recs && q < 60; q++)
+            kinds[q] = "nstc"[lane->recs[q].r.kind], kinds[q + 1] = 0;
+        lm_debug("merge lane %u: %u operations (%s), lane dE %lld, %s dE %lld", i, lane->n_recs,
+                 kinds, (long long)lane->views.d_acc, kept ? "kept" : "dropped", (long long)delta);
+        if (st == LM_OK && kept) {
+            totals[i] = delta;
+            o->prog.energy += delta;
+            first = 0;
+        } else if (st == LM_OK) {
+            forget_accepted(o, lane);
+        }
+    }
+    lm_moves_forget(o->mv);
+    return st;
+}
+
+lm_status lm_lanes_run(lm_lanes *l, const lm_planned_edge *plan, uint32_t n, int64_t *totals)
+{
+    LM_ASSERT(n >= 1 && n <= l->k);
+    lm_status st = begin_group(l, plan, n);
+    for (uint32_t i = 0; i < n && st == LM_OK; i++)
+        resume(l, &l->lanes[i]);
+    if (st == LM_OK)
+        st = run_rounds(l, n);
+    l->o->tp.veto = NULL;
+    for (uint32_t i = 0; i < n && st == LM_OK; i++)
+        if (l->lanes[i].st != LM_OK)
+            st = lm_fail(l->lanes[i].st, "%s", l->lanes[i].msg);
+    return st == LM_OK ? merge(l, n, totals) : st;
+}

@@ -1,0 +1,45 @@
+/* common/optimizer/lanes.h — several edges in flight at once (the optimizer's `edges in
+ * flight` parameter K > 1). Not for other folders.
+ *
+ * A group is a set of planned edges, taken in plan order from the next few, whose neighbourhoods
+ * (two rings) do not meet.
+ * Each edge of a group is optimised in a lane: a fiber (fiber.h) with its own copy of the mesh and
+ * its own move workspace, whose views are lm_lane_views (lane_views.h). Lanes run one at a time,
+ * on the optimizer's thread, handing a baton in a fixed order: all run until they wait for an
+ * evaluation, their requests go to the real views as ONE batch, the answers come back, and they run
+ * again in order — so every decision depends only on the plan, the seed and K, never on timing or
+ * on how many workers answered. Nothing is committed to the real views during a group: every
+ * evaluation of the group is priced against its start. Then the lanes' changes are merged in lane
+ * order: each lane's accepted operations are done again on the optimizer's mesh (lm_moves_replay),
+ * the patch of that replay goes to the views; the first lane to change anything commits with its
+ * exact ΔE (its copy and the replay are the same mesh, checked), every later one is evaluated again
+ * against the state the merges before it left (re-validated) and committed only if it still pays
+ * (ΔE < 0, or no worse than the lane found), else rolled back. Fibers never run concurrently, so
+ * the optimizer's statistics, collapse queue and counters are shared without locks and without
+ * races; a handoff costs no system call. */
+#ifndef LM_COMMON_OPTIMIZER_LANES_H
+#define LM_COMMON_OPTIMIZER_LANES_H
+
+#include <stdint.h>
+
+#include "common/optimizer/optimizer_internal.h"
+
+typedef struct lm_lanes lm_lanes;
+
+/* k lanes (2..LM_MAX_EDGES_IN_FLIGHT) for optimizer o (its mesh, views, moves config, clock). */
+lm_status lm_lanes_create(lm_optimizer *o, uint32_t k, lm_lanes **out);
+void lm_lanes_destroy(lm_lanes *l);
+/* The optimizer's views changed (lm_optimizer_replace_views): what the lanes' own views ask for
+ * their info. Between groups only. */
+void lm_lanes_set_views(lm_lanes *l, lm_views *views);
+
+/* The next group of plan[0..n): up to k planned edges, taken in plan order from the next few
+ * (GROUP_WINDOW x k) whose neighbourhoods do not meet, moved to the front of plan (the others keep
+ * their order after them). Returns their count (at least 1). */
+uint32_t lm_lanes_group(lm_lanes *l, lm_planned_edge *plan, uint32_t n);
+
+/* Optimise plan[0..n) (a group) and merge; totals[i] the ΔE edge i's lane committed (0 when its
+ * changes were rolled back at the merge). */
+lm_status lm_lanes_run(lm_lanes *l, const lm_planned_edge *plan, uint32_t n, int64_t *totals);
+
+#endif

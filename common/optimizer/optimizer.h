@@ -1,0 +1,90 @@
+/* common/optimizer/optimizer.h — the Lindstrom–Turk optimizer (paper §5) as one object.
+ * It owns the coarse mesh being optimized and talks to the views only through common/views_api.h.
+ * Time is counted in ΔE evaluations; with the same inputs and seed the sequence of decisions, and
+ * so the output, is identical. All state needed to continue is serialisable (checkpoints), so a run
+ * resumed from a checkpoint ends with the same result as an uninterrupted one. */
+#ifndef LM_COMMON_OPTIMIZER_OPTIMIZER_H
+#define LM_COMMON_OPTIMIZER_OPTIMIZER_H
+
+#include <stdint.h>
+#include <stdio.h>
+
+#include "common/mesh.h"
+#include "common/views_api.h"
+
+/* Move kinds (paper Table 1), each with optimisation levels 0..3. */
+typedef enum lm_move_kind {
+    LM_MOVE_NOOP,
+    LM_MOVE_SWAP,
+    LM_MOVE_SPLIT,
+    LM_MOVE_COLLAPSE,
+    LM_MOVE_KINDS
+} lm_move_kind;
+
+typedef struct lm_params {
+    uint64_t seed;  /* 0 = default 1 */
+    uint32_t attrs; /* LM_ATTR_* optimised besides positions; normals not in the set are derived */
+    uint32_t edges_per_iteration;   /* 0 = 64 */
+    uint32_t simplex_evals_per_dim; /* 0 = 32 (at most 32n evaluations per simplex run) */
+    uint32_t edges_in_flight; /* edges optimised at once, their evaluations in one batch (lanes.h);
+                                 0 = 1, the paper's order; at most LM_MAX_EDGES_IN_FLIGHT. A job
+                                 parameter (kept in checkpoints), never the number of workers: the
+                                 output depends on it and on nothing else of the machinery */
+    const lm_mesh *surface;   /* the original (borrowed, must outlive the optimizer): the surface of
+                                 the geometric term (surface_term.h, weight lm_tuning.surface_weight);
+                                 NULL = no geometric term */
+} lm_params;
+
+#define LM_MAX_EDGES_IN_FLIGHT 64u
+
+typedef struct lm_progress {
+    uint64_t evals;                     /* ΔE evaluations so far */
+    uint64_t iterations;                /* edge iterations (64 edges each) */
+    int64_t energy_start, energy;       /* image energy E at start and now */
+    int64_t geometric_start, geometric; /* the geometric term at start and now (0 without one); the
+                                           optimizer minimises energy + geometric */
+    double geometric_by_workers;        /* share of the evaluations whose geometric term the workers
+                                           priced (surface_term.h) */
+    uint64_t accepted[LM_MOVE_KINDS];   /* accepted moves by kind (teleports count as SPLIT) */
+    uint64_t attempted[LM_MOVE_KINDS];
+    uint32_t live_verts, live_tris;
+} lm_progress;
+
+typedef struct lm_optimizer lm_optimizer;
+
+/* Takes ownership of `mesh` (the coarse mesh; adjacency built) and borrows `views` (whose target
+ * images are already rendered); sends the mesh to the views (set_mesh). The mesh is owned by the
+ * optimizer even when creation fails (it is destroyed then). */
+lm_status lm_optimizer_create(lm_mesh *mesh, lm_views *views, const lm_params *params,
+                              lm_optimizer **out);
+void lm_optimizer_destroy(lm_optimizer *opt);
+
+/* Optimise one edge iteration (about 64 edges) unless the evaluation budget `max_evals` (absolute
+ * count since the start of the job) is reached first; stops between moves. */
+lm_status lm_optimizer_step(lm_optimizer *opt, uint64_t max_evals);
+
+/* Price everything from now on against `views` (borrowed, as at creation) instead of the ones the
+ * optimizer has: views of the same original, count and size, with other cameras or pixel grids
+ * (a job's regrid). The caller destroys the old ones after this returns. Sends the current mesh
+ * to the new views. With rescale_start the start's image energy becomes start × new / old (the
+ * current mesh's image energy on the new and the old views, rounded), so that progress stays a
+ * fraction of the start across a chain of view sets; without it, the energies of the progress
+ * are left as they are (a resume is about to load them). Between steps only. On failure the
+ * optimizer must be given views again before its next step. */
+lm_status lm_optimizer_replace_views(lm_optimizer *opt, lm_views *views, int rescale_start);
+
+void lm_optimizer_progress(const lm_optimizer *opt, lm_progress *out);
+/* The current mesh (owned by the optimizer; valid until the next step/destroy). */
+const lm_mesh *lm_optimizer_mesh(const lm_optimizer *opt);
+
+/* Serialise the complete state (mesh, statistics, scheduler, PRNG, counters) / restore it into an
+ * optimizer created on the same original, views and params. Versioned binary, checked on read. */
+lm_status lm_optimizer_save(const lm_optimizer *opt, FILE *fp);
+lm_status lm_optimizer_load(lm_optimizer *opt, FILE *fp);
+/* A mesh in the optimizer state's record (dead slots included), for a job's copies of meshes
+ * (the best validation mesh): save m, or load into m one saved from a mesh with m's materials and
+ * parts (m's arrays replaced; adjacency not built). */
+lm_status lm_optimizer_save_mesh(const lm_mesh *m, FILE *fp);
+lm_status lm_optimizer_load_mesh(lm_mesh *m, FILE *fp);
+
+#endif
