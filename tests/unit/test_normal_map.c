@@ -1,6 +1,7 @@
 /* tests/unit/test_normal_map.c — tangent-space normal maps: the tangents of a flat quad, the CPU
  * renderer's shading of a normal-mapped quad against a reference computed here pixel by pixel
- * (within one 8-bit level) and against the same quad without the map, four lanes against eight,
+ * (within one 8-bit level; the GL renderer on llvmpipe within four) and against the same quad
+ * without the map, four lanes against eight,
  * a GLB round trip (normalTexture and TANGENT written, the map loaded back, the same image) and an
  * OBJ one (MTL "norm"), and the asset that ships it to workers. */
 #include <math.h>
@@ -95,17 +96,26 @@ static lm_view_set *quad_views(void)
     return vs;
 }
 
-/* The CPU renderer's RGBA and coverage images of m in every view. */
-static void render(const lm_mesh *m, const lm_view_set *vs, uint8_t (*rgba)[SIZE * SIZE * 4],
-                   uint8_t (*cover)[SIZE * SIZE])
+/* The RGBA and coverage images of m in every view on device dev; 0 where it cannot be opened. */
+static int render_on(const char *dev, const lm_mesh *m, const lm_view_set *vs,
+                     uint8_t (*rgba)[SIZE * SIZE * 4], uint8_t (*cover)[SIZE * SIZE])
 {
     lm_views *v;
-    assert_int_equal(wk_views_local_create(m, vs, 0, 0, "cpu", &v), LM_OK);
+    if (wk_views_local_create(m, vs, 0, 0, dev, &v) != LM_OK)
+        return 0;
     for (uint32_t k = 0; k < vs->count; k++) {
         assert_int_equal(v->ops->read_image(v, LM_IMAGE_RGBA, k, rgba[k]), LM_OK);
         assert_int_equal(v->ops->read_image(v, LM_IMAGE_COVERAGE, k, cover[k]), LM_OK);
     }
     lm_views_destroy(v);
+    return 1;
+}
+
+/* ... on the CPU rasteriser. */
+static void render(const lm_mesh *m, const lm_view_set *vs, uint8_t (*rgba)[SIZE * SIZE * 4],
+                   uint8_t (*cover)[SIZE * SIZE])
+{
+    assert_true(render_on("cpu", m, vs, rgba, cover));
 }
 
 static uint8_t rgba[2][N_VIEWS][SIZE * SIZE * 4], cover[2][N_VIEWS][SIZE * SIZE];
@@ -129,17 +139,23 @@ static void test_quad_tangents(void **state)
     lm_mesh_destroy(m);
 }
 
-/* The rendered mapped quad equals the reference at every pixel well inside it, in every view
- * that sees it at more than a grazing angle; the unmapped quad differs. */
-static void test_render_matches_reference(void **state)
+/* The mapped quad rendered on dev equals the reference within tol levels at every pixel well
+ * inside it (and 90 % of the channels within one), in every view that sees it at more than a
+ * grazing angle; the unmapped quad differs. */
+static void check_against_reference(const char *dev, int tol)
 {
-    (void)state;
     lm_view_set *vs = quad_views();
     lm_mesh *mapped = make_quad(1), *plain = make_quad(0);
-    render(mapped, vs, rgba[0], cover[0]);
-    render(plain, vs, rgba[1], cover[1]);
+    if (!render_on(dev, mapped, vs, rgba[0], cover[0]) ||
+        !render_on(dev, plain, vs, rgba[1], cover[1])) {
+        printf("# device %s: not on this machine, skipped\n", dev);
+        lm_mesh_destroy(mapped);
+        lm_mesh_destroy(plain);
+        free(vs);
+        return;
+    }
     const lm_image *map = mapped->materials[0].normal_map;
-    int checked = 0, differ = 0, worst = 0;
+    int checked = 0, differ = 0, worst = 0, hist[4] = {0};
     for (uint32_t k = 0; k < vs->count; k++) {
         const lm_view *vw = &vs->views[k];
         if (fabsf(vw->dir[2]) < 0.3f)
@@ -155,7 +171,8 @@ static void test_render_matches_reference(void **state)
                 for (int c = 0; c < 3; c++) {
                     int got = rgba[0][k][4 * i + (size_t)c], e = abs(got - want);
                     worst = e > worst ? e : worst;
-                    if (e > 1)
+                    hist[e < 3 ? e : 3]++;
+                    if (e > tol)
                         fail_msg("view %u pixel (%d, %d) channel %d: %d, reference %d", k, px, py,
                                  c, got, want);
                 }
@@ -163,13 +180,31 @@ static void test_render_matches_reference(void **state)
                 differ += rgba[0][k][4 * i] != rgba[1][k][4 * i];
             }
     }
-    printf("# %d pixels checked, worst difference %d, %d differ without the map\n", checked, worst,
-           differ);
+    printf("# %s: %d pixels checked, worst difference %d (channels off by 0, 1, 2, more: %d %d %d "
+           "%d), %d differ without the map\n",
+           dev, checked, worst, hist[0], hist[1], hist[2], hist[3], differ);
     assert_true(checked > 2000);
+    assert_true(hist[0] + hist[1] >= 3 * checked * 9 / 10); /* nearly all within one level */
     assert_true(differ > checked / 2);
     lm_mesh_destroy(mapped);
     lm_mesh_destroy(plain);
     free(vs);
+}
+
+/* The CPU rasteriser: within one 8-bit level. */
+static void test_render_matches_reference(void **state)
+{
+    (void)state;
+    check_against_reference("cpu", 1);
+}
+
+/* The GL renderer on Mesa's llvmpipe (where there is one): its frame comes from screen
+ * derivatives and its filtering is the device's (8-bit weights), so within 4 levels (measured:
+ * 3, and 2 % of the channels above 1). */
+static void test_gl_render_matches_reference(void **state)
+{
+    (void)state;
+    check_against_reference("host", 4);
 }
 
 /* Four and eight lanes shade the mapped quad to the same bytes. */
@@ -293,9 +328,13 @@ static void test_asset_round_trip(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_quad_tangents),  cmocka_unit_test(test_render_matches_reference),
-        cmocka_unit_test(test_lanes_agree),    cmocka_unit_test(test_glb_round_trip),
-        cmocka_unit_test(test_obj_round_trip), cmocka_unit_test(test_asset_round_trip),
+        cmocka_unit_test(test_quad_tangents),
+        cmocka_unit_test(test_render_matches_reference),
+        cmocka_unit_test(test_gl_render_matches_reference),
+        cmocka_unit_test(test_lanes_agree),
+        cmocka_unit_test(test_glb_round_trip),
+        cmocka_unit_test(test_obj_round_trip),
+        cmocka_unit_test(test_asset_round_trip),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

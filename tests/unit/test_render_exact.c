@@ -477,8 +477,8 @@ static void test_sphere(void **state)
     lm_mesh_destroy(coarse);
 }
 
-/* A normal map (a lumpy one of 8x8 texels) on the sphere: the CPU rasteriser lights each pixel
- * from it and the corners' tangent frames; the GL backend does not use it yet. */
+/* A normal map (a lumpy one of 8x8 texels) on the sphere: both backends light each pixel from it
+ * and the triangle's tangent frame. */
 static lm_image *lumpy_normal_map(void)
 {
     lm_image *img;
