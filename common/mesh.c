@@ -72,6 +72,8 @@ void lm_mesh_destroy(lm_mesh *m)
     for (uint32_t i = 0; i < m->n_materials; i++) {
         free(m->materials[i].texture_path);
         lm_image_destroy(m->materials[i].texture);
+        free(m->materials[i].normal_path);
+        lm_image_destroy(m->materials[i].normal_map);
     }
     free(m->materials);
     free(m->parts);
@@ -189,6 +191,25 @@ lm_status lm_mesh_add_material(lm_mesh *m, const char *name, const float diffuse
     if (out_id)
         *out_id = m->n_materials;
     m->n_materials++;
+    return LM_OK;
+}
+
+lm_status lm_mesh_set_normal_map(lm_mesh *m, uint32_t mat, const char *path, lm_image *img)
+{
+    if (mat >= m->n_materials) {
+        lm_image_destroy(img);
+        return lm_fail(LM_E_RANGE, "normal map for material %u of %u", mat, m->n_materials);
+    }
+    char *copy = path ? strdup(path) : NULL;
+    if (path && !copy) {
+        lm_image_destroy(img);
+        return lm_fail(LM_E_NOMEM, "out of memory adding a normal map");
+    }
+    lm_material *a = &m->materials[mat];
+    free(a->normal_path);
+    lm_image_destroy(a->normal_map);
+    a->normal_path = copy;
+    a->normal_map = img;
     return LM_OK;
 }
 
@@ -320,7 +341,7 @@ void lm_mesh_adj_unlink_tri(lm_mesh *m, uint32_t t)
 
 /* ---- copy ----------------------------------------------------------------------------------- */
 
-static lm_status clone_materials(const lm_mesh *src, lm_mesh *dst)
+lm_status lm_mesh_copy_materials(const lm_mesh *src, lm_mesh *dst)
 {
     for (uint32_t i = 0; i < src->n_materials; i++) {
         const lm_material *mat = &src->materials[i];
@@ -336,6 +357,12 @@ static lm_status clone_materials(const lm_mesh *src, lm_mesh *dst)
             lm_image_destroy(tex);
             return s;
         }
+        lm_image *nrm = NULL;
+        if (mat->normal_map && (s = lm_image_clone(mat->normal_map, &nrm)))
+            return s;
+        if ((mat->normal_map || mat->normal_path) &&
+            (s = lm_mesh_set_normal_map(dst, dst->n_materials - 1, mat->normal_path, nrm)))
+            return s;
     }
     return LM_OK;
 }
@@ -393,6 +420,8 @@ static lm_status copy_material_names(lm_mesh *dst, const lm_mesh *src)
     for (uint32_t i = 0; i < dst->n_materials; i++) {
         free(dst->materials[i].texture_path);
         lm_image_destroy(dst->materials[i].texture);
+        free(dst->materials[i].normal_path);
+        lm_image_destroy(dst->materials[i].normal_map);
     }
     dst->n_materials = 0;
     lm_status s = LM_OK;
@@ -467,7 +496,7 @@ lm_status lm_mesh_clone(const lm_mesh *src, lm_mesh **out)
     m->tris = dup_array(src->tris, src->n_tris * sizeof *src->tris, &s);
     m->tri_alive = dup_array(src->tri_alive, src->n_tris, &s);
     if (!s)
-        s = clone_materials(src, m);
+        s = lm_mesh_copy_materials(src, m);
     if (!s)
         s = lm_mesh_copy_parts(src, m);
     if (!s && src->internal && src->internal->adjacency_built)

@@ -59,6 +59,11 @@ typedef struct lm_material {
     float diffuse[4];   /* multiplies texture and vertex colour */
     char *texture_path; /* as referenced by the model (may be NULL); owned */
     lm_image *texture;  /* decoded diffuse texture or NULL; owned */
+    /* Tangent-space normal map (glTF normalTexture, scale 1: RGB -> [-1,1], +Y along increasing
+     * v; tangents from common/tangents.h) or NULL, and its path as referenced (may be NULL);
+     * owned. Set with lm_mesh_set_normal_map. */
+    char *normal_path;
+    lm_image *normal_map;
 } lm_material;
 
 typedef struct lm_mesh {
@@ -98,6 +103,13 @@ lm_status lm_mesh_add_tri(lm_mesh *m, const uint32_t w[3], uint32_t material, ui
 /* Adds a material; takes ownership of tex (may be NULL) and copies name/path. */
 lm_status lm_mesh_add_material(lm_mesh *m, const char *name, const float diffuse[4],
                                const char *texture_path, lm_image *tex, uint32_t *out_id);
+
+/* Appends deep copies of src's materials (textures and normal maps cloned) to dst's. */
+lm_status lm_mesh_copy_materials(const lm_mesh *src, lm_mesh *dst);
+
+/* Gives material mat the normal map img (ownership taken, also on failure; may be NULL) and a
+ * copy of path (may be NULL), replacing any it had. */
+lm_status lm_mesh_set_normal_map(lm_mesh *m, uint32_t mat, const char *path, lm_image *img);
 
 /* Adds a part named `name` (cut to LM_PART_NAME_MAX - 1 bytes; NULL = ""), its id in *out_id.
  * Names must be unique: callers look first (lm_mesh_find_part). Triangles are put in a part by

@@ -111,6 +111,27 @@ static lm_status pack_texture(const lm_image *img, lm_asset_set *s, lm_asset_has
     return finish(&b, s, out);
 }
 
+/* The table's normal maps, after it: none at all where no material has one. */
+static lm_status put_normal_maps(lm_bytes *b, const lm_material *mats, uint32_t n, lm_asset_set *s)
+{
+    uint32_t k = 0;
+    for (uint32_t i = 0; i < n; i++)
+        k += mats[i].normal_map != NULL;
+    if (k)
+        put_u32(b, k);
+    for (uint32_t i = 0; i < n; i++) {
+        lm_asset_hash h;
+        if (!mats[i].normal_map)
+            continue;
+        lm_status st = pack_texture(mats[i].normal_map, s, &h);
+        if (st != LM_OK)
+            return st;
+        put_u32(b, i);
+        lm_bytes_put(b, h.b, sizeof h.b);
+    }
+    return LM_OK;
+}
+
 static lm_status put_materials(lm_bytes *b, const lm_material *mats, uint32_t n, lm_asset_set *s)
 {
     put_u32(b, n);
@@ -129,7 +150,7 @@ static lm_status put_materials(lm_bytes *b, const lm_material *mats, uint32_t n,
         lm_bytes_put(b, &has, 1);
         lm_bytes_put(b, h.b, sizeof h.b);
     }
-    return LM_OK;
+    return put_normal_maps(b, mats, n, s);
 }
 
 lm_status lm_asset_pack_materials(const lm_material *mats, uint32_t n, lm_asset_set *s,
@@ -296,6 +317,16 @@ static lm_status get_material(rbuf *r, const lm_asset_set *s, lm_mesh *m)
     return st;
 }
 
+/* The count of the normal maps after a table of n materials, checked against the bytes left
+ * (which they must fill exactly). */
+static lm_status normal_count(rbuf *r, uint32_t n, uint32_t *k)
+{
+    *k = has(r, 4) ? get_u32(r) : 0;
+    if (*k < 1 || *k > n || r->n - r->at != (size_t)*k * (4 + LM_ASSET_HASH_BYTES))
+        return lm_fail(LM_E_FORMAT, "%zu bytes after the material table", r->n - r->at);
+    return LM_OK;
+}
+
 static lm_status get_materials(rbuf *r, const lm_asset_set *s, lm_mesh *m)
 {
     if (!has(r, 4))
@@ -304,10 +335,27 @@ static lm_status get_materials(rbuf *r, const lm_asset_set *s, lm_mesh *m)
     if (n > (r->n - r->at) / MAT_BYTES)
         return lm_fail(LM_E_FORMAT, "material table of %u entries in %zu bytes", n, r->n - r->at);
     lm_status st = LM_OK;
+    uint32_t base = m->n_materials;
     for (uint32_t i = 0; i < n && st == LM_OK; i++)
         st = get_material(r, s, m);
-    if (st == LM_OK && r->at != r->n)
-        st = lm_fail(LM_E_FORMAT, "%zu bytes after the material table", r->n - r->at);
+    uint32_t k;
+    if (st == LM_OK && r->at != r->n && (st = normal_count(r, n, &k)) == LM_OK)
+        for (uint32_t i = 0, last = 0; i < k && st == LM_OK; i++) {
+            uint32_t mat = get_u32(r);
+            lm_asset_hash h;
+            memcpy(h.b, r->p + r->at, sizeof h.b);
+            r->at += sizeof h.b;
+            const lm_asset *a = lm_asset_set_find(s, &h);
+            char buf[17];
+            lm_image *img = NULL;
+            if (mat >= n || (i && mat <= last))
+                st = lm_fail(LM_E_FORMAT, "normal map of material %u of %u out of order", mat, n);
+            else if (!a)
+                st = lm_fail(LM_E_FORMAT, "normal map %s is missing", lm_asset_hash_short(&h, buf));
+            else if ((st = unpack_texture(a, &img)) == LM_OK)
+                st = lm_mesh_set_normal_map(m, base + mat, NULL, img);
+            last = mat;
+        }
     return st;
 }
 
@@ -436,6 +484,24 @@ static lm_status table_refs(rbuf *r, lm_asset_hash **refs, uint32_t *n)
         if (rec[80])
             memcpy((*refs)[(*n)++].b, rec + 81, LM_ASSET_HASH_BYTES);
     }
+    r->at += (size_t)k * MAT_BYTES;
+    uint32_t kn;
+    if (r->at == r->n)
+        return LM_OK;
+    lm_status st = normal_count(r, k, &kn);
+    lm_asset_hash *more = st ? NULL : realloc(*refs, ((size_t)*n + kn + 1) * sizeof **refs);
+    if (!st && !more)
+        st = lm_fail(LM_E_NOMEM, "out of memory listing textures");
+    if (st) {
+        free(*refs);
+        *refs = NULL;
+        *n = 0;
+        return st;
+    }
+    *refs = more;
+    for (uint32_t i = 0; i < kn; i++)
+        memcpy((*refs)[(*n)++].b, r->p + r->at + (size_t)i * (4 + LM_ASSET_HASH_BYTES) + 4,
+               LM_ASSET_HASH_BYTES);
     return LM_OK;
 }
 

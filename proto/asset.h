@@ -7,7 +7,9 @@
  * Formats (little-endian, floats as IEEE-754 bits):
  *   texture   "LMTEX1\0\0" u32 width, u32 height, width*height*4 bytes (rows top first)
  *   materials "LMMAT1\0\0" u32 n, n x {char name[64], f32 diffuse[4], u8 has_texture,
- *             hash[32] texture}
+ *             hash[32] texture}, then only where some materials have normal maps: u32 k,
+ *             k x {u32 material (ascending), hash[32] normal map} (a table without normal maps
+ *             keeps the bytes it had before them; older workers refuse one with them)
  *   mesh      "LMMSH1\0\0" u32 attrs, u32 n_verts, n_wedges, n_tris, then positions (3 f32),
  *             wedges (u32 vertex, f32 normal[3], uv[2], colour[4]), triangles (u32 w[3],
  *             u32 material), then a material table as above (without its magic)

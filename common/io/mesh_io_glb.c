@@ -2,10 +2,12 @@
  * the part's name (none for the unnamed part), one primitive per material of the part (POSITION
  * with min/max, NORMAL, TEXCOORD_0, COLOR_0 as the mesh has them; uint32 indices),
  * pbrMetallicRoughness materials (baseColorFactor = diffuse, not metallic) whose textures are
- * embedded as PNG. glTF puts the UV origin at the image's top left, lumesh (like OBJ and assimp) at
- * the bottom left, so v is written as 1 - v. Written atomically. A chain of levels of detail goes
- * into one file the same way, each level's part nodes under a node "LODk", the first level's node
- * in the scene and the others named by its MSFT_lod extension. */
+ * embedded as PNG; a material's normal map as its normalTexture, and then TANGENT
+ * (common/tangents.h, the frames lumesh's renderers shade with) in its primitives, where the mesh
+ * has normals and UVs. glTF puts the UV origin at the image's top left, lumesh (like OBJ and
+ * assimp) at the bottom left, so v is written as 1 - v. Written atomically. A chain of levels of
+ * detail goes into one file the same way, each level's part nodes under a node "LODk", the first
+ * level's node in the scene and the others named by its MSFT_lod extension. */
 #include <math.h>
 #include <stdarg.h>
 #include <stdlib.h>
@@ -13,6 +15,7 @@
 
 #include "common/bytes.h"
 #include "common/io/mesh_io_internal.h"
+#include "common/tangents.h"
 
 #define LM_GLB_MAX_LODS LM_MESH_MAX_LODS
 
@@ -55,6 +58,7 @@ typedef struct glb {
     uint32_t *local; /* [n_wedges] index in the current primitive, LM_NONE if absent */
     uint32_t *order; /* wedges of the current primitive */
     uint32_t *index; /* indices of the current primitive */
+    float (*tan)[4]; /* [n_wedges] tangents of the current mesh where it has normal maps, or NULL */
     uint32_t n_levels;
     uint32_t level_first[LM_GLB_MAX_LODS + 1]; /* part nodes of level k: [first[k], first[k+1]) */
     const float *coverage;                     /* MSFT_screencoverage, one per level */
@@ -84,7 +88,7 @@ static uint32_t add_accessor(glb *g, uint32_t view, int comp, uint32_t count, co
 
 /* Float attribute of the current primitive: ncomp floats per wedge from get(). */
 static uint32_t float_attr(glb *g, uint32_t n, int ncomp, const char *type,
-                           void (*get)(const lm_mesh *, uint32_t, float *), int minmax)
+                           void (*get)(const glb *, uint32_t, float *), int minmax)
 {
     float *v = malloc((size_t)n * (size_t)ncomp * sizeof *v + 1);
     if (!v) {
@@ -93,7 +97,7 @@ static uint32_t float_attr(glb *g, uint32_t n, int ncomp, const char *type,
     }
     float lo[4] = {0}, hi[4] = {0};
     for (uint32_t i = 0; i < n; i++) {
-        get(g->m, g->order[i], v + (size_t)i * (size_t)ncomp);
+        get(g, g->order[i], v + (size_t)i * (size_t)ncomp);
         for (int k = 0; k < ncomp; k++) {
             float x = v[(size_t)i * (size_t)ncomp + (size_t)k];
             lo[k] = i == 0 || x < lo[k] ? x : lo[k];
@@ -109,28 +113,41 @@ static uint32_t float_attr(glb *g, uint32_t n, int ncomp, const char *type,
     return add_accessor(g, view, 5126, n, type, minmax ? mm : NULL);
 }
 
-static void get_pos(const lm_mesh *m, uint32_t w, float *out)
+static void get_pos(const glb *g, uint32_t w, float *out)
 {
-    memcpy(out, m->pos[m->wedges[w].vertex], 3 * sizeof *out);
+    memcpy(out, g->m->pos[g->m->wedges[w].vertex], 3 * sizeof *out);
 }
 /* glTF wants unit normals (the Khronos validator's ACCESSOR_VECTOR3_NON_UNIT); lumesh's may be
  * scaled (interpolated by the image-driven collapses, scaled by the optimizer). One already unit
  * within 1e-5 is written as it is, the others divided by their length (a zero one stays). */
-static void get_normal(const lm_mesh *m, uint32_t w, float *out)
+static void get_normal(const glb *g, uint32_t w, float *out)
 {
-    const float *n = m->wedges[w].normal;
+    const float *n = g->m->wedges[w].normal;
     double len = sqrt((double)n[0] * n[0] + (double)n[1] * n[1] + (double)n[2] * n[2]);
     for (int k = 0; k < 3; k++)
         out[k] = fabs(len - 1.0) > 1e-5 && len > 0.0 ? (float)(n[k] / len) : n[k];
 }
-static void get_uv(const lm_mesh *m, uint32_t w, float *out)
+static void get_uv(const glb *g, uint32_t w, float *out)
 {
-    out[0] = m->wedges[w].uv[0];
-    out[1] = 1.0f - m->wedges[w].uv[1];
+    out[0] = g->m->wedges[w].uv[0];
+    out[1] = 1.0f - g->m->wedges[w].uv[1];
 }
-static void get_color(const lm_mesh *m, uint32_t w, float *out)
+static void get_color(const glb *g, uint32_t w, float *out)
 {
-    memcpy(out, m->wedges[w].color, 4 * sizeof *out);
+    memcpy(out, g->m->wedges[w].color, 4 * sizeof *out);
+}
+static void get_tangent(const glb *g, uint32_t w, float *out)
+{
+    memcpy(out, g->tan[w], 4 * sizeof *out);
+}
+
+/* Whether m's normal maps go into the file: they need normals and texture coordinates. */
+static int writes_normal_maps(const lm_mesh *m)
+{
+    int any = 0;
+    for (uint32_t i = 0; i < m->n_materials; i++)
+        any |= m->materials[i].normal_map != NULL;
+    return any && (m->attrs & LM_ATTR_NORMAL) && (m->attrs & LM_ATTR_UV);
 }
 
 /* The primitive of one group (a part's triangles of one material). */
@@ -157,6 +174,8 @@ static void add_primitive(glb *g, const lm_out_group *grp)
         b_printf(&g->meshes, ",\"TEXCOORD_0\":%u", float_attr(g, nv, 2, "VEC2", get_uv, 0));
     if (m->attrs & LM_ATTR_COLOR)
         b_printf(&g->meshes, ",\"COLOR_0\":%u", float_attr(g, nv, 4, "VEC4", get_color, 0));
+    if (g->tan && mat < m->n_materials && m->materials[mat].normal_map)
+        b_printf(&g->meshes, ",\"TANGENT\":%u", float_attr(g, nv, 4, "VEC4", get_tangent, 0));
     uint32_t view = add_view(g, g->index, (size_t)ni * sizeof *g->index, 34963);
     b_printf(&g->meshes, "},\"indices\":%u", add_accessor(g, view, 5125, ni, "SCALAR", NULL));
     if (m->n_materials)
@@ -242,7 +261,8 @@ static void add_parts(glb *g)
     }
 }
 
-static void material_json(lm_bytes *js, const lm_material *mat, uint32_t i, uint32_t tex)
+static void material_json(lm_bytes *js, const lm_material *mat, uint32_t i, uint32_t tex,
+                          uint32_t nrm)
 {
     b_printf(js, "%s{\"name\":", i ? "," : "");
     json_string(js, mat->name);
@@ -251,7 +271,10 @@ static void material_json(lm_bytes *js, const lm_material *mat, uint32_t i, uint
     b_printf(js, ",\"metallicFactor\":0,\"roughnessFactor\":1");
     if (tex != LM_NONE)
         b_printf(js, ",\"baseColorTexture\":{\"index\":%u}", tex);
-    b_printf(js, "}%s}", mat->diffuse[3] < 1.0f ? ",\"alphaMode\":\"BLEND\"" : "");
+    b_printf(js, "}");
+    if (nrm != LM_NONE)
+        b_printf(js, ",\"normalTexture\":{\"index\":%u}", nrm);
+    b_printf(js, "%s}", mat->diffuse[3] < 1.0f ? ",\"alphaMode\":\"BLEND\"" : "");
 }
 
 static void textures_json(lm_bytes *js, const uint32_t *views, uint32_t n)
@@ -270,7 +293,7 @@ static void textures_json(lm_bytes *js, const uint32_t *views, uint32_t n)
 static lm_status add_materials(glb *g, lm_bytes *js)
 {
     const lm_mesh *m = g->m;
-    uint32_t *views = malloc(((size_t)m->n_materials + 1) * sizeof *views), n_tex = 0;
+    uint32_t *views = malloc(((size_t)m->n_materials * 2 + 1) * sizeof *views), n_tex = 0;
     if (!views)
         return lm_fail(LM_E_NOMEM, "out of memory writing materials");
     lm_status s = LM_OK;
@@ -286,7 +309,14 @@ static lm_status add_materials(glb *g, lm_bytes *js)
             tex = n_tex++;
             free(png);
         }
-        material_json(js, mat, i, tex);
+        uint32_t nrm = LM_NONE;
+        if (!s && mat->normal_map && writes_normal_maps(m) &&
+            !(s = lm_image_encode_png_memory(mat->normal_map, &png, &len))) {
+            views[n_tex] = add_view(g, png, len, 0);
+            nrm = n_tex++;
+            free(png);
+        }
+        material_json(js, mat, i, tex, nrm);
     }
     if (m->n_materials)
         b_printf(js, "]");
@@ -383,6 +413,7 @@ static void glb_free(glb *g)
     free(g->local);
     free(g->order);
     free(g->index);
+    free(g->tan);
 }
 
 /* Buffers for the wedges of m; the groups of m in *groups. */
@@ -394,6 +425,8 @@ static lm_status begin_mesh(glb *g, const lm_mesh *m, lm_out_groups *groups)
     free(g->local);
     free(g->order);
     free(g->index);
+    free(g->tan);
+    g->tan = NULL;
     g->m = m;
     g->groups = groups;
     g->local = malloc(((size_t)m->n_wedges + 1) * sizeof *g->local);
@@ -402,7 +435,7 @@ static lm_status begin_mesh(glb *g, const lm_mesh *m, lm_out_groups *groups)
     if (!g->local || !g->order || !g->index)
         return lm_fail(LM_E_NOMEM, "out of memory writing a GLB");
     memset(g->local, 0xff, ((size_t)m->n_wedges + 1) * sizeof *g->local);
-    return LM_OK;
+    return writes_normal_maps(m) ? lm_mesh_tangents(m, &g->tan) : LM_OK;
 }
 
 /* Every mesh's parts, the first mesh's materials, the JSON, the file. */

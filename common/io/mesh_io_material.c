@@ -1,5 +1,6 @@
 /* common/io/mesh_io_material.c — assimp materials -> lm_material: name, diffuse colour (with
- * opacity), and the diffuse (or glTF base colour) texture, decoded through OpenImageIO. Textures
+ * opacity), the diffuse (or glTF base colour) texture and the tangent-space normal map (glTF
+ * normalTexture, OBJ `norm`: assimp's NORMALS), decoded through OpenImageIO. Textures
  * are embedded ("*N" or a name matching aiScene->mTextures) or files relative to the model's
  * folder. A texture that cannot be found or decoded is a warning, not an error: the material
  * keeps its path and no image. */
@@ -85,14 +86,16 @@ static lm_status read_external(const char *dir, const char *ref, lm_image **out)
     return s;
 }
 
-/* Diffuse texture reference of `mat` (normalised to '/' separators) into ref; 0 if none. */
-static int texture_ref(const struct aiMaterial *mat, char *ref, size_t cap)
+/* Reference of `mat`'s texture of type `type`, else of type `other` (normalised to '/' separators)
+ * into ref; 0 if none. */
+static int texture_ref(const struct aiMaterial *mat, enum aiTextureType type,
+                       enum aiTextureType other, char *ref, size_t cap)
 {
     struct aiString p;
-    if (aiGetMaterialTexture(mat, aiTextureType_DIFFUSE, 0, &p, NULL, NULL, NULL, NULL, NULL,
-                             NULL) != aiReturn_SUCCESS &&
-        aiGetMaterialTexture(mat, aiTextureType_BASE_COLOR, 0, &p, NULL, NULL, NULL, NULL, NULL,
-                             NULL) != aiReturn_SUCCESS)
+    if (aiGetMaterialTexture(mat, type, 0, &p, NULL, NULL, NULL, NULL, NULL, NULL) !=
+            aiReturn_SUCCESS &&
+        aiGetMaterialTexture(mat, other, 0, &p, NULL, NULL, NULL, NULL, NULL, NULL) !=
+            aiReturn_SUCCESS)
         return 0;
     size_t len = p.length < cap - 1 ? p.length : cap - 1;
     memcpy(ref, p.data, len);
@@ -150,11 +153,17 @@ lm_status lm_io_add_material(lm_mesh *m, const struct aiScene *sc, unsigned inde
     material_diffuse(mat, diffuse);
     char ref[1024];
     lm_image *tex = NULL;
-    int has_ref = texture_ref(mat, ref, sizeof ref);
+    int has_ref =
+        texture_ref(mat, aiTextureType_DIFFUSE, aiTextureType_BASE_COLOR, ref, sizeof ref);
     if (has_ref)
         tex = load_texture(sc, ref, src);
-    lm_status s = lm_mesh_add_material(m, name, diffuse, has_ref ? ref : NULL, tex, out_id);
+    uint32_t id;
+    lm_status s = lm_mesh_add_material(m, name, diffuse, has_ref ? ref : NULL, tex, &id);
     if (s)
         lm_image_destroy(tex);
+    if (!s && texture_ref(mat, aiTextureType_NORMALS, aiTextureType_NORMALS, ref, sizeof ref))
+        s = lm_mesh_set_normal_map(m, id, ref, load_texture(sc, ref, src));
+    if (!s && out_id)
+        *out_id = id;
     return s;
 }

@@ -2,7 +2,8 @@
  * once per wedge as extended "v x y z r g b" lines when the mesh has colours (OBJ binds colour
  * to the position); "vt" and "vn" once per wedge; faces as v/vt/vn triples grouped by part (an
  * "o NAME" line each, the unnamed part first and without one) and within a part by material.
- * Each material's decoded texture is written beside the OBJ as "<stem>_<material>.png". Every
+ * Each material's decoded texture is written beside the OBJ as "<stem>_<material>.png", its normal
+ * map as "<stem>_<material>_normal.png" (MTL "norm", which assimp reads as a normal map). Every
  * file is written atomically; when any fails, the ones already written are removed. Numbers
  * use %.9g, which round-trips 32-bit floats exactly. */
 #include <stdlib.h>
@@ -14,7 +15,7 @@
 typedef struct obj_names {
     char *mtl_path; /* "<stem>.mtl" */
     char *stem;     /* path without ".obj" */
-    char **tex;     /* [n_materials] texture paths written, or NULL */
+    char **tex;     /* [2 n_materials] texture, then normal map paths written, or NULL */
     uint32_t n;
     int mtl_written;
 } obj_names;
@@ -62,20 +63,23 @@ static void material_name(const lm_mesh *m, uint32_t i, char out[64])
         snprintf(out, 64, "material_%u", i);
 }
 
-/* Write the textures (PNG beside the OBJ), remembering their paths in nm->tex. */
+/* Write the textures and normal maps (PNG beside the OBJ), remembering their paths in nm->tex. */
 static lm_status write_textures(const lm_mesh *m, obj_names *nm)
 {
-    for (uint32_t i = 0; i < m->n_materials; i++) {
-        if (!m->materials[i].texture)
+    for (uint32_t j = 0; j < 2 * m->n_materials; j++) {
+        uint32_t i = j % m->n_materials;
+        const lm_image *img =
+            j < m->n_materials ? m->materials[i].texture : m->materials[i].normal_map;
+        if (!img)
             continue;
         size_t n = strlen(nm->stem) + 32;
-        if (!(nm->tex[i] = malloc(n)))
+        if (!(nm->tex[j] = malloc(n)))
             return lm_fail(LM_E_NOMEM, "out of memory writing textures");
-        snprintf(nm->tex[i], n, "%s_%u.png", nm->stem, i);
-        lm_status s = lm_image_write(nm->tex[i], m->materials[i].texture);
+        snprintf(nm->tex[j], n, j < m->n_materials ? "%s_%u.png" : "%s_%u_normal.png", nm->stem, i);
+        lm_status s = lm_image_write(nm->tex[j], img);
         if (s) {
-            free(nm->tex[i]);
-            nm->tex[i] = NULL;
+            free(nm->tex[j]);
+            nm->tex[j] = NULL;
             return s;
         }
     }
@@ -98,6 +102,8 @@ static lm_status write_mtl(const lm_mesh *m, obj_names *nm)
                 mat->diffuse[0], mat->diffuse[1], mat->diffuse[2], mat->diffuse[3]);
         if (nm->tex[i])
             fprintf(fp, "map_Kd %s\n", base_name(nm->tex[i]));
+        if (nm->tex[m->n_materials + i])
+            fprintf(fp, "norm %s\n", base_name(nm->tex[m->n_materials + i]));
     }
     s = lm_atomic_commit(&f);
     nm->mtl_written = s == LM_OK;
@@ -188,8 +194,8 @@ static lm_status names_init(const char *path, const lm_mesh *m, obj_names *nm)
     size_t n = strlen(path);
     nm->stem = strndup(path, n >= 4 ? n - 4 : n); /* lm_mesh_save checked the ".obj" ending */
     nm->mtl_path = malloc(n + 8);
-    nm->tex = calloc((size_t)m->n_materials + 1, sizeof *nm->tex);
-    nm->n = m->n_materials;
+    nm->tex = calloc(2 * (size_t)m->n_materials + 1, sizeof *nm->tex);
+    nm->n = 2 * m->n_materials;
     if (!nm->stem || !nm->mtl_path || !nm->tex)
         return lm_fail(LM_E_NOMEM, "out of memory writing %s", path);
     snprintf(nm->mtl_path, n + 8, "%s.mtl", nm->stem);

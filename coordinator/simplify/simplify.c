@@ -25,20 +25,7 @@ int co_simplify_reached(uint32_t live, uint32_t target)
 
 lm_status co_simplify_copy_materials(const lm_mesh *src, lm_mesh *dst)
 {
-    for (uint32_t i = 0; i < src->n_materials; i++) {
-        const lm_material *mat = &src->materials[i];
-        lm_image *tex = NULL;
-        lm_status s = LM_OK;
-        if (mat->texture)
-            s = lm_image_clone(mat->texture, &tex);
-        if (!s)
-            s = lm_mesh_add_material(dst, mat->name, mat->diffuse, mat->texture_path, tex, NULL);
-        if (s) {
-            lm_image_destroy(tex);
-            return s;
-        }
-    }
-    return LM_OK;
+    return lm_mesh_copy_materials(src, dst);
 }
 
 lm_status co_simplify_finish(lm_mesh **m)

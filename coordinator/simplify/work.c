@@ -30,17 +30,7 @@ lm_status co_simplify_prepare(lm_mesh *m, int *derived_normals)
 static lm_status empty_with_materials(const lm_mesh *work, lm_mesh **out)
 {
     lm_status st = lm_mesh_create(out);
-    for (uint32_t i = 0; st == LM_OK && i < work->n_materials; i++) {
-        const lm_material *mat = &work->materials[i];
-        lm_image *tex = NULL;
-        if (mat->texture)
-            st = lm_image_clone(mat->texture, &tex);
-        if (st == LM_OK)
-            st = lm_mesh_add_material(*out, mat->name, mat->diffuse, mat->texture_path, tex, NULL);
-        if (st != LM_OK)
-            lm_image_destroy(tex);
-    }
-    return st;
+    return st == LM_OK ? lm_mesh_copy_materials(work, *out) : st;
 }
 
 lm_status co_simplify_make_views(co_price_method method, const lm_mesh *original,

@@ -2,8 +2,8 @@
 # tests/integration/gltf_validator.sh — every kind of GLB lumesh writes passes the Khronos
 # glTF-Validator (npm gltf-validator, installed by scripts/install-deps.sh from
 # tests/support/gltf) with no error and no warning: gen-frog's textured multi-part model, simplify
-# (qem, image, adaptive, from an OBJ with its texture, from the assimp duck (Collada, textured), with
-# --cull-unseen), optimize, lod one file per level and --msft-lod, pm-extract. Every model is
+# (qem, image, adaptive, from an OBJ with its texture, from an OBJ with a normal map (normalTexture
+# and TANGENT), from the assimp duck (Collada, textured), with --cull-unseen), optimize, lod one file per level and --msft-lod, pm-extract. Every model is
 # converted with its texture beside it. Exits 77 (skipped, with the reason) without Node.js or
 # the package.
 set -uo pipefail
@@ -29,6 +29,16 @@ expect_exit 0 "$LUMESH" gen-frog -o "$tmp/frog.glb" --tris 1500 --seed 3
 expect_exit 0 "$LUMESH" gen-frog -o "$tmp/obj/frog.obj" --tris 1500 --seed 3
 expect_exit 0 "$LUMESH" simplify "$tmp/frog.glb" -o "$tmp/out/qem.glb" --target-verts 150
 expect_exit 0 "$LUMESH" simplify "$tmp/obj/frog.obj" -o "$tmp/out/from_obj.glb" --target-verts 150
+# a normal-mapped model (the frog's texture as its MTL's "norm" map): normalTexture and TANGENT
+mkdir -p "$tmp/nrm"
+cp "$tmp"/obj/frog_*.png "$tmp/nrm/"
+sed 's/^map_Kd \(.*\)$/map_Kd \1\nnorm \1/' "$tmp/obj/frog.mtl" >"$tmp/nrm/frog.mtl"
+cp "$tmp/obj/frog.obj" "$tmp/nrm/frog.obj"
+expect_exit 0 "$LUMESH" simplify "$tmp/nrm/frog.obj" -o "$tmp/out/normal_mapped.glb" \
+  --target-verts 150
+checks=$((checks + 1))
+grep -aq '"normalTexture"' "$tmp/out/normal_mapped.glb" && grep -aq '"TANGENT"' "$tmp/out/normal_mapped.glb" ||
+  fail "normal_mapped.glb has no normalTexture or no TANGENT"
 expect_exit 0 "$LUMESH" simplify "$tmp/frog.glb" -o "$tmp/out/image.glb" --target-verts 150 \
   --method image --pm "$tmp/frog.pm" "${small[@]}"
 expect_exit 0 "$LUMESH" simplify "$tmp/frog.glb" -o "$tmp/out/adaptive.glb" --target-verts 150 \
@@ -52,7 +62,7 @@ fi
 
 glbs=("$tmp/frog.glb" "$tmp"/out/*.glb "$tmp"/duck/*.glb)
 checks=$((checks + 1))
-[ "${#glbs[@]}" -ge 12 ] || fail "expected at least 12 GLBs, got ${#glbs[@]}: ${glbs[*]}"
+[ "${#glbs[@]}" -ge 13 ] || fail "expected at least 13 GLBs, got ${#glbs[@]}: ${glbs[*]}"
 checks=$((checks + 1))
 # (without the sanitizer run's LD_PRELOAD: Node.js does not run under the ASan runtime)
 env -u LD_PRELOAD node "$tmp/validate.mjs" "${glbs[@]}" >"$tmp/report.txt" 2>&1 ||

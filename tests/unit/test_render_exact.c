@@ -1,12 +1,12 @@
 /* tests/unit/test_render_exact.c — incremental rendering is exact: over thousands of random
  * optimizer-like moves (vertex moves of 1-ring patches, attribute changes, edge collapses, splits
- * and swaps) on a generated sphere, the QEM-simplified bunny and the textured spider (coarse and
- * full), the images kept up to date by commit() equal a full re-render of the new mesh pixel for
- * pixel, evaluate()'s ΔE equals E(after) - E(before) of full renders exactly, and an evaluated but
- * rejected move leaves the images untouched. A second views object (same device) does the full
- * renders; LUMESH_TEST_LIGHT=1 makes a quarter of the moves. LUMESH_DEVICE names the device
- * (ctest runs it as "cpu" and "host"); unset, "auto", which is skipped where it means the CPU
- * rasteriser or llvmpipe (covered by those runs). */
+ * and swaps) on a generated sphere (also normal-mapped), the QEM-simplified bunny and the textured
+ * spider (coarse and full), the images kept up to date by commit() equal a full re-render of the
+ * new mesh pixel for pixel, evaluate()'s ΔE equals E(after) - E(before) of full renders exactly,
+ * and an evaluated but rejected move leaves the images untouched. A second views object (same
+ * device) does the full renders; LUMESH_TEST_LIGHT=1 makes a quarter of the moves. LUMESH_DEVICE
+ * names the device (ctest runs it as "cpu" and "host"); unset, "auto", which is skipped where it
+ * means the CPU rasteriser or llvmpipe (covered by those runs). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -477,6 +477,33 @@ static void test_sphere(void **state)
     lm_mesh_destroy(coarse);
 }
 
+/* A normal map (a lumpy one of 8x8 texels) on the sphere: both backends light each pixel from it
+ * and the triangle's tangent frame. */
+static lm_image *lumpy_normal_map(void)
+{
+    lm_image *img;
+    assert_int_equal(lm_image_create(8, 8, &img), LM_OK);
+    for (int i = 0; i < 64; i++) {
+        img->pixels[4 * i] = (uint8_t)(64 + 37 * (i % 5));
+        img->pixels[4 * i + 1] = (uint8_t)(200 - 23 * (i % 7));
+        img->pixels[4 * i + 2] = (uint8_t)(180 + 9 * (i % 3));
+        img->pixels[4 * i + 3] = 255;
+    }
+    return img;
+}
+
+static void test_normal_mapped_sphere(void **state)
+{
+    (void)state;
+    skip_if_auto_is_covered();
+    lm_mesh *orig = lmt_make_sphere(4), *coarse = lmt_make_sphere(2);
+    assert_int_equal(lm_mesh_set_normal_map(orig, 0, NULL, lumpy_normal_map()), LM_OK);
+    assert_int_equal(lm_mesh_set_normal_map(coarse, 0, NULL, lumpy_normal_map()), LM_OK);
+    exercise(orig, coarse, 600, 3, 5, 1, "normal-mapped sphere");
+    lm_mesh_destroy(orig);
+    lm_mesh_destroy(coarse);
+}
+
 static void test_bunny(void **state)
 {
     (void)state;
@@ -585,6 +612,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_bad_patches_and_extreme_moves),
         cmocka_unit_test(test_sphere),
+        cmocka_unit_test(test_normal_mapped_sphere),
         cmocka_unit_test(test_bunny),
         cmocka_unit_test(test_spider),
     };

@@ -33,7 +33,7 @@ static void render(uint64_t *key, uint8_t (*rgb)[3])
     const wk_cpu_clip all = {{0, 0, ST_SIZE, ST_SIZE}, NULL};
     float diffuse[1][4] = {{1, 1, 1, 1}};
     wk_cpu_texture *none[1] = {NULL};
-    const wk_cpu_materials mats = {1, diffuse, none};
+    const wk_cpu_materials mats = {1, diffuse, none, NULL};
     wk_cpu_sub subs[WK_CPU_MAX_SUBS];
     uint32_t owned[ST_SIZE * ST_SIZE];
     wk_cpu_view cv;

@@ -9,6 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "common/tangents.h"
 #include "worker/render/cpu/cpu_simd.h"
 
 /* The plane of Σ_k q_k f_k over the sub's pixels, q_k = e_k / w_k, rounded to float. */
@@ -24,16 +25,42 @@ static void plane_of(const wk_cpu_sub *s, const double f[3], float out[3])
         out[i] = (float)p[i];
 }
 
+/* The planes of the corners' unit frames (T, B, N; common/tangents.h: the triangle's own
+ * UV-derivative frame made orthogonal to each corner's normal) over the sub, and the light. */
+static void frame_planes(const wk_cpu_sub *s, const lm_tri_data *t, const float light[3],
+                         wk_cpu_shade *out)
+{
+    float p[3][3], uv[3][2];
+    for (int k = 0; k < 3; k++) {
+        memcpy(p[k], t->c[k].pos, sizeof p[k]);
+        memcpy(uv[k], t->c[k].uv, sizeof uv[k]);
+    }
+    double ft[3], fb[3], fr[3][9];
+    lm_tri_tangent_frame(p, uv, ft, fb);
+    for (int k = 0; k < 3; k++)
+        lm_tangent_basis(t->c[k].normal, ft, fb, fr[k]);
+    for (int a = 0; a < 9; a++) {
+        double at[3];
+        for (int j = 0; j < 3; j++)
+            at[j] = s->beta[j][0] * fr[0][a] + s->beta[j][1] * fr[1][a] + s->beta[j][2] * fr[2][a];
+        plane_of(s, at, out->frame[a]);
+    }
+    memcpy(out->light, light, sizeof out->light);
+    out->nrm_w = (float)out->nrm->level[0].width;
+    out->nrm_h = (float)out->nrm->level[0].height;
+}
+
 void wk_cpu_shade_setup(const wk_cpu_sub *s, const lm_tri_data *t, const float light[3],
                         const wk_cpu_materials *mats, wk_cpu_shade *out)
 {
     const float *dif = mats->diffuse[t->material];
+    out->nrm = mats->nrm ? mats->nrm[t->material] : NULL;
     double lit[3][3], at[6][3]; /* per source corner, then per sub corner: r, g, b, u, v, 1 */
     for (int k = 0; k < 3; k++) {
         const lm_corner *c = &t->c[k];
         double d = fabs((double)c->normal[0] * light[0] + (double)c->normal[1] * light[1] +
                         (double)c->normal[2] * light[2]);
-        double f = 0.15 + 0.85 * d;
+        double f = out->nrm ? 1.0 : 0.15 + 0.85 * d; /* a normal map lights each pixel */
         for (int ch = 0; ch < 3; ch++)
             lit[k][ch] = (double)c->color[ch] * dif[ch] * f;
     }
@@ -48,11 +75,13 @@ void wk_cpu_shade_setup(const wk_cpu_sub *s, const lm_tri_data *t, const float l
     out->tex = mats->tex[t->material];
     for (int ch = 0; ch < 3; ch++)
         plane_of(s, at[ch], out->col[ch]);
-    for (int a = 0; out->tex && a < 2; a++) /* texture coordinates matter only with a texture */
+    for (int a = 0; (out->tex || out->nrm) && a < 2; a++) /* only a texture needs them */
         plane_of(s, at[3 + a], out->uv[a]);
     plane_of(s, at[5], out->den);
     out->tex_w = out->tex ? (float)out->tex->level[0].width : 0.0f;
     out->tex_h = out->tex ? (float)out->tex->level[0].height : 0.0f;
+    if (out->nrm)
+        frame_planes(s, t, light, out);
 }
 
 /* 65536 log2(1 + i / 256), rounded, for i = 0..256 (made once with exact arithmetic; a literal so

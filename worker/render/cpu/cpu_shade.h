@@ -24,6 +24,15 @@ typedef struct wk_cpu_shade {
     float den[3], col[3][3], uv[2][3];
     const wk_cpu_texture *tex; /* NULL: untextured */
     float tex_w, tex_h;        /* level 0 size */
+    /* With a normal map (nrm not NULL; else none of these is set): col holds the unlit colour
+     * (corner colour × diffuse), frame the planes of the corners' unit tangent, bitangent and
+     * normal (frame[3 f + axis]: f = 0 T, 1 B, 2 N), and each pixel is lit by 0.15 + 0.85 |n·l|
+     * with n = normalize(T x + B y + N z), (x, y, z) the map's texel (trilinear) scaled to
+     * [-1, 1]. */
+    const wk_cpu_texture *nrm;
+    float nrm_w, nrm_h;
+    float frame[9][3];
+    float light[3];
 } wk_cpu_shade;
 
 /* Shading constants of sub s of triangle t (material table mats; t->material < mats->n). */

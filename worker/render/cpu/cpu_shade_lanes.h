@@ -52,22 +52,53 @@ static inline WK_VF WK_L(plane_at)(const float p[3], WK_VF dx, WK_VF dy)
     return (p[0] + p[1] * dx) + p[2] * dy;
 }
 
-/* The texture's factor on the colour at the lanes' pixels: uv = N / D, the level of detail from
- * the screen derivatives of uv, (N' - uv D') / D, in texels; trilinear samples. */
-static void WK_L(texture_factor)(const wk_cpu_shade *sh, WK_VF dx, WK_VF dy, WK_VF inv,
-                                 WK_VF out[3])
+/* Texture tex (level 0 of tex_w x tex_h texels) at the lanes' pixels, channels in [0, 1]: uv =
+ * N / D, the level of detail from the screen derivatives of uv, (N' - uv D') / D, in texels;
+ * trilinear samples. */
+static void WK_L(texture_at)(const wk_cpu_shade *sh, const wk_cpu_texture *tex, float tex_w,
+                             float tex_h, WK_VF dx, WK_VF dy, WK_VF inv, WK_VF out[3])
 {
     WK_VF u = WK_L(plane_at)(sh->uv[0], dx, dy) * inv, v = WK_L(plane_at)(sh->uv[1], dx, dy) * inv;
-    WK_VF ux = (sh->uv[0][1] - u * sh->den[1]) * inv * sh->tex_w;
-    WK_VF vx = (sh->uv[1][1] - v * sh->den[1]) * inv * sh->tex_h;
-    WK_VF uy = (sh->uv[0][2] - u * sh->den[2]) * inv * sh->tex_w;
-    WK_VF vy = (sh->uv[1][2] - v * sh->den[2]) * inv * sh->tex_h;
+    WK_VF ux = (sh->uv[0][1] - u * sh->den[1]) * inv * tex_w;
+    WK_VF vx = (sh->uv[1][1] - v * sh->den[1]) * inv * tex_h;
+    WK_VF uy = (sh->uv[0][2] - u * sh->den[2]) * inv * tex_w;
+    WK_VF vy = (sh->uv[1][2] - v * sh->den[2]) * inv * tex_h;
     WK_VF rx = ux * ux + vx * vx, ry = uy * uy + vy * vy;
     WK_VI xbig = rx > ry;
     WK_VF r2 = (WK_VF)(((WK_VI)rx & xbig) | ((WK_VI)ry & ~xbig));
-    WK_L(sample)(sh->tex, u, v, WK_L(lod_q8)(r2), out);
+    WK_L(sample)(tex, u, v, WK_L(lod_q8)(r2), out);
     for (int ch = 0; ch < 3; ch++)
         out[ch] *= 1.0f / 255.0f;
+}
+
+/* The texture's factor on the colour at the lanes' pixels. */
+static void WK_L(texture_factor)(const wk_cpu_shade *sh, WK_VF dx, WK_VF dy, WK_VF inv,
+                                 WK_VF out[3])
+{
+    WK_L(texture_at)(sh, sh->tex, sh->tex_w, sh->tex_h, dx, dy, inv, out);
+}
+
+/* The light of a normal-mapped pixel, 0.15 + 0.85 |n·l| with n = normalize(T x + B y + N z):
+ * the frame interpolated perspective-correct, (x, y, z) = 2 texel - 1. Square roots lane by lane
+ * (IEEE, correctly rounded); a zero n lights as 0.15. */
+static WK_VF WK_L(normal_light)(const wk_cpu_shade *sh, WK_VF dx, WK_VF dy, WK_VF inv)
+{
+    WK_VF m[3], n[3];
+    WK_L(texture_at)(sh, sh->nrm, sh->nrm_w, sh->nrm_h, dx, dy, inv, m);
+    for (int c = 0; c < 3; c++)
+        m[c] = m[c] * 2.0f - 1.0f;
+    for (int a = 0; a < 3; a++)
+        n[a] = (m[0] * (WK_L(plane_at)(sh->frame[a], dx, dy) * inv) +
+                m[1] * (WK_L(plane_at)(sh->frame[3 + a], dx, dy) * inv)) +
+               m[2] * (WK_L(plane_at)(sh->frame[6 + a], dx, dy) * inv);
+    WK_VF len2 = (n[0] * n[0] + n[1] * n[1]) + n[2] * n[2];
+    WK_VF dl = (n[0] * sh->light[0] + n[1] * sh->light[1]) + n[2] * sh->light[2];
+    WK_VF len;
+    for (int k = 0; k < WK_W; k++)
+        len[k] = len2[k] > 0.0f ? __builtin_sqrtf(len2[k]) : 1.0f;
+    WK_VI nonzero = len2 > 0.0f;
+    WK_VF d = (WK_VF)((WK_VI)(dl / len) & 0x7FFFFFFF & nonzero); /* |n·l| / |n| */
+    return 0.15f + 0.85f * d;
 }
 
 /* The factors of pixels i.. (WK_W of them, all < n) stored by pixel (r0 g0 b0 r1 ...), as
@@ -151,6 +182,11 @@ static void WK_L(shade_group)(const wk_cpu_sub *s, const wk_cpu_shade *sh, const
     WK_VF col[3];
     for (int ch = 0; ch < 3; ch++)
         col[ch] = WK_L(plane_at)(sh->col[ch], dx, dy) * inv;
+    if (sh->nrm) {
+        WK_VF f = WK_L(normal_light)(sh, dx, dy, inv);
+        for (int ch = 0; ch < 3; ch++)
+            col[ch] *= f;
+    }
     if (sh->tex) {
         WK_VF tf[3];
         WK_L(group_texture)(sh, dx, dy, inv, texf, reuse, i, n, tf);

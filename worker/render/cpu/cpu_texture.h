@@ -38,11 +38,13 @@ void wk_cpu_texture_destroy(wk_cpu_texture *t);
  * lane by lane. u and v may be any finite numbers (repeat); others read as 0. */
 void wk_cpu_texture_sample4(const wk_cpu_texture *t, v4f u, v4f v, v4i lod, v4f out[3]);
 
-/* A material table: diffuse colours and textures (NULL where untextured). */
+/* A material table: diffuse colours, textures (NULL where untextured) and tangent-space normal
+ * maps (nrm NULL, or NULL where a material has none). */
 typedef struct wk_cpu_materials {
     uint32_t n;
     float (*diffuse)[4];
     wk_cpu_texture **tex;
+    wk_cpu_texture **nrm;
 } wk_cpu_materials;
 
 /* Replace the table's contents with copies of mats (textures become pyramids). */

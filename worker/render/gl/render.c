@@ -477,10 +477,16 @@ lm_status wk_renderer_clear_regions(wk_renderer *r, uint32_t atlas, const uint32
 /* Program, texture and material block of material m. */
 static void use_material(wk_renderer *r, const wk_material_table *mt, uint32_t m)
 {
-    GLuint prog = r->progs.shade[mt->tex[m] != 0];
+    GLuint nrm = mt->nrm ? mt->nrm[m] : 0;
+    GLuint prog = nrm ? r->progs.shade_normal[mt->tex[m] != 0] : r->progs.shade[mt->tex[m] != 0];
     if (prog != r->bound_prog) {
         glUseProgram(prog);
         r->bound_prog = prog;
+    }
+    if (nrm) { /* unit 1 (rarely used: not tracked) */
+        glActiveTexture(GL_TEXTURE0 + WK_NORMAL_MAP_UNIT);
+        glBindTexture(GL_TEXTURE_2D, nrm);
+        glActiveTexture(GL_TEXTURE0);
     }
     if (mt->tex[m] && mt->tex[m] != r->bound_tex) {
         glBindTexture(GL_TEXTURE_2D, mt->tex[m]);

@@ -1,5 +1,6 @@
 /* worker/render/gl/render_program.c — the shaders: Gouraud lighting with one light at the viewer,
- * per vertex (two-sided, normals used as given), modulated per fragment by the material's texture;
+ * per vertex (two-sided, normals used as given), modulated per fragment by the material's texture
+ * (with a normal map: lit per fragment);
  * and the clear program that paints quads background grey at the depth they carry (drawn with depth
  * ALWAYS: opening regions at depth 1 and closing them at depth 0, see render.h). */
 #include "worker/render/gl/render_program.h"
@@ -53,6 +54,68 @@ static const char *const shade_fs_plain = "#version 300 es\n"
                                           "    o_color = vec4(clamp(v_color, 0.0, 1.0), 1.0);\n"
                                           "    o_depth = gl_FragCoord.z;\n"
                                           "}\n";
+
+/* Normal-mapped materials (variants without and with a colour texture): lit per fragment by
+ * 0.15 + 0.85 |n·l|, n = normalize(T x + B y + N z) with (x, y, z) = 2 × the map's texel - 1 and
+ * the triangle's UV-derivative frame from the screen derivatives of position and uv (a triangle's
+ * own frame, as the CPU rasteriser's, common/tangents.h), made orthogonal to the interpolated
+ * normal per fragment, B = w (N × T). */
+#define NORMAL_VS                                                                                  \
+    SHADE_VS_HEAD "out vec2 v_uv;\n"                                                               \
+                  "out vec3 v_pos;\n"                                                              \
+                  "out vec3 v_normal;\n"                                                           \
+                  "void main() {\n"                                                                \
+                  "    gl_Position = u_view_proj * vec4(a_pos, 1.0);\n"                            \
+                  "    v_color = a_color.rgb * u_diffuse.rgb;\n"                                   \
+                  "    v_uv = a_uv;\n"                                                             \
+                  "    v_pos = a_pos;\n"                                                           \
+                  "    v_normal = a_normal;\n"                                                     \
+                  "}\n"
+
+#define NORMAL_FS_HEAD                                                                             \
+    "#version 300 es\n"                                                                            \
+    "precision highp float;\n"                                                                     \
+    "layout(std140) uniform ViewBlock { mat4 u_view_proj; vec4 u_light; };\n"                      \
+    "uniform sampler2D u_texture;\n"                                                               \
+    "uniform sampler2D u_normal_map;\n"                                                            \
+    "in vec2 v_uv;\n"                                                                              \
+    "in vec3 v_color;\n"                                                                           \
+    "in vec3 v_pos;\n"                                                                             \
+    "in vec3 v_normal;\n"                                                                          \
+    "layout(location = 0) out vec4 o_color;\n"                                                     \
+    "layout(location = 1) out float o_depth;\n"                                                    \
+    "float light() {\n"                                                                            \
+    "    vec3 px = dFdx(v_pos), py = dFdy(v_pos);\n"                                               \
+    "    vec2 ux = dFdx(v_uv), uy = dFdy(v_uv);\n"                                                 \
+    "    float s = ux.x * uy.y - uy.x * ux.y < 0.0 ? -1.0 : 1.0;\n"                                \
+    "    vec3 t = (px * uy.y - py * ux.y) * s, b = (py * ux.x - px * uy.x) * s;\n"                 \
+    "    float nl = length(v_normal);\n"                                                           \
+    "    vec3 n = nl > 0.0 ? v_normal / nl : vec3(0.0, 0.0, 1.0);\n"                               \
+    "    t -= n * dot(n, t);\n"                                                                    \
+    "    float tl = length(t);\n"                                                                  \
+    "    t = tl > 0.0 ? t / tl : (abs(n.x) < 0.9 ? normalize(vec3(1.0, 0.0, 0.0) - n * n.x)\n"     \
+    "                                            : normalize(vec3(0.0, 1.0, 0.0) - n * n.y));\n"   \
+    "    vec3 c = cross(n, t);\n"                                                                  \
+    "    vec3 m = texture(u_normal_map, v_uv).rgb * 2.0 - 1.0;\n"                                  \
+    "    vec3 d = m.x * t + m.y * (dot(c, b) < 0.0 ? -c : c) + m.z * n;\n"                         \
+    "    float dl = length(d);\n"                                                                  \
+    "    return 0.15 + 0.85 * (dl > 0.0 ? abs(dot(d, u_light.xyz)) / dl : 0.0);\n"                 \
+    "}\n"
+
+static const char *const normal_vs = NORMAL_VS;
+
+static const char *const normal_fs_plain =
+    NORMAL_FS_HEAD "void main() {\n"
+                   "    o_color = vec4(clamp(v_color * light(), 0.0, 1.0), 1.0);\n"
+                   "    o_depth = gl_FragCoord.z;\n"
+                   "}\n";
+
+static const char *const normal_fs_textured =
+    NORMAL_FS_HEAD "void main() {\n"
+                   "    o_color = vec4(clamp(texture(u_texture, v_uv).rgb * (v_color * light()),\n"
+                   "                         0.0, 1.0), 1.0);\n"
+                   "    o_depth = gl_FragCoord.z;\n"
+                   "}\n";
 
 static const char *const clear_vs = "#version 300 es\n"
                                     "precision highp float;\n"
@@ -123,6 +186,11 @@ static void bind_blocks(GLuint p)
         glUseProgram(p);
         glUniform1i(tex, 0);
     }
+    GLint nrm = glGetUniformLocation(p, "u_normal_map");
+    if (nrm >= 0) {
+        glUseProgram(p);
+        glUniform1i(nrm, WK_NORMAL_MAP_UNIT);
+    }
 }
 
 lm_status wk_render_programs_create(wk_render_programs *out, int background)
@@ -133,22 +201,32 @@ lm_status wk_render_programs_create(wk_render_programs *out, int background)
     if (st == LM_OK)
         st = link(shade_vs_textured, shade_fs_textured, &out->shade[1]);
     if (st == LM_OK)
+        st = link(normal_vs, normal_fs_plain, &out->shade_normal[0]);
+    if (st == LM_OK)
+        st = link(normal_vs, normal_fs_textured, &out->shade_normal[1]);
+    if (st == LM_OK)
         st = link(clear_vs, clear_fs, &out->clear);
     if (st != LM_OK) {
         wk_render_programs_destroy(out);
         return st;
     }
-    bind_blocks(out->shade[0]);
-    bind_blocks(out->shade[1]);
+    for (int i = 0; i < 2; i++) {
+        bind_blocks(out->shade[i]);
+        bind_blocks(out->shade_normal[i]);
+    }
     return LM_OK;
 }
 
 void wk_render_programs_destroy(wk_render_programs *p)
 {
-    for (int i = 0; i < 2; i++)
+    for (int i = 0; i < 2; i++) {
         if (p->shade[i])
             glDeleteProgram(p->shade[i]);
+        if (p->shade_normal[i])
+            glDeleteProgram(p->shade_normal[i]);
+        p->shade[i] = p->shade_normal[i] = 0;
+    }
     if (p->clear)
         glDeleteProgram(p->clear);
-    p->shade[0] = p->shade[1] = p->clear = 0;
+    p->clear = 0;
 }

@@ -58,9 +58,14 @@ static lm_status make_texture(const lm_image *img, void *handle)
 
 static void clear_table(wk_material_table *t)
 {
-    for (uint32_t i = 0; i < t->n; i++)
+    for (uint32_t i = 0; i < t->n; i++) {
         if (t->tex[i])
             glDeleteTextures(1, &t->tex[i]);
+        if (t->nrm && t->nrm[i])
+            glDeleteTextures(1, &t->nrm[i]);
+    }
+    free(t->nrm);
+    t->nrm = NULL;
     if (t->ubo)
         glDeleteBuffers(1, &t->ubo);
     t->ubo = 0;
@@ -93,6 +98,20 @@ static lm_status upload_blocks(wk_material_table *t)
                                        : lm_fail(LM_E_DEVICE, "uploading material blocks failed");
 }
 
+/* The materials' normal maps (t->nrm stays NULL where none has one). */
+static lm_status upload_normal_maps(wk_material_table *t, const lm_material *mats, uint32_t n)
+{
+    lm_status st = LM_OK;
+    for (uint32_t i = 0; st == LM_OK && i < n; i++) {
+        if (!mats[i].normal_map)
+            continue;
+        if (!t->nrm && !(t->nrm = calloc(n, sizeof *t->nrm)))
+            return lm_fail(LM_E_NOMEM, "out of memory for %u materials", n);
+        st = upload(mats[i].normal_map, &t->nrm[i]);
+    }
+    return st;
+}
+
 lm_status wk_material_table_set(wk_material_table *t, const lm_material *mats, uint32_t n)
 {
     clear_table(t);
@@ -102,6 +121,8 @@ lm_status wk_material_table_set(wk_material_table *t, const lm_material *mats, u
     t->tex = tex;
     if (st == LM_OK)
         st = upload_blocks(t);
+    if (st == LM_OK)
+        st = upload_normal_maps(t, mats, n);
     glBindTexture(GL_TEXTURE_2D, 0);
     if (st != LM_OK)
         clear_table(t);

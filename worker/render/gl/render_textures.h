@@ -11,6 +11,7 @@
 typedef struct wk_material_table {
     uint32_t n;
     GLuint *tex;         /* [n]; 0 for untextured materials */
+    GLuint *nrm;         /* [n] normal maps (0 where none), or NULL when no material has one */
     float (*diffuse)[4]; /* [n] */
     GLuint ubo;          /* n material blocks, `stride` bytes apart */
     GLsizeiptr stride;
