@@ -11,6 +11,7 @@
 lm_status co_cands_init(co_cands *c)
 {
     memset(c, 0, sizeof *c);
+    co_fp_corners_init(&c->corners);
     return lm_journal_create(&c->j);
 }
 
@@ -26,6 +27,7 @@ void co_cands_free(co_cands *c)
     free(c->vert_stamp);
     free(c->verts);
     lm_journal_destroy(c->j);
+    co_fp_corners_free(&c->corners);
     memset(c, 0, sizeof *c);
 }
 
@@ -61,9 +63,8 @@ static lm_status reserve(co_cands *c, const lm_mesh *m, uint32_t n_edges)
 }
 
 /* The removed triangles of patch p as they are now: into the shard (once each), their corners
- * into the footprint, their vertices into the vertex list. */
-static lm_status take_removed(co_cands *c, const lm_mesh *m, const lm_patch *p,
-                              const lm_view_set *vs, co_rect *fp, uint32_t *n_verts)
+ * into the footprint's, their vertices into the vertex list. */
+static lm_status take_removed(co_cands *c, const lm_mesh *m, const lm_patch *p, uint32_t *n_verts)
 {
     for (uint32_t i = 0; i < p->n_removed; i++) {
         uint32_t t = p->removed[i];
@@ -77,7 +78,9 @@ static lm_status take_removed(co_cands *c, const lm_mesh *m, const lm_patch *p,
             return st;
         lm_tri_data *d = &c->shard[c->n_shard++];
         lm_tri_data_from_mesh(m, t, d);
-        co_fp_add_tri(fp, vs, d);
+        st = co_fp_corners_add_tri(&c->corners, d);
+        if (st)
+            return st;
         for (int k = 0; k < 3; k++) {
             uint32_t v = lm_tri_vertex(m, t, k);
             if (c->vert_stamp[v] != c->stamp) {
@@ -98,6 +101,7 @@ static lm_status build_edge(co_cands *c, lm_mesh *m, co_eq *q, const lm_view_set
     *ce = (co_cand_edge){.entry = entry, .patch0 = c->n_patches, .shard0 = c->n_shard};
     co_rect *fp = co_eq_rects(q, entry);
     co_fp_clear(fp, vs->count);
+    co_fp_corners_reset(&c->corners);
     c->stamp++;
     uint32_t n_verts = 0;
     co_place pl[CO_PLACE_KINDS];
@@ -120,14 +124,16 @@ static lm_status build_edge(co_cands *c, lm_mesh *m, co_eq *q, const lm_view_set
         if (st == LM_OK)
             st = lm_patch_from_journal(p, m, c->j, mark);
         for (uint32_t i = 0; st == LM_OK && i < p->n_added; i++)
-            co_fp_add_tri(fp, vs, &p->added[i]);
+            st = co_fp_corners_add_tri(&c->corners, &p->added[i]);
         lm_journal_rollback(m, c->j, mark);
         if (st == LM_OK)
-            st = take_removed(c, m, p, vs, fp, &n_verts);
+            st = take_removed(c, m, p, &n_verts);
         ce->kind[ce->n++] = (uint8_t)k;
         c->n_patches++;
     }
     ce->n_shard = c->n_shard - ce->shard0;
+    if (st == LM_OK)
+        co_fp_corners_apply(&c->corners, fp, vs);
     return st ? st : co_eq_set_verts(q, entry, c->verts, n_verts);
 }
 

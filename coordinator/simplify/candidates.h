@@ -10,6 +10,7 @@
 #include "common/patch.h"
 #include "common/view.h"
 #include "coordinator/simplify/edge_queue.h"
+#include "coordinator/simplify/fp_corners.h"
 #include "coordinator/simplify/placement.h"
 
 typedef struct co_cand_edge {
@@ -32,6 +33,7 @@ typedef struct co_cands {
     uint32_t *verts;
     uint32_t cap_verts;
     lm_journal *j;
+    co_fp_corners corners; /* one edge's triangles, for its footprint */
 } co_cands;
 
 lm_status co_cands_init(co_cands *c);

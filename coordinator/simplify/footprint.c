@@ -28,6 +28,22 @@ static void grow(co_rect *r, int32_t x0, int32_t y0, int32_t x1, int32_t y1)
     r->y1 = y1 > r->y1 ? y1 : r->y1;
 }
 
+void co_fp_grow_box(co_rect *r, const float lo[2], const float hi[2])
+{
+    grow(r, clamp_px(floor(lo[0])) - 1, clamp_px(floor(lo[1])) - 1, clamp_px(ceil(hi[0])) + 1,
+         clamp_px(ceil(hi[1])) + 1);
+}
+
+void co_fp_grow_plane(co_rect *r)
+{
+    grow(r, -CO_FP_FAR, -CO_FP_FAR, CO_FP_FAR, CO_FP_FAR);
+}
+
+int co_fp_project(const lm_view *v, const float pos[3], float win[2])
+{
+    return lm_view_project(v, pos, win, NULL) && isfinite(win[0]) && isfinite(win[1]);
+}
+
 void co_fp_add_tri(co_rect *fp, const lm_view_set *vs, const lm_tri_data *t)
 {
     for (uint32_t h = 0; h < vs->count; h++) {
@@ -35,18 +51,16 @@ void co_fp_add_tri(co_rect *fp, const lm_view_set *vs, const lm_tri_data *t)
         int all = 1;
         for (int k = 0; k < 3 && all; k++) {
             float win[2];
-            all = lm_view_project(&vs->views[h], t->c[k].pos, win, NULL) && isfinite(win[0]) &&
-                  isfinite(win[1]);
+            all = co_fp_project(&vs->views[h], t->c[k].pos, win);
             for (int d = 0; d < 2 && all; d++) {
                 lo[d] = win[d] < lo[d] ? win[d] : lo[d];
                 hi[d] = win[d] > hi[d] ? win[d] : hi[d];
             }
         }
         if (!all)
-            grow(&fp[h], -CO_FP_FAR, -CO_FP_FAR, CO_FP_FAR, CO_FP_FAR);
+            co_fp_grow_plane(&fp[h]);
         else
-            grow(&fp[h], clamp_px(floor(lo[0])) - 1, clamp_px(floor(lo[1])) - 1,
-                 clamp_px(ceil(hi[0])) + 1, clamp_px(ceil(hi[1])) + 1);
+            co_fp_grow_box(&fp[h], lo, hi);
     }
 }
 

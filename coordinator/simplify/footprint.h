@@ -20,6 +20,12 @@ typedef struct co_rect {
 void co_fp_clear(co_rect *fp, uint32_t n);
 /* Grow the rectangle of every view of vs to cover triangle t. */
 void co_fp_add_tri(co_rect *fp, const lm_view_set *vs, const lm_tri_data *t);
+/* The pieces of co_fp_add_tri: a view's projection of a point (0 at or behind the eye, or not
+ * finite); r grown to the pixels of the window box lo..hi (one pixel of slack), or to the whole
+ * plane. */
+int co_fp_project(const lm_view *v, const float pos[3], float win[2]);
+void co_fp_grow_box(co_rect *r, const float lo[2], const float hi[2]);
+void co_fp_grow_plane(co_rect *r);
 /* Grow a by b (view by view). */
 void co_fp_union(co_rect *a, const co_rect *b, uint32_t n);
 /* 1 when the two footprints meet in some view. */
