@@ -4,6 +4,9 @@
 # killed with SIGKILL (last periodic checkpoint, at an iteration end) and resumed ends
 # byte-identical to the uninterrupted run; --json is valid NDJSON with a summary whose
 # energy went down; bad flags and bad checkpoints give one line and exit 1, leaving no output.
+# LUMESH_TEST_LIGHT=1 (the sanitizer stage; the release stage runs it whole): every check the
+# same on smaller work: 4 views of 32 pixels (the image start on 4 cameras of a file instead of
+# its own 20 views, the demo's grid of 32-pixel views), budgets of 11,000 and 8,000 evaluations.
 set -u
 . "$(dirname "$0")/lib.bash"
 
@@ -24,10 +27,32 @@ expect_same() {
 "$LUMESH" gen-frog -o "$tmp/frog.obj" --tris 3000 --seed 2 >/dev/null 2>"$tmp/gen.err" ||
   { fail "gen-frog: $(cat "$tmp/gen.err")"; finish; exit 1; }
 frog=$tmp/frog.obj
-opts=(--views 8 --size 64 --target-verts 120 --seed 5 --device host --start qem)
-# One edge iteration of this job takes ~24,000 evaluations; checkpoints come at iteration ends.
+views=(--views 8)
+size=64
+# The first edge iteration of this job takes ~14,000 evaluations, the later ones ~2,000 each;
+# checkpoints come at iteration ends. The half stops in the 9th, the budget in the 15th.
 budget=40000
 half=28000
+img_views=()
+if [ "$light" = 1 ]; then
+  # 4 views of 32: the first iteration ends at ~6,500 evaluations, the 2nd before 8,000 and the
+  # 4th before 11,000, so the half still stops mid-iteration after whole ones, the resumes still
+  # cross iteration ends (and the regrid at 10,000), and the SIGKILLed run still has ~4,000
+  # evaluations to go after its first checkpoint.
+  views=(--views 4)
+  size=32
+  budget=11000
+  half=8000
+  # The image start renders its own 20 views of 256 pixels unless given cameras: 4 of them.
+  cat >"$tmp/cams.json" <<'EOF'
+[{"position": [0, 0.5, 5], "target": [0, 0.5, 0], "up": [0, 1, 0], "fov": 40},
+ {"position": [5, 0.5, 0], "target": [0, 0.5, 0], "up": [0, 1, 0], "fov": 40},
+ {"position": [0, 5, 0.5], "target": [0, 0.5, 0], "up": [0, 1, 0], "fov": 40},
+ {"position": [-3.5, 2, -3.5], "target": [0, 0.5, 0], "up": [0, 1, 0], "fov": 40}]
+EOF
+  img_views=(--views-from "$tmp/cams.json")
+fi
+opts=("${views[@]}" --size $size --target-verts 120 --seed 5 --device host --start qem)
 
 mkdir -p "$tmp/a" "$tmp/b" "$tmp/c" "$tmp/d" "$tmp/part"
 # 1. Same inputs and seed, twice: byte-identical.
@@ -98,7 +123,7 @@ tail -1 "$tmp/t.ndjson" | python3 -c 'import json,sys; s=json.load(sys.stdin); a
 # 6. --initial: start from a coarse mesh in its own file (its own materials), and .ply output.
 checks=$((checks + 1))
 if "$LUMESH" simplify "$frog" -o "$tmp/coarse.obj" --target-verts 100 >/dev/null 2>"$tmp/s.err"; then
-  "$LUMESH" optimize "$frog" -o "$tmp/i.ply" --initial "$tmp/coarse.obj" --views 8 --size 64 --device host \
+  "$LUMESH" optimize "$frog" -o "$tmp/i.ply" --initial "$tmp/coarse.obj" "${views[@]}" --size $size --device host \
     --evals 1500 --json 2>"$tmp/i.err" | tail -1 |
     python3 -c 'import json,sys; s=json.load(sys.stdin); assert 0 < s["energy_end"] < s["energy_start"], s' ||
     fail "--initial run: $(cat "$tmp/i.err")"
@@ -109,7 +134,8 @@ fi
 
 # 6b. The image-driven start (the default without --initial): the same bytes in this process and
 #     on 2 workers and after a --resume; not QEM's start; a checkpoint refused by another --start.
-img=(--views 8 --size 64 --target-verts 120 --seed 5 --device cpu --evals 3000)
+[ "${#img_views[@]}" = 0 ] && img_views=("${views[@]}")
+img=("${img_views[@]}" --size $size --target-verts 120 --seed 5 --device cpu --evals 3000)
 mkdir -p "$tmp/img0" "$tmp/img2" "$tmp/imgr" "$tmp/imgp"
 expect_exit 0 "$LUMESH" optimize "$frog" -o "$tmp/img0/out.obj" "${img[@]}" --workers 0 \
   --save-initial "$tmp/img0/start.obj"
@@ -177,18 +203,20 @@ fi
 
 # 7. The demo, small: the three models, the before/after grid and a summary with held-out energies.
 checks=$((checks + 1))
-"$LUMESH" demo -o "$tmp/demo" --tris 2000 --target-verts 80 --evals 1500 --views 8 --size 64 \
+"$LUMESH" demo -o "$tmp/demo" --tris 2000 --target-verts 80 --evals 1500 "${views[@]}" --size $size \
   --device host >"$tmp/demo.out" 2>"$tmp/demo.err" || fail "demo: $(tail -3 "$tmp/demo.err")"
 for f in frog.obj coarse.obj optimized.obj before_after.png; do
   [ -s "$tmp/demo/$f" ] || fail "demo did not write $f"
 done
 grep -q "held-out energy" "$tmp/demo.out" || fail "demo printed no held-out energy: $(cat "$tmp/demo.out")"
-python3 - "$tmp/demo/before_after.png" <<'EOF' || fail "before_after.png is not a 3x4 grid of 64px views"
+grid="before_after.png is not a 3x4 grid of ${size}px views"
+python3 - "$tmp/demo/before_after.png" "$size" <<'EOF' || fail "$grid"
 import struct, sys
 d = open(sys.argv[1], "rb").read(32)
 assert d[:8] == b"\x89PNG\r\n\x1a\n"
 w, h = struct.unpack(">II", d[16:24])
-assert (w, h) == (3 * 64 + 2 * 4, 4 * 64 + 3 * 4), (w, h)
+s = int(sys.argv[2])
+assert (w, h) == (3 * s + 2 * 4, 4 * s + 3 * 4), (w, h)
 EOF
 
 # 8. User errors: one line on stderr, exit 1, no output file.
@@ -215,8 +243,8 @@ expect_fail_line "$LUMESH" optimize "$frog" -o "$bad" "${opts[@]}" --resume "$tm
 cp "$tmp/ck1" "$tmp/flip.ckpt"
 printf '\xff' | dd of="$tmp/flip.ckpt" bs=1 seek=200 conv=notrunc 2>/dev/null
 expect_fail_line "$LUMESH" optimize "$frog" -o "$bad" "${opts[@]}" --resume "$tmp/flip.ckpt"
-expect_fail_line "$LUMESH" optimize "$frog" -o "$bad" --views 8 --size 64 --target-verts 120 --seed 6 \
-  --device host --resume "$tmp/ck1"
+expect_fail_line "$LUMESH" optimize "$frog" -o "$bad" "${views[@]}" --size $size --target-verts 120 \
+  --seed 6 --device host --resume "$tmp/ck1"
 [ -z "$(ls "$tmp/bad")" ] || fail "failed runs left files: $(ls "$tmp/bad")"
 expect_exit 0 "$LUMESH" optimize --help
 
