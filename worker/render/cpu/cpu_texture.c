@@ -130,20 +130,6 @@ static lm_status make_texture(const lm_image *img, void *handle)
     return wk_cpu_texture_create(img, handle);
 }
 
-/* The pyramids of the materials' normal maps (t->nrm stays NULL where no material has one). */
-static lm_status normal_maps(wk_cpu_materials *t, const lm_material *mats, uint32_t n)
-{
-    lm_status st = LM_OK;
-    for (uint32_t i = 0; st == LM_OK && i < n; i++) {
-        if (!mats[i].normal_map)
-            continue;
-        if (!t->nrm && !(t->nrm = calloc(n, sizeof *t->nrm)))
-            return lm_fail(LM_E_NOMEM, "out of memory for %u materials", n);
-        st = wk_cpu_texture_create(mats[i].normal_map, &t->nrm[i]);
-    }
-    return st;
-}
-
 lm_status wk_cpu_materials_set(wk_cpu_materials *t, const lm_material *mats, uint32_t n)
 {
     wk_cpu_materials_free(t);
@@ -151,8 +137,10 @@ lm_status wk_cpu_materials_set(wk_cpu_materials *t, const lm_material *mats, uin
     lm_status st =
         wk_materials_fill(mats, n, sizeof *t->tex, make_texture, &t->n, &t->diffuse, &tex);
     t->tex = tex;
+    void *nrm = NULL;
     if (st == LM_OK)
-        st = normal_maps(t, mats, n);
+        st = wk_materials_fill_normal_maps(mats, n, sizeof *t->nrm, make_texture, &nrm);
+    t->nrm = nrm;
     if (st != LM_OK)
         wk_cpu_materials_free(t);
     return st;

@@ -98,20 +98,6 @@ static lm_status upload_blocks(wk_material_table *t)
                                        : lm_fail(LM_E_DEVICE, "uploading material blocks failed");
 }
 
-/* The materials' normal maps (t->nrm stays NULL where none has one). */
-static lm_status upload_normal_maps(wk_material_table *t, const lm_material *mats, uint32_t n)
-{
-    lm_status st = LM_OK;
-    for (uint32_t i = 0; st == LM_OK && i < n; i++) {
-        if (!mats[i].normal_map)
-            continue;
-        if (!t->nrm && !(t->nrm = calloc(n, sizeof *t->nrm)))
-            return lm_fail(LM_E_NOMEM, "out of memory for %u materials", n);
-        st = upload(mats[i].normal_map, &t->nrm[i]);
-    }
-    return st;
-}
-
 lm_status wk_material_table_set(wk_material_table *t, const lm_material *mats, uint32_t n)
 {
     clear_table(t);
@@ -121,8 +107,10 @@ lm_status wk_material_table_set(wk_material_table *t, const lm_material *mats, u
     t->tex = tex;
     if (st == LM_OK)
         st = upload_blocks(t);
+    void *nrm = NULL;
     if (st == LM_OK)
-        st = upload_normal_maps(t, mats, n);
+        st = wk_materials_fill_normal_maps(mats, n, sizeof *t->nrm, make_texture, &nrm);
+    t->nrm = nrm;
     glBindTexture(GL_TEXTURE_2D, 0);
     if (st != LM_OK)
         clear_table(t);

@@ -30,3 +30,18 @@ lm_status wk_materials_fill(const lm_material *mats, uint32_t n, size_t handle_s
     }
     return st;
 }
+
+lm_status wk_materials_fill_normal_maps(const lm_material *mats, uint32_t n, size_t handle_size,
+                                        wk_texture_make make, void **handles)
+{
+    uint8_t *h = NULL;
+    lm_status st = LM_OK;
+    for (uint32_t i = 0; st == LM_OK && i < n; i++) {
+        if (!mats[i].normal_map)
+            continue;
+        if (!h && !(*handles = h = calloc(n, handle_size)))
+            return lm_fail(LM_E_NOMEM, "out of memory for %u materials", n);
+        st = make(mats[i].normal_map, h + i * handle_size);
+    }
+    return st;
+}

@@ -1,7 +1,7 @@
 /* worker/render/shared/materials.h — filling a backend's material table from lm_material records:
  * what both backends do alike (the diffuse colours, copied; a texture handle per material, zero
- * where untextured) around the texture each makes its own way (a pyramid on the CPU, a GL
- * texture on the device). */
+ * where untextured; the normal maps' handles) around the texture each makes its own way (a
+ * pyramid on the CPU, a GL texture on the device). */
 #ifndef LM_WORKER_RENDER_SHARED_MATERIALS_H
 #define LM_WORKER_RENDER_SHARED_MATERIALS_H
 
@@ -22,5 +22,12 @@ typedef lm_status (*wk_texture_make)(const lm_image *img, void *handle);
 lm_status wk_materials_fill(const lm_material *mats, uint32_t n, size_t handle_size,
                             wk_texture_make make, uint32_t *n_out, float (**diffuse)[4],
                             void **handles);
+
+/* The handles of the materials' normal maps: *handles stays NULL when no material has one, else n
+ * zeroed handles of handle_size bytes with make filling those of the mapped materials in order, up
+ * to the first failure (whose status is returned). The caller owns the array and the handles made,
+ * failure or not. */
+lm_status wk_materials_fill_normal_maps(const lm_material *mats, uint32_t n, size_t handle_size,
+                                        wk_texture_make make, void **handles);
 
 #endif
