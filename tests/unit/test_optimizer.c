@@ -321,9 +321,11 @@ static void test_relative_weight(void **state)
 
 /* ---- edges in flight: isolated lanes ------------------------------------------------------- */
 
-#define LANES_EVALS 2500
+/* Teleports (collapse searches on the lanes' queues) start after ~3000 evaluations; from ~9000 on,
+ * lanes sharing the statistics (a broken isolation) change the state with the order. */
+#define LANES_EVALS 9000
 
-/* The saved state after LANES_EVALS evaluations with k lanes in `order`. */
+/* The saved state after LANES_EVALS evaluations with k lanes in `order` (teleports done). */
 static char *lanes_state(uint32_t k, uint32_t isolated, uint64_t order, size_t *len)
 {
     run r;
@@ -331,6 +333,9 @@ static char *lanes_state(uint32_t k, uint32_t isolated, uint64_t order, size_t *
     g_device = "cpu";
     run_start_lanes(&r, 7, k, isolated, order);
     run_to(&r, LANES_EVALS);
+    lm_progress p;
+    lm_optimizer_progress(r.o, &p);
+    assert_true(p.accepted[LM_MOVE_SPLIT] > 0);
     char *s = save_bytes(r.o, len);
     run_free(&r);
     return s;
@@ -349,7 +354,7 @@ static void test_isolated_lanes_order_free(void **state)
     for (int i = 0; i < 2; i++) {
         size_t l0;
         char *s0 = lanes_state(ks[i], 1, 0, &l0);
-        for (int j = 0; j < 2; j++) {
+        for (int j = 0; j < (ks[i] == 8 ? 2 : 1); j++) {
             size_t l1;
             char *s1 = lanes_state(ks[i], 1, orders[j], &l1);
             print_message("isolated K=%u, order %llu: %s\n", ks[i], (unsigned long long)orders[j],
@@ -383,19 +388,19 @@ static void test_isolated_lanes_energy_and_resume(void **state)
     run_start_lanes(&a, 7, 8, 1, 0);
     lm_progress p0, pa, pb;
     lm_optimizer_progress(a.o, &p0);
-    run_to(&a, 900);
+    run_to(&a, 1500);
     size_t len;
     char *ck = save_bytes(a.o, &len);
-    run_to(&a, LANES_EVALS);
+    run_to(&a, 4000);
     lm_optimizer_progress(a.o, &pa);
-    assert_true(pa.energy < p0.energy_start * 0.9);
+    assert_true(pa.energy < p0.energy_start * 0.8);
     assert_true(pa.energy == views_energy(a.v));
     assert_int_equal(pa.live_verts, p0.live_verts);
     assert_int_equal(lm_mesh_validate(lm_optimizer_mesh(a.o)), LM_OK);
     /* a resume of the isolated run ends in the same state; shared lanes refuse its state */
     run_start_lanes(&b, 7, 8, 1, 0);
     assert_int_equal(load_bytes(b.o, ck, len), LM_OK);
-    run_to(&b, LANES_EVALS);
+    run_to(&b, 4000);
     lm_optimizer_progress(b.o, &pb);
     assert_memory_equal(&pa, &pb, sizeof pa);
     size_t la, lb;
