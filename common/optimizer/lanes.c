@@ -72,6 +72,7 @@ struct lm_lanes {
     int isolated;       /* lm_params.lane_isolation */
     lm_teleport tp0;    /* isolated: the optimizer's teleport state at the group's start */
     uint32_t n_verts0;  /* isolated: the mesh's vertex slots then (lanes' new ids are above) */
+    uint32_t n_group;   /* isolated: the group's size */
     uint64_t run_order; /* lm_lanes_set_run_order */
     uint64_t groups;    /* groups run, for the shuffle */
     uint32_t *order;    /* [k] the order the lanes of the group run in */
@@ -139,6 +140,22 @@ static int lane_veto(void *ctx, uint32_t a, uint32_t b)
 {
     const lm_lane *lane = ctx;
     return others(lane, a) || others(lane, b);
+}
+
+/* An isolated lane's collapse search: the other members' start neighbourhoods as above, and the
+ * edges of the other lanes' share. Lanes that copied the same queue would otherwise pick the same
+ * cheapest collapse, and every lane after the first to merge it would be dropped whole. The share
+ * of edge (a, b) is a hash of it modulo the group's size: scattered over the mesh, and the same
+ * whichever order (or process) runs the lanes. */
+static int isolated_veto(void *ctx, uint32_t a, uint32_t b)
+{
+    const lm_lane *lane = ctx;
+    uint32_t n = lane->owner->n_group;
+    uint64_t k = a < b ? (uint64_t)a << 32 | b : (uint64_t)b << 32 | a;
+    k ^= k >> 33;
+    k *= 0xff51afd7ed558ccdull;
+    k ^= k >> 33;
+    return lane_veto(ctx, a, b) || (n > 1 && k % n != lane->index);
 }
 
 /* A collapse the lane accepted: its vertices and the ring around them become the lane's (where no
@@ -377,7 +394,7 @@ static lm_status snapshot(lm_lanes *l, lm_lane *lane)
     lm_cq *q = lane->tp.queue;
     lane->tp = o->tp;
     lane->tp.queue = q;
-    lane->tp.veto = lane_veto;
+    lane->tp.veto = isolated_veto;
     lane->tp.veto_ctx = lane;
     lane->tp.log = &lane->log;
     lane->stats = o->stats;
@@ -416,6 +433,7 @@ void lm_lanes_set_run_order(lm_lanes *l, uint64_t order)
 static lm_status begin_group(lm_lanes *l, const lm_planned_edge *plan, uint32_t n)
 {
     make_order(l, n);
+    l->n_group = n;
     l->tp0 = l->o->tp;
     l->n_verts0 = l->o->mesh->n_verts;
     free(l->start);
