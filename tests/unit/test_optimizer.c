@@ -33,6 +33,8 @@ static int g_surface;
 #define SURFACE_SHARE 0.25
 /* the views' device: the host's, or the CPU rasteriser's (the lanes' tests) */
 static const char *g_device = "host";
+/* the start's subdivision level (the original is one finer) */
+static int g_level = 2;
 
 typedef struct run {
     lm_mesh *orig;
@@ -43,7 +45,7 @@ typedef struct run {
 
 static lm_mesh *noisy_sphere(void)
 {
-    lm_mesh *m = lmt_make_sphere(2);
+    lm_mesh *m = lmt_make_sphere(g_level);
     for (uint32_t i = 0; i < m->n_verts; i++)
         for (int k = 0; k < 3; k++)
             m->pos[i][k] *= 1.0f + 0.12f * sinf(7.0f * (float)i + 1.0f);
@@ -62,7 +64,7 @@ static void run_start(run *r, uint64_t seed)
 static void run_start_lanes(run *r, uint64_t seed, uint32_t k, uint32_t isolated, uint64_t order)
 {
     memset(r, 0, sizeof *r);
-    r->orig = lmt_make_sphere(3);
+    r->orig = lmt_make_sphere(g_level + 1);
     float c[3], rad;
     lm_mesh_bounding_sphere(r->orig, c, &rad);
     assert_int_equal(lm_view_set_make(&r->vs, N_VIEWS, SIZE, c, rad), LM_OK);
@@ -321,21 +323,24 @@ static void test_relative_weight(void **state)
 
 /* ---- edges in flight: isolated lanes ------------------------------------------------------- */
 
-/* Teleports (collapse searches on the lanes' queues) start after ~3000 evaluations; from ~9000 on,
- * lanes sharing the statistics (a broken isolation) change the state with the order. */
-#define LANES_EVALS 9000
+/* Teleports (collapse searches on the lanes' queues) start after ~3000 evaluations. */
+#define LANES_EVALS 6000
 
-/* The saved state after LANES_EVALS evaluations with k lanes in `order` (teleports done). */
-static char *lanes_state(uint32_t k, uint32_t isolated, uint64_t order, size_t *len)
+/* The saved state after LANES_EVALS evaluations with k lanes in `order`, from a start of
+ * subdivision `level`: 2, whose groups are mostly 2-3 edges, teleports done; 3, where groups of 6
+ * (two) share the start's statistics, and lanes that shared them would show it. */
+static char *lanes_state(int level, uint32_t k, uint32_t isolated, uint64_t order, size_t *len)
 {
     run r;
     g_surface = 0;
     g_device = "cpu";
+    g_level = level;
     run_start_lanes(&r, 7, k, isolated, order);
+    g_level = 2;
     run_to(&r, LANES_EVALS);
     lm_progress p;
     lm_optimizer_progress(r.o, &p);
-    assert_true(p.accepted[LM_MOVE_SPLIT] > 0);
+    assert_true(level > 2 || p.accepted[LM_MOVE_SPLIT] > 0);
     char *s = save_bytes(r.o, len);
     run_free(&r);
     return s;
@@ -349,15 +354,17 @@ static int same_state(const char *a, size_t la, const char *b, size_t lb)
 static void test_isolated_lanes_order_free(void **state)
 {
     (void)state;
-    const uint32_t ks[2] = {4, 8};
+    const uint32_t ks[3] = {4, 8, 8};
+    const int levels[3] = {2, 2, 3};
     const uint64_t orders[2] = {1, 0x5eed}; /* reversed, a shuffle */
-    for (int i = 0; i < 2; i++) {
+    for (int i = 0; i < 3; i++) {
         size_t l0;
-        char *s0 = lanes_state(ks[i], 1, 0, &l0);
+        char *s0 = lanes_state(levels[i], ks[i], 1, 0, &l0);
         for (int j = 0; j < (ks[i] == 8 ? 2 : 1); j++) {
             size_t l1;
-            char *s1 = lanes_state(ks[i], 1, orders[j], &l1);
-            print_message("isolated K=%u, order %llu: %s\n", ks[i], (unsigned long long)orders[j],
+            char *s1 = lanes_state(levels[i], ks[i], 1, orders[j], &l1);
+            print_message("isolated K=%u, level %d, order %llu: %s\n", ks[i], levels[i],
+                          (unsigned long long)orders[j],
                           same_state(s0, l0, s1, l1) ? "same state" : "DIFFERENT state");
             assert_true(same_state(s0, l0, s1, l1));
             free(s1);
@@ -371,7 +378,7 @@ static void test_shared_lanes_depend_on_order(void **state)
 {
     (void)state;
     size_t l0, l1;
-    char *s0 = lanes_state(8, 0, 0, &l0), *s1 = lanes_state(8, 0, 1, &l1);
+    char *s0 = lanes_state(2, 8, 0, 0, &l0), *s1 = lanes_state(2, 8, 0, 1, &l1);
     print_message("shared K=8, reversed: %s\n",
                   same_state(s0, l0, s1, l1) ? "same state" : "different state");
     assert_false(same_state(s0, l0, s1, l1));
