@@ -40,6 +40,21 @@ void lm_iheap_clear(lm_iheap *h)
     h->n = 0;
 }
 
+bool lm_iheap_copy(lm_iheap *dst, const lm_iheap *src)
+{
+    if (!lm_iheap_reserve(dst, src->cap))
+        return false;
+    if (src->cap) {
+        memcpy(dst->heap, src->heap, (size_t)src->n * sizeof *src->heap);
+        memcpy(dst->pos, src->pos, (size_t)src->cap * sizeof *src->pos);
+        memcpy(dst->key, src->key, (size_t)src->cap * sizeof *src->key);
+    }
+    for (uint32_t i = src->cap; i < dst->cap; i++)
+        dst->pos[i] = LM_IHEAP_OUT;
+    dst->n = src->n;
+    return true;
+}
+
 static bool less(const lm_iheap *h, uint32_t x, uint32_t y)
 {
     const lm_iheap_key *a = &h->key[x], *b = &h->key[y];

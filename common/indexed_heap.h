@@ -32,6 +32,9 @@ void lm_iheap_free(lm_iheap *h);
 bool lm_iheap_reserve(lm_iheap *h, uint32_t n_ids);
 /* Every id out of the heap. */
 void lm_iheap_clear(lm_iheap *h);
+/* dst becomes a copy of src (its ids, keys and layout); false, dst unchanged, when memory runs
+ * out. */
+bool lm_iheap_copy(lm_iheap *dst, const lm_iheap *src);
 
 /* Id (< cap) into the heap with key (prio, tie), or moved to that key when it is in it. */
 void lm_iheap_set(lm_iheap *h, uint32_t id, int64_t prio, uint64_t tie);

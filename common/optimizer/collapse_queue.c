@@ -18,7 +18,15 @@ struct lm_cq {
     uint32_t *free_slots;
     uint32_t n_free;
     lm_iheap heap; /* slots by (est, a, b) */
+    lm_cq_observer observer;
+    void *observer_ctx;
 };
+
+static void told(const lm_cq *q, const lm_cq_entry *e, int present)
+{
+    if (q->observer)
+        q->observer(q->observer_ctx, e, present);
+}
 
 static uint64_t key_of(uint32_t a, uint32_t b)
 {
@@ -61,6 +69,50 @@ void lm_cq_clear(lm_cq *q)
         memset(q->keys, 0, (size_t)q->cap * sizeof *q->keys);
     q->count = q->n_slots = q->n_free = 0;
     lm_iheap_clear(&q->heap);
+}
+
+void lm_cq_observe(lm_cq *q, lm_cq_observer fn, void *ctx)
+{
+    q->observer = fn;
+    q->observer_ctx = ctx;
+}
+
+/* Room in dst for src's map and slots. */
+static lm_status reserve_copy(lm_cq *dst, const lm_cq *src)
+{
+    if (dst->cap < src->cap &&
+        (!LM_RESIZE(&dst->keys, src->cap) || !LM_RESIZE(&dst->vals, src->cap)))
+        return lm_fail(LM_E_NOMEM, "out of memory copying the collapse queue");
+    if (dst->cap < src->cap)
+        dst->cap = src->cap;
+    if (dst->cap_slots < src->cap_slots &&
+        (!LM_RESIZE(&dst->slots, src->cap_slots) || !LM_RESIZE(&dst->free_slots, src->cap_slots)))
+        return lm_fail(LM_E_NOMEM, "out of memory copying the collapse queue");
+    if (dst->cap_slots < src->cap_slots)
+        dst->cap_slots = src->cap_slots;
+    if (!lm_iheap_copy(&dst->heap, &src->heap))
+        return lm_fail(LM_E_NOMEM, "out of memory copying the collapse queue");
+    return LM_OK;
+}
+
+lm_status lm_cq_copy(lm_cq *dst, const lm_cq *src)
+{
+    lm_status st = reserve_copy(dst, src);
+    if (st)
+        return st;
+    dst->cap = src->cap; /* the map's size decides where keys sit: exactly src's */
+    if (src->cap) {
+        memcpy(dst->keys, src->keys, (size_t)src->cap * sizeof *src->keys);
+        memcpy(dst->vals, src->vals, (size_t)src->cap * sizeof *src->vals);
+    }
+    if (src->n_slots)
+        memcpy(dst->slots, src->slots, (size_t)src->n_slots * sizeof *src->slots);
+    if (src->n_free)
+        memcpy(dst->free_slots, src->free_slots, (size_t)src->n_free * sizeof *src->free_slots);
+    dst->count = src->count;
+    dst->n_slots = src->n_slots;
+    dst->n_free = src->n_free;
+    return LM_OK;
 }
 
 static int find(const lm_cq *q, uint64_t k, uint32_t *pos)
@@ -157,6 +209,7 @@ lm_status lm_cq_set(lm_cq *q, uint32_t a, uint32_t b, int64_t est, int level, in
     e->level = level;
     e->in_heap = in_heap ? 1 : 0;
     heap_update(q, s);
+    told(q, e, 1);
     return LM_OK;
 }
 
@@ -171,6 +224,7 @@ void lm_cq_remove(lm_cq *q, uint32_t a, uint32_t b)
     if (!find(q, key_of(a, b), &pos))
         return;
     uint32_t s = q->vals[pos];
+    told(q, &q->slots[s], 0);
     lm_iheap_remove(&q->heap, s);
     q->free_slots[q->n_free++] = s;
     q->count--;
@@ -214,6 +268,7 @@ int lm_cq_pop(lm_cq *q, lm_cq_entry *out)
     lm_iheap_remove(&q->heap, s);
     q->slots[s].in_heap = 0;
     *out = q->slots[s];
+    told(q, out, 1);
     return 1;
 }
 

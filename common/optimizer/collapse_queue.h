@@ -22,9 +22,17 @@ typedef struct lm_cq_entry {
 
 typedef struct lm_cq lm_cq;
 
+/* Told of every change (set, reset, remove, pop) with the entry as it is afterwards; present 0
+ * when it was removed. */
+typedef void (*lm_cq_observer)(void *ctx, const lm_cq_entry *e, int present);
+
 lm_status lm_cq_create(lm_cq **out);
 void lm_cq_destroy(lm_cq *q);
 void lm_cq_clear(lm_cq *q);
+/* dst's entries and heap become src's (dst's observer stays dst's); dst unchanged on failure. */
+lm_status lm_cq_copy(lm_cq *dst, const lm_cq *src);
+/* fn (NULL = none) is told of q's changes from now on (lanes.c's isolated lanes log them). */
+void lm_cq_observe(lm_cq *q, lm_cq_observer fn, void *ctx);
 
 /* Insert or update (a, b) (either order); in_heap decides whether it can be popped. */
 lm_status lm_cq_set(lm_cq *q, uint32_t a, uint32_t b, int64_t est, int level, int in_heap);

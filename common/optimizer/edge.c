@@ -4,6 +4,18 @@
  * The moves act on the context's mesh: the optimizer's own, or a lane's copy (lanes.c). */
 #include "common/optimizer/edge.h"
 
+#include "common/optimizer/lane_log.h"
+
+static lm_move_stats *stats_of(const lm_edge_ctx *c)
+{
+    return c->stats ? c->stats : &c->o->stats;
+}
+
+static lm_teleport *tp_of(const lm_edge_ctx *c)
+{
+    return c->tp ? c->tp : &c->o->tp;
+}
+
 /* ---- one operation --------------------------------------------------------------------------- */
 
 typedef struct op_outcome {
@@ -16,7 +28,7 @@ static lm_status run_teleport(lm_edge_ctx *c, int level, uint32_t a, uint32_t b,
 {
     lm_optimizer *o = c->o;
     lm_teleport_result t;
-    lm_status st = lm_teleport_try(&o->tp, c->mv, level, a, b, &t);
+    lm_status st = lm_teleport_try(tp_of(c), c->mv, level, a, b, &t);
     *r = (op_outcome){t.legal, t.accepted, t.accepted ? t.delta : 0, t.evals};
     o->prog.attempted[LM_MOVE_COLLAPSE] += t.collapse_attempts;
     o->prog.accepted[LM_MOVE_COLLAPSE] += t.accepted ? 1 : 0;
@@ -27,17 +39,17 @@ static lm_status run_teleport(lm_edge_ctx *c, int level, uint32_t a, uint32_t b,
 /* The edge and the vertices of the triangles around the last accepted change. */
 static lm_status mark_touched(lm_edge_ctx *c, uint32_t a, uint32_t b)
 {
-    lm_optimizer *o = c->o;
+    lm_idset *touched = c->touched ? c->touched : &c->o->it.touched;
     const uint32_t *before, *now;
     uint32_t nb, nn;
     lm_moves_last_change(c->mv, &before, &nb, &now, &nn);
-    lm_status st = lm_idset_add(&o->it.touched, a);
+    lm_status st = lm_idset_add(touched, a);
     if (!st)
-        st = lm_idset_add(&o->it.touched, b);
+        st = lm_idset_add(touched, b);
     for (uint32_t i = 0; i < nn && !st; i++)
         if (c->mesh->tri_alive[now[i]])
             for (int k = 0; k < 3 && !st; k++)
-                st = lm_idset_add(&o->it.touched, lm_tri_vertex(c->mesh, now[i], k));
+                st = lm_idset_add(touched, lm_tri_vertex(c->mesh, now[i], k));
     return st;
 }
 
@@ -56,7 +68,7 @@ static lm_status run_op(lm_edge_ctx *c, lm_move_kind kind, int level, uint32_t a
             const uint32_t *before, *now;
             uint32_t nb, nn;
             lm_moves_last_change(c->mv, &before, &nb, &now, &nn);
-            st = lm_teleport_note_change(&o->tp, c->mesh, now, nn);
+            st = lm_teleport_note_change(tp_of(c), c->mesh, now, nn);
         }
     }
     if (!st && r->accepted)
@@ -68,8 +80,9 @@ static lm_status run_op(lm_edge_ctx *c, lm_move_kind kind, int level, uint32_t a
     c->accepted[kind] += r->accepted ? 1 : 0;
     if (!c->deferred)
         o->prog.energy += r->delta;
-    lm_move_stats_add(&o->stats, kind, level, (double)r->delta, r->evals, lm_moves_clock(c->mv));
-    return LM_OK;
+    uint64_t now = lm_moves_clock(c->mv);
+    lm_move_stats_add(stats_of(c), kind, level, (double)r->delta, r->evals, now);
+    return c->log ? lm_lane_log_add(c->log, kind, level, (double)r->delta, r->evals, now) : LM_OK;
 }
 
 /* ---- one edge (paper §5.3) ----------------------------------------------------------------- */
@@ -80,14 +93,13 @@ static const lm_move_kind edge_moves[3] = {LM_MOVE_NOOP, LM_MOVE_SWAP, LM_MOVE_S
  * accepted ends the edge (it no longer exists). */
 static lm_status edge_ops(lm_edge_ctx *c, uint32_t a, uint32_t b, int64_t *total, int *tried)
 {
-    lm_optimizer *o = c->o;
     for (int k = 0; k < 3; k++) {
         lm_move_kind kind = edge_moves[k];
         for (int level = kind == LM_MOVE_NOOP ? 1 : 0; level < LM_LEVELS; level++) {
             if (!lm_mesh_edge_exists(c->mesh, a, b))
                 return LM_OK;
             uint64_t now = lm_moves_clock(c->mv);
-            if (!lm_move_stats_should_try(&o->stats, kind, level, (double)*total, now))
+            if (!lm_move_stats_should_try(stats_of(c), kind, level, (double)*total, now))
                 continue;
             op_outcome r;
             lm_status st = run_op(c, kind, level, a, b, &r);
@@ -116,7 +128,7 @@ lm_status lm_edge_optimise(lm_edge_ctx *c, uint32_t a, uint32_t b, int64_t *tota
          * (and with it the attenuation of the statistics) always moves on. */
         lm_move_kind kind = LM_MOVE_NOOP;
         int level = 1;
-        lm_move_stats_best(&c->o->stats, lm_moves_clock(c->mv), &kind, &level);
+        lm_move_stats_best(stats_of(c), lm_moves_clock(c->mv), &kind, &level);
         op_outcome r;
         st = run_op(c, kind, level, a, b, &r);
         if (!st && !r.legal)

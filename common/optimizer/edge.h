@@ -5,12 +5,20 @@
 
 #include "common/optimizer/optimizer_internal.h"
 
+struct lm_lane_log; /* lane_log.h */
+
 /* Where an edge is optimised: the optimizer (statistics, collapse queue, counters), the mesh the
- * moves act on and their workspace. */
+ * moves act on and their workspace. An isolated lane (lanes.h) gives its own copies of the
+ * statistics, the teleport state and the touched set, and a log of its statistics adds; NULL
+ * fields are the optimizer's own. */
 typedef struct lm_edge_ctx {
     lm_optimizer *o;
     lm_mesh *mesh;
     lm_moves *mv;
+    lm_move_stats *stats;
+    lm_teleport *tp;
+    lm_idset *touched;
+    struct lm_lane_log *log;
     int deferred;                     /* a lane: energy is counted when its changes are merged */
     uint64_t accepted[LM_MOVE_KINDS]; /* moves accepted through this context */
 } lm_edge_ctx;

@@ -11,6 +11,7 @@
 #include "common/mesh_topology.h"
 #include "common/optimizer/edge.h"
 #include "common/optimizer/fiber.h"
+#include "common/optimizer/lane_log.h"
 #include "common/optimizer/lane_views.h"
 
 #define GROUP_RINGS 2  /* edges whose vertices lie within this many rings of each other wait */
@@ -43,6 +44,14 @@ struct lm_lane {
     uint32_t n_recs, cap_recs;
     double *xs;
     size_t n_xs, cap_xs;
+    /* isolated lanes (lm_params.lane_isolation): the lane's own copies of what lanes otherwise
+     * share, taken at the group's start, and the logs the merge replays */
+    lm_move_stats stats;
+    lm_teleport tp; /* its own collapse queue, veto and log */
+    lm_idset touched;
+    lm_lane_log log;
+    uint64_t clock;  /* the group's start + the lane's own evaluations */
+    uint64_t evals0; /* the lane's moves' evaluations at the group's start */
 };
 
 struct lm_lanes {
@@ -60,6 +69,13 @@ struct lm_lanes {
     uint32_t *queue; /* breadth-first search */
     uint32_t cap_queue;
     lm_patch merged;
+    int isolated;       /* lm_params.lane_isolation */
+    lm_teleport tp0;    /* isolated: the optimizer's teleport state at the group's start */
+    uint32_t n_verts0;  /* isolated: the mesh's vertex slots then (lanes' new ids are above) */
+    uint32_t n_group;   /* isolated: the group's size */
+    uint64_t run_order; /* lm_lanes_set_run_order */
+    uint64_t groups;    /* groups run, for the shuffle */
+    uint32_t *order;    /* [k] the order the lanes of the group run in */
 };
 
 /* ---- the baton ------------------------------------------------------------------------------- */
@@ -71,7 +87,8 @@ static void hand_veto(lm_lanes *l, lm_lane *lane);
  * again or is done. */
 static void resume(lm_lanes *l, lm_lane *lane)
 {
-    hand_veto(l, lane);
+    if (!l->isolated)
+        hand_veto(l, lane);
     lane->state = LANE_RUNNING;
     lm_fiber_resume(lane->fiber);
 }
@@ -125,6 +142,22 @@ static int lane_veto(void *ctx, uint32_t a, uint32_t b)
     return others(lane, a) || others(lane, b);
 }
 
+/* An isolated lane's collapse search: the other members' start neighbourhoods as above, and the
+ * edges of the other lanes' share. Lanes that copied the same queue would otherwise pick the same
+ * cheapest collapse, and every lane after the first to merge it would be dropped whole. The share
+ * of edge (a, b) is a hash of it modulo the group's size: scattered over the mesh, and the same
+ * whichever order (or process) runs the lanes. */
+static int isolated_veto(void *ctx, uint32_t a, uint32_t b)
+{
+    const lm_lane *lane = ctx;
+    uint32_t n = lane->owner->n_group;
+    uint64_t k = a < b ? (uint64_t)a << 32 | b : (uint64_t)b << 32 | a;
+    k ^= k >> 33;
+    k *= 0xff51afd7ed558ccdull;
+    k ^= k >> 33;
+    return lane_veto(ctx, a, b) || (n > 1 && k % n != lane->index);
+}
+
 /* A collapse the lane accepted: its vertices and the ring around them become the lane's (where no
  * other member holds them), so that no other lane collapses there too. */
 static void claim_collapse(lm_lane *lane, uint32_t a, uint32_t b)
@@ -156,7 +189,7 @@ static void on_accepted(void *ctx, const lm_move_record *r)
 {
     lm_lane *lane = ctx;
     lane->views.pending = r->delta;
-    if (r->kind == LM_MOVE_COLLAPSE)
+    if (r->kind == LM_MOVE_COLLAPSE && !lane->owner->isolated)
         claim_collapse(lane, r->a, r->b);
     bool grown = LM_GROW32(&lane->recs, &lane->cap_recs, (size_t)lane->n_recs + 1, 16) &&
                  LM_GROW(&lane->xs, &lane->cap_xs, lane->n_xs + r->dim, 1024);
@@ -179,6 +212,23 @@ static void on_reverted(void *ctx, size_t mark)
 
 /* ---- creation -------------------------------------------------------------------------------- */
 
+/* An isolated lane: its own clock, statistics, teleport state (queue, veto, log), touched set. */
+static lm_status isolate(lm_lanes *l, lm_lane *lane)
+{
+    lm_idset_init(&lane->touched);
+    lm_lane_log_init(&lane->log);
+    lm_status st = lm_teleport_init(&lane->tp, &l->o->tp.cfg, NULL);
+    if (st)
+        return st;
+    lm_cq_observe(lane->tp.queue, lm_lane_log_queue, &lane->log);
+    lm_moves_share_clock(lane->mv, &lane->clock);
+    lane->ctx.stats = &lane->stats;
+    lane->ctx.tp = &lane->tp;
+    lane->ctx.touched = &lane->touched;
+    lane->ctx.log = &lane->log;
+    return LM_OK;
+}
+
 static lm_status lane_init(lm_lanes *l, lm_lane *lane)
 {
     lane->owner = l;
@@ -189,10 +239,13 @@ static lm_status lane_init(lm_lanes *l, lm_lane *lane)
         st = lm_moves_create(lane->mesh, &lane->views.base, &l->o->moves_cfg, &lane->mv);
     if (st != LM_OK)
         return st;
-    lm_moves_share_clock(lane->mv, lm_moves_clock_ptr(l->o->mv));
     lm_moves_observe(lane->mv, &(lm_moves_observer){on_accepted, on_reverted, lane});
     lane->ctx = (lm_edge_ctx){.o = l->o, .mesh = lane->mesh, .mv = lane->mv, .deferred = 1};
-    return lm_fiber_create(LM_FIBER_STACK_BYTES, lane_main, lane, &lane->fiber);
+    if (l->isolated)
+        st = isolate(l, lane);
+    else
+        lm_moves_share_clock(lane->mv, lm_moves_clock_ptr(l->o->mv));
+    return st ? st : lm_fiber_create(LM_FIBER_STACK_BYTES, lane_main, lane, &lane->fiber);
 }
 
 void lm_lanes_set_views(lm_lanes *l, lm_views *views)
@@ -209,11 +262,14 @@ lm_status lm_lanes_create(lm_optimizer *o, uint32_t k, lm_lanes **out)
         return lm_fail(LM_E_NOMEM, "out of memory for lanes");
     l->o = o;
     l->k = k;
+    l->isolated = o->params.lane_isolation != 0;
     lm_patch_init(&l->merged);
     l->lanes = calloc(k, sizeof *l->lanes);
+    l->order = calloc(k, sizeof *l->order);
     l->cap_queue = 65536;
     l->queue = malloc(l->cap_queue * sizeof *l->queue);
-    lm_status st = l->lanes && l->queue ? LM_OK : lm_fail(LM_E_NOMEM, "out of memory for lanes");
+    lm_status st =
+        l->lanes && l->queue && l->order ? LM_OK : lm_fail(LM_E_NOMEM, "out of memory for lanes");
     for (uint32_t i = 0; i < k && st == LM_OK; i++)
         st = lane_init(l, &l->lanes[i]);
     if (st != LM_OK) {
@@ -233,6 +289,9 @@ static void lane_free(lm_lanes *l, lm_lane *lane)
     lm_lane_views_free(&lane->views);
     free(lane->recs);
     free(lane->xs);
+    lm_teleport_free(&lane->tp);
+    lm_idset_free(&lane->touched);
+    lm_lane_log_free(&lane->log);
 }
 
 void lm_lanes_destroy(lm_lanes *l)
@@ -243,6 +302,7 @@ void lm_lanes_destroy(lm_lanes *l)
         if (l->lanes[i].owner)
             lane_free(l, &l->lanes[i]);
     free(l->lanes);
+    free(l->order);
     free(l->start);
     free(l->batch);
     free(l->deltas);
@@ -326,9 +386,56 @@ uint32_t lm_lanes_group(lm_lanes *l, lm_planned_edge *plan, uint32_t n)
 
 /* ---- a group --------------------------------------------------------------------------------- */
 
+/* An isolated lane starts from the optimizer's state at the group's start: its statistics, its
+ * teleport state (the queue copied), its clock; empty logs and touched set. */
+static lm_status snapshot(lm_lanes *l, lm_lane *lane)
+{
+    lm_optimizer *o = l->o;
+    lm_cq *q = lane->tp.queue;
+    lane->tp = o->tp;
+    lane->tp.queue = q;
+    lane->tp.veto = isolated_veto;
+    lane->tp.veto_ctx = lane;
+    lane->tp.log = &lane->log;
+    lane->stats = o->stats;
+    lane->clock = lm_moves_clock(o->mv);
+    lane->evals0 = lm_moves_evals(lane->mv);
+    lm_lane_log_clear(&lane->log);
+    lm_idset_clear(&lane->touched);
+    return lm_cq_copy(q, o->tp.queue);
+}
+
+/* The order the lanes of a group of n run in (and their requests go in each batch): lane order,
+ * reversed, or a shuffle seeded by the run order and the group's number. */
+static void make_order(lm_lanes *l, uint32_t n)
+{
+    for (uint32_t i = 0; i < n; i++)
+        l->order[i] = l->run_order == 1 ? n - 1 - i : i;
+    uint64_t x = l->run_order ^ (l->groups++ * 0x9e3779b97f4a7c15ull);
+    for (uint32_t i = n; l->run_order > 1 && i > 1; i--) {
+        x += 0x9e3779b97f4a7c15ull; /* splitmix64 */
+        uint64_t z = x;
+        z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+        z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+        z ^= z >> 31;
+        uint32_t j = (uint32_t)(z % i), t = l->order[i - 1];
+        l->order[i - 1] = l->order[j];
+        l->order[j] = t;
+    }
+}
+
+void lm_lanes_set_run_order(lm_lanes *l, uint64_t order)
+{
+    l->run_order = order;
+}
+
 /* The group's start: the optimizer's mesh as records; every lane's copy and views start there. */
 static lm_status begin_group(lm_lanes *l, const lm_planned_edge *plan, uint32_t n)
 {
+    make_order(l, n);
+    l->n_group = n;
+    l->tp0 = l->o->tp;
+    l->n_verts0 = l->o->mesh->n_verts;
     free(l->start);
     l->start = NULL;
     lm_status st = lm_mesh_export_tris(l->o->mesh, &l->start, &l->n_start);
@@ -344,6 +451,8 @@ static lm_status begin_group(lm_lanes *l, const lm_planned_edge *plan, uint32_t 
         lane->b = plan[i].b;
         lane->st = LM_OK;
         lane->post_status = LM_OK;
+        if (st == LM_OK && l->isolated)
+            st = snapshot(l, lane);
     }
     return st;
 }
@@ -373,7 +482,8 @@ static lm_status evaluate_round(lm_lanes *l, uint32_t n, uint32_t *total)
             *total += l->lanes[i].views.n_req;
     lm_status st = *total ? reserve_batch(l, *total) : LM_OK;
     uint32_t at = 0;
-    for (uint32_t i = 0; i < n && st == LM_OK; i++) {
+    for (uint32_t j = 0; j < n && st == LM_OK; j++) {
+        uint32_t i = l->order[j];
         const lm_lane_views *v = &l->lanes[i].views;
         if (l->lanes[i].state == LANE_WAITING) {
             memcpy(l->batch + at, v->req, v->n_req * sizeof *v->req);
@@ -383,7 +493,8 @@ static lm_status evaluate_round(lm_lanes *l, uint32_t n, uint32_t *total)
     if (st == LM_OK && *total)
         st = l->o->views->ops->evaluate(l->o->views, l->batch, *total, l->deltas);
     at = 0;
-    for (uint32_t i = 0; i < n && st == LM_OK; i++) {
+    for (uint32_t j = 0; j < n && st == LM_OK; j++) {
+        uint32_t i = l->order[j];
         lm_lane_views *v = &l->lanes[i].views;
         if (l->lanes[i].state == LANE_WAITING) {
             memcpy(v->res, l->deltas + at, v->n_req * sizeof *v->res);
@@ -408,12 +519,14 @@ static lm_status run_rounds(lm_lanes *l, uint32_t n)
             snprintf(msg, sizeof msg, "%s", lm_last_error());
         }
         int any = 0;
-        for (uint32_t i = 0; i < n; i++)
+        for (uint32_t j = 0; j < n; j++) {
+            uint32_t i = l->order[j];
             if (l->lanes[i].state == LANE_WAITING) {
                 l->lanes[i].post_status = failed ? failed : answer;
                 resume(l, &l->lanes[i]);
                 any = 1;
             }
+        }
         if (!any)
             break;
     }
@@ -428,17 +541,26 @@ typedef struct vmap {
     uint32_t n;
 } vmap;
 
-static uint32_t mapped(const vmap *m, uint32_t v)
+/* v's id after the replay: to[i] when a split made it as from[i], else v itself (*found 0). */
+static uint32_t mapped_found(const vmap *m, uint32_t v, int *found)
 {
+    *found = 1;
     for (uint32_t i = 0; i < m->n; i++)
         if (m->from[i] == v)
             return m->to[i];
+    *found = 0;
     return v;
 }
 
+static uint32_t mapped(const vmap *m, uint32_t v)
+{
+    int found;
+    return mapped_found(m, v, &found);
+}
+
 /* The lane's accepted operations again on the optimizer's mesh; *ok = 0 (mesh as it was) when
- * one of them no longer fits. */
-static lm_status replay_lane(lm_lanes *l, lm_lane *lane, size_t mark, int *ok)
+ * one of them no longer fits. map: the ids the lane's splits created and the ids they got. */
+static lm_status replay_lane(lm_lanes *l, lm_lane *lane, size_t mark, int *ok, vmap *map_out)
 {
     vmap map = {.n = 0};
     *ok = 1;
@@ -462,6 +584,7 @@ static lm_status replay_lane(lm_lanes *l, lm_lane *lane, size_t mark, int *ok)
             map.to[map.n++] = v;
         }
     }
+    *map_out = map;
     return LM_OK;
 }
 
@@ -480,15 +603,18 @@ static lm_status note_merged(lm_lanes *l)
     return st;
 }
 
-/* Lane's changes onto the optimizer's mesh and views. *delta the ΔE committed; *kept 0 when they
- * were rolled back (they no longer fit, or no longer pay). The first lane to change anything
- * commits with its own exact ΔE when the replay rebuilt its mesh bit for bit; every other one is
- * evaluated again against the views as the merges before it left them. */
-static lm_status merge_lane(lm_lanes *l, lm_lane *lane, int first, int *kept, int64_t *delta)
+/* Lane's changes onto the optimizer's mesh and views (the caller then notes them in the collapse
+ * queue). *delta the ΔE committed; *kept 0 when they were rolled back (they no longer fit, or no
+ * longer pay); *map the vertex ids the lane's splits created and the ids the replay gave them. The
+ * first lane to change anything commits with its own exact ΔE when the replay rebuilt its mesh bit
+ * for bit; every other one is evaluated again against the views as the merges before it left them.
+ */
+static lm_status merge_lane(lm_lanes *l, lm_lane *lane, int first, int *kept, int64_t *delta,
+                            vmap *map)
 {
     lm_optimizer *o = l->o;
     size_t mark = lm_moves_mark(o->mv);
-    lm_status st = replay_lane(l, lane, mark, kept);
+    lm_status st = replay_lane(l, lane, mark, kept, map);
     if (st != LM_OK || !*kept)
         return st;
     st = lm_patch_from_journal(&l->merged, o->mesh, lm_moves_journal(o->mv), mark);
@@ -514,8 +640,7 @@ static lm_status merge_lane(lm_lanes *l, lm_lane *lane, int first, int *kept, in
             return LM_OK;
         }
     }
-    st = o->views->ops->commit(o->views, &l->merged);
-    return st == LM_OK ? note_merged(l) : st;
+    return o->views->ops->commit(o->views, &l->merged);
 }
 
 /* The lane's accepted moves no longer count (its changes were rolled back). */
@@ -523,6 +648,84 @@ static void forget_accepted(lm_optimizer *o, const lm_lane *lane)
 {
     for (int k = 0; k < LM_MOVE_KINDS; k++)
         o->prog.accepted[k] -= lane->ctx.accepted[k];
+}
+
+/* ---- an isolated lane's own state, merged -------------------------------------------------- */
+
+/* A lane's vertex as the optimizer's mesh has it after the lane's merge: ids below the group's
+ * start count are the same; the ids its splits created are those their replays got (none when its
+ * changes were not kept). */
+typedef struct lane_ids {
+    const vmap *map; /* NULL: not kept */
+    uint32_t n_verts0;
+} lane_ids;
+
+static uint32_t lane_vertex(const void *ctx, uint32_t v)
+{
+    const lane_ids *ids = ctx;
+    int found = 0;
+    if (v < ids->n_verts0)
+        return v;
+    uint32_t m = ids->map ? mapped_found(ids->map, v, &found) : v;
+    return found ? m : UINT32_MAX;
+}
+
+/* The counters of the lane's teleport state, added to the optimizer's; its last collapse when it
+ * completed a teleport. */
+static void merge_teleport_counters(lm_lanes *l, const lm_lane *lane)
+{
+    lm_teleport *tp = &l->o->tp;
+    tp->searches += lane->tp.searches - l->tp0.searches;
+    tp->searches_failed += lane->tp.searches_failed - l->tp0.searches_failed;
+    tp->collapses_tried += lane->tp.collapses_tried - l->tp0.collapses_tried;
+    if (lane->ctx.accepted[LM_MOVE_COLLAPSE]) {
+        tp->last_collapse = lane->tp.last_collapse;
+        tp->last_time = lane->tp.last_time;
+    }
+}
+
+/* What an isolated lane did to its own copies, onto the optimizer's state (in lane order, after
+ * the lane's changes were replayed or rolled back, before the queue notes the merged patch): its
+ * statistics adds and queue changes replayed, its teleport counters, its touched vertices, its
+ * evaluations. map: the split map of its kept changes (NULL: not kept). */
+static lm_status merge_isolated(lm_lanes *l, const lm_lane *lane, const vmap *map)
+{
+    lm_optimizer *o = l->o;
+    lane_ids ids = {map, l->n_verts0};
+    lm_lane_log_replay_stats(&lane->log, &o->stats, o->tp.improve, o->tp.cfg.stats_half_life);
+    lm_status st = lm_lane_log_replay_queue(&lane->log, o->tp.queue, o->mesh, lane_vertex, &ids);
+    merge_teleport_counters(l, lane);
+    for (uint32_t i = 0; i < lane->touched.n && st == LM_OK; i++) {
+        uint32_t v = lane_vertex(&ids, lane->touched.ids[i]);
+        if (v != UINT32_MAX)
+            st = lm_idset_add(&o->it.touched, v);
+    }
+    lm_moves_set_evals(o->mv, lm_moves_evals(o->mv) + lm_moves_evals(lane->mv) - lane->evals0);
+    return st;
+}
+
+/* merge_lane with its debug line and its bookkeeping: *total and the energy when kept (the first
+ * lane kept clears *first), the lane's accepted moves taken back when not. */
+static lm_status merge_lane_logged(lm_lanes *l, lm_lane *lane, int *first, int *kept, vmap *map,
+                                   int64_t *total)
+{
+    lm_optimizer *o = l->o;
+    int64_t delta = 0;
+    lm_status st = merge_lane(l, lane, *first, kept, &delta, map);
+    char kinds[64] = "";
+    for (uint32_t q = 0; q < lane->n_recs && q < 60; q++)
+        kinds[q] = "nstc"[lane->recs[q].r.kind], kinds[q + 1] = 0;
+    lm_debug("merge lane %u: %u operations (%s), lane dE %lld, %s dE %lld", lane->index,
+             lane->n_recs, kinds, (long long)lane->views.d_acc, *kept ? "kept" : "dropped",
+             (long long)delta);
+    if (st == LM_OK && *kept) {
+        *total = delta;
+        o->prog.energy += delta;
+        *first = 0;
+    } else if (st == LM_OK) {
+        forget_accepted(o, lane);
+    }
+    return st;
 }
 
 static lm_status merge(lm_lanes *l, uint32_t n, int64_t *totals)
@@ -533,23 +736,14 @@ static lm_status merge(lm_lanes *l, uint32_t n, int64_t *totals)
     for (uint32_t i = 0; i < n && st == LM_OK; i++) {
         lm_lane *lane = &l->lanes[i];
         totals[i] = 0;
-        if (!lane->n_recs)
-            continue;
         int kept = 0;
-        int64_t delta = 0;
-        st = merge_lane(l, lane, first, &kept, &delta);
-        char kinds[64] = "";
-        for (uint32_t q = 0; q < lane->n_recs && q < 60; q++)
-            kinds[q] = "nstc"[lane->recs[q].r.kind], kinds[q + 1] = 0;
-        lm_debug("merge lane %u: %u operations (%s), lane dE %lld, %s dE %lld", i, lane->n_recs,
-                 kinds, (long long)lane->views.d_acc, kept ? "kept" : "dropped", (long long)delta);
-        if (st == LM_OK && kept) {
-            totals[i] = delta;
-            o->prog.energy += delta;
-            first = 0;
-        } else if (st == LM_OK) {
-            forget_accepted(o, lane);
-        }
+        vmap map = {.n = 0};
+        if (lane->n_recs)
+            st = merge_lane_logged(l, lane, &first, &kept, &map, &totals[i]);
+        if (st == LM_OK && l->isolated)
+            st = merge_isolated(l, lane, kept ? &map : NULL);
+        if (st == LM_OK && kept)
+            st = note_merged(l);
     }
     lm_moves_forget(o->mv);
     return st;
@@ -559,8 +753,8 @@ lm_status lm_lanes_run(lm_lanes *l, const lm_planned_edge *plan, uint32_t n, int
 {
     LM_ASSERT(n >= 1 && n <= l->k);
     lm_status st = begin_group(l, plan, n);
-    for (uint32_t i = 0; i < n && st == LM_OK; i++)
-        resume(l, &l->lanes[i]);
+    for (uint32_t j = 0; j < n && st == LM_OK; j++)
+        resume(l, &l->lanes[l->order[j]]);
     if (st == LM_OK)
         st = run_rounds(l, n);
     l->o->tp.veto = NULL;

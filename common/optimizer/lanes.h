@@ -16,7 +16,18 @@
  * against the state the merges before it left (re-validated) and committed only if it still pays
  * (ΔE < 0, or no worse than the lane found), else rolled back. Fibers never run concurrently, so
  * the optimizer's statistics, collapse queue and counters are shared without locks and without
- * races; a handoff costs no system call. */
+ * races; a handoff costs no system call.
+ *
+ * Isolated lanes (lm_params.lane_isolation): each lane sees only the group's start and its own
+ * actions, so that its decisions do not depend on the other lanes (nor on which process runs it):
+ * at the group's start it takes its own copies of the clock (then the start + its own
+ * evaluations), the statistics, the teleport state with the collapse queue, and sees only the
+ * group's start stamps (its accepted collapses claim nothing for the others). The merge, in lane
+ * order, first replays or rolls back the lane's operations as above, then replays its logs onto
+ * the optimizer: statistics adds and improve[] adds, the queue changes (vertex ids through the
+ * split map, dropped where the edge is not in the merged mesh), the teleport's last collapse (of
+ * the last lane that completed one), the counters, the touched vertices (mapped), its evaluations;
+ * then the queue notes the merged patch. */
 #ifndef LM_COMMON_OPTIMIZER_LANES_H
 #define LM_COMMON_OPTIMIZER_LANES_H
 
@@ -41,5 +52,9 @@ uint32_t lm_lanes_group(lm_lanes *l, lm_planned_edge *plan, uint32_t n);
 /* Optimise plan[0..n) (a group) and merge; totals[i] the ΔE edge i's lane committed (0 when its
  * changes were rolled back at the merge). */
 lm_status lm_lanes_run(lm_lanes *l, const lm_planned_edge *plan, uint32_t n, int64_t *totals);
+
+/* For tests: the order in which the lanes of each group run and send their requests (0 lane
+ * order, 1 reversed, else a shuffle seeded by it); the merge stays in lane order. */
+void lm_lanes_set_run_order(lm_lanes *l, uint64_t order);
 
 #endif

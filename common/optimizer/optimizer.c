@@ -181,6 +181,7 @@ lm_status lm_optimizer_create_tuned(lm_mesh *mesh, lm_views *views, const lm_par
         o->params.simplex_evals_per_dim = 32;
     if (!o->params.edges_in_flight)
         o->params.edges_in_flight = 1;
+    o->params.lane_isolation = o->params.lane_isolation && o->params.edges_in_flight > 1;
     if (o->params.edges_per_iteration > 1u << 20 || o->params.simplex_evals_per_dim > 1u << 16 ||
         o->params.edges_in_flight > LM_MAX_EDGES_IN_FLIGHT) {
         lm_optimizer_destroy(o); /* the mesh was taken: it goes too */
@@ -352,6 +353,12 @@ static void edge_done(lm_iteration *it, const lm_planned_edge *e, int64_t total)
     it->count[src]++;
     if (total >= 0)
         it->no_progress[it->n_no_progress++] = lm_edge_key(e->a, e->b);
+}
+
+void lm_optimizer_set_lane_order(lm_optimizer *opt, uint64_t order)
+{
+    if (opt->lanes)
+        lm_lanes_set_run_order(opt->lanes, order);
 }
 
 /* The next planned edges: one on the optimizer's mesh, or a group in flight in the lanes. */

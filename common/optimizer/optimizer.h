@@ -30,9 +30,14 @@ typedef struct lm_params {
                                  0 = 1, the paper's order; at most LM_MAX_EDGES_IN_FLIGHT. A job
                                  parameter (kept in checkpoints), never the number of workers: the
                                  output depends on it and on nothing else of the machinery */
-    const lm_mesh *surface;   /* the original (borrowed, must outlive the optimizer): the surface of
-                                 the geometric term (surface_term.h, weight lm_tuning.surface_weight);
-                                 NULL = no geometric term */
+    uint32_t
+        lane_isolation;     /* 1: with edges in flight, each lane sees only its group's start and
+                               its own actions, merged in lane order afterwards (lanes.h), so a
+                               lane could run in another process; 0 = shared, today's (the
+                               default). Ignored (0) with one edge in flight; kept in checkpoints */
+    const lm_mesh *surface; /* the original (borrowed, must outlive the optimizer): the surface of
+                               the geometric term (surface_term.h, weight lm_tuning.surface_weight);
+                               NULL = no geometric term */
 } lm_params;
 
 #define LM_MAX_EDGES_IN_FLIGHT 64u
@@ -74,6 +79,11 @@ lm_status lm_optimizer_step(lm_optimizer *opt, uint64_t max_evals);
 lm_status lm_optimizer_replace_views(lm_optimizer *opt, lm_views *views, int rescale_start);
 
 void lm_optimizer_progress(const lm_optimizer *opt, lm_progress *out);
+
+/* For tests: the order in which the lanes of each group of edges in flight run (0 lane order, 1
+ * reversed, else a shuffle seeded by it; the merge stays in lane order). With lane_isolation the
+ * output does not depend on it. No effect with one edge in flight. */
+void lm_optimizer_set_lane_order(lm_optimizer *opt, uint64_t order);
 /* The current mesh (owned by the optimizer; valid until the next step/destroy). */
 const lm_mesh *lm_optimizer_mesh(const lm_optimizer *opt);
 

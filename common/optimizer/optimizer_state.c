@@ -363,6 +363,13 @@ static uint32_t tuning_values(const lm_tuning *t, double *v)
     return n;
 }
 
+/* Edges in flight as saved: their count, the top bit set with isolated lanes (a state without
+ * them keeps its bytes). */
+static uint32_t in_flight_word(const lm_optimizer *o)
+{
+    return o->params.edges_in_flight | (o->params.lane_isolation ? 1u << 31 : 0);
+}
+
 static void save_params(lm_bin *b, const lm_optimizer *o)
 {
     lm_put_bytes(b, OPT_MAGIC, 8);
@@ -372,7 +379,7 @@ static void save_params(lm_bin *b, const lm_optimizer *o)
     lm_put_u32(b, o->attrs);
     lm_put_u32(b, o->params.edges_per_iteration);
     lm_put_u32(b, o->params.simplex_evals_per_dim);
-    lm_put_u32(b, o->params.edges_in_flight);
+    lm_put_u32(b, in_flight_word(o));
     double v[32];
     uint32_t n = tuning_values(&o->tuning, v);
     lm_put_u32(b, n);
@@ -397,7 +404,7 @@ static lm_status check_params(lm_bin *b, const lm_optimizer *o)
         return b->status;
     if (seed != o->params.seed || p[0] != o->params.attrs || p[1] != o->attrs ||
         p[2] != o->params.edges_per_iteration || p[3] != o->params.simplex_evals_per_dim ||
-        p[4] != o->params.edges_in_flight)
+        p[4] != in_flight_word(o))
         return lm_bin_bad(b, "written with other optimizer parameters (seed, attrs, edges per "
                              "iteration, simplex limit or edges in flight)");
     double v[32];

@@ -9,6 +9,7 @@
 #include "common/grow.h"
 #include "common/mesh_topology.h"
 #include "common/optimizer/binio.h"
+#include "common/optimizer/lane_log.h"
 
 typedef struct search {
     lm_teleport *tp;
@@ -141,9 +142,13 @@ static lm_status attempt(search *s, const lm_cq_entry *e, int L, int64_t accept_
     if (!r.legal)
         return lm_cq_set(tp->queue, e->a, e->b, INT64_MAX, 3, 0);
     uint64_t now = lm_moves_clock(s->mv);
-    if (e->level >= 0 && L == e->level + 1 && e->est != INT64_MAX)
-        lm_stat_add(&tp->improve[e->level], (double)r.delta - (double)e->est, r.evals, now,
-                    tp->cfg.stats_half_life);
+    if (e->level >= 0 && L == e->level + 1 && e->est != INT64_MAX) {
+        double x = (double)r.delta - (double)e->est;
+        lm_stat_add(&tp->improve[e->level], x, r.evals, now, tp->cfg.stats_half_life);
+        if (tp->log &&
+            (st = lm_lane_log_add(tp->log, LM_LANE_LOG_IMPROVE, e->level, x, r.evals, now)))
+            return st;
+    }
     if (r.accepted) {
         s->found = 1;
         s->found_delta = r.delta;

@@ -17,6 +17,8 @@
 #include "common/optimizer/move_stats.h"
 #include "common/optimizer/moves.h"
 
+struct lm_lane_log; /* lane_log.h */
+
 typedef struct lm_teleport_config {
     double threshold_half_life; /* evaluations for the collapse-cost estimate to halve; 0 = 20000 */
     double stats_half_life;     /* of the level-improvement statistics; 0 = 50000 */
@@ -34,6 +36,9 @@ typedef struct lm_teleport {
      * keep each lane's collapses out of the other lanes' neighbourhoods (lanes.c). */
     int (*veto)(void *ctx, uint32_t a, uint32_t b);
     void *veto_ctx;
+    /* When set (an isolated lane's copy of the state, lanes.c): improve[]'s adds are logged there
+     * too, for the merge to replay. */
+    struct lm_lane_log *log;
 } lm_teleport;
 
 typedef struct lm_teleport_result {

@@ -24,7 +24,8 @@ static const char co_optimize_help[] =
     "                       [--checkpoint FILE [--checkpoint-every N|Ns]] [--resume FILE]\n"
     "                       [--attrs pos,normal,uv,color] [--device D] [--json] [--report DIR]\n"
     "                       [--workers N] [--listen tcp://ADDR:PORT] [--renderer ID]\n"
-    "                       [--edges-in-flight K] [--keys DIR] [--save-initial FILE]\n"
+    "                       [--edges-in-flight K [--lanes shared|isolated]] [--keys DIR]\n"
+    "                       [--save-initial FILE]\n"
     "                       [--surface-weight W | --surface-share S] [--regrid-every N]\n"
     "                       [--energy image|geometric|image+geometric] [--c-rep C]\n"
     "                       [--geo-improvements LIST] [--geo-start-multiple K]\n"
@@ -147,6 +148,10 @@ static const char co_optimize_help[] =
     "                          work per round trip to the workers; default %u, the paper's\n"
     "                          order). Part of the job: it changes the output (a --resume must\n"
     "                          give the same K), the number of workers never does\n"
+    "  --lanes MODE            how those K edges see each other: shared (default: each sees the\n"
+    "                          others' statistics, clock and collapse queue as they go) or\n"
+    "                          isolated (each sees only the group's start and its own moves,\n"
+    "                          merged in order afterwards). Part of the job, like K\n"
     "  --keys DIR              CURVE keys (lumesh keygen): workers' connections encrypted and\n"
     "                          authenticated, only keys in DIR/workers.allow admitted; needed to\n"
     "                          --listen beyond this machine\n"
@@ -216,6 +221,18 @@ static int parse_start(void *to, const char *val)
         o->start = CO_JOB_START_ADAPTIVE;
     else
         return co_cli_usage_error(CMD, "--start expects image, qem or adaptive, got '%s'", val);
+    return -1;
+}
+
+static int parse_lanes(void *to, const char *val)
+{
+    co_job_options *o = to;
+    if (!strcmp(val, "shared"))
+        o->lane_isolation = 0;
+    else if (!strcmp(val, "isolated"))
+        o->lane_isolation = 1;
+    else
+        return co_cli_usage_error(CMD, "--lanes expects shared or isolated, got '%s'", val);
     return -1;
 }
 
@@ -349,6 +366,7 @@ static int parse_args(int argc, char **argv, optimize_args *a)
         CO_OPT_STR("renderer", 0, &o->renderer),
         CO_OPT_STR("report", 0, &a->report_dir),
         CO_OPT_U32("edges-in-flight", 0, &o->edges_in_flight, 1, LM_MAX_EDGES_IN_FLIGHT),
+        CO_OPT_CALL("lanes", 0, parse_lanes, o),
         CO_OPT_STR("keys", 0, &o->keys),
         CO_OPT_STR("save-initial", 0, &o->initial_output_path),
         CO_OPT_FLAG("cull-unseen", 0, &o->cull_unseen),

@@ -645,6 +645,7 @@ static lm_status make_optimizer(co_job *j)
     lm_params params = {.seed = j->o.seed,
                         .attrs = j->attrs,
                         .edges_in_flight = j->o.edges_in_flight,
+                        .lane_isolation = j->o.lane_isolation,
                         .surface = j->original};
     /* From an image start the term keeps the weight the collapses were priced with (the share of
        QEM's mesh), as from a QEM start: one energy from the original to the result. */

@@ -102,6 +102,7 @@ typedef struct co_job_options {
     const char *keys;     /* CURVE key folder for the workers' connections (proto/keys.h) */
     uint32_t
         edges_in_flight;     /* edges optimised at once (lm_params); 0 = CO_JOB_DEFAULT_IN_FLIGHT */
+    uint32_t lane_isolation; /* 1: those edges' lanes isolated (lm_params.lane_isolation) */
     double surface_weight;   /* the optimizer's geometric term (lm_tuning.surface_weight): 0 =
                                 default, CO_JOB_NONE = none */
     double surface_share;    /* its weight relative to the start (lm_tuning.surface_share): 0 =

@@ -5,7 +5,8 @@
 # coordinator or by the workers), after a resume
 # on another number of workers, with a pixel grid that moves (--regrid-every: new targets on the
 # same workers, resumed across a draw), and in cluster mode (--listen) with a worker that joins late, one
-# that joins mid-run, and a long-lived worker serving two jobs in a row. One renderer per job:
+# that joins mid-run, and a long-lived worker serving two jobs in a row. Isolated lanes (--lanes
+# isolated) give the same bytes in process and on 3 workers, and a resume refuses the other mode. One renderer per job:
 # llvmpipe at 128 bits is the same renderer and is accepted; softpipe draws other pixels and is
 # refused with the reason. --device cpu (lumesh's CPU rasteriser) gives the same bytes in process,
 # in local workers and in a worker started by hand, and a job pinned to its renderer id refuses an
@@ -82,6 +83,19 @@ no_workers_left "after the runs"
 same "resumed on 3 workers" "$tmp/k4-w0.glb" "$tmp/resumed.glb"
 expect_fail_line "$LUMESH" optimize "$bunny" -o "$tmp/x.glb" "${job[@]}" --edges-in-flight 2 \
   --workers 0 --resume "$tmp/ck"
+
+# -- isolated lanes (--lanes isolated): the same bytes in process and on 3 workers (at this budget
+# also those of shared lanes: their decisions part later); a resume must give the same lane mode;
+# a mode that does not exist: one line --
+for w in 0 3; do
+  "$LUMESH" optimize "$bunny" -o "$tmp/iso-w$w.glb" "${job[@]}" --edges-in-flight 4 \
+    --lanes isolated --workers "$w" 2>"$tmp/err" || fail "isolated lanes, $w workers: $(tail -1 "$tmp/err")"
+done
+same "isolated lanes, 3 workers" "$tmp/iso-w0.glb" "$tmp/iso-w3.glb"
+expect_fail_line "$LUMESH" optimize "$bunny" -o "$tmp/x.glb" "${job[@]}" --edges-in-flight 4 \
+  --lanes isolated --workers 0 --resume "$tmp/ck"
+expect_fail_line "$LUMESH" optimize "$bunny" -o "$tmp/x.glb" "${job[@]}" --edges-in-flight 4 \
+  --lanes parallel
 
 # -- a pixel grid that moves (--regrid-every): new targets on the same workers, the same bytes in
 # process and on 2 workers, and resumed across a draw on another count --
