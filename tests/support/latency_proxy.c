@@ -407,6 +407,12 @@ static void on_event(proxy *px, end *e, uint32_t events)
         kill_pair(px, p, 1);
         return;
     }
+    if ((events & EPOLLHUP) && p->dir[s].eof && !p->dir[1 - s].shut) {
+        /* Closed (reset or timed out) before its queued bytes were due: they cannot be delivered,
+         * and epoll would report the hang-up on every wait until they were (a busy loop). */
+        kill_pair(px, p, 1);
+        return;
+    }
     if (events & EPOLLOUT)
         p->dir[1 - s].blocked = 0;
     if (events & (EPOLLIN | EPOLLHUP))
