@@ -57,4 +57,8 @@ lm_status lm_lanes_run(lm_lanes *l, const lm_planned_edge *plan, uint32_t n, int
  * order, 1 reversed, else a shuffle seeded by it); the merge stays in lane order. */
 void lm_lanes_set_run_order(lm_lanes *l, uint64_t order);
 
+/* lm_optimizer_set_lanes_detached, lm_optimizer_lane_traffic. */
+lm_status lm_lanes_set_detached(lm_lanes *l, int on);
+void lm_lanes_traffic(const lm_lanes *l, lm_lane_traffic *out);
+
 #endif
