@@ -402,7 +402,7 @@ static void get_logs(wire *w, uint32_t n_verts, lm_lane_result *r)
     uint32_t n = get_count(w, 4, UINT32_MAX, "touched vertices");
     for (uint32_t i = 0; i < n && w->b.status == LM_OK; i++) {
         uint32_t v = lm_get_u32(&w->b);
-        get_check(w, lane_id(v, n_verts), "touched vertex", i);
+        get_check(w, lane_id(v, n_verts) && !lm_idset_has(&r->touched, v), "touched vertex", i);
         if (w->b.status == LM_OK && lm_idset_add(&r->touched, v) != LM_OK)
             w->b.status = LM_E_NOMEM;
     }
