@@ -27,7 +27,9 @@
  * the optimizer: statistics adds and improve[] adds, the queue changes (vertex ids through the
  * split map, dropped where the edge is not in the merged mesh), the teleport's last collapse (of
  * the last lane that completed one), the counters, the touched vertices (mapped), its evaluations;
- * then the queue notes the merged patch. */
+ * then the queue notes the merged patch. What the merge takes of a lane is its lm_lane_result
+ * (lane_work.h) alone; an isolated lane can also run away from the optimizer from an
+ * lm_lane_request (lane_host.h, lm_lanes_set_detached) and merge to the same bytes. */
 #ifndef LM_COMMON_OPTIMIZER_LANES_H
 #define LM_COMMON_OPTIMIZER_LANES_H
 
