@@ -16,6 +16,11 @@ static lm_teleport *tp_of(const lm_edge_ctx *c)
     return c->tp ? c->tp : &c->o->tp;
 }
 
+static lm_progress *prog_of(const lm_edge_ctx *c)
+{
+    return c->prog ? c->prog : &c->o->prog;
+}
+
 /* ---- one operation --------------------------------------------------------------------------- */
 
 typedef struct op_outcome {
@@ -26,12 +31,12 @@ typedef struct op_outcome {
 
 static lm_status run_teleport(lm_edge_ctx *c, int level, uint32_t a, uint32_t b, op_outcome *r)
 {
-    lm_optimizer *o = c->o;
+    lm_progress *prog = prog_of(c);
     lm_teleport_result t;
     lm_status st = lm_teleport_try(tp_of(c), c->mv, level, a, b, &t);
     *r = (op_outcome){t.legal, t.accepted, t.accepted ? t.delta : 0, t.evals};
-    o->prog.attempted[LM_MOVE_COLLAPSE] += t.collapse_attempts;
-    o->prog.accepted[LM_MOVE_COLLAPSE] += t.accepted ? 1 : 0;
+    prog->attempted[LM_MOVE_COLLAPSE] += t.collapse_attempts;
+    prog->accepted[LM_MOVE_COLLAPSE] += t.accepted ? 1 : 0;
     c->accepted[LM_MOVE_COLLAPSE] += t.accepted ? 1 : 0;
     return st;
 }
@@ -56,7 +61,7 @@ static lm_status mark_touched(lm_edge_ctx *c, uint32_t a, uint32_t b)
 static lm_status run_op(lm_edge_ctx *c, lm_move_kind kind, int level, uint32_t a, uint32_t b,
                         op_outcome *r)
 {
-    lm_optimizer *o = c->o;
+    lm_progress *prog = prog_of(c);
     lm_status st;
     if (kind == LM_MOVE_SPLIT) {
         st = run_teleport(c, level, a, b, r);
@@ -75,11 +80,11 @@ static lm_status run_op(lm_edge_ctx *c, lm_move_kind kind, int level, uint32_t a
         st = mark_touched(c, a, b);
     if (st || !r->legal)
         return st;
-    o->prog.attempted[kind]++;
-    o->prog.accepted[kind] += r->accepted ? 1 : 0;
+    prog->attempted[kind]++;
+    prog->accepted[kind] += r->accepted ? 1 : 0;
     c->accepted[kind] += r->accepted ? 1 : 0;
     if (!c->deferred)
-        o->prog.energy += r->delta;
+        prog->energy += r->delta;
     uint64_t now = lm_moves_clock(c->mv);
     lm_move_stats_add(stats_of(c), kind, level, (double)r->delta, r->evals, now);
     return c->log ? lm_lane_log_add(c->log, kind, level, (double)r->delta, r->evals, now) : LM_OK;

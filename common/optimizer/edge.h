@@ -9,8 +9,9 @@ struct lm_lane_log; /* lane_log.h */
 
 /* Where an edge is optimised: the optimizer (statistics, collapse queue, counters), the mesh the
  * moves act on and their workspace. An isolated lane (lanes.h) gives its own copies of the
- * statistics, the teleport state and the touched set, and a log of its statistics adds; NULL
- * fields are the optimizer's own. */
+ * statistics, the teleport state, the touched set and the progress counters, and a log of its
+ * statistics adds; NULL fields are the optimizer's own (o may be NULL when none is: a lane run
+ * away from the optimizer, lane_host.h). */
 typedef struct lm_edge_ctx {
     lm_optimizer *o;
     lm_mesh *mesh;
@@ -19,7 +20,8 @@ typedef struct lm_edge_ctx {
     lm_teleport *tp;
     lm_idset *touched;
     struct lm_lane_log *log;
-    int deferred;                     /* a lane: energy is counted when its changes are merged */
+    lm_progress *prog; /* where attempted[]/accepted[] are counted (NULL: the optimizer's) */
+    int deferred;      /* a lane: energy is counted when its changes are merged */
     uint64_t accepted[LM_MOVE_KINDS]; /* moves accepted through this context */
 } lm_edge_ctx;
 

@@ -133,7 +133,8 @@ static lm_status lv_evaluate(lm_views *base, const lm_patch *patches, uint32_t n
         st = compose(&v->acc, &patches[i], &v->req[i]);
     v->n_req = n;
     if (st == LM_OK)
-        st = lm_lane_post(v->lane);
+        st = v->direct ? v->direct->ops->evaluate(v->direct, v->req, n, v->res)
+                       : lm_lane_post(v->lane);
     for (uint32_t i = 0; i < n && st == LM_OK; i++)
         delta[i] = v->res[i] - v->d_acc;
     return st;

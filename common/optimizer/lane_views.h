@@ -23,7 +23,9 @@ typedef struct lm_lane lm_lane; /* lanes.c */
 typedef struct lm_lane_views {
     lm_views base;
     lm_lane *lane;
-    lm_views *real;           /* for info */
+    lm_views *real;   /* for info */
+    lm_views *direct; /* when set, evaluate asks it at once (a lane run on its own, lane_host.h)
+                         instead of handing the request to the lanes' scheduler */
     const lm_tri_data *start; /* the group's start, sorted by id (shared, read only) */
     size_t n_start;
     lm_patch acc, tmp; /* start -> the lane's mesh; removed and added sorted by id */

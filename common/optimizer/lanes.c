@@ -11,20 +11,15 @@
 #include "common/mesh_topology.h"
 #include "common/optimizer/edge.h"
 #include "common/optimizer/fiber.h"
+#include "common/optimizer/lane_host.h"
 #include "common/optimizer/lane_log.h"
 #include "common/optimizer/lane_views.h"
+#include "common/optimizer/lane_wire.h"
 
 #define GROUP_RINGS 2  /* edges whose vertices lie within this many rings of each other wait */
 #define GROUP_WINDOW 4 /* a group is chosen among the next GROUP_WINDOW x K planned edges */
 
 enum { LANE_IDLE, LANE_RUNNING, LANE_WAITING, LANE_DONE };
-
-/* An accepted operation kept for the merge, with the lane's ΔE before it (to undo on a revert). */
-typedef struct lane_record {
-    lm_move_record r;
-    size_t x_at;     /* its parameters in the lane's pool */
-    int64_t d_acc_0; /* the lane's ΔE before it */
-} lane_record;
 
 struct lm_lane {
     lm_lanes *owner;
@@ -37,21 +32,14 @@ struct lm_lane {
     lm_lane_views views;
     lm_edge_ctx ctx;
     uint32_t a, b;
-    int64_t total;
-    lm_status st;
-    char msg[512];
-    lane_record *recs;
-    uint32_t n_recs, cap_recs;
-    double *xs;
-    size_t n_xs, cap_xs;
+    lm_lane_result res; /* what the merge takes: its operations, ΔE, logs, counters */
     /* isolated lanes (lm_params.lane_isolation): the lane's own copies of what lanes otherwise
-     * share, taken at the group's start, and the logs the merge replays */
+     * share, taken at the group's start (its logs and touched set are in res) */
     lm_move_stats stats;
-    lm_teleport tp; /* its own collapse queue, veto and log */
-    lm_idset touched;
-    lm_lane_log log;
-    uint64_t clock;  /* the group's start + the lane's own evaluations */
-    uint64_t evals0; /* the lane's moves' evaluations at the group's start */
+    lm_teleport tp;   /* its own collapse queue, veto and log */
+    lm_progress prog; /* its attempted[]/accepted[] */
+    uint64_t clock;   /* the group's start + the lane's own evaluations */
+    uint64_t evals0;  /* the lane's moves' evaluations at the group's start */
 };
 
 struct lm_lanes {
@@ -76,6 +64,10 @@ struct lm_lanes {
     uint64_t run_order; /* lm_lanes_set_run_order */
     uint64_t groups;    /* groups run, for the shuffle */
     uint32_t *order;    /* [k] the order the lanes of the group run in */
+    /* test only (lm_lanes_set_detached): isolated lanes run on a host of their own through
+     * their wire messages */
+    lm_lane_host *host;
+    lm_lane_traffic traffic;
 };
 
 /* ---- the baton ------------------------------------------------------------------------------- */
@@ -101,12 +93,33 @@ lm_status lm_lane_post(lm_lane *lane)
     return st ? lm_fail(st, "the lanes' batch failed") : LM_OK;
 }
 
+/* The lane's result besides its operations and logs (kept as they came). */
+static void finish_edge(lm_lane *lane)
+{
+    lm_lane_result *res = &lane->res;
+    const lm_lanes *l = lane->owner;
+    res->d_acc = lane->views.d_acc;
+    res->mesh_hash = res->n_ops ? lm_mesh_hash(lane->mesh) : 0;
+    memcpy(res->accepted, lane->ctx.accepted, sizeof res->accepted);
+    if (!l->isolated)
+        return;
+    res->evals = lm_moves_evals(lane->mv) - lane->evals0;
+    memcpy(res->attempted, lane->prog.attempted, sizeof res->attempted);
+    res->searches = lane->tp.searches - l->tp0.searches;
+    res->searches_failed = lane->tp.searches_failed - l->tp0.searches_failed;
+    res->collapses_tried = lane->tp.collapses_tried - l->tp0.collapses_tried;
+    res->last_collapse = lane->tp.last_collapse;
+    res->last_time = lane->tp.last_time;
+}
+
 static void run_edge(lm_lane *lane)
 {
-    lane->total = 0;
-    lane->st = lm_edge_optimise(&lane->ctx, lane->a, lane->b, &lane->total);
-    if (lane->st != LM_OK)
-        snprintf(lane->msg, sizeof lane->msg, "%s", lm_last_error());
+    lm_lane_result *res = &lane->res;
+    res->total = 0;
+    res->status = lm_edge_optimise(&lane->ctx, lane->a, lane->b, &res->total);
+    if (res->status != LM_OK)
+        snprintf(res->msg, sizeof res->msg, "%s", lm_last_error());
+    finish_edge(lane);
 }
 
 /* A lane's fiber: one edge each time the scheduler starts it (it never returns). */
@@ -150,12 +163,7 @@ static int lane_veto(void *ctx, uint32_t a, uint32_t b)
 static int isolated_veto(void *ctx, uint32_t a, uint32_t b)
 {
     const lm_lane *lane = ctx;
-    uint32_t n = lane->owner->n_group;
-    uint64_t k = a < b ? (uint64_t)a << 32 | b : (uint64_t)b << 32 | a;
-    k ^= k >> 33;
-    k *= 0xff51afd7ed558ccdull;
-    k ^= k >> 33;
-    return lane_veto(ctx, a, b) || (n > 1 && k % n != lane->index);
+    return lane_veto(ctx, a, b) || !lm_lane_share(a, b, lane->owner->n_group, lane->index);
 }
 
 /* A collapse the lane accepted: its vertices and the ring around them become the lane's (where no
@@ -191,41 +199,33 @@ static void on_accepted(void *ctx, const lm_move_record *r)
     lane->views.pending = r->delta;
     if (r->kind == LM_MOVE_COLLAPSE && !lane->owner->isolated)
         claim_collapse(lane, r->a, r->b);
-    bool grown = LM_GROW32(&lane->recs, &lane->cap_recs, (size_t)lane->n_recs + 1, 16) &&
-                 LM_GROW(&lane->xs, &lane->cap_xs, lane->n_xs + r->dim, 1024);
-    LM_ASSERT(grown);
-    memcpy(lane->xs + lane->n_xs, r->x, (size_t)r->dim * sizeof *r->x);
-    lane->recs[lane->n_recs++] = (lane_record){*r, lane->n_xs, lane->views.d_acc};
-    lane->n_xs += r->dim;
+    lm_status st = lm_lane_result_accepted(&lane->res, r, lane->views.d_acc);
+    LM_ASSERT(st == LM_OK);
 }
 
 /* A revert to journal position mark: the operations after it are forgotten with their ΔE. */
 static void on_reverted(void *ctx, size_t mark)
 {
     lm_lane *lane = ctx;
-    while (lane->n_recs && lane->recs[lane->n_recs - 1].r.mark >= mark) {
-        lane_record *r = &lane->recs[--lane->n_recs];
-        lane->views.d_acc = r->d_acc_0;
-        lane->n_xs = r->x_at;
-    }
+    lane->views.d_acc = lm_lane_result_reverted(&lane->res, mark, lane->views.d_acc);
 }
 
 /* ---- creation -------------------------------------------------------------------------------- */
 
-/* An isolated lane: its own clock, statistics, teleport state (queue, veto, log), touched set. */
+/* An isolated lane: its own clock, statistics, teleport state (queue, veto, log), touched set,
+ * progress counters. */
 static lm_status isolate(lm_lanes *l, lm_lane *lane)
 {
-    lm_idset_init(&lane->touched);
-    lm_lane_log_init(&lane->log);
     lm_status st = lm_teleport_init(&lane->tp, &l->o->tp.cfg, NULL);
     if (st)
         return st;
-    lm_cq_observe(lane->tp.queue, lm_lane_log_queue, &lane->log);
+    lm_cq_observe(lane->tp.queue, lm_lane_log_queue, &lane->res.log);
     lm_moves_share_clock(lane->mv, &lane->clock);
     lane->ctx.stats = &lane->stats;
     lane->ctx.tp = &lane->tp;
-    lane->ctx.touched = &lane->touched;
-    lane->ctx.log = &lane->log;
+    lane->ctx.touched = &lane->res.touched;
+    lane->ctx.log = &lane->res.log;
+    lane->ctx.prog = &lane->prog;
     return LM_OK;
 }
 
@@ -233,6 +233,7 @@ static lm_status lane_init(lm_lanes *l, lm_lane *lane)
 {
     lane->owner = l;
     lane->index = (uint32_t)(lane - l->lanes);
+    lm_lane_result_init(&lane->res);
     lm_lane_views_init(&lane->views, lane, l->o->views);
     lm_status st = lm_mesh_create(&lane->mesh);
     if (st == LM_OK)
@@ -287,11 +288,9 @@ static void lane_free(lm_lanes *l, lm_lane *lane)
     lm_moves_destroy(lane->mv);
     lm_mesh_destroy(lane->mesh);
     lm_lane_views_free(&lane->views);
-    free(lane->recs);
-    free(lane->xs);
-    lm_teleport_free(&lane->tp);
-    lm_idset_free(&lane->touched);
-    lm_lane_log_free(&lane->log);
+    lm_lane_result_free(&lane->res);
+    if (lane->tp.queue)
+        lm_teleport_free(&lane->tp);
 }
 
 void lm_lanes_destroy(lm_lanes *l)
@@ -309,6 +308,7 @@ void lm_lanes_destroy(lm_lanes *l)
     free(l->stamp);
     free(l->queue);
     lm_patch_free(&l->merged);
+    lm_lane_host_destroy(l->host);
     free(l);
 }
 
@@ -396,12 +396,11 @@ static lm_status snapshot(lm_lanes *l, lm_lane *lane)
     lane->tp.queue = q;
     lane->tp.veto = isolated_veto;
     lane->tp.veto_ctx = lane;
-    lane->tp.log = &lane->log;
+    lane->tp.log = &lane->res.log;
     lane->stats = o->stats;
     lane->clock = lm_moves_clock(o->mv);
     lane->evals0 = lm_moves_evals(lane->mv);
-    lm_lane_log_clear(&lane->log);
-    lm_idset_clear(&lane->touched);
+    memset(&lane->prog, 0, sizeof lane->prog);
     return lm_cq_copy(q, o->tp.queue);
 }
 
@@ -441,15 +440,15 @@ static lm_status begin_group(lm_lanes *l, const lm_planned_edge *plan, uint32_t 
     lm_status st = lm_mesh_export_tris(l->o->mesh, &l->start, &l->n_start);
     for (uint32_t i = 0; i < n && st == LM_OK; i++) {
         lm_lane *lane = &l->lanes[i];
+        lm_lane_result_clear(&lane->res);
+        lane->a = plan[i].a;
+        lane->b = plan[i].b;
+        if (l->host)
+            continue; /* run detached: the lane's fiber, mesh and copies stay idle */
         st = lm_mesh_copy_geometry(lane->mesh, l->o->mesh);
         lm_lane_views_reset(&lane->views, l->start, l->n_start);
         lm_moves_forget(lane->mv);
-        lane->n_recs = 0;
-        lane->n_xs = 0;
         memset(lane->ctx.accepted, 0, sizeof lane->ctx.accepted);
-        lane->a = plan[i].a;
-        lane->b = plan[i].b;
-        lane->st = LM_OK;
         lane->post_status = LM_OK;
         if (st == LM_OK && l->isolated)
             st = snapshot(l, lane);
@@ -533,6 +532,100 @@ static lm_status run_rounds(lm_lanes *l, uint32_t n)
     return failed ? lm_fail(failed, "%s", msg) : LM_OK;
 }
 
+/* ---- lanes run detached (lm_lanes_set_detached) --------------------------------------------- */
+
+lm_status lm_lanes_set_detached(lm_lanes *l, int on)
+{
+    if (!on || !l->isolated) {
+        lm_lane_host_destroy(l->host);
+        l->host = NULL;
+        return LM_OK;
+    }
+    return l->host ? LM_OK : lm_lane_host_create(&l->o->moves_cfg, &l->host);
+}
+
+void lm_lanes_traffic(const lm_lanes *l, lm_lane_traffic *out)
+{
+    *out = l->traffic;
+}
+
+/* Lane i of the group of n as a request: what it reads of the optimizer's state at the start. */
+static lm_status make_request(lm_lanes *l, uint32_t i, uint32_t n, lm_lane_request *q)
+{
+    const lm_optimizer *o = l->o;
+    const lm_lane *lane = &l->lanes[i];
+    *q = (lm_lane_request){.index = i,
+                           .n_group = n,
+                           .a = lane->a,
+                           .b = lane->b,
+                           .n_verts = o->mesh->n_verts,
+                           .clock = lm_moves_clock(o->mv),
+                           .vetoed = q->vetoed,
+                           .cap_vetoed = q->cap_vetoed,
+                           .stats = o->stats,
+                           .tp_cfg = o->tp.cfg,
+                           .last_collapse = o->tp.last_collapse,
+                           .last_time = o->tp.last_time};
+    memcpy(q->improve, o->tp.improve, sizeof q->improve);
+    lm_status st = LM_OK;
+    for (uint32_t v = 0; v < q->n_verts && st == LM_OK; v++)
+        if (others(lane, v))
+            st = lm_lane_request_veto(q, v);
+    return st ? st : lm_cq_export(o->tp.queue, &q->queue, &q->n_queue);
+}
+
+static void count_traffic(lm_lane_traffic *t, size_t request, size_t result, uint64_t evals)
+{
+    t->lanes++;
+    t->request_bytes += request;
+    t->result_bytes += result;
+    t->request_max = request > t->request_max ? request : t->request_max;
+    t->result_max = result > t->result_max ? result : t->result_max;
+    t->evals += evals;
+}
+
+/* Lane i: request -> bytes -> request -> the host's run -> result -> bytes -> the lane's result. */
+static lm_status run_one_detached(lm_lanes *l, uint32_t i, uint32_t n, lm_lane_request *q,
+                                  lm_lane_request *wq, lm_lane_result *wr)
+{
+    uint8_t *buf = NULL, *back = NULL;
+    size_t len = 0, len_back = 0;
+    lm_status st = make_request(l, i, n, q);
+    if (st == LM_OK)
+        st = lm_lane_request_encode(q, &buf, &len);
+    free(q->queue);
+    q->queue = NULL;
+    if (st == LM_OK)
+        st = lm_lane_request_decode(buf, len, wq);
+    if (st == LM_OK) {
+        lm_lane_host_run(l->host, l->o->mesh, l->o->views, wq, wr); /* failure: in wr */
+        st = lm_lane_result_encode(wr, &back, &len_back);
+    }
+    if (st == LM_OK)
+        st = lm_lane_result_decode(back, len_back, wq->n_verts, &l->lanes[i].res);
+    if (st == LM_OK)
+        count_traffic(&l->traffic, len, len_back, l->lanes[i].res.evals);
+    free(buf);
+    free(back);
+    return st;
+}
+
+static lm_status run_detached(lm_lanes *l, uint32_t n)
+{
+    lm_lane_request q, wq;
+    lm_lane_result wr;
+    lm_lane_request_init(&q);
+    lm_lane_request_init(&wq);
+    lm_lane_result_init(&wr);
+    lm_status st = LM_OK;
+    for (uint32_t j = 0; j < n && st == LM_OK; j++)
+        st = run_one_detached(l, l->order[j], n, &q, &wq, &wr);
+    lm_lane_request_free(&q);
+    lm_lane_request_free(&wq);
+    lm_lane_result_free(&wr);
+    return st;
+}
+
 /* ---- the merge ------------------------------------------------------------------------------- */
 
 /* Vertex ids a lane created (splits) and the ids their replays got. */
@@ -560,15 +653,16 @@ static uint32_t mapped(const vmap *m, uint32_t v)
 
 /* The lane's accepted operations again on the optimizer's mesh; *ok = 0 (mesh as it was) when
  * one of them no longer fits. map: the ids the lane's splits created and the ids they got. */
-static lm_status replay_lane(lm_lanes *l, lm_lane *lane, size_t mark, int *ok, vmap *map_out)
+static lm_status replay_lane(lm_lanes *l, const lm_lane_result *res, size_t mark, int *ok,
+                             vmap *map_out)
 {
     vmap map = {.n = 0};
     *ok = 1;
-    for (uint32_t i = 0; i < lane->n_recs; i++) {
-        lm_move_record r = lane->recs[i].r;
+    for (uint32_t i = 0; i < res->n_ops; i++) {
+        lm_move_record r = res->ops[i].r;
         r.a = mapped(&map, r.a);
         r.b = mapped(&map, r.b);
-        r.x = lane->xs + lane->recs[i].x_at;
+        r.x = res->xs + res->ops[i].x_at;
         uint32_t v;
         lm_status st = lm_moves_replay(l->o->mv, &r, &v);
         if (st == LM_E_ILLEGAL || (st == LM_OK && r.kind == LM_MOVE_SPLIT && map.n == 64)) {
@@ -580,7 +674,7 @@ static lm_status replay_lane(lm_lanes *l, lm_lane *lane, size_t mark, int *ok, v
         if (st != LM_OK)
             return st;
         if (r.kind == LM_MOVE_SPLIT) {
-            map.from[map.n] = lane->recs[i].r.v;
+            map.from[map.n] = res->ops[i].r.v;
             map.to[map.n++] = v;
         }
     }
@@ -609,19 +703,19 @@ static lm_status note_merged(lm_lanes *l)
  * first lane to change anything commits with its own exact ΔE when the replay rebuilt its mesh bit
  * for bit; every other one is evaluated again against the views as the merges before it left them.
  */
-static lm_status merge_lane(lm_lanes *l, lm_lane *lane, int first, int *kept, int64_t *delta,
-                            vmap *map)
+static lm_status merge_lane(lm_lanes *l, const lm_lane_result *res, int first, int *kept,
+                            int64_t *delta, vmap *map)
 {
     lm_optimizer *o = l->o;
     size_t mark = lm_moves_mark(o->mv);
-    lm_status st = replay_lane(l, lane, mark, kept, map);
+    lm_status st = replay_lane(l, res, mark, kept, map);
     if (st != LM_OK || !*kept)
         return st;
     st = lm_patch_from_journal(&l->merged, o->mesh, lm_moves_journal(o->mv), mark);
     if (st != LM_OK)
         return st;
-    int64_t d_lane = lane->views.d_acc;
-    if (first && lm_mesh_hash(o->mesh) == lm_mesh_hash(lane->mesh)) {
+    int64_t d_lane = res->d_acc;
+    if (first && lm_mesh_hash(o->mesh) == res->mesh_hash) {
         *delta = d_lane;
     } else {
         st = o->views->ops->evaluate(o->views, &l->merged, 1, delta);
@@ -644,10 +738,10 @@ static lm_status merge_lane(lm_lanes *l, lm_lane *lane, int first, int *kept, in
 }
 
 /* The lane's accepted moves no longer count (its changes were rolled back). */
-static void forget_accepted(lm_optimizer *o, const lm_lane *lane)
+static void forget_accepted(lm_optimizer *o, const lm_lane_result *res)
 {
     for (int k = 0; k < LM_MOVE_KINDS; k++)
-        o->prog.accepted[k] -= lane->ctx.accepted[k];
+        o->prog.accepted[k] -= res->accepted[k];
 }
 
 /* ---- an isolated lane's own state, merged -------------------------------------------------- */
@@ -670,17 +764,21 @@ static uint32_t lane_vertex(const void *ctx, uint32_t v)
     return found ? m : UINT32_MAX;
 }
 
-/* The counters of the lane's teleport state, added to the optimizer's; its last collapse when it
+/* The lane's counters (teleport, progress) added to the optimizer's; its last collapse when it
  * completed a teleport. */
-static void merge_teleport_counters(lm_lanes *l, const lm_lane *lane)
+static void merge_counters(lm_lanes *l, const lm_lane_result *res)
 {
     lm_teleport *tp = &l->o->tp;
-    tp->searches += lane->tp.searches - l->tp0.searches;
-    tp->searches_failed += lane->tp.searches_failed - l->tp0.searches_failed;
-    tp->collapses_tried += lane->tp.collapses_tried - l->tp0.collapses_tried;
-    if (lane->ctx.accepted[LM_MOVE_COLLAPSE]) {
-        tp->last_collapse = lane->tp.last_collapse;
-        tp->last_time = lane->tp.last_time;
+    tp->searches += res->searches;
+    tp->searches_failed += res->searches_failed;
+    tp->collapses_tried += res->collapses_tried;
+    if (res->accepted[LM_MOVE_COLLAPSE]) {
+        tp->last_collapse = res->last_collapse;
+        tp->last_time = res->last_time;
+    }
+    for (int k = 0; k < LM_MOVE_KINDS; k++) {
+        l->o->prog.attempted[k] += res->attempted[k];
+        l->o->prog.accepted[k] += res->accepted[k];
     }
 }
 
@@ -688,42 +786,41 @@ static void merge_teleport_counters(lm_lanes *l, const lm_lane *lane)
  * the lane's changes were replayed or rolled back, before the queue notes the merged patch): its
  * statistics adds and queue changes replayed, its teleport counters, its touched vertices, its
  * evaluations. map: the split map of its kept changes (NULL: not kept). */
-static lm_status merge_isolated(lm_lanes *l, const lm_lane *lane, const vmap *map)
+static lm_status merge_isolated(lm_lanes *l, const lm_lane_result *res, const vmap *map)
 {
     lm_optimizer *o = l->o;
     lane_ids ids = {map, l->n_verts0};
-    lm_lane_log_replay_stats(&lane->log, &o->stats, o->tp.improve, o->tp.cfg.stats_half_life);
-    lm_status st = lm_lane_log_replay_queue(&lane->log, o->tp.queue, o->mesh, lane_vertex, &ids);
-    merge_teleport_counters(l, lane);
-    for (uint32_t i = 0; i < lane->touched.n && st == LM_OK; i++) {
-        uint32_t v = lane_vertex(&ids, lane->touched.ids[i]);
+    lm_lane_log_replay_stats(&res->log, &o->stats, o->tp.improve, o->tp.cfg.stats_half_life);
+    lm_status st = lm_lane_log_replay_queue(&res->log, o->tp.queue, o->mesh, lane_vertex, &ids);
+    merge_counters(l, res);
+    for (uint32_t i = 0; i < res->touched.n && st == LM_OK; i++) {
+        uint32_t v = lane_vertex(&ids, res->touched.ids[i]);
         if (v != UINT32_MAX)
             st = lm_idset_add(&o->it.touched, v);
     }
-    lm_moves_set_evals(o->mv, lm_moves_evals(o->mv) + lm_moves_evals(lane->mv) - lane->evals0);
+    lm_moves_set_evals(o->mv, lm_moves_evals(o->mv) + res->evals);
     return st;
 }
 
 /* merge_lane with its debug line and its bookkeeping: *total and the energy when kept (the first
  * lane kept clears *first), the lane's accepted moves taken back when not. */
-static lm_status merge_lane_logged(lm_lanes *l, lm_lane *lane, int *first, int *kept, vmap *map,
-                                   int64_t *total)
+static lm_status merge_lane_logged(lm_lanes *l, uint32_t index, const lm_lane_result *res,
+                                   int *first, int *kept, vmap *map, int64_t *total)
 {
     lm_optimizer *o = l->o;
     int64_t delta = 0;
-    lm_status st = merge_lane(l, lane, *first, kept, &delta, map);
+    lm_status st = merge_lane(l, res, *first, kept, &delta, map);
     char kinds[64] = "";
-    for (uint32_t q = 0; q < lane->n_recs && q < 60; q++)
-        kinds[q] = "nstc"[lane->recs[q].r.kind], kinds[q + 1] = 0;
-    lm_debug("merge lane %u: %u operations (%s), lane dE %lld, %s dE %lld", lane->index,
-             lane->n_recs, kinds, (long long)lane->views.d_acc, *kept ? "kept" : "dropped",
-             (long long)delta);
+    for (uint32_t q = 0; q < res->n_ops && q < 60; q++)
+        kinds[q] = "nstc"[res->ops[q].r.kind], kinds[q + 1] = 0;
+    lm_debug("merge lane %u: %u operations (%s), lane dE %lld, %s dE %lld", index, res->n_ops,
+             kinds, (long long)res->d_acc, *kept ? "kept" : "dropped", (long long)delta);
     if (st == LM_OK && *kept) {
         *total = delta;
         o->prog.energy += delta;
         *first = 0;
     } else if (st == LM_OK) {
-        forget_accepted(o, lane);
+        forget_accepted(o, res);
     }
     return st;
 }
@@ -734,14 +831,14 @@ static lm_status merge(lm_lanes *l, uint32_t n, int64_t *totals)
     lm_status st = LM_OK;
     int first = 1;
     for (uint32_t i = 0; i < n && st == LM_OK; i++) {
-        lm_lane *lane = &l->lanes[i];
+        const lm_lane_result *res = &l->lanes[i].res;
         totals[i] = 0;
         int kept = 0;
         vmap map = {.n = 0};
-        if (lane->n_recs)
-            st = merge_lane_logged(l, lane, &first, &kept, &map, &totals[i]);
+        if (res->n_ops)
+            st = merge_lane_logged(l, i, res, &first, &kept, &map, &totals[i]);
         if (st == LM_OK && l->isolated)
-            st = merge_isolated(l, lane, kept ? &map : NULL);
+            st = merge_isolated(l, res, kept ? &map : NULL);
         if (st == LM_OK && kept)
             st = note_merged(l);
     }
@@ -753,13 +850,17 @@ lm_status lm_lanes_run(lm_lanes *l, const lm_planned_edge *plan, uint32_t n, int
 {
     LM_ASSERT(n >= 1 && n <= l->k);
     lm_status st = begin_group(l, plan, n);
-    for (uint32_t j = 0; j < n && st == LM_OK; j++)
-        resume(l, &l->lanes[l->order[j]]);
-    if (st == LM_OK)
-        st = run_rounds(l, n);
+    if (st == LM_OK && l->host) {
+        st = run_detached(l, n);
+    } else {
+        for (uint32_t j = 0; j < n && st == LM_OK; j++)
+            resume(l, &l->lanes[l->order[j]]);
+        if (st == LM_OK)
+            st = run_rounds(l, n);
+    }
     l->o->tp.veto = NULL;
     for (uint32_t i = 0; i < n && st == LM_OK; i++)
-        if (l->lanes[i].st != LM_OK)
-            st = lm_fail(l->lanes[i].st, "%s", l->lanes[i].msg);
+        if (l->lanes[i].res.status != LM_OK)
+            st = lm_fail(l->lanes[i].res.status, "%s", l->lanes[i].res.msg);
     return st == LM_OK ? merge(l, n, totals) : st;
 }

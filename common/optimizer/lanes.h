@@ -27,7 +27,9 @@
  * the optimizer: statistics adds and improve[] adds, the queue changes (vertex ids through the
  * split map, dropped where the edge is not in the merged mesh), the teleport's last collapse (of
  * the last lane that completed one), the counters, the touched vertices (mapped), its evaluations;
- * then the queue notes the merged patch. */
+ * then the queue notes the merged patch. What the merge takes of a lane is its lm_lane_result
+ * (lane_work.h) alone; an isolated lane can also run away from the optimizer from an
+ * lm_lane_request (lane_host.h, lm_lanes_set_detached) and merge to the same bytes. */
 #ifndef LM_COMMON_OPTIMIZER_LANES_H
 #define LM_COMMON_OPTIMIZER_LANES_H
 
@@ -56,5 +58,9 @@ lm_status lm_lanes_run(lm_lanes *l, const lm_planned_edge *plan, uint32_t n, int
 /* For tests: the order in which the lanes of each group run and send their requests (0 lane
  * order, 1 reversed, else a shuffle seeded by it); the merge stays in lane order. */
 void lm_lanes_set_run_order(lm_lanes *l, uint64_t order);
+
+/* lm_optimizer_set_lanes_detached, lm_optimizer_lane_traffic. */
+lm_status lm_lanes_set_detached(lm_lanes *l, int on);
+void lm_lanes_traffic(const lm_lanes *l, lm_lane_traffic *out);
 
 #endif

@@ -361,6 +361,18 @@ void lm_optimizer_set_lane_order(lm_optimizer *opt, uint64_t order)
         lm_lanes_set_run_order(opt->lanes, order);
 }
 
+lm_status lm_optimizer_set_lanes_detached(lm_optimizer *opt, int on)
+{
+    return opt->lanes ? lm_lanes_set_detached(opt->lanes, on) : LM_OK;
+}
+
+void lm_optimizer_lane_traffic(const lm_optimizer *opt, lm_lane_traffic *traffic)
+{
+    memset(traffic, 0, sizeof *traffic);
+    if (opt->lanes)
+        lm_lanes_traffic(opt->lanes, traffic);
+}
+
 /* The next planned edges: one on the optimizer's mesh, or a group in flight in the lanes. */
 static lm_status next_edges(lm_optimizer *opt)
 {

@@ -84,6 +84,21 @@ void lm_optimizer_progress(const lm_optimizer *opt, lm_progress *out);
  * reversed, else a shuffle seeded by it; the merge stays in lane order). With lane_isolation the
  * output does not depend on it. No effect with one edge in flight. */
 void lm_optimizer_set_lane_order(lm_optimizer *opt, uint64_t order);
+
+/* What isolated lanes sent and got back as wire messages when run detached. */
+typedef struct lm_lane_traffic {
+    uint64_t lanes;                       /* lanes run */
+    uint64_t request_bytes, result_bytes; /* their messages, in all */
+    uint64_t request_max, result_max;     /* the largest of each */
+    uint64_t evals;                       /* evaluations the lanes spent */
+} lm_lane_traffic;
+/* For tests and measurements: with isolated lanes (lane_isolation, edges in flight > 1), on != 0
+ * runs every lane of a group, one after the other, as another process would (lane_host.h): its
+ * request encoded and decoded, the lane run on a host of its own (its own mesh copy, the same
+ * views), its result encoded and decoded, then merged as usual; the output is the same. Without
+ * isolated lanes it does nothing. traffic (may be NULL) gets the messages' sizes so far. */
+lm_status lm_optimizer_set_lanes_detached(lm_optimizer *opt, int on);
+void lm_optimizer_lane_traffic(const lm_optimizer *opt, lm_lane_traffic *traffic);
 /* The current mesh (owned by the optimizer; valid until the next step/destroy). */
 const lm_mesh *lm_optimizer_mesh(const lm_optimizer *opt);
 

@@ -6,7 +6,9 @@
  * usage: bench_optimize ORIGINAL [--frac F (0.01)] [--verts N] [--views N (20)] [--size S (256)]
  *        [--evals N (300000)] [--every N (25000)] [--seed S (1)] [--device D (auto)]
  *        [--attrs normal,uv,color] [--cluster] [--out FILE] [--initial FILE] [--epd N]
- *        [--set NAME=VALUE ...] (tuning, see set_tuning; surface_weight=W: the geometric term) */
+ *        [--set NAME=VALUE ...] (tuning, see set_tuning; surface_weight=W: the geometric term)
+ *        [--k K [--isolated [--detached]]] (K edges in flight, isolated lanes, run detached: each
+ *        lane through its wire messages on a host of its own; prints their sizes at the end) */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -28,6 +30,8 @@ typedef struct opts {
     int size, cluster;
     uint64_t evals, every, seed;
     uint32_t evals_per_dim;
+    uint32_t k;
+    int isolated, detached;
     lm_tuning tune;
 } opts;
 
@@ -93,8 +97,12 @@ static int parse(int argc, char **argv, opts *o)
             o->path = a;
             continue;
         }
-        if (!strcmp(a, "--cluster")) {
-            o->cluster = 1;
+        int *flag = !strcmp(a, "--cluster")    ? &o->cluster
+                    : !strcmp(a, "--isolated") ? &o->isolated
+                    : !strcmp(a, "--detached") ? &o->detached
+                                               : NULL;
+        if (flag) {
+            *flag = 1;
             continue;
         }
         if (!v)
@@ -121,7 +129,9 @@ static int parse(int argc, char **argv, opts *o)
         else if (!strcmp(a, "--set")) {
             if (!set_tuning(&o->tune, v))
                 return 0;
-        } else if (!strcmp(a, "--epd"))
+        } else if (!strcmp(a, "--k"))
+            o->k = (uint32_t)atol(v);
+        else if (!strcmp(a, "--epd"))
             o->evals_per_dim = (uint32_t)atol(v);
         else if (!strcmp(a, "--initial"))
             o->initial = v;
@@ -187,6 +197,19 @@ static void report(lm_optimizer *opt, lm_views *held, int64_t held0, double t0)
     fflush(stdout);
 }
 
+/* What detached lanes sent and got back. */
+static void print_traffic(const lm_optimizer *opt, double seconds)
+{
+    lm_lane_traffic t;
+    lm_optimizer_lane_traffic(opt, &t);
+    double n = t.lanes ? (double)t.lanes : 1;
+    printf("detached lanes %llu: request %.0f B mean, %llu max; result %.0f B mean, %llu max; "
+           "%.1f evaluations per lane; %.3f ms per lane\n",
+           (unsigned long long)t.lanes, (double)t.request_bytes / n,
+           (unsigned long long)t.request_max, (double)t.result_bytes / n,
+           (unsigned long long)t.result_max, (double)t.evals / n, 1e3 * seconds / n);
+}
+
 static lm_status bench(const opts *o)
 {
     lm_mesh *orig, *coarse;
@@ -209,9 +232,13 @@ static lm_status bench(const opts *o)
     lm_params p = {.seed = o->seed,
                    .attrs = o->attrs,
                    .simplex_evals_per_dim = o->evals_per_dim,
+                   .edges_in_flight = o->k,
+                   .lane_isolation = (uint32_t)o->isolated,
                    .surface = orig};
     if (!st)
         st = lm_optimizer_create_tuned(coarse, v, &p, &o->tune, &opt);
+    if (!st)
+        st = lm_optimizer_set_lanes_detached(opt, o->detached);
     else
         lm_mesh_destroy(coarse);
     double t0 = now();
@@ -226,6 +253,8 @@ static lm_status bench(const opts *o)
             break;
         st = lm_optimizer_step(opt, o->evals);
     }
+    if (!st && o->detached)
+        print_traffic(opt, now() - t0);
     if (!st && o->out)
         st = lm_mesh_save(o->out, lm_optimizer_mesh(opt));
     lm_optimizer_destroy(opt);
@@ -245,7 +274,8 @@ int main(int argc, char **argv)
     if (!parse(argc, argv, &o)) {
         fprintf(stderr, "usage: bench_optimize ORIGINAL [--frac F] [--verts N] [--views N] "
                         "[--size S] [--evals N] [--every N] [--seed S] [--device D] "
-                        "[--attrs LIST] [--cluster] [--initial FILE] [--out FILE]\n");
+                        "[--attrs LIST] [--cluster] [--initial FILE] [--out FILE] "
+                        "[--k K [--isolated [--detached]]]\n");
         return 1;
     }
     lm_status st = bench(&o);

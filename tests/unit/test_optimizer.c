@@ -35,6 +35,9 @@ static int g_surface;
 static const char *g_device = "host";
 /* the start's subdivision level (the original is one finer) */
 static int g_level = 2;
+/* lanes run detached (lm_optimizer_set_lanes_detached) in the runs started; their traffic */
+static int g_detached;
+static lm_lane_traffic g_traffic;
 
 typedef struct run {
     lm_mesh *orig;
@@ -77,6 +80,7 @@ static void run_start_lanes(run *r, uint64_t seed, uint32_t k, uint32_t isolated
                    .surface_share = g_surface == 2 ? SURFACE_SHARE : 0};
     assert_int_equal(lm_optimizer_create_tuned(noisy_sphere(), r->v, &p, &t, &r->o), LM_OK);
     lm_optimizer_set_lane_order(r->o, order);
+    assert_int_equal(lm_optimizer_set_lanes_detached(r->o, g_detached), LM_OK);
 }
 
 static void run_free(run *r)
@@ -341,8 +345,33 @@ static char *lanes_state(int level, uint32_t k, uint32_t isolated, uint64_t orde
     lm_progress p;
     lm_optimizer_progress(r.o, &p);
     assert_true(level > 2 || p.accepted[LM_MOVE_SPLIT] > 0);
+    lm_optimizer_lane_traffic(r.o, &g_traffic);
     char *s = save_bytes(r.o, len);
     run_free(&r);
+    return s;
+}
+
+/* lanes_state of isolated lanes in lane order, kept between tests (a copy, caller frees): the
+ * order test and the detached test compare against the same runs. */
+static char *isolated_state(int level, uint32_t k, size_t *len)
+{
+    static struct {
+        int level;
+        uint32_t k;
+        char *s;
+        size_t len;
+    } kept[4];
+    int i = 0;
+    while (i < 4 && kept[i].s && (kept[i].level != level || kept[i].k != k))
+        i++;
+    assert_true(i < 4);
+    if (!kept[i].s) {
+        kept[i].level = level, kept[i].k = k;
+        kept[i].s = lanes_state(level, k, 1, 0, &kept[i].len);
+    }
+    char *s = malloc(kept[i].len);
+    memcpy(s, kept[i].s, kept[i].len);
+    *len = kept[i].len;
     return s;
 }
 
@@ -359,7 +388,7 @@ static void test_isolated_lanes_order_free(void **state)
     const uint64_t orders[2] = {1, 0x5eed}; /* reversed, a shuffle */
     for (int i = 0; i < 3; i++) {
         size_t l0;
-        char *s0 = lanes_state(levels[i], ks[i], 1, 0, &l0);
+        char *s0 = isolated_state(levels[i], ks[i], &l0);
         for (int j = 0; j < (ks[i] == 8 ? 2 : 1); j++) {
             size_t l1;
             char *s1 = lanes_state(levels[i], ks[i], 1, orders[j], &l1);
@@ -384,6 +413,35 @@ static void test_shared_lanes_depend_on_order(void **state)
     assert_false(same_state(s0, l0, s1, l1));
     free(s0);
     free(s1);
+}
+
+/* Isolated lanes run as another process would (each lane's request to bytes and back, the lane run
+ * on a host of its own with its own mesh copy and the same views, its result to bytes and back,
+ * then merged) end in the state of the lanes run in process. */
+static void test_detached_lanes_same_state(void **state)
+{
+    (void)state;
+    const uint32_t ks[2] = {4, 8};
+    const int levels[2] = {2, 3};
+    for (int i = 0; i < 2; i++) {
+        size_t l0, l1;
+        char *s0 = isolated_state(levels[i], ks[i], &l0);
+        g_detached = 1;
+        char *s1 = lanes_state(levels[i], ks[i], 1, 0x5eed, &l1);
+        g_detached = 0;
+        const lm_lane_traffic *t = &g_traffic;
+        print_message(
+            "detached K=%u, level %d: %s; %llu lanes, request %.0f B (max %llu), result "
+            "%.0f B (max %llu), %.1f evaluations per lane\n",
+            ks[i], levels[i], same_state(s0, l0, s1, l1) ? "same state" : "DIFFERENT state",
+            (unsigned long long)t->lanes, (double)t->request_bytes / (double)t->lanes,
+            (unsigned long long)t->request_max, (double)t->result_bytes / (double)t->lanes,
+            (unsigned long long)t->result_max, (double)t->evals / (double)t->lanes);
+        assert_true(t->lanes > 0 && t->evals > 0);
+        assert_true(same_state(s0, l0, s1, l1));
+        free(s0);
+        free(s1);
+    }
 }
 
 static void test_isolated_lanes_energy_and_resume(void **state)
@@ -434,6 +492,7 @@ int main(void)
         cmocka_unit_test(test_resume_with_geometric_term),
         cmocka_unit_test(test_relative_weight),
         cmocka_unit_test(test_isolated_lanes_order_free),
+        cmocka_unit_test(test_detached_lanes_same_state),
         cmocka_unit_test(test_shared_lanes_depend_on_order),
         cmocka_unit_test(test_isolated_lanes_energy_and_resume),
     };
