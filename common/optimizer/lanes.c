@@ -52,6 +52,7 @@ struct lm_lane {
     lm_lane_log log;
     uint64_t clock;  /* the group's start + the lane's own evaluations */
     uint64_t evals0; /* the lane's moves' evaluations at the group's start */
+    int outcome;     /* the merge's: LM_LANE_* (lanes.h) */
 };
 
 struct lm_lanes {
@@ -69,13 +70,14 @@ struct lm_lanes {
     uint32_t *queue; /* breadth-first search */
     uint32_t cap_queue;
     lm_patch merged;
-    int isolated;       /* lm_params.lane_isolation */
-    lm_teleport tp0;    /* isolated: the optimizer's teleport state at the group's start */
-    uint32_t n_verts0;  /* isolated: the mesh's vertex slots then (lanes' new ids are above) */
-    uint32_t n_group;   /* isolated: the group's size */
-    uint64_t run_order; /* lm_lanes_set_run_order */
-    uint64_t groups;    /* groups run, for the shuffle */
-    uint32_t *order;    /* [k] the order the lanes of the group run in */
+    int isolated;         /* lm_params.lane_isolation */
+    lm_teleport tp0;      /* isolated: the optimizer's teleport state at the group's start */
+    uint32_t n_verts0;    /* isolated: the mesh's vertex slots then (lanes' new ids are above) */
+    uint32_t n_group;     /* isolated: the group's size */
+    uint64_t run_order;   /* lm_lanes_set_run_order */
+    uint64_t groups;      /* groups run, for the shuffle */
+    uint32_t *order;      /* [k] the order the lanes of the group run in */
+    lm_lanes_probe probe; /* lm_lanes_set_probe (phase NULL: none) */
 };
 
 /* ---- the baton ------------------------------------------------------------------------------- */
@@ -429,6 +431,33 @@ void lm_lanes_set_run_order(lm_lanes *l, uint64_t order)
     l->run_order = order;
 }
 
+void lm_lanes_set_probe(lm_lanes *l, const lm_lanes_probe *probe)
+{
+    l->probe = probe ? *probe : (lm_lanes_probe){NULL, NULL, NULL};
+}
+
+static void probe_phase(const lm_lanes *l, int phase, uint32_t n)
+{
+    if (l->probe.phase)
+        l->probe.phase(l->probe.ctx, phase, n);
+}
+
+/* The lane's report to the probe, after its merge. */
+static void probe_lane(const lm_lanes *l, const lm_lane *lane)
+{
+    if (!l->probe.lane)
+        return;
+    lm_lane_report r = {.index = lane->index,
+                        .outcome = lane->n_recs ? lane->outcome : LM_LANE_NOTHING,
+                        .evals = l->isolated ? lm_moves_evals(lane->mv) - lane->evals0 : 0,
+                        .ops = lane->n_recs,
+                        .x_values = (uint32_t)lane->n_xs,
+                        .stat_adds = l->isolated ? lane->log.n_adds : 0,
+                        .queue_changes = l->isolated ? lane->log.n_queue : 0,
+                        .touched = l->isolated ? lane->touched.n : 0};
+    l->probe.lane(l->probe.ctx, &r);
+}
+
 /* The group's start: the optimizer's mesh as records; every lane's copy and views start there. */
 static lm_status begin_group(lm_lanes *l, const lm_planned_edge *plan, uint32_t n)
 {
@@ -615,6 +644,7 @@ static lm_status merge_lane(lm_lanes *l, lm_lane *lane, int first, int *kept, in
     lm_optimizer *o = l->o;
     size_t mark = lm_moves_mark(o->mv);
     lm_status st = replay_lane(l, lane, mark, kept, map);
+    lane->outcome = LM_LANE_DROPPED_REPLAY;
     if (st != LM_OK || !*kept)
         return st;
     st = lm_patch_from_journal(&l->merged, o->mesh, lm_moves_journal(o->mv), mark);
@@ -623,7 +653,9 @@ static lm_status merge_lane(lm_lanes *l, lm_lane *lane, int first, int *kept, in
     int64_t d_lane = lane->views.d_acc;
     if (first && lm_mesh_hash(o->mesh) == lm_mesh_hash(lane->mesh)) {
         *delta = d_lane;
+        lane->outcome = LM_LANE_KEPT_EXACT;
     } else {
+        lane->outcome = LM_LANE_DROPPED_REVALIDATION;
         st = o->views->ops->evaluate(o->views, &l->merged, 1, delta);
         if (st == LM_E_POISON) { /* the re-validation failed everywhere: not merged */
             lm_clear_error();
@@ -639,6 +671,7 @@ static lm_status merge_lane(lm_lanes *l, lm_lane *lane, int first, int *kept, in
             *kept = 0;
             return LM_OK;
         }
+        lane->outcome = LM_LANE_KEPT_REVALIDATED;
     }
     return o->views->ops->commit(o->views, &l->merged);
 }
@@ -744,6 +777,8 @@ static lm_status merge(lm_lanes *l, uint32_t n, int64_t *totals)
             st = merge_isolated(l, lane, kept ? &map : NULL);
         if (st == LM_OK && kept)
             st = note_merged(l);
+        if (st == LM_OK)
+            probe_lane(l, lane);
     }
     lm_moves_forget(o->mv);
     return st;
@@ -752,7 +787,9 @@ static lm_status merge(lm_lanes *l, uint32_t n, int64_t *totals)
 lm_status lm_lanes_run(lm_lanes *l, const lm_planned_edge *plan, uint32_t n, int64_t *totals)
 {
     LM_ASSERT(n >= 1 && n <= l->k);
+    probe_phase(l, LM_LANES_BEGIN, n);
     lm_status st = begin_group(l, plan, n);
+    probe_phase(l, LM_LANES_RUN, n);
     for (uint32_t j = 0; j < n && st == LM_OK; j++)
         resume(l, &l->lanes[l->order[j]]);
     if (st == LM_OK)
@@ -761,5 +798,8 @@ lm_status lm_lanes_run(lm_lanes *l, const lm_planned_edge *plan, uint32_t n, int
     for (uint32_t i = 0; i < n && st == LM_OK; i++)
         if (l->lanes[i].st != LM_OK)
             st = lm_fail(l->lanes[i].st, "%s", l->lanes[i].msg);
-    return st == LM_OK ? merge(l, n, totals) : st;
+    probe_phase(l, LM_LANES_MERGE, n);
+    st = st == LM_OK ? merge(l, n, totals) : st;
+    probe_phase(l, LM_LANES_MERGED, n);
+    return st;
 }
