@@ -45,7 +45,8 @@ for r in j["lanes"]:
     assert [p["workers"] for p in r["predicted"]] == want_w, r["predicted"]
 assert [p["workers"] for p in j["predicted"]] == want_w, j["predicted"]
 for p in j["predicted"]:
-    for k in ("speedup", "efficiency", "edges_in_flight", "coordinator_cpu_per_eval_us"):
+    for k in ("speedup", "efficiency", "edges_in_flight", "coordinator_cpu_per_eval_us",
+              "speedup_no_barrier"):
         assert k in p, (k, p)
     assert p["speedup"] > 0 and abs(p["efficiency"] - p["speedup"] / p["workers"]) < 1e-2, p
 assert abs(j["predicted"][0]["speedup"] - 1) < 1e-2, j["predicted"][0]

@@ -127,7 +127,11 @@ lm_status sc_run_lanes(const opts *o, const lm_mesh *orig, const lm_mesh *coarse
     memset(out, 0, sizeof *out);
     out->k = k;
     lm_status st = sc_meter_start(o, orig, coarse, vs, 1, &m, &mesh);
-    lm_params params = {.seed = 1, .edges_in_flight = k, .lane_isolation = 1, .surface = orig};
+    lm_params params = {.seed = 1,
+                        .edges_in_flight = k,
+                        .lane_isolation = 1,
+                        .edges_per_iteration = o->plan,
+                        .surface = orig};
     if (st == LM_OK)
         st = lm_optimizer_create(mesh, &m.base, &params, &opt);
     probe_ctx p = {&m, out, mark_now(&m), LM_OK};
