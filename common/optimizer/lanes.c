@@ -40,6 +40,7 @@ struct lm_lane {
     lm_progress prog; /* its attempted[]/accepted[] */
     uint64_t clock;   /* the group's start + the lane's own evaluations */
     uint64_t evals0;  /* the lane's moves' evaluations at the group's start */
+    int outcome;      /* the merge's: LM_LANE_* (lanes.h) */
 };
 
 struct lm_lanes {
@@ -68,6 +69,7 @@ struct lm_lanes {
      * their wire messages */
     lm_lane_host *host;
     lm_lane_traffic traffic;
+    lm_lanes_probe probe; /* lm_lanes_set_probe (phase NULL: none) */
 };
 
 /* ---- the baton ------------------------------------------------------------------------------- */
@@ -428,6 +430,34 @@ void lm_lanes_set_run_order(lm_lanes *l, uint64_t order)
     l->run_order = order;
 }
 
+void lm_lanes_set_probe(lm_lanes *l, const lm_lanes_probe *probe)
+{
+    l->probe = probe ? *probe : (lm_lanes_probe){NULL, NULL, NULL};
+}
+
+static void probe_phase(const lm_lanes *l, int phase, uint32_t n)
+{
+    if (l->probe.phase)
+        l->probe.phase(l->probe.ctx, phase, n);
+}
+
+/* The lane's report to the probe, after its merge. */
+static void probe_lane(const lm_lanes *l, const lm_lane *lane)
+{
+    if (!l->probe.lane)
+        return;
+    const lm_lane_result *res = &lane->res;
+    lm_lane_report r = {.index = lane->index,
+                        .outcome = res->n_ops ? lane->outcome : LM_LANE_NOTHING,
+                        .evals = l->isolated ? res->evals : 0,
+                        .ops = res->n_ops,
+                        .x_values = res->n_xs,
+                        .stat_adds = l->isolated ? res->log.n_adds : 0,
+                        .queue_changes = l->isolated ? res->log.n_queue : 0,
+                        .touched = l->isolated ? res->touched.n : 0};
+    l->probe.lane(l->probe.ctx, &r);
+}
+
 /* The group's start: the optimizer's mesh as records; every lane's copy and views start there. */
 static lm_status begin_group(lm_lanes *l, const lm_planned_edge *plan, uint32_t n)
 {
@@ -704,11 +734,12 @@ static lm_status note_merged(lm_lanes *l)
  * for bit; every other one is evaluated again against the views as the merges before it left them.
  */
 static lm_status merge_lane(lm_lanes *l, const lm_lane_result *res, int first, int *kept,
-                            int64_t *delta, vmap *map)
+                            int64_t *delta, vmap *map, int *outcome)
 {
     lm_optimizer *o = l->o;
     size_t mark = lm_moves_mark(o->mv);
     lm_status st = replay_lane(l, res, mark, kept, map);
+    *outcome = LM_LANE_DROPPED_REPLAY;
     if (st != LM_OK || !*kept)
         return st;
     st = lm_patch_from_journal(&l->merged, o->mesh, lm_moves_journal(o->mv), mark);
@@ -717,7 +748,9 @@ static lm_status merge_lane(lm_lanes *l, const lm_lane_result *res, int first, i
     int64_t d_lane = res->d_acc;
     if (first && lm_mesh_hash(o->mesh) == res->mesh_hash) {
         *delta = d_lane;
+        *outcome = LM_LANE_KEPT_EXACT;
     } else {
+        *outcome = LM_LANE_DROPPED_REVALIDATION;
         st = o->views->ops->evaluate(o->views, &l->merged, 1, delta);
         if (st == LM_E_POISON) { /* the re-validation failed everywhere: not merged */
             lm_clear_error();
@@ -733,6 +766,7 @@ static lm_status merge_lane(lm_lanes *l, const lm_lane_result *res, int first, i
             *kept = 0;
             return LM_OK;
         }
+        *outcome = LM_LANE_KEPT_REVALIDATED;
     }
     return o->views->ops->commit(o->views, &l->merged);
 }
@@ -809,7 +843,7 @@ static lm_status merge_lane_logged(lm_lanes *l, uint32_t index, const lm_lane_re
 {
     lm_optimizer *o = l->o;
     int64_t delta = 0;
-    lm_status st = merge_lane(l, res, *first, kept, &delta, map);
+    lm_status st = merge_lane(l, res, *first, kept, &delta, map, &l->lanes[index].outcome);
     char kinds[64] = "";
     for (uint32_t q = 0; q < res->n_ops && q < 60; q++)
         kinds[q] = "nstc"[res->ops[q].r.kind], kinds[q + 1] = 0;
@@ -841,6 +875,8 @@ static lm_status merge(lm_lanes *l, uint32_t n, int64_t *totals)
             st = merge_isolated(l, res, kept ? &map : NULL);
         if (st == LM_OK && kept)
             st = note_merged(l);
+        if (st == LM_OK)
+            probe_lane(l, &l->lanes[i]);
     }
     lm_moves_forget(o->mv);
     return st;
@@ -849,10 +885,13 @@ static lm_status merge(lm_lanes *l, uint32_t n, int64_t *totals)
 lm_status lm_lanes_run(lm_lanes *l, const lm_planned_edge *plan, uint32_t n, int64_t *totals)
 {
     LM_ASSERT(n >= 1 && n <= l->k);
+    probe_phase(l, LM_LANES_BEGIN, n);
     lm_status st = begin_group(l, plan, n);
     if (st == LM_OK && l->host) {
+        probe_phase(l, LM_LANES_RUN, n);
         st = run_detached(l, n);
     } else {
+        probe_phase(l, LM_LANES_RUN, n);
         for (uint32_t j = 0; j < n && st == LM_OK; j++)
             resume(l, &l->lanes[l->order[j]]);
         if (st == LM_OK)
@@ -862,5 +901,8 @@ lm_status lm_lanes_run(lm_lanes *l, const lm_planned_edge *plan, uint32_t n, int
     for (uint32_t i = 0; i < n && st == LM_OK; i++)
         if (l->lanes[i].res.status != LM_OK)
             st = lm_fail(l->lanes[i].res.status, "%s", l->lanes[i].res.msg);
-    return st == LM_OK ? merge(l, n, totals) : st;
+    probe_phase(l, LM_LANES_MERGE, n);
+    st = st == LM_OK ? merge(l, n, totals) : st;
+    probe_phase(l, LM_LANES_MERGED, n);
+    return st;
 }

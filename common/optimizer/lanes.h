@@ -63,4 +63,34 @@ void lm_lanes_set_run_order(lm_lanes *l, uint64_t order);
 lm_status lm_lanes_set_detached(lm_lanes *l, int on);
 void lm_lanes_traffic(const lm_lanes *l, lm_lane_traffic *out);
 
+/* For measurements (tests/bench/bench_scaling --schedule lanes): what a group did, reported at
+ * the points of lm_lanes_run. Nothing it reports changes a decision. */
+enum {
+    LM_LANES_BEGIN,  /* the group begins (before the lanes' snapshots) */
+    LM_LANES_RUN,    /* its lanes begin (the snapshots taken) */
+    LM_LANES_MERGE,  /* every lane done: the merge begins */
+    LM_LANES_MERGED, /* the merge done */
+};
+enum {
+    LM_LANE_NOTHING,              /* no operation to merge */
+    LM_LANE_KEPT_EXACT,           /* the first to change anything: its own exact ΔE */
+    LM_LANE_KEPT_REVALIDATED,     /* re-validated against the merges before it, kept */
+    LM_LANE_DROPPED_REPLAY,       /* its operations no longer fit the merged mesh */
+    LM_LANE_DROPPED_REVALIDATION, /* re-validated, no longer pays */
+};
+typedef struct lm_lane_report {
+    uint32_t index;
+    int outcome;            /* LM_LANE_* */
+    uint64_t evals;         /* its evaluations (isolated lanes; 0 for shared ones) */
+    uint32_t ops, x_values; /* accepted operations; their parameters (doubles) */
+    uint32_t stat_adds, queue_changes, touched; /* isolated lanes' logs and touched set */
+} lm_lane_report;
+typedef struct lm_lanes_probe {
+    void (*phase)(void *ctx, int phase, uint32_t n);  /* LM_LANES_*; n the group's size */
+    void (*lane)(void *ctx, const lm_lane_report *r); /* in the merge, lane order */
+    void *ctx;
+} lm_lanes_probe;
+/* probe NULL: none (the default). */
+void lm_lanes_set_probe(lm_lanes *l, const lm_lanes_probe *probe);
+
 #endif

@@ -10,11 +10,15 @@
  * a barrier (scaling/rounds.c) and, with --schedule window, without one: a lag of D edges between
  * an edge and the mesh it is optimised against, on nodes of G processes that share the views
  * (scaling/window.c). The report (scaling/report.c) gives, per modelled worker count, the speed-up
- * over one process and the efficiency, and the coordinator's CPU per evaluation.
+ * over one process and the efficiency, and the coordinator's CPU per evaluation. With
+ * --schedule lanes, instead of all that: the real isolated-lane engine run at each K of
+ * --lanes-k (scaling/lanes_run.c) and the whole-lane schedule modelled from it
+ * (scaling/lanes_model.c).
  *
  * usage: bench_scaling [MODEL] [--evals N] [--in-flight K] [--views N] [--size S] [--rtt-us U]
  *                      [--gbps G] [--device D] [--edge-evals N] [--round R] [--target-verts N]
- *                      [--schedule rounds|window] [--lag D] [--group G] [--sync-us S] [--cap N]
+ *                      [--schedule rounds|window|lanes] [--lag D] [--group G] [--sync-us S]
+ *                      [--cap N] [--lanes-k K,...] [--lanes-per-worker L] [--plan N]
  *                      [--json]
  * (--edge-evals: the whole-edge run's evaluations, default 30000; --target-verts: the QEM start's
  * vertices, default 1% of the model's, at least 100; --schedule window adds the window model at
@@ -24,7 +28,9 @@
  * edge a continuation later in plan order, scaling/visits.c; --cap, --lag and --group take
  * comma-separated lists, e.g. --cap 16,64 --lag 256,4096 --group 1,4, and with --cap the window
  * is modelled for every (N, D, G) of them from the one measurement; a single --lag and --group
- * are the first of theirs) */
+ * are the first of theirs; --lanes-k: the edges in flight of the lanes' runs, 2..64, default
+ * 2,8,16,64; --lanes-per-worker: K = workers x L in the predictions, default 1; --plan: the lanes'
+ * runs' edges per iteration, the plan their groups are taken from, default the optimizer's 64) */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -58,6 +64,15 @@ static int positive(const uint32_t *v, uint32_t n)
     return 1;
 }
 
+/* Every K of --lanes-k in 2..LM_MAX_EDGES_IN_FLIGHT. */
+static int lanes_k_ok(const opts *o)
+{
+    for (uint32_t i = 0; i < o->n_lanes_k; i++)
+        if (o->lanes_k[i] < 2 || o->lanes_k[i] > LM_MAX_EDGES_IN_FLIGHT)
+            return 0;
+    return 1;
+}
+
 static int parse(int argc, char **argv, opts *o)
 {
     for (int i = 1; i < argc; i++) {
@@ -84,8 +99,10 @@ static int parse(int argc, char **argv, opts *o)
             o->gbps = atof(argv[++i]);
         else if (v && !strcmp(a, "--schedule")) {
             const char *s = argv[++i];
-            o->schedule = !strcmp(s, "window") ? SCHEDULE_WINDOW : SCHEDULE_ROUNDS;
-            if (strcmp(s, "window") && strcmp(s, "rounds"))
+            o->schedule = !strcmp(s, "window")  ? SCHEDULE_WINDOW
+                          : !strcmp(s, "lanes") ? SCHEDULE_LANES
+                                                : SCHEDULE_ROUNDS;
+            if (strcmp(s, "window") && strcmp(s, "rounds") && strcmp(s, "lanes"))
                 return fprintf(stderr, "bench_scaling: unknown schedule '%s'\n", s), 1;
         } else if (v && !strcmp(a, "--lag"))
             o->n_lags = parse_list(argv[++i], o->lags, &o->lag);
@@ -93,6 +110,12 @@ static int parse(int argc, char **argv, opts *o)
             o->n_groups = parse_list(argv[++i], o->groups, &o->group);
         else if (v && !strcmp(a, "--cap"))
             o->n_caps = parse_list(argv[++i], o->caps, NULL);
+        else if (v && !strcmp(a, "--lanes-k"))
+            o->n_lanes_k = parse_list(argv[++i], o->lanes_k, NULL);
+        else if (v && !strcmp(a, "--plan"))
+            o->plan = (uint32_t)atoi(argv[++i]);
+        else if (v && !strcmp(a, "--lanes-per-worker"))
+            o->lanes_per_worker = (uint32_t)atoi(argv[++i]);
         else if (v && !strcmp(a, "--sync-us"))
             o->sync_us = atof(argv[++i]);
         else if (v && !strcmp(a, "--device"))
@@ -105,7 +128,7 @@ static int parse(int argc, char **argv, opts *o)
     if (!o->model || !o->evals || !o->edge_evals || o->round < 1 || o->round > 65536 ||
         o->in_flight < 1 || !positive(o->lags, o->n_lags) || !positive(o->groups, o->n_groups) ||
         o->in_flight > LM_MAX_EDGES_IN_FLIGHT || o->views < 1 || o->views > LM_MAX_VIEWS ||
-        o->size < 16)
+        o->size < 16 || !lanes_k_ok(o) || o->lanes_per_worker < 1)
         return fprintf(stderr, "bench_scaling: bad arguments (see the comment at the top of "
                                "tests/bench/bench_scaling.c)\n"),
                1;
@@ -132,6 +155,29 @@ static lm_status setup(const opts *o, lm_mesh **orig, lm_mesh **coarse, lm_view_
     return st;
 }
 
+/* --schedule lanes: the isolated-lane runs, one at a time, and their model. */
+static int run_lanes(const opts *o)
+{
+    lm_mesh *orig = NULL, *coarse = NULL;
+    static lm_view_set vs;
+    static lanes_run runs[SC_MAX_LIST];
+    lm_status st = setup(o, &orig, &coarse, &vs);
+    uint32_t n = 0;
+    for (; n < o->n_lanes_k && st == LM_OK; n++)
+        st = sc_run_lanes(o, orig, coarse, &vs, o->lanes_k[n], &runs[n]);
+    if (st != LM_OK)
+        fprintf(stderr, "bench_scaling: %s\n", lm_last_error());
+    else if (o->json)
+        sc_print_lanes_json(o, runs, n, vs.count);
+    else
+        sc_print_lanes_human(o, runs, n, vs.count);
+    for (uint32_t i = 0; i < n; i++)
+        sc_lanes_free(&runs[i]);
+    lm_mesh_destroy(orig);
+    lm_mesh_destroy(coarse);
+    return st == LM_OK ? 0 : 2;
+}
+
 int main(int argc, char **argv)
 {
     opts o = {.model = getenv("LUMESH_TEST_DATA") ? NULL : "tests/data/cache/meshes/bunny00.off",
@@ -153,7 +199,10 @@ int main(int argc, char **argv)
               .n_lags = 1,
               .n_groups = 1,
               .n_caps = 1,
-              .sync_us = -1};
+              .sync_us = -1,
+              .lanes_k = {2, 8, 16, 64},
+              .n_lanes_k = 4,
+              .lanes_per_worker = 1};
     char buf[4096];
     if (!o.model) {
         snprintf(buf, sizeof buf, "%s/cache/meshes/bunny00.off", getenv("LUMESH_TEST_DATA"));
@@ -161,6 +210,8 @@ int main(int argc, char **argv)
     }
     if (parse(argc, argv, &o))
         return 1;
+    if (o.schedule == SCHEDULE_LANES)
+        return run_lanes(&o);
     lm_mesh *orig = NULL, *coarse = NULL;
     static lm_view_set vs;
     static meter m[3];

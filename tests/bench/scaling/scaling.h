@@ -13,7 +13,7 @@
 #include "coordinator/views/views.h"
 #include "proto/wire_records.h"
 
-typedef enum { SCHEDULE_ROUNDS, SCHEDULE_WINDOW } schedule_kind;
+typedef enum { SCHEDULE_ROUNDS, SCHEDULE_WINDOW, SCHEDULE_LANES } schedule_kind;
 
 #define SC_MAX_LIST 8 /* values in a list option */
 
@@ -31,6 +31,9 @@ typedef struct opts {
     uint32_t caps[SC_MAX_LIST], lags[SC_MAX_LIST], groups[SC_MAX_LIST];
     uint32_t n_caps, n_lags, n_groups;
     double sync_us; /* --sync-us: a node's synchronisation per evaluation (<0: measured) */
+    /* --schedule lanes: the isolated-lane runs' group sizes K (--lanes-k), lanes per worker */
+    uint32_t lanes_k[SC_MAX_LIST], n_lanes_k, lanes_per_worker;
+    uint32_t plan; /* --plan: the lanes' runs' edges per iteration (0: the optimizer's, 64) */
 } opts;
 
 /* ---- the measuring views (meter.c) ----------------------------------------------------------- */
@@ -199,6 +202,71 @@ typedef struct window {
  * per evaluation sync_us, visits capped at `cap` evaluations (0: whole edges). */
 window sc_window_at(const opts *o, const edges_run *er, uint32_t views, uint32_t w, uint32_t d,
                     uint32_t group, double sync_us, uint32_t cap);
+
+/* ---- whole lanes on workers: the isolated-lane engine measured (lanes_run.c) ----------------- */
+
+/* A lane of the run as the merge saw it. */
+typedef struct lane_rec {
+    uint32_t evals, ops;
+    int outcome;        /* LM_LANE_* (common/optimizer/lanes.h) */
+    float result_bytes; /* its result message (records, logs, touched set; lanes_run.c) */
+} lane_rec;
+
+/* A group of the run: its lanes lanes[first .. first + n); the costs in seconds of CPU. */
+typedef struct group_rec {
+    uint32_t first, n;
+    uint32_t revals;    /* re-validations (one evaluation each) */
+    float plan_s;       /* the coordinator's CPU before it: the oracle's ranking, the plan */
+    float pot_s;        /* the views' work of that planning (potentials: the workers') */
+    float snap_s;       /* the lanes' snapshots (a worker's copies of its replica's state) */
+    float lanes_s;      /* the lanes in process: the views' time and the lanes' own CPU */
+    float merge_s;      /* the coordinator's merge CPU: replays, logs, encoding the commits */
+    float reval_s;      /* the views' CPU of its re-validations */
+    float apply_s;      /* the views' commits: what every worker spends applying them */
+    float commit_bytes; /* the merged commits' messages (what is broadcast) */
+} group_rec;
+
+typedef struct lanes_run {
+    uint32_t k; /* edges in flight (lanes per group at most) */
+    group_rec *g;
+    size_t n_g, cap_g;
+    lane_rec *l;
+    size_t n_l, cap_l;
+    uint64_t evals;     /* the lanes' evaluations (re-validations apart) */
+    double eval_s;      /* a worker's time per evaluation, all views (the lanes' CPU) */
+    double eval_wall_s; /* the same from the lanes' wall time (this machine is shared) */
+    double lanes_wall_s, lanes_views_cpu_s;
+    double per_patch_view_us; /* the views' share of eval_s, per view */
+    double energy_rel;        /* the energy at the end over the start's */
+    double wall_s;            /* the run in process */
+} lanes_run;
+
+#define SC_LANE_REQUEST_BYTES 64.0 /* a lane's request: its edge, index, group, snapshot id */
+
+/* The isolated-lane engine (lm_params.lane_isolation) at k edges in flight, until --edge-evals. */
+lm_status sc_run_lanes(const opts *o, const lm_mesh *orig, const lm_mesh *coarse,
+                       const lm_view_set *vs, uint32_t k, lanes_run *out);
+void sc_lanes_free(lanes_run *r);
+
+/* ---- the whole-lane model (lanes_model.c) ---------------------------------------------------- */
+
+typedef struct lanes_model {
+    double t1, tw;  /* the run in one process; on w workers */
+    double coord_s; /* the coordinator's CPU: planning and merges */
+    double evals;   /* evaluations, re-validations included */
+    /* where tw goes: planning, handing out (with the last commits), the workers' replicas
+     * updated, the groups' slowest workers, results back, the merges, re-validations; and the
+     * lanes' work spread perfectly (their sum / w) */
+    double plan, hand_out, update, lanes, results, merge, revalidate, balanced;
+} lanes_model;
+
+/* The run's groups on w workers over V views (the formula: lanes_model.c). */
+lanes_model sc_lanes_at(const opts *o, const lanes_run *r, uint32_t views, uint32_t w);
+/* The run (of runs[0..n)) whose K a cluster of w workers uses: the smallest K >= w x per (lanes
+ * per worker), else the largest. */
+const lanes_run *sc_lanes_for(const lanes_run *runs, uint32_t n, uint32_t w, uint32_t per);
+void sc_print_lanes_human(const opts *o, const lanes_run *runs, uint32_t n, uint32_t views);
+void sc_print_lanes_json(const opts *o, const lanes_run *runs, uint32_t n, uint32_t views);
 
 /* ---- round trips measured here (rtt.c) ------------------------------------------------------- */
 

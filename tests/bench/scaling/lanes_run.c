@@ -1,0 +1,173 @@
+/* tests/bench/scaling/lanes_run.c — the whole-lane schedule's costs, measured on the real
+ * isolated-lane engine (lm_params.lane_isolation, common/optimizer/lanes.h) in process: a run at
+ * K edges in flight until --edge-evals, the views behind the meter (meter.c, light), the engine's
+ * probe (lm_lanes_set_probe) cutting the time into, per group:
+ * Every cost is CPU time (the process's, the views' threads included), not wall time: this
+ * machine is shared, and its wall time is mostly waiting for a core (the lanes' wall time is kept
+ * beside, for comparison).
+ *     planning (from the last merge to the group's start: the oracle's ranking, the plan; the
+ *               coordinator's CPU, and apart the views' potentials, the workers' work),
+ *     snapshots (the lanes' copies of the group's start: a worker's, from its replica),
+ *     the lanes (the views' time and the lanes' own CPU: simplex, moves, the geometric term: what
+ *               workers holding all views do; a worker's time per evaluation is their sum over
+ *               the lanes' evaluations),
+ *     the merge (the coordinator's CPU: replays, log replays, the queue notes, encoding the
+ *               commits; apart the views' re-validations and their commits, the workers' work),
+ * and per lane its evaluations, operations, how the merge took it (kept exact, re-validated and
+ * kept, dropped) and the size of its result message: raw sizes of what the merge reads (a header
+ * of RESULT_HEADER bytes: status, ΔE, mesh hash, evaluations, counters; each operation as
+ * OP_BYTES plus its parameters as doubles; the statistics and queue logs as lane_log.h's
+ * records; the touched vertices as 32-bit ids), not a wire encoding. */
+#include <stdlib.h>
+#include <string.h>
+
+#include "common/grow.h"
+#include "common/optimizer/lane_log.h"
+#include "common/optimizer/lanes.h"
+#include "common/optimizer/optimizer.h"
+#include "common/optimizer/optimizer_internal.h" /* the lanes, for their probe */
+#include "scaling.h"
+
+#define RESULT_HEADER 96.0
+#define OP_BYTES 32.0
+
+/* What the meter has counted at a probe's point. */
+typedef struct mark {
+    double wall, cpu, views_cpu, state_cpu, commit_bytes;
+    uint64_t patches;
+} mark;
+
+typedef struct probe_ctx {
+    meter *m;
+    lanes_run *r;
+    mark at; /* at the last point */
+    lm_status st;
+} probe_ctx;
+
+static mark mark_now(const meter *m)
+{
+    return (mark){sc_wall(), sc_cpu(), m->views_cpu_s, m->state_cpu_s, (double)m->commit_bytes,
+                  m->patches};
+}
+
+/* The process CPU between a and b outside the views (the coordinator's own, in process). */
+static double own_cpu(const mark *a, const mark *b)
+{
+    return (b->cpu - a->cpu) - (b->views_cpu - a->views_cpu) - (b->state_cpu - a->state_cpu);
+}
+
+static void on_phase(void *ctx, int phase, uint32_t n)
+{
+    probe_ctx *p = ctx;
+    lanes_run *r = p->r;
+    mark b = mark_now(p->m), *a = &p->at;
+    group_rec *g = r->n_g ? &r->g[r->n_g - 1] : NULL;
+    if (phase == LM_LANES_BEGIN) {
+        if (!LM_GROW(&r->g, &r->cap_g, r->n_g + 1, 256)) {
+            p->st = lm_fail(LM_E_NOMEM, "out of memory for the lanes' groups");
+            return;
+        }
+        g = &r->g[r->n_g++];
+        memset(g, 0, sizeof *g);
+        g->first = (uint32_t)r->n_l;
+        g->n = n;
+        g->plan_s = (float)own_cpu(a, &b);
+        g->pot_s = (float)(b.state_cpu - a->state_cpu);
+    } else if (g && phase == LM_LANES_RUN) {
+        g->snap_s = (float)own_cpu(a, &b);
+    } else if (g && phase == LM_LANES_MERGE) {
+        g->lanes_s = (float)(b.cpu - a->cpu);
+        r->lanes_wall_s += b.wall - a->wall;
+        r->lanes_views_cpu_s += b.views_cpu - a->views_cpu;
+        r->evals += b.patches - a->patches;
+    } else if (g && phase == LM_LANES_MERGED) {
+        g->merge_s = (float)own_cpu(a, &b);
+        g->reval_s = (float)(b.views_cpu - a->views_cpu);
+        g->revals = (uint32_t)(b.patches - a->patches);
+        g->apply_s = (float)(b.state_cpu - a->state_cpu);
+        g->commit_bytes = (float)(b.commit_bytes - a->commit_bytes);
+    }
+    p->at = mark_now(p->m); /* the probe's own time is nobody's */
+}
+
+static void on_lane(void *ctx, const lm_lane_report *x)
+{
+    probe_ctx *p = ctx;
+    lanes_run *r = p->r;
+    if (!LM_GROW(&r->l, &r->cap_l, r->n_l + 1, 1024)) {
+        p->st = lm_fail(LM_E_NOMEM, "out of memory for the lanes");
+        return;
+    }
+    double bytes = RESULT_HEADER + OP_BYTES * x->ops + 8.0 * x->x_values +
+                   (double)sizeof(lm_lane_stat_add) * x->stat_adds +
+                   (double)sizeof(lm_lane_queue_change) * x->queue_changes + 4.0 * x->touched;
+    r->l[r->n_l++] = (lane_rec){(uint32_t)x->evals, x->ops, x->outcome, (float)bytes};
+}
+
+static lm_status run_steps(const opts *o, lm_optimizer *opt, probe_ctx *p)
+{
+    lm_status st = LM_OK;
+    for (int guard = 0; st == LM_OK && p->st == LM_OK && guard < 1000000; guard++) {
+        lm_progress pr;
+        lm_optimizer_progress(opt, &pr);
+        if (pr.evals >= o->edge_evals)
+            break;
+        p->m->step_c0 = sc_cpu();
+        st = lm_optimizer_step(opt, o->edge_evals);
+    }
+    return st != LM_OK ? st : p->st;
+}
+
+lm_status sc_run_lanes(const opts *o, const lm_mesh *orig, const lm_mesh *coarse,
+                       const lm_view_set *vs, uint32_t k, lanes_run *out)
+{
+    static meter m;
+    lm_mesh *mesh = NULL;
+    lm_optimizer *opt = NULL;
+    memset(out, 0, sizeof *out);
+    out->k = k;
+    lm_status st = sc_meter_start(o, orig, coarse, vs, 1, &m, &mesh);
+    lm_params params = {.seed = 1,
+                        .edges_in_flight = k,
+                        .lane_isolation = 1,
+                        .edges_per_iteration = o->plan,
+                        .surface = orig};
+    if (st == LM_OK)
+        st = lm_optimizer_create(mesh, &m.base, &params, &opt);
+    probe_ctx p = {&m, out, mark_now(&m), LM_OK};
+    if (st == LM_OK && k > 1)
+        lm_lanes_set_probe(opt->lanes, &(lm_lanes_probe){on_phase, on_lane, &p});
+    double t0 = sc_wall();
+    p.at = mark_now(&m);
+    if (st == LM_OK)
+        st = run_steps(o, opt, &p);
+    out->wall_s = sc_wall() - t0;
+    lm_progress pr;
+    if (st == LM_OK) {
+        lm_optimizer_progress(opt, &pr);
+        out->energy_rel =
+            (double)(pr.energy + pr.geometric) / (double)(pr.energy_start + pr.geometric_start);
+    }
+    lm_optimizer_destroy(opt);
+    lm_views_destroy(m.in);
+    lm_replica_free(&m.rep);
+    lm_wire_arena_free(&m.arena);
+    if (st == LM_OK && (!out->n_g || !out->evals))
+        st = lm_fail(LM_E_RANGE, "the lanes' run at K = %u evaluated nothing", k);
+    double lanes_s = 0;
+    for (size_t i = 0; i < out->n_g; i++)
+        lanes_s += out->g[i].lanes_s;
+    if (st == LM_OK) {
+        out->eval_s = lanes_s / (double)out->evals;
+        out->eval_wall_s = out->lanes_wall_s / (double)out->evals;
+        out->per_patch_view_us = 1e6 * out->lanes_views_cpu_s / ((double)out->evals * vs->count);
+    }
+    return st;
+}
+
+void sc_lanes_free(lanes_run *r)
+{
+    free(r->g);
+    free(r->l);
+    memset(r, 0, sizeof *r);
+}

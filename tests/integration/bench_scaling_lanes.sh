@@ -1,0 +1,65 @@
+#!/usr/bin/env bash
+# tests/integration/bench_scaling_lanes.sh — tests/bench/bench_scaling --schedule lanes (issue 36:
+# the whole-lane schedule modelled from the isolated-lane engine): a short run at two K on the 1%
+# bunny writes --json with, per K, the measured lane costs and, per modelled worker count, the
+# speed-up and the efficiency (and the coordinator's CPU per evaluation); the human report names
+# the same; a K outside 2..64 or an unknown schedule is refused with one line. No timing asserts.
+set -uo pipefail
+here=$(cd "$(dirname "$0")" && pwd)
+source "$here/lib.bash"
+: "${LUMESH_TEST_DATA:?}" "${LUMESH_BUILD:?}"
+bench="$LUMESH_BUILD/tests/bench/bench_scaling"
+[ -x "$bench" ] || { echo "bench_scaling_lanes.sh: $bench is not built"; exit 1; }
+scratch
+model="$LUMESH_TEST_DATA/cache/meshes/bunny00.off"
+[ -f "$model" ] || { echo "bench_scaling_lanes.sh: no $model"; exit 77; }
+export LP_NUM_THREADS=0
+
+# -- bad arguments: one line, exit 1 --
+expect_fail_line "$bench" "$model" --schedule lanes --lanes-k 1
+expect_fail_line "$bench" "$model" --schedule lanes --lanes-k 2,65
+expect_fail_line "$bench" "$model" --schedule lanes --lanes-per-worker 0
+expect_fail_line "$bench" "$model" --schedule lane
+
+# -- a short run at K 2 and 4: the JSON's keys --
+checks=$((checks + 1))
+if ! "$bench" "$model" --schedule lanes --lanes-k 2,4 --edge-evals 1200 --json \
+  >"$tmp/lanes.json" 2>"$tmp/lanes.err"; then
+  fail "bench_scaling --schedule lanes --json failed: $(tail -3 "$tmp/lanes.err")"
+fi
+checks=$((checks + 1))
+python3 - "$tmp/lanes.json" <<'PY' || fail "bench_scaling --schedule lanes: its JSON lacks keys"
+import json, sys
+j = json.load(open(sys.argv[1]))
+assert j["bench"] == "scaling" and j["schedule"] == "lanes", j
+assert [r["edges_in_flight"] for r in j["lanes"]] == [2, 4], j["lanes"]
+want_w = [1, 2, 4, 8, 16, 128]
+for r in j["lanes"]:
+    for k in ("groups", "lanes", "evals", "evals_per_lane_mean", "evals_per_lane_p90",
+              "evals_per_lane_max", "worker_us_per_eval", "coordinator_merge_us_per_lane",
+              "coordinator_cpu_per_eval_us", "dropped_replay_share",
+              "dropped_revalidation_share", "revalidated_kept_share", "wasted_evals_share",
+              "request_bytes", "result_bytes_mean", "commit_bytes_per_group", "energy_rel"):
+        assert k in r, (k, r)
+    assert r["lanes"] >= 1 and r["evals"] >= 1 and r["evals_per_lane_max"] >= 1, r
+    assert [p["workers"] for p in r["predicted"]] == want_w, r["predicted"]
+assert [p["workers"] for p in j["predicted"]] == want_w, j["predicted"]
+for p in j["predicted"]:
+    for k in ("speedup", "efficiency", "edges_in_flight", "coordinator_cpu_per_eval_us",
+              "speedup_no_barrier"):
+        assert k in p, (k, p)
+    assert p["speedup"] > 0 and abs(p["efficiency"] - p["speedup"] / p["workers"]) < 1e-2, p
+assert abs(j["predicted"][0]["speedup"] - 1) < 1e-2, j["predicted"][0]
+PY
+
+# -- the human report: per K a line, the predictions, where the time goes --
+checks=$((checks + 1))
+"$bench" "$model" --schedule lanes --lanes-k 2 --edge-evals 600 >"$tmp/lanes.txt" 2>&1 ||
+  fail "bench_scaling --schedule lanes failed: $(tail -3 "$tmp/lanes.txt")"
+for want in "K 2:" "evaluations per lane mean" "per evaluation" "predicted at 100 us RTT" \
+  "where the time goes"; do
+  checks=$((checks + 1))
+  grep -q "$want" "$tmp/lanes.txt" || fail "the human report lacks '$want'"
+done
+
+finish
