@@ -288,12 +288,10 @@ static int parse_attrs(void *to, const char *val)
 
 static int parse_bake(void *to, const char *val)
 {
-    if (strcmp(val, "normal") == 0) {
-        *(int *)to = 1;
-        return -1;
-    }
-    return co_cli_usage_error(CMD, "--bake expects normal (the one map baked so far), got '%s'",
-                              val);
+    if (co_bake_parse_kind(val) != LM_OK)
+        return co_cli_usage_error(CMD, "%s", lm_last_error());
+    *(int *)to = 1;
+    return -1;
 }
 
 static int parse_checkpoint_every(void *o, const char *val)

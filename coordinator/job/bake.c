@@ -10,6 +10,13 @@
 #include "common/uv_atlas.h"
 #include "coordinator/quality/json_text.h"
 
+lm_status co_bake_parse_kind(const char *val)
+{
+    if (strcmp(val, "normal") == 0)
+        return LM_OK;
+    return lm_fail(LM_E_INVALID, "--bake expects normal (the one map baked so far), got '%s'", val);
+}
+
 /* OUT without its extension + "_normal.png". */
 static lm_status map_path(const char *output, char *out, size_t cap)
 {

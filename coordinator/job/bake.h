@@ -20,6 +20,10 @@ typedef struct co_bake_result {
     lm_bake_stats stats;
 } co_bake_result;
 
+/* The value of --bake: LM_OK for "normal" (the one map baked so far), else LM_E_INVALID with the
+ * message. */
+lm_status co_bake_parse_kind(const char *val);
+
 /* Bakes `original` onto the file `output` (rewritten) at size x size. */
 lm_status co_bake_normal_file(const char *original, const char *output, int size,
                               co_bake_result *res);

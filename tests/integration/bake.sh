@@ -2,8 +2,8 @@
 # tests/integration/bake.sh — optimize --bake normal: through the result's own texture
 # coordinates (a hill's 3x3 grid baked from its 9x9 one: the PNG beside OUT, the GLB with
 # normalTexture and TANGENT, an OBJ with its MTL norm line), through the per-triangle atlas (gen-frog,
-# whose parts share charts: the colour texture resampled, said in --json), and bad values (one
-# line, exit 1).
+# whose parts share charts: the colour texture resampled, said in --json), lod --bake normal (a map
+# per level's file; refused with --msft-lod), and bad values (one line, exit 1).
 set -uo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 source "$here/lib.bash"
@@ -39,6 +39,14 @@ run_out "$LUMESH" optimize "$tmp/frog.glb" -o "$tmp/frog_baked.glb" --target-ver
 checks=$((checks + 1))
 grep -q '"type":"bake".*"atlas":true,"resampled_textures":1' "$tmp/out.txt" ||
   fail "frog: no atlas bake record: $(tail -1 "$tmp/out.txt")"
+
+run_out "$LUMESH" lod "$tmp/frog.glb" -o "$tmp/lods/f.glb" --levels 300,120 --method qem \
+  --no-optimize --views 4 --size 32 --device cpu --bake normal --bake-size 512
+checks=$((checks + 1))
+[ -s "$tmp/lods/f.lod0_normal.png" ] && [ -s "$tmp/lods/f.lod1_normal.png" ] &&
+  grep -aq '"normalTexture"' "$tmp/lods/f.lod1.glb" || fail "lod --bake: a level without its map"
+expect_fail_line "$LUMESH" lod "$tmp/frog.glb" -o "$tmp/lods/m.glb" --levels 300 --msft-lod \
+  --bake normal
 
 hill=("$tmp/hill.obj" --initial "$tmp/hill3.obj" -o "$tmp/x.glb" --evals 50 "${small[@]}")
 expect_fail_line "$LUMESH" optimize "${hill[@]}" --bake normal --bake-size 8
