@@ -6,25 +6,12 @@
  * its parent. A box only ever decides what is skipped, never a distance, so the result is the
  * least distance over all triangles whatever the boxes. */
 #include "common/bvh.h"
+#include "common/bvh_internal.h"
 
 #include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-
-typedef struct bvh_node {
-    float lo[3], hi[3];
-    uint32_t first; /* leaf: triangles [first, first + count); inner: the right child (the left
-                       one is the next node) */
-    uint32_t count; /* 0: inner */
-} bvh_node;
-
-struct lm_bvh {
-    float (*tri)[3][3]; /* [n] corner positions (the mesh's floats), in leaf order */
-    uint32_t *id;       /* [n] the mesh's triangle id of each slot */
-    uint32_t n, n_nodes;
-    bvh_node *nodes; /* [2n] at most */
-};
 
 typedef struct build_ctx {
     lm_bvh *b;
@@ -295,8 +282,6 @@ static double box_sq(const bvh_node *nd, const double p[3])
     return d;
 }
 
-#define BVH_STACK 128 /* median splits: depth ~log2(n) + 1 */
-
 /* The closest triangle's squared distance; with tri (not NULL) also its id and p's barycentrics
  * on it. Inlined into both queries, so the distance-only one pays nothing for them. */
 static inline double closest(const lm_bvh *b, const double p[3], uint32_t *tri, double bary[3])
@@ -307,7 +292,7 @@ static inline double closest(const lm_bvh *b, const double p[3], uint32_t *tri, 
     struct {
         uint32_t node;
         double d; /* its box's squared distance, a lower bound of its triangles' */
-    } stack[BVH_STACK];
+    } stack[LM_BVH_STACK];
     int top = 0;
     stack[top].node = 0;
     stack[top++].d = box_sq(&b->nodes[0], p);
@@ -345,7 +330,7 @@ static inline double closest(const lm_bvh *b, const double p[3], uint32_t *tri, 
             near = far, dn = df;
             far = t, df = td;
         }
-        LM_ASSERT(top + 2 <= BVH_STACK);
+        LM_ASSERT(top + 2 <= LM_BVH_STACK);
         if (df < best) {
             stack[top].node = far;
             stack[top++].d = df;
@@ -360,7 +345,7 @@ static inline double closest(const lm_bvh *b, const double p[3], uint32_t *tri, 
 
 int lm_bvh_within(const lm_bvh *b, const double p[3], double r2)
 {
-    uint32_t stack[BVH_STACK];
+    uint32_t stack[LM_BVH_STACK];
     int top = 0;
     if (box_sq(&b->nodes[0], p) > r2)
         return 0;
@@ -380,7 +365,7 @@ int lm_bvh_within(const lm_bvh *b, const double p[3], double r2)
         }
         uint32_t near = (uint32_t)(nd - b->nodes) + 1, far = nd->first;
         double dn = box_sq(&b->nodes[near], p), df = box_sq(&b->nodes[far], p);
-        LM_ASSERT(top + 2 <= BVH_STACK);
+        LM_ASSERT(top + 2 <= LM_BVH_STACK);
         if (df <= r2 && df >= dn)
             stack[top++] = far;
         if (dn <= r2)

@@ -1,8 +1,8 @@
 /* common/bvh.h — a bounding-volume hierarchy over a mesh's live triangles for
- * closest-point queries (the surface distances of the quality report, the optimizer's geometric
- * term). Built once (median splits on the longest axis, at most LM_BVH_LEAF triangles a leaf),
- * read-only afterwards, so queries may run from several threads. Distances in double precision,
- * compiled without contracted multiply-adds: the same point gives the same bits on every
+ * closest-point and line queries (the surface distances of the quality report, the optimizer's
+ * geometric term). Built once (median splits on the longest axis, at most LM_BVH_LEAF triangles a
+ * leaf), read-only afterwards, so queries may run from several threads. Distances in double
+ * precision, compiled without contracted multiply-adds: the same point gives the same bits on every
  * platform (the optimizer's decisions depend on them). */
 #ifndef LM_COMMON_BVH_H
 #define LM_COMMON_BVH_H
@@ -28,6 +28,16 @@ int lm_bvh_within(const lm_bvh *b, const double p[3], double r2);
  * in the hierarchy's order at a tie) and p's closest point on it in barycentric coordinates of
  * its corners (corner k = lm_tri_vertex(m, tri, k)). */
 double lm_bvh_closest_tri(const lm_bvh *b, const double p[3], uint32_t *tri, double bary[3]);
+
+/* Ray queries (common/bvh_ray.c): the triangle the line o + t d meets (both ways, |t| <= tmax)
+ * nearest to o, i.e. at the least |t| (ties: the first one met, a fixed order). Returns 1 and
+ * its mesh id, t and the hit's barycentrics (corner k = lm_tri_vertex(m, tri, k)); 0 when the
+ * line meets none within tmax. With facing 0 triangles are two-sided, else only those whose
+ * front (counter-clockwise) faces along d count (a bake's line along the result's normal then
+ * meets the original's outside surfaces, not parts inside it). d need not be unit (t is in its
+ * units). */
+int lm_bvh_line_hit(const lm_bvh *b, const double o[3], const double d[3], double tmax, int facing,
+                    uint32_t *tri, double *t, double bary[3]);
 
 /* Squared distance from p to triangle (a, b, c) (Ericson, Real-Time Collision Detection 5.1.5);
  * exposed for tests, which compare the hierarchy against every triangle. */

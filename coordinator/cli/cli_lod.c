@@ -11,6 +11,7 @@
 
 #include "common/view.h"
 #include "coordinator/cli/cli_args.h"
+#include "coordinator/job/bake.h"
 #include "coordinator/simplify/lod.h"
 #include "coordinator/simplify/lod_manifest.h"
 
@@ -25,7 +26,7 @@ static void usage(FILE *f)
             "                  [--screen-height PX] [--fov DEG] [--pixel-error P]\n"
             "                  [--views N] [--size S] [--device D] [--workers N]\n"
             "                  [--listen tcp://ADDR:PORT] [--keys DIR] [--renderer ID] [--seed S]\n"
-            "                  [--cull-unseen]\n"
+            "                  [--cull-unseen] [--bake normal [--bake-size N]]\n"
             "Makes a chain of levels of detail of ORIGINAL: each level is simplified from the\n"
             "level before it (the first from ORIGINAL) and then optimised so that its images\n"
             "match ORIGINAL's (the levels nest: each is a simplification of the one before).\n"
@@ -74,10 +75,15 @@ static void usage(FILE *f)
             "  --seed S             the optimizer's seed (default %llu)\n"
             "  --cull-unseen        remove from each level's file the triangles no view sees\n"
             "                       (the chain is made whole; the manifest measures the files)\n"
+            "  --bake normal        then bake a normal map of ORIGINAL onto each level's file,\n"
+            "                       as lumesh optimize --bake does (not with --msft-lod; the\n"
+            "                       manifest measures the levels before the bake)\n"
+            "  --bake-size N        side of each baked map in texels (default %u, %u to %u)\n"
             "  -h, --help           this text\n",
             CO_LOD_MANIFEST_NAME, CO_LOD_DEFAULT_SCREEN_HEIGHT, CO_LOD_DEFAULT_FOV,
             CO_LOD_DEFAULT_PIXEL_ERROR, (unsigned long long)CO_LOD_DEFAULT_EVALS, LM_DEFAULT_VIEWS,
-            LM_DEFAULT_VIEW_SIZE, (unsigned long long)CO_LOD_DEFAULT_SEED);
+            LM_DEFAULT_VIEW_SIZE, (unsigned long long)CO_LOD_DEFAULT_SEED, CO_BAKE_DEFAULT_SIZE,
+            CO_BAKE_MIN_SIZE, CO_BAKE_MAX_SIZE);
 }
 
 static int parse_method(void *to, const char *v)
@@ -112,9 +118,34 @@ static int check_output(const co_lod_options *o)
     return -1;
 }
 
+/* --bake normal [--bake-size N] (0: not given) */
+typedef struct lod_bake {
+    int on;
+    uint32_t size;
+} lod_bake;
+
+static int parse_bake(void *to, const char *val)
+{
+    if (co_bake_parse_kind(val) != LM_OK)
+        return co_cli_usage_error(CMD, "%s", lm_last_error());
+    *(int *)to = 1;
+    return -1;
+}
+
+/* -1 when --bake and --bake-size go with the rest, else 1 (said); the size's default resolved. */
+static int check_bake(const co_lod_options *o, lod_bake *b)
+{
+    if (b->size && !b->on)
+        return co_cli_usage_error(CMD, "--bake-size needs --bake normal");
+    if (b->on && o->msft_lod)
+        return co_cli_usage_error(CMD, "--bake bakes each level's own file: not with --msft-lod");
+    b->size = b->size ? b->size : CO_BAKE_DEFAULT_SIZE;
+    return -1;
+}
+
 static const co_cli_spec spec = {CMD, usage, 1, 1, "missing ORIGINAL model (see --help)", NULL, 1};
 
-static int parse(int argc, char **argv, co_lod_options *o, int *per_level)
+static int parse(int argc, char **argv, co_lod_options *o, int *per_level, lod_bake *bake)
 {
     const co_opt opts[] = {
         CO_OPT_OUTPUT_NEEDED(&o->output_path, "missing -o OUT (see --help)"),
@@ -135,6 +166,8 @@ static int parse(int argc, char **argv, co_lod_options *o, int *per_level)
         CO_OPT_DEVICE(&o->device),
         CO_OPT_SIMPLIFY_WORKERS(&o->workers),
         CO_OPT_SEED(&o->seed, 1),
+        CO_OPT_CALL("bake", 0, parse_bake, &bake->on),
+        CO_OPT_U32("bake-size", 0, &bake->size, CO_BAKE_MIN_SIZE, CO_BAKE_MAX_SIZE),
     };
     int rc = co_cli_parse(&spec, opts, CO_OPTS_N(opts), argc, argv);
     if (rc >= 0)
@@ -144,6 +177,8 @@ static int parse(int argc, char **argv, co_lod_options *o, int *per_level)
         return rc;
     if (*per_level && o->msft_lod)
         return co_cli_usage_error(CMD, "--per-level and --msft-lod exclude each other");
+    if ((rc = check_bake(o, bake)) >= 0)
+        return rc;
     if (o->method == CO_PRICE_SHARD && co_simplify_workers_given(&o->workers))
         return co_cli_usage_error(CMD, "--method shard renders in this process: no --workers, "
                                        "--listen, --keys or --renderer");
@@ -154,7 +189,8 @@ int co_cli_lod(int argc, char **argv)
 {
     co_lod_options o = {0};
     int per_level = 0;
-    int rc = parse(argc, argv, &o, &per_level);
+    lod_bake bake = {0, 0};
+    int rc = parse(argc, argv, &o, &per_level, &bake);
     if (rc >= 0)
         return rc;
     o.progress = isatty(2);
@@ -187,5 +223,12 @@ int co_cli_lod(int argc, char **argv)
                r->m.heldout_mse, r->m.switch_distance);
     }
     printf("  manifest -> %s\n", s.manifest);
+    for (uint32_t k = 0; bake.on && k < s.n_levels; k++) {
+        co_bake_result r;
+        st = co_bake_normal_file(o.input_path, s.level[k].path, (int)bake.size, &r);
+        if (st)
+            return co_cli_fail(CMD, st);
+        co_bake_print(&r, 0);
+    }
     return 0;
 }

@@ -11,6 +11,7 @@
 #include "common/view.h"
 #include "coordinator/cli/cli_args.h"
 #include "coordinator/geometric/run.h"
+#include "coordinator/job/bake.h"
 #include "coordinator/job/job.h"
 #include "coordinator/job/job_log.h"
 #include "coordinator/job/progress.h"
@@ -30,6 +31,7 @@ static const char co_optimize_help[] =
     "                       [--energy image|geometric|image+geometric] [--c-rep C]\n"
     "                       [--geo-improvements LIST] [--geo-start-multiple K]\n"
     "                       [--validate-every K [--validate-views N] [--validate-patience P]]\n"
+    "                       [--bake normal [--bake-size N]]\n"
     "\n"
     "Improve a coarse mesh so that its rendered images match the original's from many viewpoints\n"
     "(Lindstrom & Turk 2001): vertex positions and attributes by downhill simplex, connectivity "
@@ -160,6 +162,14 @@ static const char co_optimize_help[] =
     "                          renderers: workers of another one are refused with the reason\n"
     "  --json                  newline-delimited JSON progress records and a final summary on\n"
     "                          stdout instead of the human progress line on stderr\n"
+    "  --bake normal           then bake a tangent-space normal map of ORIGINAL onto the result:\n"
+    "                          written as OUT's name without its extension + _normal.png and\n"
+    "                          attached to the result's materials (GLB: normalTexture with\n"
+    "                          TANGENT; OBJ: an MTL norm line). Through the result's texture\n"
+    "                          coordinates where they lie in [0,1] and do not overlap, else\n"
+    "                          (results without a colour texture) a per-triangle atlas that\n"
+    "                          replaces them; see coordinator/cli/COMMANDS.md\n"
+    "  --bake-size N           side of the baked map in texels (default %u, %u to %u)\n"
     "  --report DIR            then write the quality report into DIR (created): index.html,\n"
     "                          a self-contained page comparing the result and its coarse start\n"
     "                          (saved as DIR/initial.obj) with ORIGINAL on 24 held-out views\n"
@@ -189,6 +199,8 @@ typedef struct optimize_args {
     uint32_t geo_start_multiple;  /* 0: CO_GEO_START_MULTIPLE */
     uint32_t geo_bits;
     const char *report_dir;
+    int bake;             /* --bake normal given */
+    uint32_t bake_size;   /* 0: not given (CO_BAKE_DEFAULT_SIZE) */
     char initial[4096];   /* DIR/initial.obj */
     char geometric[4200]; /* image+geometric: OUT.geometric.glb, the image job's --initial */
 } optimize_args;
@@ -274,6 +286,14 @@ static int parse_attrs(void *to, const char *val)
     return 1;
 }
 
+static int parse_bake(void *to, const char *val)
+{
+    if (co_bake_parse_kind(val) != LM_OK)
+        return co_cli_usage_error(CMD, "%s", lm_last_error());
+    *(int *)to = 1;
+    return -1;
+}
+
 static int parse_checkpoint_every(void *o, const char *val)
 {
     return parse_every(val, o) == LM_OK ? -1 : 1;
@@ -286,7 +306,8 @@ static void usage(FILE *f)
             CO_JOB_IMAGE_START_SHARE, LM_SURFACE_SHARE,
             (unsigned long long)CO_JOB_DEFAULT_REGRID_EVERY, CO_GEO_DEFAULT_C_REP,
             CO_GEO_START_MULTIPLE, (unsigned long long)CO_JOB_DEFAULT_VALIDATE_EVERY,
-            CO_JOB_DEFAULT_VALIDATE_PATIENCE, CO_JOB_DEFAULT_IN_FLIGHT);
+            CO_JOB_DEFAULT_VALIDATE_PATIENCE, CO_JOB_DEFAULT_IN_FLIGHT, CO_BAKE_DEFAULT_SIZE,
+            CO_BAKE_MIN_SIZE, CO_BAKE_MAX_SIZE);
 }
 
 /* What a 0 given stands for: no geometric term (--surface-weight, --surface-share), one grid all
@@ -339,6 +360,10 @@ static int check_options(optimize_args *a)
     if (o->initial_output_path && a->report_dir)
         return co_cli_usage_error(CMD, "--save-initial and --report exclude each other (the "
                                        "report keeps the start as DIR/initial.obj)");
+    if (a->bake_size && !a->bake)
+        return co_cli_usage_error(CMD, "--bake-size needs --bake normal");
+    if (!a->bake_size)
+        a->bake_size = CO_BAKE_DEFAULT_SIZE;
     return -1;
 }
 
@@ -365,6 +390,8 @@ static int parse_args(int argc, char **argv, optimize_args *a)
         CO_OPT_STR("listen", 0, &o->listen),
         CO_OPT_STR("renderer", 0, &o->renderer),
         CO_OPT_STR("report", 0, &a->report_dir),
+        CO_OPT_CALL("bake", 0, parse_bake, &a->bake),
+        CO_OPT_U32("bake-size", 0, &a->bake_size, CO_BAKE_MIN_SIZE, CO_BAKE_MAX_SIZE),
         CO_OPT_U32("edges-in-flight", 0, &o->edges_in_flight, 1, LM_MAX_EDGES_IN_FLIGHT),
         CO_OPT_CALL("lanes", 0, parse_lanes, o),
         CO_OPT_STR("keys", 0, &o->keys),
@@ -427,6 +454,18 @@ static lm_status prepare_report(optimize_args *a, co_run_log *log)
     return lm_make_folders(a->report_dir);
 }
 
+/* With --bake normal: the written output's normal map (job/bake.h). */
+static lm_status bake_output(const optimize_args *a)
+{
+    if (!a->bake)
+        return LM_OK;
+    co_bake_result r;
+    lm_status st = co_bake_normal_file(a->o.original_path, a->o.output_path, (int)a->bake_size, &r);
+    if (st == LM_OK)
+        co_bake_print(&r, a->o.json);
+    return st;
+}
+
 /* The geometric method (Hoppe et al. 1993) alone, or into `geo_out` as the image job's start. */
 static lm_status run_geometric(const optimize_args *a, const char *geo_out)
 {
@@ -467,6 +506,8 @@ int co_cli_optimize(int argc, char **argv)
         return rc;
     if (a.energy == ENERGY_GEOMETRIC) {
         lm_status gst = run_geometric(&a, NULL);
+        if (gst == LM_OK)
+            gst = bake_output(&a);
         return gst == LM_OK ? 0 : co_cli_fail(CMD, gst);
     }
     const char *both_tmp = NULL;
@@ -483,6 +524,8 @@ int co_cli_optimize(int argc, char **argv)
     if (st == LM_OK)
         st = co_job_run(&a.o, &s);
     int suspended = st == LM_OK && strcmp(s.stop_reason, "suspended") == 0;
+    if (st == LM_OK && !suspended)
+        st = bake_output(&a);
     if (st == LM_OK && a.report_dir && !suspended)
         st = write_report(&a, &s, &log);
     co_run_log_free(&log);

@@ -3,12 +3,15 @@
 # glTF-Validator (npm gltf-validator, installed by scripts/install-deps.sh from
 # tests/support/gltf) with no error and no warning: gen-frog's textured multi-part model, simplify
 # (qem, image, adaptive, from an OBJ with its texture, from an OBJ with a normal map (normalTexture
-# and TANGENT), from the assimp duck (Collada, textured), with --cull-unseen), optimize, lod one file per level and --msft-lod, pm-extract. Every model is
+# and TANGENT), from the assimp duck (Collada, textured), with --cull-unseen), optimize (also
+# --bake normal: through a hill grid's own UVs, and through the per-triangle atlas with gen-frog's
+# texture resampled), lod one file per level and --msft-lod, pm-extract. Every model is
 # converted with its texture beside it. Exits 77 (skipped, with the reason) without Node.js or
 # the package.
 set -uo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 source "$here/lib.bash"
+source "$here/bake_grid.bash"
 root=$(cd "$here/../.." && pwd)
 npmdir=${LUMESH_TEST_DATA:-$root/tests/data}/cache/npm-gltf
 skip() {
@@ -48,6 +51,12 @@ expect_exit 0 "$LUMESH" simplify "$tmp/frog.glb" -o "$tmp/out/culled.glb" --targ
   --views upper:4 --size 32 --cull-unseen
 expect_exit 0 "$LUMESH" optimize "$tmp/frog.glb" -o "$tmp/out/optimized.glb" --target-verts 120 \
   --start qem --evals 300 --seed 1 "${small[@]}"
+expect_exit 0 "$LUMESH" optimize "$tmp/frog.glb" -o "$tmp/out/baked_atlas.glb" --target-verts 120 \
+  --start qem --evals 300 --seed 1 "${small[@]}" --bake normal --bake-size 256
+grid 9 0.3 >"$tmp/hill.obj"
+grid 3 0.3 >"$tmp/hill3.obj"
+expect_exit 0 "$LUMESH" optimize "$tmp/hill.obj" --initial "$tmp/hill3.obj" -o "$tmp/out/baked_uv.glb" \
+  --evals 50 --seed 1 "${small[@]}" --bake normal --bake-size 64
 expect_exit 0 "$LUMESH" lod "$tmp/frog.glb" -o "$tmp/out/lod.glb" --levels 50%,20% --method qem \
   --no-optimize "${small[@]}"
 expect_exit 0 "$LUMESH" lod "$tmp/frog.glb" -o "$tmp/out/msft.glb" --levels 50%,20% --method qem \
@@ -62,7 +71,7 @@ fi
 
 glbs=("$tmp/frog.glb" "$tmp"/out/*.glb "$tmp"/duck/*.glb)
 checks=$((checks + 1))
-[ "${#glbs[@]}" -ge 13 ] || fail "expected at least 13 GLBs, got ${#glbs[@]}: ${glbs[*]}"
+[ "${#glbs[@]}" -ge 15 ] || fail "expected at least 15 GLBs, got ${#glbs[@]}: ${glbs[*]}"
 checks=$((checks + 1))
 # (without the sanitizer run's LD_PRELOAD: Node.js does not run under the ASan runtime)
 env -u LD_PRELOAD node "$tmp/validate.mjs" "${glbs[@]}" >"$tmp/report.txt" 2>&1 ||
