@@ -70,21 +70,21 @@ static const char co_optimize_help[] =
     "                          (default %llu)\n"
     "  --time SECONDS          also stop after this much wall-clock time (default: no limit)\n"
     "  --quality Q             a preset of --evals, --views, --size and --view-schedule (flags\n"
-    "                          given win over it); wall time for the CGAL bunny at 1%% (378\n"
-    "                          vertices, image start) on one 2-core machine, --workers 2:\n"
-    "                          draft   %llu evaluations, %u views of %d², fixed      "
-    "(QUALITY_DRAFT_WALL)\n"
-    "                          good    %llu evaluations, %u views of %d², fixed      "
-    "(QUALITY_GOOD_WALL;\n"
-    "                                  the defaults: the same output as no --quality)\n"
-    "                          best    %llu evaluations, %u views of %d², grow       "
-    "(QUALITY_BEST_WALL)\n"
+    "                          given win over it). Wall time for the CGAL bunny at 1%% (378\n"
+    "                          vertices, the image start, --workers 0) on one 2-core machine\n"
+    "                          shared with other jobs (on 16 workers: not predicted yet):\n"
+    "                            draft  %llu evaluations, %u views of %dx%d, fixed: 63 s\n"
+    "                            good   %llu evaluations, %u views of %dx%d, fixed: 174 s (the\n"
+    "                                   defaults: the same output as no --quality)\n"
+    "                            best   %llu evaluations, %u views of %dx%d, grow: 756 s (on a\n"
+    "                                   busier machine: its loop took 6x good's; unseen-view\n"
+    "                                   error 5%% lower, coordinator/OPTIMIZER.md)\n"
     "  --view-schedule S       fixed (default: the views above all along) or grow: %u stages\n"
     "                          from 0, 1/%u, 2/%u of --evals (with --time alone: of the default\n"
     "                          budget), each new views of the same distribution, 1.5x as many\n"
-    "                          and 1.12x as large as the last (30 of 208² -> 45 of 233² -> 68 of\n"
-    "                          260²): more pixels for more compute. Part of the job, like the\n"
-    "                          seed (a --resume must give the same --evals)\n"
+    "                          and 1.12x as large as the last (30 of 208x208, 45 of 233x233, 68\n"
+    "                          of 260x260): more pixels for more compute. Part of the job, like\n"
+    "                          the seed (a --resume must give the same --evals)\n"
     "  --seed S                random seed (default 1)\n"
     "  --checkpoint FILE       write checkpoints (atomically) to FILE at iteration boundaries,\n"
     "                          and when the run stops\n"
@@ -319,9 +319,10 @@ static void usage(FILE *f)
                         *b = co_job_preset_of(CO_QUALITY_BEST);
     fprintf(f, co_optimize_help, CO_JOB_MIN_TARGET_VERTS, CO_JOB_DEFAULT_VIEWS, CO_JOB_DEFAULT_SIZE,
             (unsigned long long)CO_JOB_DEFAULT_EVALS, (unsigned long long)d->evals, d->views,
-            d->size, (unsigned long long)g->evals, g->views, g->size, (unsigned long long)b->evals,
-            b->views, b->size, CO_SCHEDULE_STAGES, CO_SCHEDULE_STAGES, CO_SCHEDULE_STAGES,
-            CO_JOB_DEFAULT_CHECKPOINT_S, CO_JOB_IMAGE_START_SHARE, LM_SURFACE_SHARE,
+            d->size, d->size, (unsigned long long)g->evals, g->views, g->size, g->size,
+            (unsigned long long)b->evals, b->views, b->size, b->size, CO_SCHEDULE_STAGES,
+            CO_SCHEDULE_STAGES, CO_SCHEDULE_STAGES, CO_JOB_DEFAULT_CHECKPOINT_S,
+            CO_JOB_IMAGE_START_SHARE, LM_SURFACE_SHARE,
             (unsigned long long)CO_JOB_DEFAULT_REGRID_EVERY, CO_GEO_DEFAULT_C_REP,
             CO_GEO_START_MULTIPLE, (unsigned long long)CO_JOB_DEFAULT_VALIDATE_EVERY,
             CO_JOB_DEFAULT_VALIDATE_PATIENCE, CO_JOB_DEFAULT_IN_FLIGHT);

@@ -85,7 +85,8 @@ static void test_good_is_the_defaults(void **state)
     assert_ptr_equal(co_job_preset_of(CO_QUALITY_DEFAULT), g);
     const co_job_preset *d = co_job_preset_of(CO_QUALITY_DRAFT),
                         *b = co_job_preset_of(CO_QUALITY_BEST);
-    assert_true(d->evals < g->evals && g->evals < b->evals);
+    assert_true(d->evals < g->evals && g->evals <= b->evals);
+    assert_int_equal(b->schedule, CO_SCHEDULE_GROW);
 }
 
 int main(void)
