@@ -78,7 +78,7 @@ static const char co_optimize_help[] =
     "                                   defaults: the same output as no --quality)\n"
     "                            best   %llu evaluations, %u views of %dx%d, grow: 756 s (on a\n"
     "                                   busier machine: its loop took 6x good's; unseen-view\n"
-    "                                   error 5%% lower, coordinator/OPTIMIZER.md)\n"
+    "                                   error 0-9%% lower, coordinator/OPTIMIZER.md)\n"
     "  --view-schedule S       fixed (default: the views above all along) or grow: %u stages\n"
     "                          from 0, 1/%u, 2/%u of --evals (with --time alone: of the default\n"
     "                          budget), each new views of the same distribution, 1.5x as many\n"
