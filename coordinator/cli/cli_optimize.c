@@ -31,6 +31,7 @@ static const char co_optimize_help[] =
     "                       [--energy image|geometric|image+geometric] [--c-rep C]\n"
     "                       [--geo-improvements LIST] [--geo-start-multiple K]\n"
     "                       [--validate-every K [--validate-views N] [--validate-patience P]]\n"
+    "                       [--quality draft|good|best] [--view-schedule fixed|grow]\n"
     "                       [--bake normal [--bake-size N]]\n"
     "\n"
     "Improve a coarse mesh so that its rendered images match the original's from many viewpoints\n"
@@ -70,6 +71,24 @@ static const char co_optimize_help[] =
     "  --evals N               budget of energy evaluations, counted from the start of the job\n"
     "                          (default %llu)\n"
     "  --time SECONDS          also stop after this much wall-clock time (default: no limit)\n"
+    "  --quality Q             a preset of --evals, --views, --size and --view-schedule (flags\n"
+    "                          given win over it). Wall time for the CGAL bunny at 1%% (378\n"
+    "                          vertices, the image start, --workers 0) on one 2-core machine\n"
+    "                          shared with other jobs; on 16 workers tests/bench/bench_scaling\n"
+    "                          predicts the optimisation loop x3.6 faster with 30 views of\n"
+    "                          208x208, x7.7 with 68 of 260x260 (best's last stage):\n"
+    "                            draft  %llu evaluations, %u views of %dx%d, fixed: 63 s\n"
+    "                            good   %llu evaluations, %u views of %dx%d, fixed: 174 s (the\n"
+    "                                   defaults: the same output as no --quality)\n"
+    "                            best   %llu evaluations, %u views of %dx%d, grow: 756 s (on a\n"
+    "                                   busier machine: its loop took 6x good's; unseen-view\n"
+    "                                   error 0-9%% lower, coordinator/OPTIMIZER.md)\n"
+    "  --view-schedule S       fixed (default: the views above all along) or grow: %u stages\n"
+    "                          from 0, 1/%u, 2/%u of --evals (with --time alone: of the default\n"
+    "                          budget), each new views of the same distribution, 1.5x as many\n"
+    "                          and 1.12x as large as the last (30 of 208x208, 45 of 233x233, 68\n"
+    "                          of 260x260): more pixels for more compute. Part of the job, like\n"
+    "                          the seed (a --resume must give the same --evals)\n"
     "  --seed S                random seed (default 1)\n"
     "  --checkpoint FILE       write checkpoints (atomically) to FILE at iteration boundaries,\n"
     "                          and when the run stops\n"
@@ -236,6 +255,22 @@ static int parse_start(void *to, const char *val)
     return -1;
 }
 
+static int parse_schedule(void *to, const char *val)
+{
+    co_job_options *o = to;
+    if (co_schedule_parse(val, &o->view_schedule) != LM_OK)
+        return co_cli_usage_error(CMD, "--view-schedule expects fixed or grow, got '%s'", val);
+    return -1;
+}
+
+static int parse_quality(void *to, const char *val)
+{
+    co_job_options *o = to;
+    if (co_job_quality_parse(val, &o->quality) != LM_OK)
+        return co_cli_usage_error(CMD, "--quality expects draft, good or best, got '%s'", val);
+    return -1;
+}
+
 static int parse_lanes(void *to, const char *val)
 {
     co_job_options *o = to;
@@ -301,8 +336,14 @@ static int parse_checkpoint_every(void *o, const char *val)
 
 static void usage(FILE *f)
 {
+    const co_job_preset *d = co_job_preset_of(CO_QUALITY_DRAFT),
+                        *g = co_job_preset_of(CO_QUALITY_GOOD),
+                        *b = co_job_preset_of(CO_QUALITY_BEST);
     fprintf(f, co_optimize_help, CO_JOB_MIN_TARGET_VERTS, CO_JOB_DEFAULT_VIEWS, CO_JOB_DEFAULT_SIZE,
-            (unsigned long long)CO_JOB_DEFAULT_EVALS, CO_JOB_DEFAULT_CHECKPOINT_S,
+            (unsigned long long)CO_JOB_DEFAULT_EVALS, (unsigned long long)d->evals, d->views,
+            d->size, d->size, (unsigned long long)g->evals, g->views, g->size, g->size,
+            (unsigned long long)b->evals, b->views, b->size, b->size, CO_SCHEDULE_STAGES,
+            CO_SCHEDULE_STAGES, CO_SCHEDULE_STAGES, CO_JOB_DEFAULT_CHECKPOINT_S,
             CO_JOB_IMAGE_START_SHARE, LM_SURFACE_SHARE,
             (unsigned long long)CO_JOB_DEFAULT_REGRID_EVERY, CO_GEO_DEFAULT_C_REP,
             CO_GEO_START_MULTIPLE, (unsigned long long)CO_JOB_DEFAULT_VALIDATE_EVERY,
@@ -401,6 +442,8 @@ static int parse_args(int argc, char **argv, optimize_args *a)
         OPT_SURFACE("surface-share", &o->surface_share, 1e6),
         CO_OPT_CALL("start", 0, parse_start, o),
         OPT_REGRID(&o->regrid_every),
+        CO_OPT_CALL("view-schedule", 0, parse_schedule, o),
+        CO_OPT_CALL("quality", 0, parse_quality, o),
         CO_OPT_CALL("energy", 0, parse_energy, &a->energy),
         CO_OPT_CALL("c-rep", 0, parse_c_rep, &a->c_rep),
         CO_OPT_STR("geo-improvements", 0, &a->geo_improvements),

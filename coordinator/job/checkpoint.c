@@ -16,7 +16,8 @@ static const char co_magic[8] = {'L', 'U', 'M', 'E', 'S', 'H', 'C', 'K'};
 enum {
     CO_KEY_BYTES_V3 = 64,
     CO_KEY_BYTES_V2 = 48, /* version 2: no view distribution, no camera hash (sphere views) */
-    CO_KEY_BYTES = 80,    /* version 4: the validation's options after version 3's key */
+    CO_KEY_BYTES_V4 = 80, /* version 4: the validation's options after version 3's key */
+    CO_KEY_BYTES = 96,    /* version 5: the view schedule after version 4's key */
     CO_HEADER_BYTES = 8 + 4 + 4 + CO_KEY_BYTES + 8,
     CO_TRAILER_BYTES = 8,
 };
@@ -83,15 +84,19 @@ static uint64_t get_u64(const uint8_t *p)
     return v;
 }
 
-/* The version a key is written in: 3 (its bytes as ever) unless the job validates. */
+/* The version a key is written in: 3 (its bytes as ever) unless the job validates (4) or grows
+ * its views (5). */
 static uint32_t key_version(const co_checkpoint_key *key)
 {
-    return key->validate_every ? CO_CHECKPOINT_VERSION : 3u;
+    return key->view_schedule ? CO_CHECKPOINT_VERSION : key->validate_every ? 4u : 3u;
 }
 
 static uint32_t version_key_bytes(uint32_t version)
 {
-    return version == 2 ? CO_KEY_BYTES_V2 : version == 3 ? CO_KEY_BYTES_V3 : CO_KEY_BYTES;
+    return version == 2   ? CO_KEY_BYTES_V2
+           : version == 3 ? CO_KEY_BYTES_V3
+           : version == 4 ? CO_KEY_BYTES_V4
+                          : CO_KEY_BYTES;
 }
 
 /* Writes the header; returns its size. */
@@ -118,6 +123,11 @@ static size_t encode_header(uint8_t *h, const co_checkpoint_key *key, uint64_t p
         put_u32(k + 72, key->validate_views);
         put_u32(k + 76, key->validate_patience);
     }
+    if (kb > CO_KEY_BYTES_V4) {
+        put_u32(k + 80, key->view_schedule);
+        put_u32(k + 84, 0);
+        put_u64(k + 88, key->schedule_evals);
+    }
     put_u64(h + 16 + kb, payload_len);
     return header_bytes(kb);
 }
@@ -137,6 +147,8 @@ static void decode_key(const uint8_t *k, uint32_t key_bytes, co_checkpoint_key *
     key->validate_every = key_bytes > CO_KEY_BYTES_V3 ? get_u64(k + 64) : 0;
     key->validate_views = key_bytes > CO_KEY_BYTES_V3 ? get_u32(k + 72) : 0;
     key->validate_patience = key_bytes > CO_KEY_BYTES_V3 ? get_u32(k + 76) : 0;
+    key->view_schedule = key_bytes > CO_KEY_BYTES_V4 ? get_u32(k + 80) : 0;
+    key->schedule_evals = key_bytes > CO_KEY_BYTES_V4 ? get_u64(k + 88) : 0;
 }
 
 uint64_t co_checkpoint_hash_cameras(const lm_view_spec *views)
@@ -330,6 +342,11 @@ static lm_status verify_key(const char *path, const co_checkpoint_key *got,
     CO_KEY_CHECK(validate_every, "--validate-every", PRIu64)
     CO_KEY_CHECK(validate_views, "--validate-views", PRIu32)
     CO_KEY_CHECK(validate_patience, "--validate-patience", PRIu32)
+    if (got->view_schedule != want->view_schedule)
+        return lm_fail(
+            LM_E_INVALID, "checkpoint '%s' was written with --view-schedule %s, this run uses %s",
+            path, got->view_schedule ? "grow" : "fixed", want->view_schedule ? "grow" : "fixed");
+    CO_KEY_CHECK(schedule_evals, "--view-schedule grow over --evals", PRIu64)
 #undef CO_KEY_CHECK
     return LM_OK;
 }

@@ -17,7 +17,10 @@
  * then u64 evaluations between validation checks, u32 validation views, u32 plateau patience) is
  * written only by a job that validates (its payload then also holds the training views' epoch and
  * the validation state: coordinator/job/job.c); every other job writes version 3 as before, and
- * versions 2 and 3 read as jobs without validation. */
+ * versions 2 and 3 read as jobs without validation. Version 5 (a 96-byte key: version 4's, then
+ * u32 view schedule, 4 zero bytes, u64 the evaluations its stages are fractions of) is written only
+ * by a job with `--view-schedule grow` (its payload then also holds the stage, after the epoch's
+ * place); versions 2 to 4 read as jobs with fixed views. */
 #ifndef LM_COORDINATOR_CHECKPOINT_H
 #define LM_COORDINATOR_CHECKPOINT_H
 
@@ -27,7 +30,7 @@
 #include "common/error.h"
 #include "common/view.h"
 
-#define CO_CHECKPOINT_VERSION 4u
+#define CO_CHECKPOINT_VERSION 5u
 /* Refuse to read checkpoints larger than this (a corrupted length must not allocate terabytes). */
 #define CO_CHECKPOINT_MAX_BYTES ((uint64_t)1 << 34)
 
@@ -48,6 +51,8 @@ typedef struct co_checkpoint_key {
     uint64_t validate_every;    /* evaluations between validation checks; 0 = none (version 3) */
     uint32_t validate_views;    /* the validation views' count (0 without validation) */
     uint32_t validate_patience; /* checks without a new best before new training views */
+    uint32_t view_schedule;     /* 0: fixed views; co_view_schedule's grow (version 5) */
+    uint64_t schedule_evals;    /* the budget the grow schedule's stages are fractions of */
 } co_checkpoint_key;
 
 /* initial_hash of a job that started from the image-driven simplification ("image-v1"). */

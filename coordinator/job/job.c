@@ -23,6 +23,7 @@
 #include "common/view.h"
 #include "coordinator/job/checkpoint.h"
 #include "coordinator/job/regrid.h"
+#include "coordinator/job/schedule.h"
 #include "coordinator/job/validate.h"
 #include "coordinator/job/view_turn.h"
 #include "coordinator/pool/pool.h"
@@ -51,6 +52,7 @@ typedef struct co_job {
     co_validation val;          /* with validate_every: the validation views, best mesh and state */
     uint64_t validate_every;    /* 0 = no validation */
     uint32_t validate_patience; /* 0 = the training views never change */
+    uint32_t stage;             /* the view schedule's stage in force (schedule.h) */
     lm_optimizer *opt;
     co_checkpoint_key key;
     co_reporter rep;
@@ -198,6 +200,21 @@ static lm_status resolve_validation(co_job *j)
     return LM_OK;
 }
 
+/* --quality: the preset's evaluations, views, size and schedule where the job left them at 0
+ * (sphere or hemisphere views: a camera file keeps its count). */
+static void apply_preset(co_job_options *o)
+{
+    const co_job_preset *p = co_job_preset_of(o->quality);
+    if (!o->max_evals)
+        o->max_evals = p->evals;
+    if (!o->views.count && o->views.dist != LM_VIEW_DIST_CAMERAS)
+        o->views.count = p->views;
+    if (!o->size)
+        o->size = p->size;
+    if (!o->view_schedule)
+        o->view_schedule = p->schedule;
+}
+
 static lm_status resolve_options(co_job *j, const co_job_options *in)
 {
     j->o = *in;
@@ -210,6 +227,7 @@ static lm_status resolve_options(co_job *j, const co_job_options *in)
         return lm_fail(LM_E_INVALID, "--initial and --start exclude each other");
     if (!o->start)
         o->start = CO_JOB_DEFAULT_START;
+    apply_preset(o);
     if (!o->views.count)
         o->views.count = CO_JOB_DEFAULT_VIEWS;
     if (!o->size)
@@ -235,6 +253,8 @@ static lm_status resolve_options(co_job *j, const co_job_options *in)
         o->device_spec = "auto";
     if (!o->regrid_every)
         o->regrid_every = CO_JOB_DEFAULT_REGRID_EVERY;
+    if (!o->view_schedule)
+        o->view_schedule = CO_JOB_DEFAULT_SCHEDULE;
     resolve_surface_term(j);
     j->regrid_every = co_job_is_none(o->regrid_every) ? 0 : o->regrid_every;
     lm_status vst = resolve_validation(j);
@@ -454,8 +474,8 @@ static lm_status make_pool(co_job *j)
 /* Views of the original: `count` of the job's distribution turned by stream `turn` (view_turn.h)
  * in regrid draw `draw`, with the coarse mesh's materials (an --initial file has its own; the
  * optimizer keeps the coarse mesh's table). */
-static lm_status create_views_of(co_job *j, uint32_t count, uint32_t turn, uint32_t draw, int local,
-                                 lm_views **out)
+static lm_status create_views_of(co_job *j, uint32_t count, int size, uint32_t turn, uint32_t draw,
+                                 int local, lm_views **out)
 {
     lm_view_set *vs = malloc(sizeof *vs);
     if (!vs)
@@ -464,7 +484,7 @@ static lm_status create_views_of(co_job *j, uint32_t count, uint32_t turn, uint3
     lm_mesh_bounding_sphere(j->original, centre, &radius);
     lm_view_spec spec = j->o.views;
     spec.count = count;
-    lm_status st = lm_view_set_make_spec(vs, &spec, LM_VIEWS_TRAINING, j->o.size, centre, radius);
+    lm_status st = lm_view_set_make_spec(vs, &spec, LM_VIEWS_TRAINING, size, centre, radius);
     co_view_turn_apply(vs, spec.dist, j->o.seed, turn, centre);
     co_regrid_apply(vs, j->o.seed, draw);
     const lm_mesh *m = j->coarse ? j->coarse : lm_optimizer_mesh(j->opt);
@@ -481,10 +501,17 @@ static lm_status create_views_of(co_job *j, uint32_t count, uint32_t turn, uint3
     return st;
 }
 
-/* The training views in regrid draw `draw` (of the training views' epoch in force). */
+/* The training views in force: the view schedule's stage's count and size (schedule.h), of the
+ * training views' epoch, in regrid draw `draw`. A camera file's views keep their count. */
 static lm_status create_views(co_job *j, uint32_t draw, lm_views **out)
 {
-    return create_views_of(j, j->o.views.count, j->val.epoch, draw, 0, out);
+    uint32_t count;
+    int size;
+    int cameras = j->o.views.dist == LM_VIEW_DIST_CAMERAS;
+    co_schedule_views(j->o.view_schedule, j->stage, j->o.views.count, j->o.size,
+                      cameras ? j->o.views.count : LM_MAX_VIEWS, LM_MAX_VIEW_SIZE, &count, &size);
+    uint32_t turn = j->val.epoch + CO_SCHEDULE_TURN_STREAM(j->stage);
+    return create_views_of(j, count, size, turn, draw, 0, out);
 }
 
 /* The validation views: never fitted, one pixel grid, rendered in this process with the job's
@@ -493,8 +520,8 @@ static lm_status make_validation_views(co_job *j)
 {
     co_meter_phase(&j->meter, "the original's validation images (%" PRIu32 " views of %dx%d)",
                    j->o.validate_views, j->o.size, j->o.size);
-    lm_status st =
-        create_views_of(j, j->o.validate_views, CO_VIEW_TURN_VALIDATION, 0, 1, &j->val.views);
+    lm_status st = create_views_of(j, j->o.validate_views, j->o.size, CO_VIEW_TURN_VALIDATION, 0, 1,
+                                   &j->val.views);
     co_meter_end(&j->meter);
     if (st == LM_OK && j->validate_patience)
         note(j, "validation views",
@@ -567,6 +594,8 @@ static lm_status make_key(co_job *j)
     k->validate_every = j->validate_every;
     k->validate_views = j->validate_every ? j->o.validate_views : 0;
     k->validate_patience = j->validate_patience;
+    k->view_schedule = j->o.view_schedule == CO_SCHEDULE_GROW ? (uint32_t)CO_SCHEDULE_GROW : 0;
+    k->schedule_evals = k->view_schedule ? j->o.max_evals : 0;
     return st;
 }
 
@@ -591,14 +620,16 @@ static lm_status get_u32_le(FILE *fp, uint32_t *v, const char *what)
 }
 
 /* The payload: the regrid draw the views were in (u32, little-endian), with validation the
- * training views' epoch (u32), then the optimizer, with validation then its state
- * (validate.h). */
+ * training views' epoch (u32), with the grow schedule its stage (u32), then the optimizer, with
+ * validation then its state (validate.h). */
 static lm_status save_payload(const void *ctx, FILE *fp)
 {
     const co_job *j = ctx;
     lm_status st = put_u32_le(fp, j->draw, "regrid draw");
     if (st == LM_OK && j->validate_every)
         st = put_u32_le(fp, j->val.epoch, "training views");
+    if (st == LM_OK && j->key.view_schedule)
+        st = put_u32_le(fp, j->stage, "view schedule stage");
     if (st == LM_OK)
         st = lm_optimizer_save(j->opt, fp);
     if (st == LM_OK && j->validate_every)
@@ -609,17 +640,22 @@ static lm_status save_payload(const void *ctx, FILE *fp)
 static lm_status load_payload(void *ctx, FILE *fp)
 {
     co_job *j = ctx;
-    uint32_t draw = 0, epoch = 0;
+    uint32_t draw = 0, epoch = 0, stage = 0;
     lm_status st = get_u32_le(fp, &draw, "regrid draw");
     if (st == LM_OK && j->validate_every)
         st = get_u32_le(fp, &epoch, "training views");
+    if (st == LM_OK && j->key.view_schedule)
+        st = get_u32_le(fp, &stage, "view schedule stage");
     if (st != LM_OK)
         return st;
     if (draw && !j->regrid_every)
         return lm_fail(LM_E_INVALID,
                        "checkpoint names regrid draw %" PRIu32 " of a job without one", draw);
-    int other = draw != j->draw || epoch != j->val.epoch;
+    if (stage >= CO_SCHEDULE_STAGES)
+        return lm_fail(LM_E_INVALID, "checkpoint names view schedule stage %" PRIu32, stage);
+    int other = draw != j->draw || epoch != j->val.epoch || stage != j->stage;
     j->val.epoch = epoch;
+    j->stage = stage;
     st = other ? switch_draw(j, draw, 0) : LM_OK;
     if (st == LM_OK)
         st = lm_optimizer_load(j->opt, fp);
@@ -796,6 +832,36 @@ static lm_status regrid_if_due(co_job *j, lm_progress *p)
     return st;
 }
 
+/* The view schedule's next stage when the evaluations have reached its start (before the next
+ * step, as a regrid): more views and pixels, turned by the stage's stream (schedule.h). */
+static lm_status stage_if_due(co_job *j, lm_progress *p)
+{
+    uint32_t stage = co_schedule_stage(j->o.view_schedule, p->evals, j->o.max_evals);
+    if (stage == j->stage)
+        return LM_OK;
+    int64_t before = p->energy;
+    double t0 = seconds_since(&j->t0);
+    j->stage = stage;
+    meter_heard_reporter(j);
+    co_meter_phase(&j->meter, "view schedule stage %" PRIu32 ": the original's target images",
+                   stage);
+    lm_status st = switch_draw(j, j->draw, 1);
+    co_meter_end(&j->meter);
+    if (st != LM_OK)
+        return st;
+    lm_optimizer_progress(j->opt, p);
+    lm_views_info info;
+    j->views->ops->info(j->views, &info);
+    if (j->rep.style == CO_REPORT_JSON)
+        note(j, "stage",
+             "view schedule stage %" PRIu32 " at %" PRIu64 " evaluations: %" PRIu32
+             " views of %dx%d; energy %" PRId64 " on the last views, %" PRId64
+             " on the new ones (%.2f s)",
+             stage, p->evals, info.n_views, info.width, info.height, before, p->energy,
+             seconds_since(&j->t0) - t0);
+    return LM_OK;
+}
+
 /* Fit new training views of the same distribution (the next epoch): the run has stopped paying on
  * the validation views with these ones. */
 static lm_status new_training_views(co_job *j, lm_progress *p)
@@ -858,12 +924,16 @@ static lm_status run_loop(co_job *j, const char **reason)
         uint64_t before = p.evals, before_it = p.iterations;
         lm_status st = regrid_if_due(j, &p);
         if (st == LM_OK)
+            st = stage_if_due(j, &p);
+        if (st == LM_OK)
             st = validate_if_due(j, &p);
         if (st != LM_OK)
             return st;
         uint64_t target = p.evals + step_chunk(p.evals - evals0, t);
         uint64_t regrid = co_regrid_next(j->draw, j->regrid_every);
         target = target < regrid ? target : regrid;
+        uint64_t stage = co_schedule_next(j->o.view_schedule, j->stage, j->o.max_evals);
+        target = target < stage ? target : stage;
         if (j->validate_every && j->val.next_evals < target)
             target = j->val.next_evals;
         st = lm_optimizer_step(j->opt, target < j->o.max_evals ? target : j->o.max_evals);

@@ -14,7 +14,9 @@
 
 #include "common/error.h"
 #include "common/view.h"
+#include "coordinator/job/preset.h"
 #include "coordinator/job/progress.h"
+#include "coordinator/job/schedule.h"
 
 /* A job's defaults (resolved by resolve_options in job.c, nowhere else). The optimizer's own views
  * are 30 of 208²; `energy`, `render` and the others keep LM_DEFAULT_VIEWS of LM_DEFAULT_VIEW_SIZE.
@@ -34,6 +36,16 @@
  * new best measured worse on bunny at 100k, same place). */
 #define CO_JOB_DEFAULT_VALIDATE_EVERY 0ull
 #define CO_JOB_DEFAULT_VALIDATE_PATIENCE 0u
+/* The view schedule (`--view-schedule`, schedule.h): the job's views all along unless asked (why:
+ * coordinator/OPTIMIZER.md, view schedule (issue 38)). */
+#define CO_JOB_DEFAULT_SCHEDULE CO_SCHEDULE_FIXED
+/* `--quality` (preset.h): draft and best's evaluations and best's schedule; good is the defaults
+ * above. Best spends its extra compute on views and pixels, not evaluations (the grow schedule
+ * beat the fixed views at 100,000 on every model measured; more evaluations of the same views did
+ * not help: coordinator/OPTIMIZER.md, view schedule). */
+#define CO_JOB_DRAFT_EVALS 10000ull
+#define CO_JOB_BEST_EVALS CO_JOB_DEFAULT_EVALS
+#define CO_JOB_BEST_SCHEDULE CO_SCHEDULE_GROW
 #define CO_JOB_WORKER_START_S 60.0 /* local workers must say hello within this */
 
 /* "None" for the options whose 0 means the default (no geometric term, no regrid, no worker
@@ -117,6 +129,12 @@ typedef struct co_job_options {
     uint32_t validate_patience;      /* checks without a new best before the job fits new training
                                         views (view_turn.h): 0 = CO_JOB_DEFAULT_VALIDATE_PATIENCE,
                                         CO_JOB_NONE = never */
+    co_job_quality quality;          /* a preset for the fields below left at 0 (preset.h): 0 =
+                                        the defaults (good's) */
+    co_view_schedule view_schedule;  /* views and size growing with the evaluations (schedule.h):
+                                        0 = CO_JOB_DEFAULT_SCHEDULE; the grow schedule's stages
+                                        are fractions of max_evals (with --time alone: of the
+                                        default budget) */
     const char *initial_output_path; /* write the coarse mesh the optimisation starts from (after
                                         its preparation) here; NULL = not */
     int cull_unseen; /* remove the output's triangles no view sees (quality/cull_unseen.h); not

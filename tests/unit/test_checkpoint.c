@@ -388,7 +388,7 @@ static void test_version4_validation(void **state)
     uint8_t *d3 = read_file(p3, &n3), *d4 = read_file(p4, &n4);
     assert_int_equal(d3[8], 3);
     assert_int_equal(d3[12], 64);
-    assert_int_equal(d4[8], CO_CHECKPOINT_VERSION);
+    assert_int_equal(d4[8], 4);
     assert_int_equal(d4[12], 80);
     assert_int_equal(n4, n3 + 16);
     memset(&out, 0, sizeof out);
@@ -410,6 +410,43 @@ static void test_version4_validation(void **state)
     lmt_rmdir(dir);
 }
 
+/* A job with the grow view schedule writes version 5 (a 96-byte key: version 4's, then the
+ * schedule and the evaluations its stages are fractions of); both are part of the key, and a
+ * version 3 or 4 file is a job with fixed views. */
+static void test_version5_schedule(void **state)
+{
+    (void)state;
+    char *dir = lmt_mkdtemp();
+    char *p3 = path_in(dir, "v3.ckpt"), *p5 = path_in(dir, "v5.ckpt");
+    payload in, out;
+    make_payload(&in, 300, 9);
+    co_checkpoint_key kg = key0;
+    kg.view_schedule = 2;
+    kg.schedule_evals = 100000;
+    assert_int_equal(co_checkpoint_write(p3, &key0, save_fn, &in), LM_OK);
+    assert_int_equal(co_checkpoint_write(p5, &kg, save_fn, &in), LM_OK);
+    size_t n3, n5;
+    uint8_t *d3 = read_file(p3, &n3), *d5 = read_file(p5, &n5);
+    assert_int_equal(d5[8], CO_CHECKPOINT_VERSION);
+    assert_int_equal(CO_CHECKPOINT_VERSION, 5);
+    assert_int_equal(d5[12], 96);
+    assert_int_equal(n5, n3 + 32);
+    memset(&out, 0, sizeof out);
+    assert_int_equal(co_checkpoint_read(p5, &kg, load_fn, &out), LM_OK);
+    assert_int_equal(out.n, in.n);
+    assert_memory_equal(out.bytes, in.bytes, in.n);
+    expect_key_refused(p3, &kg, "--view-schedule fixed, this run uses grow");
+    expect_key_refused(p5, &key0, "--view-schedule grow, this run uses fixed");
+    co_checkpoint_key k = kg;
+    k.schedule_evals = 200000;
+    expect_key_refused(p5, &k, "over --evals 100000, this run uses");
+    free(d3);
+    free(d5);
+    free(p3);
+    free(p5);
+    lmt_rmdir(dir);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -423,6 +460,7 @@ int main(void)
         cmocka_unit_test(test_hash_file),
         cmocka_unit_test(test_version2_read_as_sphere),
         cmocka_unit_test(test_version4_validation),
+        cmocka_unit_test(test_version5_schedule),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
