@@ -98,5 +98,7 @@ fuzz fuzz_pm "${LUMESH_FUZZ_RUNS:-25000}" tests/fuzz/corpus/pm
 fuzz fuzz_cameras "${LUMESH_FUZZ_RUNS:-1000000}" tests/fuzz/corpus/cameras
 # a checkpoint of a few KiB once made the loader allocate 1 GiB: the limit makes that a finding
 FUZZ_ARGS=-malloc_limit_mb=256 fuzz fuzz_checkpoint "${LUMESH_FUZZ_RUNS:-300000}" tests/fuzz/corpus/checkpoint
+# a lane request or result (issue 36: the whole-edge work unit): counts bounded by the bytes left
+FUZZ_ARGS=-malloc_limit_mb=256 fuzz fuzz_lane_wire "${LUMESH_FUZZ_RUNS:-2000000}" tests/fuzz/corpus/lane_wire
 rm -rf "$seeds"
 echo "all tests passed"
