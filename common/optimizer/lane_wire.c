@@ -130,11 +130,7 @@ static void put_request(lm_bin *b, const lm_lane_request *q)
     lm_put_u32(b, q->n_vetoed);
     for (uint32_t i = 0; i < q->n_vetoed; i++)
         lm_put_u32(b, q->vetoed[i]);
-    lm_put_f64(b, q->stats.half_life);
-    lm_put_f64(b, q->stats.min_weight);
-    for (int k = 0; k < LM_MOVE_KINDS; k++)
-        for (int l = 0; l < LM_LEVELS; l++)
-            lm_stat_save(b, &q->stats.op[k][l]);
+    lm_move_stats_save(b, &q->stats);
     lm_put_f64(b, q->tp_cfg.threshold_half_life);
     lm_put_f64(b, q->tp_cfg.stats_half_life);
     lm_put_u32(b, q->tp_cfg.max_search_evals);
@@ -186,13 +182,9 @@ static void get_request_head(wire *w, lm_lane_request *q)
 
 static void get_request_state(wire *w, lm_lane_request *q)
 {
-    q->stats.half_life = lm_get_f64(&w->b);
-    q->stats.min_weight = lm_get_f64(&w->b);
+    lm_move_stats_load(&w->b, &q->stats);
     get_check(w, finite_nonneg(q->stats.half_life) && finite_nonneg(q->stats.min_weight),
               "statistics constant", 0);
-    for (int k = 0; k < LM_MOVE_KINDS; k++)
-        for (int l = 0; l < LM_LEVELS; l++)
-            lm_stat_load(&w->b, &q->stats.op[k][l]);
     q->tp_cfg.threshold_half_life = lm_get_f64(&w->b);
     q->tp_cfg.stats_half_life = lm_get_f64(&w->b);
     q->tp_cfg.max_search_evals = lm_get_u32(&w->b);

@@ -200,3 +200,21 @@ void lm_stat_load(lm_bin *b, lm_stat *s)
     s->time = lm_get_u64(b);
     s->count = lm_get_u64(b);
 }
+
+void lm_move_stats_save(lm_bin *b, const lm_move_stats *st)
+{
+    lm_put_f64(b, st->half_life);
+    lm_put_f64(b, st->min_weight);
+    for (int k = 0; k < LM_MOVE_KINDS; k++)
+        for (int l = 0; l < LM_LEVELS; l++)
+            lm_stat_save(b, &st->op[k][l]);
+}
+
+void lm_move_stats_load(lm_bin *b, lm_move_stats *st)
+{
+    st->half_life = lm_get_f64(b);
+    st->min_weight = lm_get_f64(b);
+    for (int k = 0; k < LM_MOVE_KINDS; k++)
+        for (int l = 0; l < LM_LEVELS; l++)
+            lm_stat_load(b, &st->op[k][l]);
+}

@@ -45,6 +45,11 @@ typedef struct lm_move_stats {
     lm_stat op[LM_MOVE_KINDS][LM_LEVELS];
 } lm_move_stats;
 
+/* The whole statistics (constants, then every kind and level), as checkpoints and lane requests
+ * carry them; the load checks nothing (its callers do). */
+void lm_move_stats_save(lm_bin *b, const lm_move_stats *st);
+void lm_move_stats_load(lm_bin *b, lm_move_stats *st);
+
 void lm_move_stats_init(lm_move_stats *st, double half_life, double min_weight);
 
 /* The operations that compete on an edge: no-op levels 1..3, swap and split (teleport) 0..3. */

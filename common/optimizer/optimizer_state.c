@@ -227,24 +227,6 @@ static void load_counters(lm_bin *b, lm_progress *p)
     }
 }
 
-static void save_stats(lm_bin *b, const lm_move_stats *st)
-{
-    lm_put_f64(b, st->half_life);
-    lm_put_f64(b, st->min_weight);
-    for (int k = 0; k < LM_MOVE_KINDS; k++)
-        for (int l = 0; l < LM_LEVELS; l++)
-            lm_stat_save(b, &st->op[k][l]);
-}
-
-static void load_stats(lm_bin *b, lm_move_stats *st)
-{
-    st->half_life = lm_get_f64(b);
-    st->min_weight = lm_get_f64(b);
-    for (int k = 0; k < LM_MOVE_KINDS; k++)
-        for (int l = 0; l < LM_LEVELS; l++)
-            lm_stat_load(b, &st->op[k][l]);
-}
-
 static void save_oracle(lm_bin *b, const lm_oracle *o)
 {
     lm_put_f64(b, o->share);
@@ -433,7 +415,7 @@ lm_status lm_optimizer_save(const lm_optimizer *opt, FILE *fp)
         lm_put_u64(&b, opt->rng.s[i]);
     save_counters(&b, opt);
     save_mesh(&b, opt->mesh);
-    save_stats(&b, &opt->stats);
+    lm_move_stats_save(&b, &opt->stats);
     if (b.status)
         return b.status;
     lm_status st = lm_teleport_save(&opt->tp, fp);
@@ -478,7 +460,7 @@ static lm_status parse(lm_bin *b, const lm_optimizer *o, loaded *l)
     if (!st && !(st = b->status))
         st = load_mesh(b, o->mesh, &l->mesh);
     if (!st)
-        load_stats(b, &l->stats);
+        lm_move_stats_load(b, &l->stats);
     if (!st && !(st = b->status) && !(st = lm_teleport_init(&l->tp, &o->tp.cfg, NULL))) {
         l->tp_made = 1;
         st = lm_teleport_load(&l->tp, b->fp);
