@@ -71,9 +71,10 @@ lm_status lm_atlas_per_triangle(const lm_mesh *src, int size, lm_mesh **out)
     if ((double)size / cells - 2.0 * LM_ATLAS_MARGIN < LM_ATLAS_MIN_LEG)
         return lm_fail(LM_E_INVALID,
                        "%u triangles do not fit a per-triangle atlas of %d x %d texels (cells of "
-                       "%.1f texels; at least %d needed): use a larger bake size",
+                       "%.1f texels; at least %d needed): use a bake size of at least %u",
                        src->live_tris, size, size, (double)size / cells,
-                       2 * LM_ATLAS_MARGIN + LM_ATLAS_MIN_LEG);
+                       2 * LM_ATLAS_MARGIN + LM_ATLAS_MIN_LEG,
+                       cells * (2u * LM_ATLAS_MARGIN + LM_ATLAS_MIN_LEG));
     lm_mesh *m;
     lm_status st = lm_mesh_create(&m);
     if (st == LM_OK)
