@@ -6,21 +6,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-static double dot3(const double a[3], const double b[3])
-{
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
-
-static int unit3(double v[3])
-{
-    double len = sqrt(dot3(v, v));
-    if (!(len > 1e-30) || !isfinite(len))
-        return 0;
-    for (int k = 0; k < 3; k++)
-        v[k] /= len;
-    return 1;
-}
-
 /* The original's unit normal at barycentrics b of its triangle t: its wedges' normals
  * interpolated, the face normal where the mesh has none or they cancel. */
 static void orig_normal(const lm_mesh *m, uint32_t t, const double b[3], double n[3])
@@ -30,7 +15,7 @@ static void orig_normal(const lm_mesh *m, uint32_t t, const double b[3], double 
         for (int k = 0; k < 3; k++)
             for (int a = 0; a < 3; a++)
                 n[a] += b[k] * m->wedges[m->tris[t].w[k]].normal[a];
-    if (unit3(n))
+    if (lm_bake_unit3(n))
         return;
     const float *p0 = m->pos[lm_tri_vertex(m, t, 0)], *p1 = m->pos[lm_tri_vertex(m, t, 1)],
                 *p2 = m->pos[lm_tri_vertex(m, t, 2)];
@@ -40,7 +25,7 @@ static void orig_normal(const lm_mesh *m, uint32_t t, const double b[3], double 
     n[0] = e1[1] * e2[2] - e1[2] * e2[1];
     n[1] = e1[2] * e2[0] - e1[0] * e2[2];
     n[2] = e1[0] * e2[1] - e1[1] * e2[0];
-    if (!unit3(n))
+    if (!lm_bake_unit3(n))
         n[0] = 0.0, n[1] = 0.0, n[2] = 1.0;
 }
 
@@ -63,8 +48,8 @@ static void normal_texel(void *arg, const lm_bake_point *pt, size_t i)
     if (!pt->framed)
         return;
     orig_normal(pt->orig, pt->hit, pt->hb, n);
-    px[0] = encode(dot3(n, pt->f)), px[1] = encode(dot3(n, pt->f + 3)),
-    px[2] = encode(dot3(n, pt->f + 6));
+    px[0] = encode(lm_bake_dot3(n, pt->f)), px[1] = encode(lm_bake_dot3(n, pt->f + 3)),
+    px[2] = encode(lm_bake_dot3(n, pt->f + 6));
 }
 
 void lm_bake_normal_sink(lm_image *img, lm_bake_sink *sink)

@@ -136,21 +136,6 @@ lm_status lm_bake_uv_check(const lm_mesh *m, int size, lm_bake_stats *stats)
     return LM_OK;
 }
 
-static double dot3(const double a[3], const double b[3])
-{
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
-
-static int unit3(double v[3])
-{
-    double len = sqrt(dot3(v, v));
-    if (!(len > 1e-30) || !isfinite(len))
-        return 0;
-    for (int k = 0; k < 3; k++)
-        v[k] /= len;
-    return 1;
-}
-
 typedef struct walk {
     const lm_bvh *bvh;
     const float (*tan)[4];
@@ -176,12 +161,12 @@ static int res_frame(const lm_mesh *res, const float (*tan)[4], uint32_t t, cons
         }
         w += b[k] * tan[wi][3];
     }
-    if (!unit3(N))
+    if (!lm_bake_unit3(N))
         return 0;
-    double d = dot3(N, T);
+    double d = lm_bake_dot3(N, T);
     for (int a = 0; a < 3; a++)
         T[a] -= N[a] * d;
-    if (!unit3(T))
+    if (!lm_bake_unit3(T))
         return 0;
     double s = w < 0.0 ? -1.0 : 1.0;
     B[0] = s * (N[1] * T[2] - N[2] * T[1]);
@@ -268,7 +253,7 @@ static double diagonal(const lm_mesh *m)
     float lo[3], hi[3];
     lm_mesh_bounds(m, lo, hi);
     double d[3] = {(double)hi[0] - lo[0], (double)hi[1] - lo[1], (double)hi[2] - lo[2]};
-    return sqrt(dot3(d, d));
+    return sqrt(lm_bake_dot3(d, d));
 }
 
 lm_status lm_bake_walk(const lm_mesh *orig, const lm_mesh *res, int size, const lm_bake_sink *sinks,

@@ -11,6 +11,7 @@
 #ifndef LM_COMMON_BAKE_WALK_H
 #define LM_COMMON_BAKE_WALK_H
 
+#include <math.h>
 #include <stddef.h>
 #include <stdint.h>
 
@@ -57,6 +58,23 @@ typedef struct lm_bake_sink {
  * (may be NULL) counted. Blocking; LM_E_NOMEM on allocation failure. */
 lm_status lm_bake_walk(const lm_mesh *orig, const lm_mesh *res, int size, const lm_bake_sink *sinks,
                        int n_sinks, lm_image *const *imgs, int n_imgs, lm_bake_stats *stats);
+
+/* The bakes' vector arithmetic (double, in this order: the same bits on every host). */
+static inline double lm_bake_dot3(const double a[3], const double b[3])
+{
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+/* v scaled to unit length; 0 (v unchanged) when it is (nearly) zero or not finite. */
+static inline int lm_bake_unit3(double v[3])
+{
+    double len = sqrt(lm_bake_dot3(v, v));
+    if (!(len > 1e-30) || !isfinite(len))
+        return 0;
+    for (int k = 0; k < 3; k++)
+        v[k] /= len;
+    return 1;
+}
 
 /* Texture img at (u, v) (v = 0 the bottom row), bilinear between texel centres, repeating:
  * RGBA in 0..255, not rounded. */
