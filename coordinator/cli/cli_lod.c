@@ -77,8 +77,8 @@ static void usage(FILE *f)
             "                       (the chain is made whole; the manifest measures the files)\n"
             "  --bake KINDS         then bake maps of ORIGINAL onto each level's file (KINDS:\n"
             "                       normal, color or normal,color), as lumesh optimize --bake\n"
-            "                       does (not with --msft-lod; the\n"
-            "                       manifest measures the levels before the bake)\n"
+            "                       does (not with --msft-lod; the manifest measures the levels\n"
+            "                       before the bake)\n"
             "  --bake-size N        side of each baked map in texels (default %u, %u to %u)\n"
             "  -h, --help           this text\n",
             CO_LOD_MANIFEST_NAME, CO_LOD_DEFAULT_SCREEN_HEIGHT, CO_LOD_DEFAULT_FOV,
