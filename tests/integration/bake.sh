@@ -5,7 +5,7 @@
 # whose parts share charts: the colour texture resampled, said in --json), --bake color and
 # --bake normal,color on the textured gen-frog (OUT_color.png, the GLB's baseColorTexture, the
 # --json record, an OBJ's map_Kd; the held-out energy of each and of the unbaked job measured),
-# lod --bake normal (a map per level's file; refused with --msft-lod),
+# lod --bake normal,color (both maps per level's file; refused with --msft-lod),
 # and bad values (one line, exit 1).
 set -uo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
@@ -77,10 +77,12 @@ mapfile -t e < <(sed -n 's/.*"total": \([0-9]*\),.*/\1/p' "$tmp/out.txt")
 echo "held-out energy (64², 24 views): unbaked ${e[0]}, normal ${e[1]}, color ${e[2]}, normal,color ${e[3]}"
 
 run_out "$LUMESH" lod "$tmp/frog.glb" -o "$tmp/lods/f.glb" --levels 300,120 --method qem \
-  --no-optimize --views 4 --size 32 --device cpu --bake normal --bake-size 512
+  --no-optimize --views 4 --size 32 --device cpu --bake normal,color --bake-size 512
 checks=$((checks + 1))
 [ -s "$tmp/lods/f.lod0_normal.png" ] && [ -s "$tmp/lods/f.lod1_normal.png" ] &&
-  grep -aq '"normalTexture"' "$tmp/lods/f.lod1.glb" || fail "lod --bake: a level without its map"
+  [ -s "$tmp/lods/f.lod0_color.png" ] && [ -s "$tmp/lods/f.lod1_color.png" ] &&
+  grep -aq '"normalTexture"' "$tmp/lods/f.lod1.glb" &&
+  grep -aq '"baseColorTexture"' "$tmp/lods/f.lod1.glb" || fail "lod --bake: a level without its maps"
 expect_fail_line "$LUMESH" lod "$tmp/frog.glb" -o "$tmp/lods/m.glb" --levels 300 --msft-lod \
   --bake normal
 
