@@ -1,155 +1,10 @@
-/* common/bake_normal.c — the normal-map bake (see bake_normal.h): the result's UV triangles
- * rasterised at texel centres (the owner of each texel), the per-texel frame and line query, the
- * encoding and the gutters. */
+/* common/bake_normal.c — the normal map's and the colour transfer's sinks on the shared texel walk
+ * (see bake_normal.h, bake_walk.h). */
 #include "common/bake_normal.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-
-#include "common/bvh.h"
-#include "common/tangents.h"
-
-#define STRICT 1e-6 /* barycentrics above this: strictly inside (overlap test) */
-#define EDGE -1e-9  /* at or above this: on the triangle (ownership) */
-
-typedef struct owners {
-    int size;
-    uint32_t *tri;  /* [size²] owning triangle or LM_NONE */
-    uint8_t *inner; /* [size²] 1 when strictly inside its owner */
-    uint64_t texels, overlaps;
-} owners;
-
-/* Texel-space corners of triangle t: x = u size, y = (1 - v) size (rows top to bottom). */
-static void uv_corners(const lm_mesh *m, uint32_t t, int size, double c[3][2])
-{
-    for (int k = 0; k < 3; k++) {
-        const lm_wedge *w = &m->wedges[m->tris[t].w[k]];
-        c[k][0] = (double)w->uv[0] * size;
-        c[k][1] = (1.0 - (double)w->uv[1]) * size;
-    }
-}
-
-/* Barycentrics of point (x, y) in texel-space triangle c; 0 when c has no area. */
-static int uv_bary(const double c[3][2], double x, double y, double b[3])
-{
-    double area =
-        (c[1][0] - c[0][0]) * (c[2][1] - c[0][1]) - (c[2][0] - c[0][0]) * (c[1][1] - c[0][1]);
-    if (area == 0.0 || !isfinite(area))
-        return 0;
-    for (int k = 0; k < 3; k++) {
-        const double *p = c[(k + 1) % 3], *q = c[(k + 2) % 3];
-        b[k] = ((q[0] - p[0]) * (y - p[1]) - (x - p[0]) * (q[1] - p[1])) / area;
-    }
-    return 1;
-}
-
-static void own_texel(owners *o, uint32_t t, size_t i, const double b[3])
-{
-    int inner = b[0] > STRICT && b[1] > STRICT && b[2] > STRICT;
-    if (o->tri[i] == LM_NONE) {
-        o->tri[i] = t, o->inner[i] = (uint8_t)inner, o->texels++;
-        return;
-    }
-    if (inner && o->inner[i])
-        o->overlaps++;
-    else if (inner)
-        o->tri[i] = t, o->inner[i] = 1;
-}
-
-static void raster_tri(const lm_mesh *m, uint32_t t, owners *o)
-{
-    double c[3][2], b[3];
-    uv_corners(m, t, o->size, c);
-    double lo[2] = {c[0][0], c[0][1]}, hi[2] = {c[0][0], c[0][1]};
-    for (int k = 1; k < 3; k++)
-        for (int a = 0; a < 2; a++) {
-            lo[a] = c[k][a] < lo[a] ? c[k][a] : lo[a];
-            hi[a] = c[k][a] > hi[a] ? c[k][a] : hi[a];
-        }
-    int x0 = (int)floor(lo[0]), x1 = (int)ceil(hi[0]), y0 = (int)floor(lo[1]),
-        y1 = (int)ceil(hi[1]);
-    x0 = x0 < 0 ? 0 : x0, y0 = y0 < 0 ? 0 : y0;
-    x1 = x1 > o->size - 1 ? o->size - 1 : x1, y1 = y1 > o->size - 1 ? o->size - 1 : y1;
-    for (int y = y0; y <= y1; y++)
-        for (int x = x0; x <= x1; x++)
-            if (uv_bary(c, x + 0.5, y + 0.5, b) && b[0] >= EDGE && b[1] >= EDGE && b[2] >= EDGE)
-                own_texel(o, t, (size_t)y * o->size + x, b);
-}
-
-static void owners_free(owners *o)
-{
-    free(o->tri);
-    free(o->inner);
-}
-
-/* Every texel's owner (LM_NONE outside the charts). */
-static lm_status owners_make(const lm_mesh *m, int size, owners *o)
-{
-    memset(o, 0, sizeof *o);
-    o->size = size;
-    size_t n = (size_t)size * size;
-    o->tri = malloc(n * sizeof *o->tri);
-    o->inner = calloc(n, 1);
-    if (!o->tri || !o->inner) {
-        owners_free(o);
-        return lm_fail(LM_E_NOMEM, "out of memory for a %d x %d bake", size, size);
-    }
-    for (size_t i = 0; i < n; i++)
-        o->tri[i] = LM_NONE;
-    for (uint32_t t = 0; t < m->n_tris; t++)
-        if (m->tri_alive[t])
-            raster_tri(m, t, o);
-    return LM_OK;
-}
-
-static int uvs_in_unit_square(const lm_mesh *m)
-{
-    for (uint32_t t = 0; t < m->n_tris; t++)
-        for (int k = 0; m->tri_alive[t] && k < 3; k++) {
-            const float *uv = m->wedges[m->tris[t].w[k]].uv;
-            if (!(uv[0] >= 0.0f && uv[0] <= 1.0f && uv[1] >= 0.0f && uv[1] <= 1.0f))
-                return 0;
-        }
-    return 1;
-}
-
-lm_status lm_bake_uv_check(const lm_mesh *m, int size, lm_bake_stats *stats)
-{
-    if (!(m->attrs & LM_ATTR_UV))
-        return lm_fail(LM_E_INVALID, "the mesh has no texture coordinates");
-    if (!uvs_in_unit_square(m))
-        return lm_fail(LM_E_INVALID, "the mesh's texture coordinates leave [0, 1] (a repeated "
-                                     "texture)");
-    owners o;
-    lm_status st = owners_make(m, size, &o);
-    if (st != LM_OK)
-        return st;
-    if (stats)
-        stats->texels = o.texels, stats->overlaps = o.overlaps;
-    owners_free(&o);
-    if (o.overlaps)
-        return lm_fail(LM_E_INVALID,
-                       "the mesh's texture coordinates overlap (%llu of %llu texels at %d x %d "
-                       "lie inside two triangles)",
-                       (unsigned long long)o.overlaps, (unsigned long long)o.texels, size, size);
-    return LM_OK;
-}
-
-static double dot3(const double a[3], const double b[3])
-{
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
-
-static int unit3(double v[3])
-{
-    double len = sqrt(dot3(v, v));
-    if (!(len > 1e-30) || !isfinite(len))
-        return 0;
-    for (int k = 0; k < 3; k++)
-        v[k] /= len;
-    return 1;
-}
 
 /* The original's unit normal at barycentrics b of its triangle t: its wedges' normals
  * interpolated, the face normal where the mesh has none or they cancel. */
@@ -160,7 +15,7 @@ static void orig_normal(const lm_mesh *m, uint32_t t, const double b[3], double 
         for (int k = 0; k < 3; k++)
             for (int a = 0; a < 3; a++)
                 n[a] += b[k] * m->wedges[m->tris[t].w[k]].normal[a];
-    if (unit3(n))
+    if (lm_bake_unit3(n))
         return;
     const float *p0 = m->pos[lm_tri_vertex(m, t, 0)], *p1 = m->pos[lm_tri_vertex(m, t, 1)],
                 *p2 = m->pos[lm_tri_vertex(m, t, 2)];
@@ -170,49 +25,8 @@ static void orig_normal(const lm_mesh *m, uint32_t t, const double b[3], double 
     n[0] = e1[1] * e2[2] - e1[2] * e2[1];
     n[1] = e1[2] * e2[0] - e1[0] * e2[2];
     n[2] = e1[0] * e2[1] - e1[1] * e2[0];
-    if (!unit3(n))
+    if (!lm_bake_unit3(n))
         n[0] = 0.0, n[1] = 0.0, n[2] = 1.0;
-}
-
-typedef struct bake_ctx {
-    const lm_mesh *orig, *res;
-    const lm_bvh *bvh;
-    const float (*tan)[4];
-    double reach; /* the line's half length */
-    lm_bake_stats *stats;
-    lm_bake_colour *colour; /* NULL: no colour transfer */
-    uint32_t *from_tri;     /* with colour: [res->n_tris] the triangle of colour->from */
-} bake_ctx;
-
-/* The result's point, unit frame (T, B, N) at barycentrics b of its triangle t. 0 when the
- * normal vanishes. */
-static int res_frame(const bake_ctx *c, uint32_t t, const double b[3], double p[3], double f[9])
-{
-    double *T = f, *B = f + 3, *N = f + 6, w = 0.0;
-    memset(f, 0, 9 * sizeof *f);
-    p[0] = p[1] = p[2] = 0.0;
-    for (int k = 0; k < 3; k++) {
-        uint32_t wi = c->res->tris[t].w[k];
-        const lm_wedge *we = &c->res->wedges[wi];
-        for (int a = 0; a < 3; a++) {
-            p[a] += b[k] * c->res->pos[we->vertex][a];
-            N[a] += b[k] * we->normal[a];
-            T[a] += b[k] * c->tan[wi][a];
-        }
-        w += b[k] * c->tan[wi][3];
-    }
-    if (!unit3(N))
-        return 0;
-    double d = dot3(N, T);
-    for (int a = 0; a < 3; a++)
-        T[a] -= N[a] * d;
-    if (!unit3(T))
-        return 0;
-    double s = w < 0.0 ? -1.0 : 1.0;
-    B[0] = s * (N[1] * T[2] - N[2] * T[1]);
-    B[1] = s * (N[2] * T[0] - N[0] * T[2]);
-    B[2] = s * (N[0] * T[1] - N[1] * T[0]);
-    return 1;
 }
 
 static uint8_t encode(double x)
@@ -221,186 +35,103 @@ static uint8_t encode(double x)
     return (uint8_t)(v < 0.0 ? 0.0 : v > 255.0 ? 255.0 : v);
 }
 
-/* Texture img at (u, v) (v = 0 the bottom row), bilinear between texel centres, repeating. */
-static void sample(const lm_image *img, double u, double v, uint8_t *px)
+static void flat(uint8_t *px)
 {
-    double fx = (u - floor(u)) * img->width - 0.5, fy = (1.0 - (v - floor(v))) * img->height - 0.5;
-    double x0 = floor(fx), y0 = floor(fy), ax = fx - x0, ay = fy - y0;
-    for (int ch = 0; ch < 4; ch++) {
-        double acc = 0.0;
-        for (int k = 0; k < 4; k++) {
-            int x = (int)x0 + (k & 1), y = (int)y0 + (k >> 1);
-            x = ((x % img->width) + img->width) % img->width;
-            y = ((y % img->height) + img->height) % img->height;
-            double wgt = ((k & 1) ? ax : 1.0 - ax) * ((k >> 1) ? ay : 1.0 - ay);
-            acc += wgt * img->pixels[((size_t)y * img->width + x) * 4 + ch];
-        }
-        px[ch] = (uint8_t)floor(acc + 0.5);
-    }
+    px[0] = 128, px[1] = 128, px[2] = 255, px[3] = 255;
 }
 
-/* With a colour transfer: texel i of atlas triangle t at barycentrics b from `from`'s texture. */
-static void colour_texel(const bake_ctx *c, uint32_t t, const double b[3], size_t i)
+static void normal_texel(void *arg, const lm_bake_point *pt, size_t i)
 {
-    uint32_t mat = c->res->tris[t].material;
-    const lm_mesh *from = c->colour->from;
-    if (!c->colour->out[mat] || mat >= from->n_materials || !from->materials[mat].texture)
+    uint8_t *px = ((lm_image *)arg)->pixels + 4 * i;
+    double n[3];
+    flat(px);
+    if (!pt->framed)
         return;
-    double uv[2] = {0.0, 0.0};
+    orig_normal(pt->orig, pt->hit, pt->hb, n);
+    px[0] = encode(lm_bake_dot3(n, pt->f)), px[1] = encode(lm_bake_dot3(n, pt->f + 3)),
+    px[2] = encode(lm_bake_dot3(n, pt->f + 6));
+}
+
+void lm_bake_normal_sink(lm_image *img, lm_bake_sink *sink)
+{
+    for (size_t i = 0; i < (size_t)img->width * img->height; i++)
+        flat(img->pixels + 4 * i);
+    sink->texel = normal_texel;
+    sink->arg = img;
+}
+
+/* Texel i of atlas triangle pt->tri from `from`'s texture. */
+static void transfer_texel(void *arg, const lm_bake_point *pt, size_t i)
+{
+    const lm_bake_colour *c = arg;
+    uint32_t mat = pt->res->tris[pt->tri].material;
+    const lm_mesh *from = c->from;
+    if (pt->hit == LM_NONE || !c->out[mat] || mat >= from->n_materials ||
+        !from->materials[mat].texture)
+        return;
+    double uv[2] = {0.0, 0.0}, px[4];
     for (int k = 0; k < 3; k++)
         for (int a = 0; a < 2; a++)
-            uv[a] += b[k] * from->wedges[from->tris[c->from_tri[t]].w[k]].uv[a];
-    sample(from->materials[mat].texture, uv[0], uv[1], c->colour->out[mat]->pixels + 4 * i);
+            uv[a] += pt->b[k] * from->wedges[from->tris[c->from_tri[pt->tri]].w[k]].uv[a];
+    lm_bake_sample(from->materials[mat].texture, uv[0], uv[1], px);
+    for (int ch = 0; ch < 4; ch++)
+        c->out[mat]->pixels[4 * i + ch] = (uint8_t)floor(px[ch] + 0.5);
 }
 
-/* Texel i of owner t (centre x, y) into px. */
-static void bake_texel(const bake_ctx *c, uint32_t t, int size, int x, int y, uint8_t *px)
+lm_status lm_bake_transfer_begin(const lm_mesh *res, int size, lm_bake_colour *c,
+                                 lm_bake_sink *sink)
 {
-    double uc[3][2], b[3], p[3], f[9], n[3] = {0.0, 0.0, 1.0};
-    uv_corners(c->res, t, size, uc);
-    px[0] = 128, px[1] = 128, px[2] = 255, px[3] = 255;
-    if (!uv_bary(uc, x + 0.5, y + 0.5, b))
-        return;
-    double sum = 0.0;
-    for (int k = 0; k < 3; k++)
-        sum += b[k] = b[k] < 0.0 ? 0.0 : b[k];
-    for (int k = 0; k < 3; k++)
-        b[k] /= sum;
-    if (c->colour)
-        colour_texel(c, t, b, (size_t)y * size + x);
-    if (!res_frame(c, t, b, p, f))
-        return;
-    uint32_t hit;
-    double th, hb[3];
-    if (lm_bvh_line_hit(c->bvh, p, f + 6, c->reach, 1, &hit, &th, hb))
-        c->stats->hits++;
-    else
-        lm_bvh_closest_tri(c->bvh, p, &hit, hb);
-    orig_normal(c->orig, hit, hb, n);
-    px[0] = encode(dot3(n, f)), px[1] = encode(dot3(n, f + 3)), px[2] = encode(dot3(n, f + 6));
-}
-
-/* Passes until every texel is filled: each texel outside the charts next to (8-neighbourhood,
- * fixed order) one filled by an earlier pass takes its value. */
-static void dilate(lm_image *const *imgs, int n_imgs, uint16_t *filled)
-{
-    int s = imgs[0]->width, grew = 1;
-    static const int dx[8] = {-1, 1, 0, 0, -1, 1, -1, 1}, dy[8] = {0, 0, -1, 1, -1, -1, 1, 1};
-    for (uint16_t pass = 2; grew && pass < UINT16_MAX; pass++) {
-        grew = 0;
-        for (int y = 0; y < s; y++)
-            for (int x = 0; x < s; x++) {
-                size_t i = (size_t)y * s + x;
-                for (int k = 0; !filled[i] && k < 8; k++) {
-                    int nx = x + dx[k], ny = y + dy[k];
-                    if (nx < 0 || ny < 0 || nx >= s || ny >= s)
-                        continue;
-                    size_t j = (size_t)ny * s + nx;
-                    if (!filled[j] || filled[j] == pass)
-                        continue;
-                    for (int m = 0; m < n_imgs; m++)
-                        if (imgs[m])
-                            memcpy(imgs[m]->pixels + 4 * i, imgs[m]->pixels + 4 * j, 4);
-                    filled[i] = pass;
-                    grew = 1;
-                }
-            }
-    }
-}
-
-static lm_status bake_into(bake_ctx *c, const owners *o, lm_image *img)
-{
-    uint16_t *filled = calloc((size_t)o->size * o->size, sizeof *filled);
-    if (!filled)
-        return lm_fail(LM_E_NOMEM, "out of memory for a bake's gutters");
-    for (int y = 0; y < o->size; y++)
-        for (int x = 0; x < o->size; x++) {
-            size_t i = (size_t)y * o->size + x;
-            uint8_t *px = img->pixels + 4 * i;
-            if (o->tri[i] == LM_NONE) {
-                px[0] = 128, px[1] = 128, px[2] = 255, px[3] = 255;
-                continue;
-            }
-            bake_texel(c, o->tri[i], o->size, x, y, px);
-            filled[i] = 1;
-        }
-    lm_image **imgs = malloc(((size_t)c->res->n_materials + 1) * sizeof *imgs);
-    if (!imgs) {
-        free(filled);
-        return lm_fail(LM_E_NOMEM, "out of memory for a bake's gutters");
-    }
-    imgs[0] = img;
-    for (uint32_t m = 0; m < c->res->n_materials; m++)
-        imgs[1 + m] = c->colour ? c->colour->out[m] : NULL;
-    dilate(imgs, 1 + (int)c->res->n_materials, filled);
-    free(imgs);
-    free(filled);
-    return LM_OK;
-}
-
-static double diagonal(const lm_mesh *m)
-{
-    float lo[3], hi[3];
-    lm_mesh_bounds(m, lo, hi);
-    double d[3] = {(double)hi[0] - lo[0], (double)hi[1] - lo[1], (double)hi[2] - lo[2]};
-    return sqrt(dot3(d, d));
-}
-
-/* The colour transfer's images and triangle map (nothing without a transfer). */
-static lm_status colour_prepare(bake_ctx *c, int size)
-{
-    if (!c->colour)
-        return LM_OK;
-    const lm_mesh *from = c->colour->from;
-    c->from_tri = malloc(((size_t)c->res->n_tris + 1) * sizeof *c->from_tri);
+    const lm_mesh *from = c->from;
+    c->from_tri = malloc(((size_t)res->n_tris + 1) * sizeof *c->from_tri);
     if (!c->from_tri)
         return lm_fail(LM_E_NOMEM, "out of memory for a colour transfer");
     uint32_t i = 0;
-    for (uint32_t t = 0; t < from->n_tris && i < c->res->n_tris; t++)
+    for (uint32_t t = 0; t < from->n_tris && i < res->n_tris; t++)
         if (from->tri_alive[t])
             c->from_tri[i++] = t;
-    if (i != c->res->n_tris || from->live_tris != c->res->live_tris)
+    if (i != res->n_tris || from->live_tris != res->live_tris)
         return lm_fail(LM_E_INTERNAL, "a colour transfer from a mesh that is not the atlas's");
-    for (uint32_t m = 0; m < c->res->n_materials && m < from->n_materials; m++) {
+    for (uint32_t m = 0; m < res->n_materials && m < from->n_materials; m++) {
         if (!from->materials[m].texture)
             continue;
-        lm_status st = lm_image_create(size, size, &c->colour->out[m]);
+        lm_status st = lm_image_create(size, size, &c->out[m]);
         if (st != LM_OK)
             return st;
     }
+    sink->texel = transfer_texel;
+    sink->arg = c;
     return LM_OK;
+}
+
+void lm_bake_transfer_end(lm_bake_colour *c)
+{
+    free(c->from_tri);
+    c->from_tri = NULL;
 }
 
 lm_status lm_bake_normal(const lm_mesh *orig, const lm_mesh *res, int size, lm_bake_colour *colour,
                          lm_image **out, lm_bake_stats *stats)
 {
-    lm_bake_stats local = {0};
     *out = NULL;
-    stats = stats ? stats : &local;
-    memset(stats, 0, sizeof *stats);
-    owners o;
-    lm_bvh *bvh = NULL;
-    float(*tan)[4] = NULL;
-    lm_image *img = NULL;
-    lm_status st = owners_make(res, size, &o);
-    if (st != LM_OK)
-        return st;
-    stats->texels = o.texels, stats->overlaps = o.overlaps;
-    st = lm_bvh_create(orig, &bvh);
+    lm_image *img = NULL, **imgs = NULL;
+    lm_bake_sink sinks[2];
+    lm_status st = lm_image_create(size, size, &img);
+    if (st == LM_OK) {
+        imgs = calloc((size_t)res->n_materials + 1, sizeof *imgs);
+        st = imgs ? LM_OK : lm_fail(LM_E_NOMEM, "out of memory for a bake's gutters");
+    }
     if (st == LM_OK)
-        st = lm_mesh_tangents(res, &tan);
+        lm_bake_normal_sink(img, &sinks[0]), imgs[0] = img;
+    if (st == LM_OK && colour)
+        st = lm_bake_transfer_begin(res, size, colour, &sinks[1]);
+    for (uint32_t m = 0; st == LM_OK && colour && m < res->n_materials; m++)
+        imgs[1 + m] = colour->out[m];
     if (st == LM_OK)
-        st = lm_image_create(size, size, &img);
-    bake_ctx c = {orig,  res,    bvh, (const float(*)[4])tan, 0.1 * diagonal(orig),
-                  stats, colour, NULL};
-    if (st == LM_OK)
-        st = colour_prepare(&c, size);
-    if (st == LM_OK)
-        st = bake_into(&c, &o, img);
-    free(c.from_tri);
-    owners_free(&o);
-    lm_bvh_destroy(bvh);
-    free(tan);
+        st = lm_bake_walk(orig, res, size, sinks, colour ? 2 : 1, imgs,
+                          colour ? 1 + (int)res->n_materials : 1, stats);
+    if (colour)
+        lm_bake_transfer_end(colour);
+    free(imgs);
     if (st != LM_OK) {
         lm_image_destroy(img);
         return st;

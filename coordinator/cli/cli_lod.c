@@ -26,7 +26,7 @@ static void usage(FILE *f)
             "                  [--screen-height PX] [--fov DEG] [--pixel-error P]\n"
             "                  [--views N] [--size S] [--device D] [--workers N]\n"
             "                  [--listen tcp://ADDR:PORT] [--keys DIR] [--renderer ID] [--seed S]\n"
-            "                  [--cull-unseen] [--bake normal [--bake-size N]]\n"
+            "                  [--cull-unseen] [--bake normal,color [--bake-size N]]\n"
             "Makes a chain of levels of detail of ORIGINAL: each level is simplified from the\n"
             "level before it (the first from ORIGINAL) and then optimised so that its images\n"
             "match ORIGINAL's (the levels nest: each is a simplification of the one before).\n"
@@ -75,9 +75,10 @@ static void usage(FILE *f)
             "  --seed S             the optimizer's seed (default %llu)\n"
             "  --cull-unseen        remove from each level's file the triangles no view sees\n"
             "                       (the chain is made whole; the manifest measures the files)\n"
-            "  --bake normal        then bake a normal map of ORIGINAL onto each level's file,\n"
-            "                       as lumesh optimize --bake does (not with --msft-lod; the\n"
-            "                       manifest measures the levels before the bake)\n"
+            "  --bake KINDS         then bake maps of ORIGINAL onto each level's file (KINDS:\n"
+            "                       normal, color or normal,color), as lumesh optimize --bake\n"
+            "                       does (not with --msft-lod; the manifest measures the levels\n"
+            "                       before the bake)\n"
             "  --bake-size N        side of each baked map in texels (default %u, %u to %u)\n"
             "  -h, --help           this text\n",
             CO_LOD_MANIFEST_NAME, CO_LOD_DEFAULT_SCREEN_HEIGHT, CO_LOD_DEFAULT_FOV,
@@ -118,17 +119,16 @@ static int check_output(const co_lod_options *o)
     return -1;
 }
 
-/* --bake normal [--bake-size N] (0: not given) */
+/* --bake KINDS [--bake-size N] (0: not given) */
 typedef struct lod_bake {
-    int on;
+    unsigned on; /* CO_BAKE_* */
     uint32_t size;
 } lod_bake;
 
 static int parse_bake(void *to, const char *val)
 {
-    if (co_bake_parse_kind(val) != LM_OK)
+    if (co_bake_parse_kind(val, (unsigned *)to) != LM_OK)
         return co_cli_usage_error(CMD, "%s", lm_last_error());
-    *(int *)to = 1;
     return -1;
 }
 
@@ -136,7 +136,7 @@ static int parse_bake(void *to, const char *val)
 static int check_bake(const co_lod_options *o, lod_bake *b)
 {
     if (b->size && !b->on)
-        return co_cli_usage_error(CMD, "--bake-size needs --bake normal");
+        return co_cli_usage_error(CMD, "--bake-size needs --bake");
     if (b->on && o->msft_lod)
         return co_cli_usage_error(CMD, "--bake bakes each level's own file: not with --msft-lod");
     b->size = b->size ? b->size : CO_BAKE_DEFAULT_SIZE;
@@ -225,7 +225,7 @@ int co_cli_lod(int argc, char **argv)
     printf("  manifest -> %s\n", s.manifest);
     for (uint32_t k = 0; bake.on && k < s.n_levels; k++) {
         co_bake_result r;
-        st = co_bake_normal_file(o.input_path, s.level[k].path, (int)bake.size, &r);
+        st = co_bake_file(o.input_path, s.level[k].path, bake.on, (int)bake.size, &r);
         if (st)
             return co_cli_fail(CMD, st);
         co_bake_print(&r, 0);

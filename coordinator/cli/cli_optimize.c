@@ -32,7 +32,7 @@ static const char co_optimize_help[] =
     "                       [--geo-improvements LIST] [--geo-start-multiple K]\n"
     "                       [--validate-every K [--validate-views N] [--validate-patience P]]\n"
     "                       [--quality draft|good|best] [--view-schedule fixed|grow]\n"
-    "                       [--bake normal [--bake-size N]]\n"
+    "                       [--bake normal,color [--bake-size N]]\n"
     "\n"
     "Improve a coarse mesh so that its rendered images match the original's from many viewpoints\n"
     "(Lindstrom & Turk 2001): vertex positions and attributes by downhill simplex, connectivity "
@@ -181,13 +181,18 @@ static const char co_optimize_help[] =
     "                          renderers: workers of another one are refused with the reason\n"
     "  --json                  newline-delimited JSON progress records and a final summary on\n"
     "                          stdout instead of the human progress line on stderr\n"
-    "  --bake normal           then bake a tangent-space normal map of ORIGINAL onto the result:\n"
-    "                          written as OUT's name without its extension + _normal.png and\n"
-    "                          attached to the result's materials (GLB: normalTexture with\n"
-    "                          TANGENT; OBJ: an MTL norm line). Through the result's texture\n"
-    "                          coordinates where they lie in [0,1] and do not overlap, else\n"
-    "                          (results without a colour texture) a per-triangle atlas that\n"
-    "                          replaces them; see coordinator/cli/COMMANDS.md\n"
+    "  --bake KINDS            then bake maps of ORIGINAL onto the result, KINDS one or both\n"
+    "                          of normal, color (comma-separated, e.g. normal,color):\n"
+    "                          normal, a tangent-space normal map written as OUT's name\n"
+    "                          without its extension + _normal.png (GLB: normalTexture with\n"
+    "                          TANGENT; OBJ: an MTL norm line); color, the original's base\n"
+    "                          colour (texture x factor x vertex colour) where the same line\n"
+    "                          meets it, written as + _color.png and made the materials'\n"
+    "                          texture (GLB: baseColorTexture, factor RGB 1; OBJ: map_Kd).\n"
+    "                          Through the result's texture coordinates where they lie in\n"
+    "                          [0,1] and do not overlap, else a per-triangle atlas that\n"
+    "                          replaces them (without color, the result's colour textures\n"
+    "                          resampled into it); see coordinator/cli/COMMANDS.md\n"
     "  --bake-size N           side of the baked map in texels (default %u, %u to %u)\n"
     "  --report DIR            then write the quality report into DIR (created): index.html,\n"
     "                          a self-contained page comparing the result and its coarse start\n"
@@ -218,7 +223,7 @@ typedef struct optimize_args {
     uint32_t geo_start_multiple;  /* 0: CO_GEO_START_MULTIPLE */
     uint32_t geo_bits;
     const char *report_dir;
-    int bake;             /* --bake normal given */
+    unsigned bake;        /* --bake's maps (CO_BAKE_*), 0: not given */
     uint32_t bake_size;   /* 0: not given (CO_BAKE_DEFAULT_SIZE) */
     char initial[4096];   /* DIR/initial.obj */
     char geometric[4200]; /* image+geometric: OUT.geometric.glb, the image job's --initial */
@@ -323,9 +328,8 @@ static int parse_attrs(void *to, const char *val)
 
 static int parse_bake(void *to, const char *val)
 {
-    if (co_bake_parse_kind(val) != LM_OK)
+    if (co_bake_parse_kind(val, (unsigned *)to) != LM_OK)
         return co_cli_usage_error(CMD, "%s", lm_last_error());
-    *(int *)to = 1;
     return -1;
 }
 
@@ -402,7 +406,7 @@ static int check_options(optimize_args *a)
         return co_cli_usage_error(CMD, "--save-initial and --report exclude each other (the "
                                        "report keeps the start as DIR/initial.obj)");
     if (a->bake_size && !a->bake)
-        return co_cli_usage_error(CMD, "--bake-size needs --bake normal");
+        return co_cli_usage_error(CMD, "--bake-size needs --bake");
     if (!a->bake_size)
         a->bake_size = CO_BAKE_DEFAULT_SIZE;
     return -1;
@@ -497,13 +501,14 @@ static lm_status prepare_report(optimize_args *a, co_run_log *log)
     return lm_make_folders(a->report_dir);
 }
 
-/* With --bake normal: the written output's normal map (job/bake.h). */
+/* With --bake: the written output's maps (job/bake.h). */
 static lm_status bake_output(const optimize_args *a)
 {
     if (!a->bake)
         return LM_OK;
     co_bake_result r;
-    lm_status st = co_bake_normal_file(a->o.original_path, a->o.output_path, (int)a->bake_size, &r);
+    lm_status st =
+        co_bake_file(a->o.original_path, a->o.output_path, a->bake, (int)a->bake_size, &r);
     if (st == LM_OK)
         co_bake_print(&r, a->o.json);
     return st;

@@ -1,34 +1,43 @@
-/* coordinator/job/bake.h — `--bake normal` on a written result (optimize; lod's levels): the
- * original and the result loaded, a normal map baked (common/bake_normal.h) through the result's
- * texture coordinates when they can carry one, else through a per-triangle atlas
- * (common/uv_atlas.h) that replaces them, the result's colour textures resampled into it;
- * written as PNG beside the result (OUT's name without its extension + "_normal.png"), attached
- * to every material and the result saved again (GLB: normalTexture and TANGENT). */
+/* coordinator/job/bake.h — `--bake normal,color` on a written result (optimize; lod's levels):
+ * the original and the result loaded, the maps asked for baked in one texel walk
+ * (common/bake_walk.h: common/bake_normal.h, common/bake_color.h) through the result's texture
+ * coordinates when they can carry one, else through a per-triangle atlas (common/uv_atlas.h)
+ * that replaces them (without a colour bake, the result's colour textures resampled into it);
+ * written as PNG beside the result (OUT's name without its extension + "_normal.png",
+ * "_color.png"), attached to every material and the result saved again (GLB: normalTexture and
+ * TANGENT; baseColorTexture with the base colour factor's RGB 1 and the vertex colours dropped,
+ * since the map holds them). */
 #ifndef LM_COORDINATOR_JOB_BAKE_H
 #define LM_COORDINATOR_JOB_BAKE_H
 
-#include "common/bake_normal.h"
+#include "common/bake_walk.h"
 
 #define CO_BAKE_DEFAULT_SIZE 1024u
 #define CO_BAKE_MIN_SIZE 16u
 #define CO_BAKE_MAX_SIZE 8192u
 
+/* The maps --bake names (a bit set). */
+enum { CO_BAKE_NORMAL = 1u << 0, CO_BAKE_COLOR = 1u << 1 };
+
 typedef struct co_bake_result {
-    char map_path[4096]; /* the PNG written */
-    int atlas;           /* 1: the result's coordinates were replaced by the atlas */
-    unsigned resampled;  /* colour textures resampled into the atlas */
+    unsigned kinds;        /* CO_BAKE_* baked */
+    char map_path[4096];   /* the normal map written ("" without one) */
+    char color_path[4096]; /* the colour map written ("" without one) */
+    int atlas;             /* 1: the result's coordinates were replaced by the atlas */
+    unsigned resampled;    /* colour textures resampled into the atlas */
     lm_bake_stats stats;
 } co_bake_result;
 
-/* The value of --bake: LM_OK for "normal" (the one map baked so far), else LM_E_INVALID with the
- * message. */
-lm_status co_bake_parse_kind(const char *val);
+/* The value of --bake: a comma-separated list of normal and color (any order, each once) into
+ * *kinds; else LM_E_INVALID with the message. */
+lm_status co_bake_parse_kind(const char *val, unsigned *kinds);
 
-/* Bakes `original` onto the file `output` (rewritten) at size x size. */
-lm_status co_bake_normal_file(const char *original, const char *output, int size,
-                              co_bake_result *res);
+/* Bakes the maps `kinds` of `original` onto the file `output` (rewritten) at size x size.
+ * Blocking; on failure `output` may hold the unbaked result still. */
+lm_status co_bake_file(const char *original, const char *output, unsigned kinds, int size,
+                       co_bake_result *res);
 
-/* Prints what co_bake_normal_file did: one line, or a {"type":"bake",...} record with json. */
+/* Prints what co_bake_file did: a line a map, or a {"type":"bake",...} record with json. */
 void co_bake_print(const co_bake_result *res, int json);
 
 #endif

@@ -2,8 +2,11 @@
 # tests/integration/bake.sh — optimize --bake normal: through the result's own texture
 # coordinates (a hill's 3x3 grid baked from its 9x9 one: the PNG beside OUT, the GLB with
 # normalTexture and TANGENT, an OBJ with its MTL norm line), through the per-triangle atlas (gen-frog,
-# whose parts share charts: the colour texture resampled, said in --json), lod --bake normal (a map
-# per level's file; refused with --msft-lod), and bad values (one line, exit 1).
+# whose parts share charts: the colour texture resampled, said in --json), --bake color and
+# --bake normal,color on the textured gen-frog (OUT_color.png, the GLB's baseColorTexture, the
+# --json record, an OBJ's map_Kd; the held-out energy of each and of the unbaked job measured),
+# lod --bake normal,color (both maps per level's file; refused with --msft-lod),
+# and bad values (one line, exit 1).
 set -uo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 source "$here/lib.bash"
@@ -40,11 +43,46 @@ checks=$((checks + 1))
 grep -q '"type":"bake".*"atlas":true,"resampled_textures":1' "$tmp/out.txt" ||
   fail "frog: no atlas bake record: $(tail -1 "$tmp/out.txt")"
 
+# --bake color: the original's colour along the same lines, in the atlas (the frog's UVs overlap)
+run_out "$LUMESH" optimize "$tmp/frog.glb" -o "$tmp/frog_color.glb" --target-verts 120 \
+  --start qem --evals 300 --seed 1 "${small[@]}" --bake color --bake-size 256 --json
+checks=$((checks + 1))
+grep -q '"type":"bake","color_map":"[^"]*frog_color_color.png","atlas":true,"resampled_textures":0' \
+  "$tmp/out.txt" || fail "frog color: no bake record: $(tail -1 "$tmp/out.txt")"
+checks=$((checks + 1))
+[ -s "$tmp/frog_color_color.png" ] && grep -aq '"baseColorTexture"' "$tmp/frog_color.glb" &&
+  ! grep -aq '"normalTexture"' "$tmp/frog_color.glb" || fail "frog_color.glb: not colour-baked"
+run_out "$LUMESH" optimize "$tmp/frog.glb" -o "$tmp/frog_both.glb" --target-verts 120 \
+  --start qem --evals 300 --seed 1 "${small[@]}" --bake color,normal --bake-size 256
+checks=$((checks + 1))
+grep -q "baked normal map: .*frog_both_normal.png" "$tmp/out.txt" &&
+  grep -q "baked colour map: .*frog_both_color.png" "$tmp/out.txt" &&
+  grep -aq '"normalTexture"' "$tmp/frog_both.glb" && grep -aq '"baseColorTexture"' "$tmp/frog_both.glb" ||
+  fail "frog normal,color: $(cat "$tmp/out.txt" | tail -2)"
+mkdir -p "$tmp/objc"
+run_out "$LUMESH" optimize "$tmp/frog.glb" -o "$tmp/objc/frog.obj" --target-verts 120 \
+  --start qem --evals 300 --seed 1 "${small[@]}" --bake color --bake-size 256
+checks=$((checks + 1))
+grep -q '^map_Kd ' "$tmp/objc/frog.mtl" && [ -s "$tmp/objc/frog_color.png" ] ||
+  fail "frog.obj --bake color: no map_Kd in its MTL"
+# held-out energy of each, against the same job unbaked: measured (printed), every model rendered
+run_out "$LUMESH" optimize "$tmp/frog.glb" -o "$tmp/frog_plain.glb" --target-verts 120 \
+  --start qem --evals 300 --seed 1 "${small[@]}"
+run_out "$LUMESH" energy "$tmp/frog.glb" "$tmp/frog_plain.glb" "$tmp/frog_baked.glb" \
+  "$tmp/frog_color.glb" "$tmp/frog_both.glb" --heldout --size 64 --device cpu
+checks=$((checks + 1))
+mapfile -t e < <(sed -n 's/.*"total": \([0-9]*\),.*/\1/p' "$tmp/out.txt")
+[ "${#e[@]}" -eq 4 ] && [ "${e[0]}" -gt 0 ] && [ "${e[2]}" -gt 0 ] ||
+  fail "energy: $(head -c 300 "$tmp/out.txt")"
+echo "held-out energy (64², 24 views): unbaked ${e[0]}, normal ${e[1]}, color ${e[2]}, normal,color ${e[3]}"
+
 run_out "$LUMESH" lod "$tmp/frog.glb" -o "$tmp/lods/f.glb" --levels 300,120 --method qem \
-  --no-optimize --views 4 --size 32 --device cpu --bake normal --bake-size 512
+  --no-optimize --views 4 --size 32 --device cpu --bake normal,color --bake-size 512
 checks=$((checks + 1))
 [ -s "$tmp/lods/f.lod0_normal.png" ] && [ -s "$tmp/lods/f.lod1_normal.png" ] &&
-  grep -aq '"normalTexture"' "$tmp/lods/f.lod1.glb" || fail "lod --bake: a level without its map"
+  [ -s "$tmp/lods/f.lod0_color.png" ] && [ -s "$tmp/lods/f.lod1_color.png" ] &&
+  grep -aq '"normalTexture"' "$tmp/lods/f.lod1.glb" &&
+  grep -aq '"baseColorTexture"' "$tmp/lods/f.lod1.glb" || fail "lod --bake: a level without its maps"
 expect_fail_line "$LUMESH" lod "$tmp/frog.glb" -o "$tmp/lods/m.glb" --levels 300 --msft-lod \
   --bake normal
 
@@ -52,7 +90,9 @@ hill=("$tmp/hill.obj" --initial "$tmp/hill3.obj" -o "$tmp/x.glb" --evals 50 "${s
 expect_fail_line "$LUMESH" optimize "${hill[@]}" --bake normal --bake-size 8
 expect_fail_line "$LUMESH" optimize "${hill[@]}" --bake normal --bake-size 100000
 expect_fail_line "$LUMESH" optimize "${hill[@]}" --bake normal --bake-size abc
-expect_fail_line "$LUMESH" optimize "${hill[@]}" --bake color
+expect_fail_line "$LUMESH" optimize "${hill[@]}" --bake colour
+expect_fail_line "$LUMESH" optimize "${hill[@]}" --bake normal,normal
+expect_fail_line "$LUMESH" optimize "${hill[@]}" --bake normal,
 expect_fail_line "$LUMESH" optimize "${hill[@]}" --bake-size 512
 # too many triangles for the atlas at this size: one line
 expect_fail_line "$LUMESH" optimize "$tmp/frog.glb" -o "$tmp/x.glb" --target-verts 120 \

@@ -5,7 +5,8 @@
 # (qem, image, adaptive, from an OBJ with its texture, from an OBJ with a normal map (normalTexture
 # and TANGENT), from the assimp duck (Collada, textured), with --cull-unseen), optimize (also
 # --bake normal: through a hill grid's own UVs, and through the per-triangle atlas with gen-frog's
-# texture resampled), lod one file per level and --msft-lod, pm-extract. Every model is
+# texture resampled; --bake color and --bake normal,color on the textured gen-frog (baseColorTexture
+# baked) and the duck), lod one file per level and --msft-lod, pm-extract. Every model is
 # converted with its texture beside it. Exits 77 (skipped, with the reason) without Node.js or
 # the package.
 set -uo pipefail
@@ -53,6 +54,10 @@ expect_exit 0 "$LUMESH" optimize "$tmp/frog.glb" -o "$tmp/out/optimized.glb" --t
   --start qem --evals 300 --seed 1 "${small[@]}"
 expect_exit 0 "$LUMESH" optimize "$tmp/frog.glb" -o "$tmp/out/baked_atlas.glb" --target-verts 120 \
   --start qem --evals 300 --seed 1 "${small[@]}" --bake normal --bake-size 256
+expect_exit 0 "$LUMESH" optimize "$tmp/frog.glb" -o "$tmp/out/baked_color.glb" --target-verts 120 \
+  --start qem --evals 300 --seed 1 "${small[@]}" --bake color --bake-size 256
+expect_exit 0 "$LUMESH" optimize "$tmp/frog.glb" -o "$tmp/out/baked_both.glb" --target-verts 120 \
+  --start qem --evals 300 --seed 1 "${small[@]}" --bake normal,color --bake-size 512
 grid 9 0.3 >"$tmp/hill.obj"
 grid 3 0.3 >"$tmp/hill3.obj"
 expect_exit 0 "$LUMESH" optimize "$tmp/hill.obj" --initial "$tmp/hill3.obj" -o "$tmp/out/baked_uv.glb" \
@@ -64,6 +69,8 @@ expect_exit 0 "$LUMESH" lod "$tmp/frog.glb" -o "$tmp/out/msft.glb" --levels 50%,
 duck=${LUMESH_TEST_DATA:-$root/tests/data}/cache/root/usr/share/assimp/models/Collada/duck.dae
 if [ -e "$duck" ]; then
   expect_exit 0 "$LUMESH" simplify "$duck" -o "$tmp/duck/duck.glb" --target-verts 300
+  expect_exit 0 "$LUMESH" optimize "$duck" -o "$tmp/duck/duck_baked.glb" --target-verts 300 \
+    --start qem --evals 300 --seed 1 "${small[@]}" --bake normal,color --bake-size 512
   cp "$(dirname "$duck")"/duckCM.* "$tmp/duck/" 2>/dev/null
 else
   fail "test model missing: $duck (scripts/install-deps.sh fetches it)"
@@ -71,7 +78,7 @@ fi
 
 glbs=("$tmp/frog.glb" "$tmp"/out/*.glb "$tmp"/duck/*.glb)
 checks=$((checks + 1))
-[ "${#glbs[@]}" -ge 15 ] || fail "expected at least 15 GLBs, got ${#glbs[@]}: ${glbs[*]}"
+[ "${#glbs[@]}" -ge 18 ] || fail "expected at least 18 GLBs, got ${#glbs[@]}: ${glbs[*]}"
 checks=$((checks + 1))
 # (without the sanitizer run's LD_PRELOAD: Node.js does not run under the ASan runtime)
 env -u LD_PRELOAD node "$tmp/validate.mjs" "${glbs[@]}" >"$tmp/report.txt" 2>&1 ||

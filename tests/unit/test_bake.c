@@ -1,13 +1,17 @@
-/* tests/unit/test_bake.c — the normal-map bake (common/bake_normal.h) and what it stands on: the
- * hierarchy's line query against every triangle, the texture-coordinate check (overlaps, leaving
- * [0, 1], none), a bake of a tilted original onto a flat quad (texel by texel, also with u
- * mirrored), and the per-triangle atlas (valid, and each wedge's tangent its triangle's frame: the
- * renderers' per-triangle frame and the GLB's TANGENT agree on it). */
+/* tests/unit/test_bake.c — the normal-map and base-colour bakes (common/bake_normal.h,
+ * common/bake_color.h) and what they stand on: the hierarchy's line query against every triangle,
+ * the texture-coordinate check (overlaps, leaving [0, 1], none), a bake of a tilted original onto
+ * a flat quad (texel by texel, also with u mirrored), a colour bake of a textured quad onto the
+ * same UVs (the texture back texel by texel), mirrored and rotated UVs (the right texels), factor
+ * and vertex colours (their product), both maps in one walk (the bytes of each alone), and the
+ * per-triangle atlas (valid, and each wedge's tangent its triangle's frame: the renderers'
+ * per-triangle frame and the GLB's TANGENT agree on it). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "common/bake_color.h"
 #include "common/bake_normal.h"
 #include "common/bvh.h"
 #include "common/io/mesh_io.h"
@@ -194,6 +198,151 @@ static void test_bake_gutters(void **state)
     lm_mesh_destroy(orig);
 }
 
+/* A 16 x 16 texture of 4 x 4 blocks, each an arbitrary colour (fixed seed). */
+static lm_image *block_texture(void)
+{
+    lm_image *img;
+    uint64_t seed = 39;
+    assert_int_equal(lm_image_create(16, 16, &img), LM_OK);
+    uint8_t block[16][3];
+    for (int b = 0; b < 16; b++)
+        for (int ch = 0; ch < 3; ch++)
+            block[b][ch] = (uint8_t)(lmt_urand(&seed) * 256.0);
+    for (int y = 0; y < 16; y++)
+        for (int x = 0; x < 16; x++) {
+            uint8_t *px = img->pixels + 4 * (y * 16 + x);
+            memcpy(px, block[(y / 4) * 4 + x / 4], 3);
+            px[3] = 255;
+        }
+    return img;
+}
+
+/* The original: a unit quad 0.01 above the result's, textured with block_texture. */
+static lm_mesh *textured_quad(void)
+{
+    lm_mesh *m = lmt_make_grid(2);
+    for (uint32_t v = 0; v < m->n_verts; v++)
+        m->pos[v][2] = 0.01f;
+    m->materials[0].texture = block_texture();
+    return m;
+}
+
+static void assert_near(int got, int want)
+{
+    if (abs(got - want) > 1)
+        fail_msg("texel %d, expected %d (within 1)", got, want);
+}
+
+/* The result's UVs: 0 the same as its positions, 1 u mirrored, 2 turned a quarter
+ * (u, v) = (1 - y, x); the texture's texel (column, row) that map texel (X, Y) must hold. */
+static void remap_uv(lm_mesh *res, int how)
+{
+    for (uint32_t w = 0; w < res->n_wedges; w++) {
+        const float *p = res->pos[res->wedges[w].vertex];
+        float *uv = res->wedges[w].uv;
+        uv[0] = how == 0 ? p[0] : how == 1 ? 1.0f - p[0] : 1.0f - p[1];
+        uv[1] = how == 2 ? p[0] : p[1];
+    }
+}
+
+static void source_texel(int how, int X, int Y, int *col, int *row)
+{
+    *col = how == 0 ? X : how == 1 ? 15 - X : 15 - Y;
+    *row = how == 2 ? X : Y;
+}
+
+/* Same, mirrored and turned UVs: every texel of the map is the texture's texel at that point. */
+static void test_bake_color_texture(void **state)
+{
+    (void)state;
+    for (int how = 0; how < 3; how++) {
+        lm_mesh *orig = textured_quad(), *res = lmt_make_grid(2);
+        remap_uv(res, how);
+        assert_int_equal(lm_bake_uv_check(res, 16, NULL), LM_OK);
+        lm_image *img;
+        lm_bake_stats st;
+        assert_int_equal(lm_bake_color(orig, res, 16, &img, &st), LM_OK);
+        assert_int_equal(st.texels, 256);
+        assert_int_equal(st.hits, 256);
+        const lm_image *tex = orig->materials[0].texture;
+        for (int Y = 0; Y < 16; Y++)
+            for (int X = 0; X < 16; X++) {
+                int col, row;
+                source_texel(how, X, Y, &col, &row);
+                const uint8_t *got = img->pixels + 4 * (Y * 16 + X),
+                              *want = tex->pixels + 4 * (row * 16 + col);
+                for (int ch = 0; ch < 3; ch++)
+                    assert_near(got[ch], want[ch]);
+                assert_int_equal(got[3], 255);
+            }
+        lm_image_destroy(img);
+        lm_mesh_destroy(res);
+        lm_mesh_destroy(orig);
+    }
+}
+
+/* No texture: the factor times the vertex colours, (0.5 x, 0.25 y, 1) at (x, y). */
+static void test_bake_color_factor_and_vertex_colours(void **state)
+{
+    (void)state;
+    lm_mesh *orig = lmt_make_grid(2), *res = lmt_make_grid(2);
+    orig->attrs |= LM_ATTR_COLOR;
+    float dif[4] = {0.5f, 0.25f, 1.0f, 1.0f};
+    memcpy(orig->materials[0].diffuse, dif, sizeof dif);
+    for (uint32_t w = 0; w < orig->n_wedges; w++) {
+        const float *p = orig->pos[orig->wedges[w].vertex];
+        float c[4] = {p[0], p[1], 1.0f, 1.0f};
+        memcpy(orig->wedges[w].color, c, sizeof c);
+    }
+    lm_image *img;
+    assert_int_equal(lm_bake_color(orig, res, 16, &img, NULL), LM_OK);
+    for (int Y = 0; Y < 16; Y++)
+        for (int X = 0; X < 16; X++) {
+            double x = (X + 0.5) / 16.0, y = 1.0 - (Y + 0.5) / 16.0;
+            const uint8_t *got = img->pixels + 4 * (Y * 16 + X);
+            assert_near(got[0], (int)floor(255.0 * 0.5 * x + 0.5));
+            assert_near(got[1], (int)floor(255.0 * 0.25 * y + 0.5));
+            assert_int_equal(got[2], 255);
+        }
+    lm_image_destroy(img);
+    lm_mesh_destroy(res);
+    lm_mesh_destroy(orig);
+}
+
+/* Both maps in one walk (what --bake normal,color does): each the bytes of its bake alone, the
+ * gutters included (the chart covers the map's left half). */
+static void test_bake_both_in_one_walk(void **state)
+{
+    (void)state;
+    lm_mesh *orig = textured_quad(), *res = lmt_make_grid(2);
+    for (uint32_t w = 0; w < orig->n_wedges; w++)
+        orig->wedges[w].normal[0] = 0.5f;
+    for (uint32_t w = 0; w < res->n_wedges; w++)
+        res->wedges[w].uv[0] *= 0.5f;
+    lm_image *n1, *c1, *n2, *c2;
+    lm_bake_stats s1, s2;
+    assert_int_equal(lm_bake_normal(orig, res, 32, NULL, &n1, NULL), LM_OK);
+    assert_int_equal(lm_bake_color(orig, res, 32, &c1, &s1), LM_OK);
+    assert_int_equal(lm_image_create(32, 32, &n2), LM_OK);
+    assert_int_equal(lm_image_create(32, 32, &c2), LM_OK);
+    lm_bake_sink sinks[2];
+    lm_bake_normal_sink(n2, &sinks[0]);
+    lm_bake_color_sink(c2, &sinks[1]);
+    lm_image *imgs[2] = {n2, c2};
+    assert_int_equal(lm_bake_walk(orig, res, 32, sinks, 2, imgs, 2, &s2), LM_OK);
+    assert_memory_equal(n1->pixels, n2->pixels, 32 * 32 * 4);
+    assert_memory_equal(c1->pixels, c2->pixels, 32 * 32 * 4);
+    assert_int_equal(s1.texels, s2.texels);
+    assert_int_equal(s1.hits, s2.hits);
+    /* the gutter (right half) repeats the chart's last column */
+    assert_memory_equal(c2->pixels + 4 * 31, c2->pixels + 4 * 15, 4);
+    lm_image *imgs_all[4] = {n1, c1, n2, c2};
+    for (int i = 0; i < 4; i++)
+        lm_image_destroy(imgs_all[i]);
+    lm_mesh_destroy(res);
+    lm_mesh_destroy(orig);
+}
+
 /* Each wedge's tangent (what the GLB writer stores as TANGENT) against its triangle's own frame
  * made orthogonal to the wedge's normal (what the renderers light with): the same bits. */
 static void assert_wedge_tangents_are_triangle_frames(const lm_mesh *a)
@@ -272,6 +421,9 @@ int main(void)
         cmocka_unit_test(test_uv_check),
         cmocka_unit_test(test_bake_tilted_normals),
         cmocka_unit_test(test_bake_gutters),
+        cmocka_unit_test(test_bake_color_texture),
+        cmocka_unit_test(test_bake_color_factor_and_vertex_colours),
+        cmocka_unit_test(test_bake_both_in_one_walk),
         cmocka_unit_test(test_atlas),
         cmocka_unit_test(test_atlas_glb_round_trip),
     };
