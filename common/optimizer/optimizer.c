@@ -240,6 +240,7 @@ lm_status lm_optimizer_replace_views(lm_optimizer *opt, lm_views *views, int res
     if (!views)
         return lm_fail(LM_E_INVALID, "optimizer: views are required");
     int64_t geo = opt->surface ? lm_surface_views_energy(opt->surface) : 0;
+    double k = opt->surface ? lm_surface_views_scale(opt->surface) : 0;
     int64_t old_image = opt->prog.energy - geo;
     int64_t total = 0;
     lm_status st = install_views(opt, views);
@@ -251,9 +252,13 @@ lm_status lm_optimizer_replace_views(lm_optimizer *opt, lm_views *views, int res
     if (st != LM_OK)
         return st;
     int64_t start_image = opt->prog.energy_start - opt->prog.geometric_start;
-    int64_t new_image = total - geo;
+    int64_t new_geo = opt->surface ? lm_surface_views_energy(opt->surface) : 0;
+    int64_t new_image = total - new_geo;
     if (old_image > 0)
         start_image = llround((double)start_image * ((double)new_image / (double)old_image));
+    double new_k = opt->surface ? lm_surface_views_scale(opt->surface) : 0;
+    if (k > 0 && new_k != k) /* the term's scale went with the views' (surface_term.h) */
+        opt->prog.geometric_start = llround((double)opt->prog.geometric_start * (new_k / k));
     opt->prog.energy_start = start_image + opt->prog.geometric_start;
     opt->prog.energy = total;
     return LM_OK;

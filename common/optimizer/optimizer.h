@@ -69,13 +69,15 @@ void lm_optimizer_destroy(lm_optimizer *opt);
 lm_status lm_optimizer_step(lm_optimizer *opt, uint64_t max_evals);
 
 /* Price everything from now on against `views` (borrowed, as at creation) instead of the ones the
- * optimizer has: views of the same original, count and size, with other cameras or pixel grids
- * (a job's regrid). The caller destroys the old ones after this returns. Sends the current mesh
- * to the new views. With rescale_start the start's image energy becomes start × new / old (the
- * current mesh's image energy on the new and the old views, rounded), so that progress stays a
- * fraction of the start across a chain of view sets; without it, the energies of the progress
- * are left as they are (a resume is about to load them). Between steps only. On failure the
- * optimizer must be given views again before its next step. */
+ * optimizer has: views of the same original, with other cameras or pixel grids (a job's regrid:
+ * the same count and size) or more views and pixels (a view schedule's stage). The caller destroys
+ * the old ones after this returns. Sends the current mesh to the new views. With rescale_start the
+ * start's image energy becomes start × new / old (the current mesh's image energy on the new and
+ * the old views, rounded), so that progress stays a fraction of the start across a chain of view
+ * sets (and where the views' count or size changed, the geometric term's scale with them,
+ * surface_term.h, the start's geometric energy by the same ratio of scales); without it, the
+ * energies of the progress are left as they are (a resume is about to load them). Between steps
+ * only. On failure the optimizer must be given views again before its next step. */
 lm_status lm_optimizer_replace_views(lm_optimizer *opt, lm_views *views, int rescale_start);
 
 void lm_optimizer_progress(const lm_optimizer *opt, lm_progress *out);

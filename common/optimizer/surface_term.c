@@ -37,7 +37,9 @@ typedef struct surface_views {
     lm_bvh *bvh;
     lm_surface_table *table;   /* every triangle of the current mesh (share 0 of 1) */
     double k;                  /* e(t) = round(k · area · mean d²) */
+    double weight;             /* the term's weight (create, set_weight) */
     double n_views, px, px256; /* k = weight · views · px² · px256² */
+    double two_r;              /* the surface's bounding sphere's diameter (px, px256) */
     int held;                  /* the inner views hold the term (surface_term took it) */
     lm_surface_pricing pricing;
     int workers;                  /* with LM_SURFACE_AUTO: the inner views price it now */
@@ -60,6 +62,24 @@ static surface_views *as_sv(lm_views *v)
 static double scale(const surface_views *s, double weight)
 {
     return weight * s->n_views * s->px * s->px * s->px256 * s->px256;
+}
+
+/* The view parts of k from the wrapped views: their count and width (px, the pixels per unit of a
+ * view S wide framing the surface's bounding sphere). */
+static void view_parts(surface_views *s)
+{
+    lm_views_info info;
+    s->inner->ops->info(s->inner, &info);
+    s->n_views = (double)info.n_views;
+    s->px = (double)info.width / s->two_r;
+}
+
+/* The bounding sphere's diameter of the surface (2 where it is a point). */
+static double surface_diameter(const lm_mesh *surface)
+{
+    float c[3], r;
+    lm_mesh_bounding_sphere(surface, c, &r);
+    return r > 0 ? 2.0 * (double)r : 2.0;
 }
 
 /* LUMESH_SURFACE_PRICING=here|workers fixes where the term is priced (tests, benchmarks); unset
@@ -246,14 +266,10 @@ lm_status lm_surface_views_create(lm_views *inner, const lm_mesh *surface, doubl
     s->base.ops = &surface_ops;
     s->inner = inner;
     s->surface = surface;
-    lm_views_info info;
-    inner->ops->info(inner, &info);
-    float c[3], r;
-    lm_mesh_bounding_sphere(surface, c, &r);
-    double two_r = r > 0 ? 2.0 * (double)r : 2.0;
-    s->n_views = (double)info.n_views;
-    s->px = (double)info.width / two_r;
-    s->px256 = 256.0 / two_r;
+    s->two_r = surface_diameter(surface);
+    view_parts(s);
+    s->px256 = 256.0 / s->two_r;
+    s->weight = weight;
     s->k = scale(s, weight);
     s->workers = 0; /* until a batch priced here has measured the way */
     s->pricing = pricing_from_env();
@@ -274,7 +290,18 @@ lm_status lm_surface_views_set_inner(lm_views *v, lm_views *inner)
 {
     surface_views *s = as_sv(v);
     s->inner = inner;
+    view_parts(s);
+    double k = scale(s, s->weight);
+    if (k != s->k) { /* other views' count or size: the term keeps its share of the image energy */
+        s->k = k;
+        lm_surface_table_set_k(s->table, k);
+    }
     return offload(s);
+}
+
+double lm_surface_views_scale(const lm_views *v)
+{
+    return ((const surface_views *)v)->k;
 }
 
 int lm_surface_views_offloaded(const lm_views *v)
@@ -329,6 +356,7 @@ lm_status lm_surface_views_weight_for_share(lm_views *v, double share, double *w
 lm_status lm_surface_views_set_weight(lm_views *v, double weight)
 {
     surface_views *s = as_sv(v);
+    s->weight = weight;
     s->k = scale(s, weight);
     lm_surface_table_set_k(s->table, s->k);
     return s->held ? offload(s) : LM_OK;

@@ -39,8 +39,17 @@ lm_status lm_surface_views_create(lm_views *inner, const lm_mesh *surface, doubl
                                   lm_views **out);
 
 /* Wrap `inner` (borrowed) instead of the views given so far, handing it the term where it takes
- * it; the caller sets the mesh on v next. Fails only as inner's surface_term op does. */
+ * it; the caller sets the mesh on v next. k is computed again by the rule above from inner's count
+ * and width with the weight in force, so that where the views grow (a view schedule's stage: more
+ * views, more pixels, hence about that much more image energy) the term keeps the share of the
+ * energy it had: views of the same count and size keep k's bits (a regrid, new training views),
+ * and k is a function of the weight and the views in force alone, not of the views before (a
+ * resume straight into a later stage finds the same). Fails only as inner's surface_term op does.
+ */
 lm_status lm_surface_views_set_inner(lm_views *v, lm_views *inner);
+
+/* k now (e(t) = round(k · area · mean d²)). */
+double lm_surface_views_scale(const lm_views *v);
 
 /* 1 when the wrapped views hold the term (lm_views_surface_term took it), so they can price the
  * evaluations' ΔE_geo. */

@@ -3,7 +3,8 @@
  * surface costs nothing and one lifted off a plane by h costs k · area · h²; evaluate's ΔE is
  * exactly what a commit then changes in energy, and 0 for triangles whose corners did not move; the
  * total does not depend on the order of the triangles; ops are passed on to the wrapped views; a
- * share gives the weight that makes E_geo that share of the image energy. */
+ * share gives the weight that makes E_geo that share of the image energy; wrapping views of another
+ * count and size scales k by their views × pixels, and back again to the same bits. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -18,6 +19,8 @@ typedef struct zero_views {
     int64_t image;     /* what energy reports */
     int overlap_costs; /* what info reports */
     int holds;         /* they take the term too, as workers do (pricing 0 of it) */
+    uint32_t n_views;  /* what info reports (0: 10) */
+    int width;         /* likewise (0: 128) */
 } zero_views;
 
 static lm_status zv_set_mesh(lm_views *v, const lm_tri_data *t, size_t n)
@@ -64,8 +67,9 @@ static lm_status zv_read_image(lm_views *v, lm_image_kind k, uint32_t view, uint
 static void zv_info(lm_views *v, lm_views_info *out)
 {
     memset(out, 0, sizeof *out);
-    out->n_views = 10;
-    out->width = out->height = 128;
+    const zero_views *z = (const zero_views *)v;
+    out->n_views = z->n_views ? z->n_views : 10;
+    out->width = out->height = z->width ? z->width : 128;
     out->overlap_costs = ((zero_views *)v)->overlap_costs;
 }
 static void zv_destroy(lm_views *v)
@@ -297,6 +301,46 @@ static void test_refuses_bad_arguments(void **state)
     assert_null(v);
     teardown(&f);
 }
+/* set_inner with views of another count and size: k becomes weight · views · px² · px256² of the
+ * new ones (k × views × pixels relative to the old), e(t) and E_geo with it, the weight and the
+ * term handed to the new views where they take it; back on views like the first, k's bits are the first's. */
+static void test_inner_of_other_size(void **state)
+{
+    (void)state;
+    fixture f;
+    setup(&f);
+    zero_views big = {.base.ops = &zero_ops, .n_views = 23, .width = 160, .holds = 1};
+    zero_views same = {.base.ops = &zero_ops};
+    lm_tri_data t[2] = {tri(0, 0.1f, 0.1f, 0.3f, 0.02f), tri(1, 0.5f, 0.5f, 0.3f, -0.03f)};
+    assert_int_equal(f.v->ops->set_mesh(f.v, t, 2), LM_OK);
+    double k0 = lm_surface_views_scale(f.v);
+    int64_t e0 = energy(f.v);
+    float c[3], r;
+    lm_mesh_bounding_sphere(f.plane, c, &r);
+    double px = 128.0 / (2.0 * r), px256 = 256.0 / (2.0 * r);
+    assert_true(k0 == 2.0 * 10 * px * px * px256 * px256);
+    assert_false(lm_surface_views_offloaded(f.v));
+    /* 23 views of 160²: k × 2.3 × 1.5625 */
+    assert_int_equal(lm_surface_views_set_inner(f.v, &big.base), LM_OK);
+    assert_true(lm_surface_views_offloaded(f.v));
+    assert_int_equal(f.v->ops->set_mesh(f.v, t, 2), LM_OK);
+    double px2 = 160.0 / (2.0 * r), k1 = 2.0 * 23 * px2 * px2 * px256 * px256;
+    assert_true(lm_surface_views_scale(f.v) == k1);
+    assert_true(fabs(k1 / k0 - 2.3 * 1.5625) <= 1e-12);
+    double want = (double)e0 * 2.3 * 1.5625;
+    assert_true(e0 > 100 && fabs((double)energy(f.v) - want) <= 1e-3 * want + 2);
+    /* a fresh wrapper of the big views at the same weight gives the same bits */
+    lm_views *g = NULL;
+    assert_int_equal(lm_surface_views_create(&big.base, f.plane, 2.0, &g), LM_OK);
+    assert_int_equal(g->ops->set_mesh(g, t, 2), LM_OK);
+    assert_true(lm_surface_views_scale(g) == k1 && energy(g) == energy(f.v));
+    lm_views_destroy(g);
+    /* back on 10 views of 128²: the first k and energy exactly */
+    assert_int_equal(lm_surface_views_set_inner(f.v, &same.base), LM_OK);
+    assert_int_equal(f.v->ops->set_mesh(f.v, t, 2), LM_OK);
+    assert_true(lm_surface_views_scale(f.v) == k0 && energy(f.v) == e0);
+    teardown(&f);
+}
 
 /* Workers that busy every processor here price the term from the first evaluation on and are
  * never probed (work here would take a processor from one of them); otherwise the first batch
@@ -338,6 +382,7 @@ int main(void)
         cmocka_unit_test(test_delta_is_what_commit_changes),
         cmocka_unit_test(test_order_free),
         cmocka_unit_test(test_set_weight),
+        cmocka_unit_test(test_inner_of_other_size),
         cmocka_unit_test(test_share_weight),
         cmocka_unit_test(test_refuses_bad_arguments),
         cmocka_unit_test(test_pricing_where_the_cores_are_full),
