@@ -290,6 +290,8 @@ static lm_status dispatch(wk_server *s, const lm_msg *m, int *job_ended)
     case LUMESH__MSG__BODY_POTENTIALS:
     case LUMESH__MSG__BODY_READ_IMAGE:
         return wk_serve_request(s, m);
+    case LUMESH__MSG__BODY_RUN_LANE:
+        return wk_serve_lane(s, m);
     case LUMESH__MSG__BODY_END_JOB:
         wk_serve_end_job(s);
         drop_welcome(s); /* the next job may come from another coordinator */
