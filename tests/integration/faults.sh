@@ -79,6 +79,23 @@ wait "$coord" || fail "the run with killed workers failed: $(tail -2 "$tmp/kill.
 same "workers SIGKILLed" 4 "$tmp/kill.glb"
 echo "faults.sh: local worker SIGKILL detected after $(detected "$tmp/kill.err" "$t_kill" "pid $victim) lost") s"
 
+# -- lanes run whole on the workers (--lanes remote): a worker SIGKILLed with a lane in flight;
+# its lane goes to another worker (the same request bytes): the bytes of isolated lanes in
+# process --
+"$LUMESH" optimize "$bunny" -o "$tmp/ref-iso.glb" "${job[@]}" --edges-in-flight 4 --lanes isolated \
+  --workers 0 2>"$tmp/ref.err" || fail "reference run, isolated lanes: $(tail -3 "$tmp/ref.err")"
+"$LUMESH" optimize "$bunny" -o "$tmp/kill-lanes.glb" "${job[@]}" --edges-in-flight 4 \
+  --lanes remote --workers 2 2> >(stamp >"$tmp/kill-lanes.err") &
+coord=$!
+wait_for 60 grep -q "evals [0-9]*/s .*2 workers" "$tmp/kill-lanes.err" ||
+  fail "the remote-lanes run never had its 2 workers"
+sleep 0.3
+kill -9 "$(pgrep -P "$coord" lumesh-worker | head -1)"
+wait "$coord" || fail "the remote-lanes run with a killed worker failed: $(tail -2 "$tmp/kill-lanes.err")"
+checks=$((checks + 1))
+cmp -s "$tmp/ref-iso.glb" "$tmp/kill-lanes.glb" ||
+  fail "remote lanes, a worker SIGKILLed: the output differs from isolated lanes in process"
+
 # -- a cluster worker stopped past its lease, then continued --
 port=$((base + 1))
 worker "$port" "$tmp/w1.err"
