@@ -44,7 +44,7 @@ typedef struct co_remote {
     char renderer[128];
     uint64_t evaluations;
     int whole;           /* every worker serves every view (co_views_desc.whole) */
-    uint64_t lane_group; /* groups of lanes run on the workers so far (views_remote_lanes.c) */
+    uint64_t lane_group; /* the group of lanes running on the workers (views_remote_lanes.c) */
     /* scratch */
     lm_wire_arena arena;
     uint8_t *pack;

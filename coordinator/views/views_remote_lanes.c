@@ -168,6 +168,7 @@ static lm_status run_lanes(lane_run *x)
 {
     co_remote *r = x->r;
     lm_status st = LM_OK;
+    double t0 = co_pool_now();
     while (st == LM_OK && x->done < x->b->n) {
         if (!in_flight(x) && co_remote_layout_stale(r)) {
             st = co_remote_layout(r);
@@ -181,7 +182,10 @@ static lm_status run_lanes(lane_run *x)
         }
         if (st == LM_OK)
             st = dispatch(x);
-        if (st == LM_OK && co_pool_interrupted())
+        /* a signal ends the run after this group (the optimizer's next step); a group that
+           outlasts the grace is given up, as the remote views' own waits are */
+        if (st == LM_OK && co_pool_interrupted() &&
+            co_pool_now() - t0 > CO_REMOTE_INTERRUPT_GRACE_S)
             st = lm_fail(LM_E_INVALID, "interrupted while lanes ran on the workers");
         if (st == LM_OK)
             st = co_pool_pump(r->pool, 200);
@@ -194,8 +198,10 @@ static lm_status run_lanes(lane_run *x)
 static lm_status rl_run(void *ctx, const lm_lane_batch *b)
 {
     co_remote *r = ctx;
+    static uint64_t groups; /* numbers unique in this process: a worker's start mesh of an earlier
+                               views object (a regrid's) is never taken for this one's */
     lane_run x = {.r = r, .b = b, .hash = lm_mesh_hash(b->start)};
-    r->lane_group++;
+    r->lane_group = ++groups;
     for (uint32_t i = 0; i < b->n; i++)
         x.queue[x.n_queue++] = i;
     lm_status st = co_remote_layout(r);
