@@ -29,6 +29,7 @@ typedef struct lane_run {
     uint32_t queue[LM_MAX_EDGES_IN_FLIGHT]; /* lanes waiting for a worker, in lane order */
     uint32_t n_queue, done;
     uint32_t strikes[LM_MAX_EDGES_IN_FLIGHT]; /* failures of each lane */
+    uint32_t tries[LM_MAX_EDGES_IN_FLIGHT];   /* sends of each lane (lost, stale in between) */
     uint32_t *lane_of;                        /* [n_live] lane + 1 in flight on live[i], 0 none */
 } lane_run;
 
@@ -78,6 +79,11 @@ static lm_status dispatch(lane_run *x)
         if (w->lost || x->lane_of[i] || w->job != r->job)
             continue;
         uint32_t lane = x->queue[0];
+        if (++x->tries[lane] > CO_REMOTE_TRIES)
+            return lm_fail(LM_E_IO,
+                           "lane %u sent %u times: its workers keep being lost or "
+                           "falling behind",
+                           lane, CO_REMOTE_TRIES);
         memmove(x->queue, x->queue + 1, --x->n_queue * sizeof *x->queue);
         st = send_lane(x, w, lane);
         x->lane_of[i] = lane + 1;

@@ -7,7 +7,9 @@
 # by themselves; garbage, bodyless, oversize and wrong-version frames at the port; workers with no
 # key, a wrong coordinator key, and a key not on the allow-list. Poison batches (a fault hook in
 # the worker, LUMESH_WORKER_FAULT) are retried 3 times then refused, deterministically; workers
-# that fail 3 times are blocklisted. Prints the detection time of each loss it causes.
+# that fail 3 times are blocklisted. With --lanes remote: a worker SIGKILLed with a lane in flight,
+# and one whose lane results do not decode (fenced at once), leave the bytes of isolated lanes.
+# Prints the detection time of each loss it causes.
 set -uo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 source "$here/lib.bash"
@@ -229,5 +231,16 @@ for fault in crash fail; do
 done
 checks=$((checks + 1))
 grep -q "blocklisted for the job" "$tmp/poison-fail-a.err" || fail "a worker failing 3 times was not blocklisted"
+
+# -- a worker that lies (--lanes remote): worker 1 answers every lane with a result that does not
+# decode; it is fenced at its first, its lane runs elsewhere, the bytes are isolated lanes' --
+LUMESH_WORKER_FAULT="lie-lanes-as=1" "$LUMESH" optimize "$bunny" -o "$tmp/lie.glb" "${job[@]}" \
+  --edges-in-flight 4 --lanes remote --workers 2 2>"$tmp/lie.err" ||
+  fail "the run with a lying worker failed: $(tail -2 "$tmp/lie.err")"
+checks=$((checks + 1))
+grep -q "worker 1 .*blocklisted for the job" "$tmp/lie.err" || fail "the lying worker was not fenced"
+checks=$((checks + 1))
+cmp -s "$tmp/ref-iso.glb" "$tmp/lie.glb" ||
+  fail "remote lanes, a lying worker: the output differs from isolated lanes in process"
 
 finish

@@ -256,6 +256,7 @@ static lm_status dispatch(wk_server *s, const lm_msg *m, int *job_ended)
         if (s->welcomed || m->welcome->join != s->join)
             return LM_OK; /* the answer to a repeated Hello, or to an older join */
         s->welcomed = 1;
+        s->worker_id = m->welcome->worker;
         s->unheard_noted = 0;
         lm_info("welcomed by %s as worker %u", s->o.endpoint, m->welcome->worker);
         return LM_OK;

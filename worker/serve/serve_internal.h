@@ -41,8 +41,9 @@ typedef struct wk_server {
     char id[320]; /* routing id */
     char host[256], renderer[128], renderer_id[LM_WIRE_RENDERER_ID_CHARS + 1];
     int welcomed, unheard_noted;
-    uint32_t join;     /* the join Hello says: one more each time the worker drops its welcome */
-    const char *fault; /* LUMESH_WORKER_FAULT (test builds only, LUMESH_TEST_HOOKS): serve_job.c */
+    uint32_t worker_id; /* the coordinator's id for this worker (its Welcome) */
+    uint32_t join;      /* the join Hello says: one more each time the worker drops its welcome */
+    const char *fault;  /* LUMESH_WORKER_FAULT (test builds only, LUMESH_TEST_HOOKS): serve_job.c */
     double last_heard, last_hello, last_beat;
     /* assets */
     lm_asset_set cache;

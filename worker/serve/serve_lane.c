@@ -159,6 +159,16 @@ static double now_s(void)
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
+/* Fault injection for tests (LUMESH_WORKER_FAULT, read only by builds with LUMESH_TEST_HOOKS):
+ * "lie-lanes-as=N" makes the worker the coordinator welcomed as worker N answer every lane with a
+ * result cut short by a byte (a worker gone wrong: the coordinator must fence it). */
+static int lies(const wk_server *s)
+{
+    static const char kind[] = "lie-lanes-as=";
+    return s->fault && !strncmp(s->fault, kind, sizeof kind - 1) &&
+           strtoul(s->fault + sizeof kind - 1, NULL, 10) == s->worker_id;
+}
+
 static lm_status run_lane(wk_server *s, wk_lanes *l, const lm_msg *m)
 {
     const Lumesh__RunLane *q = m->run_lane;
@@ -182,7 +192,7 @@ static lm_status run_lane(wk_server *s, wk_lanes *l, const lm_msg *m)
     Lumesh__LaneDone d = LUMESH__LANE_DONE__INIT;
     d.group = q->group;
     d.lane = q->lane;
-    d.result = (ProtobufCBinaryData){len, buf};
+    d.result = (ProtobufCBinaryData){len - (len && lies(s)), buf};
     d.busy_us = (uint64_t)((now_s() - t0) * 1e6);
     st = wk_serve_send(s, m->req, LUMESH__MSG__BODY_LANE_DONE, &d);
     free(buf);
