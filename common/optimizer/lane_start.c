@@ -11,7 +11,7 @@
 #include "common/optimizer/optimizer.h"
 
 #define CONFIG_MAGIC 0x46434e4cu /* "LNCF" */
-#define MAX_SLOTS 65536u         /* materials or parts of a start mesh */
+#define MAX_SLOTS 4096u          /* materials or parts of a start mesh (also at most its bytes) */
 #define CONFIG_BYTES (4u + 4u * 4u + 6u * 8u + 4u * 4u)
 
 static lm_status write_bytes(lm_status (*put)(const void *x, FILE *fp), const void *x,
@@ -114,14 +114,13 @@ static uint32_t u32_at(const uint8_t *buf, size_t i)
 }
 
 /* m gets the material and part slots the record names (placeholders: a lane's moves read only
- * their ids). Each costs at least a triangle's bytes in a real record, so their count is bounded
- * by len. */
+ * their ids): at most MAX_SLOTS, and no more than the record has bytes. */
 static lm_status slots(const uint8_t *buf, size_t len, lm_mesh *m)
 {
     if (len < 32)
         return lm_fail(LM_E_FORMAT, "a start mesh of %zu bytes", len);
     uint32_t n_materials = u32_at(buf, 24), n_parts = u32_at(buf, 28);
-    if (n_materials > MAX_SLOTS || n_parts > MAX_SLOTS)
+    if (n_materials > MAX_SLOTS || n_parts > MAX_SLOTS || n_materials > len || n_parts > len)
         return lm_fail(LM_E_FORMAT, "a start mesh of %u materials and %u parts", n_materials,
                        n_parts);
     static const float grey[4] = {0.5f, 0.5f, 0.5f, 1.0f};
