@@ -1,6 +1,7 @@
 /* common/optimizer/lanes.c — edges in flight: lane fibers handing a baton, one batch of
  * evaluations per round, and the merge of the lanes' changes in order (lanes.h). */
 #include "common/optimizer/lanes.h"
+#include "common/optimizer/lane_runner.h"
 
 #include <stdio.h>
 #include <stdlib.h>
@@ -69,7 +70,8 @@ struct lm_lanes {
      * their wire messages */
     lm_lane_host *host;
     lm_lane_traffic traffic;
-    lm_lanes_probe probe; /* lm_lanes_set_probe (phase NULL: none) */
+    lm_lane_runner runner; /* lm_lanes_set_runner (run NULL: in process) */
+    lm_lanes_probe probe;  /* lm_lanes_set_probe (phase NULL: none) */
 };
 
 /* ---- the baton ------------------------------------------------------------------------------- */
@@ -473,8 +475,9 @@ static lm_status begin_group(lm_lanes *l, const lm_planned_edge *plan, uint32_t 
         lm_lane_result_clear(&lane->res);
         lane->a = plan[i].a;
         lane->b = plan[i].b;
-        if (l->host)
-            continue; /* run detached: the lane's fiber, mesh and copies stay idle */
+        if (l->host || (l->isolated && l->runner.run))
+            continue; /* run detached or by the runner: the lane's fiber, mesh and copies stay idle
+                       */
         st = lm_mesh_copy_geometry(lane->mesh, l->o->mesh);
         lm_lane_views_reset(&lane->views, l->start, l->n_start);
         lm_moves_forget(lane->mv);
@@ -653,6 +656,51 @@ static lm_status run_detached(lm_lanes *l, uint32_t n)
     lm_lane_request_free(&q);
     lm_lane_request_free(&wq);
     lm_lane_result_free(&wr);
+    return st;
+}
+
+/* ---- lanes run by a runner (lm_lanes_set_runner) -------------------------------------------- */
+
+void lm_lanes_set_runner(lm_lanes *l, const lm_lane_runner *runner)
+{
+    l->runner = runner ? *runner : (lm_lane_runner){NULL, NULL};
+}
+
+/* Every lane of the group as a request, handed to the runner; its results are the lanes'. */
+static lm_status run_by_runner(lm_lanes *l, uint32_t n)
+{
+    uint8_t *req[LM_MAX_EDGES_IN_FLIGHT] = {NULL};
+    size_t len[LM_MAX_EDGES_IN_FLIGHT] = {0};
+    lm_lane_result *res[LM_MAX_EDGES_IN_FLIGHT];
+    lm_lane_request q;
+    lm_lane_request_init(&q);
+    lm_status st = LM_OK;
+    for (uint32_t i = 0; i < n && st == LM_OK; i++) {
+        res[i] = &l->lanes[i].res;
+        st = make_request(l, i, n, &q);
+        if (st == LM_OK)
+            st = lm_lane_request_encode(&q, &req[i], &len[i]);
+        free(q.queue);
+        q.queue = NULL;
+        q.n_vetoed = 0;
+    }
+    lm_lane_request_free(&q);
+    uint64_t back = 0;
+    lm_lane_batch b = {.start = l->o->mesh,
+                       .cfg = &l->o->moves_cfg,
+                       .n = n,
+                       .n_verts = l->o->mesh->n_verts,
+                       .req = (const uint8_t *const *)req,
+                       .req_len = len,
+                       .res = res,
+                       .result_bytes = &back};
+    if (st == LM_OK)
+        st = l->runner.run(l->runner.ctx, &b);
+    for (uint32_t i = 0; i < n; i++) {
+        if (st == LM_OK)
+            count_traffic(&l->traffic, len[i], i ? 0 : back, l->lanes[i].res.evals);
+        free(req[i]);
+    }
     return st;
 }
 
@@ -887,7 +935,10 @@ lm_status lm_lanes_run(lm_lanes *l, const lm_planned_edge *plan, uint32_t n, int
     LM_ASSERT(n >= 1 && n <= l->k);
     probe_phase(l, LM_LANES_BEGIN, n);
     lm_status st = begin_group(l, plan, n);
-    if (st == LM_OK && l->host) {
+    if (st == LM_OK && l->isolated && l->runner.run) {
+        probe_phase(l, LM_LANES_RUN, n);
+        st = run_by_runner(l, n);
+    } else if (st == LM_OK && l->host) {
         probe_phase(l, LM_LANES_RUN, n);
         st = run_detached(l, n);
     } else {

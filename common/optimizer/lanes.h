@@ -35,6 +35,7 @@
 
 #include <stdint.h>
 
+#include "common/optimizer/lane_runner.h"
 #include "common/optimizer/optimizer_internal.h"
 
 typedef struct lm_lanes lm_lanes;
@@ -62,6 +63,8 @@ void lm_lanes_set_run_order(lm_lanes *l, uint64_t order);
 /* lm_optimizer_set_lanes_detached, lm_optimizer_lane_traffic. */
 lm_status lm_lanes_set_detached(lm_lanes *l, int on);
 void lm_lanes_traffic(const lm_lanes *l, lm_lane_traffic *out);
+/* lm_optimizer_set_lane_runner. */
+void lm_lanes_set_runner(lm_lanes *l, const lm_lane_runner *runner);
 
 /* For measurements (tests/bench/bench_scaling --schedule lanes): what a group did, reported at
  * the points of lm_lanes_run. Nothing it reports changes a decision. */

@@ -371,6 +371,12 @@ lm_status lm_optimizer_set_lanes_detached(lm_optimizer *opt, int on)
     return opt->lanes ? lm_lanes_set_detached(opt->lanes, on) : LM_OK;
 }
 
+void lm_optimizer_set_lane_runner(lm_optimizer *opt, const lm_lane_runner *runner)
+{
+    if (opt->lanes)
+        lm_lanes_set_runner(opt->lanes, runner);
+}
+
 void lm_optimizer_lane_traffic(const lm_optimizer *opt, lm_lane_traffic *traffic)
 {
     memset(traffic, 0, sizeof *traffic);

@@ -101,6 +101,12 @@ typedef struct lm_lane_traffic {
  * isolated lanes it does nothing. traffic (may be NULL) gets the messages' sizes so far. */
 lm_status lm_optimizer_set_lanes_detached(lm_optimizer *opt, int on);
 void lm_optimizer_lane_traffic(const lm_optimizer *opt, lm_lane_traffic *traffic);
+/* With isolated lanes (lane_isolation, edges in flight > 1): run every group's lanes with runner
+ * (common/optimizer/lane_runner.h; copied; NULL: in process again, the default) and merge their
+ * results in lane order; the output bytes are those of lanes run in process. The runner's ctx
+ * must outlive its use. Without isolated lanes it does nothing. */
+typedef struct lm_lane_runner lm_lane_runner;
+void lm_optimizer_set_lane_runner(lm_optimizer *opt, const lm_lane_runner *runner);
 /* The current mesh (owned by the optimizer; valid until the next step/destroy). */
 const lm_mesh *lm_optimizer_mesh(const lm_optimizer *opt);
 

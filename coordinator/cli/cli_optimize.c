@@ -25,7 +25,7 @@ static const char co_optimize_help[] =
     "                       [--checkpoint FILE [--checkpoint-every N|Ns]] [--resume FILE]\n"
     "                       [--attrs pos,normal,uv,color] [--device D] [--json] [--report DIR]\n"
     "                       [--workers N] [--listen tcp://ADDR:PORT] [--renderer ID]\n"
-    "                       [--edges-in-flight K [--lanes shared|isolated]] [--keys DIR]\n"
+    "                       [--edges-in-flight K [--lanes shared|isolated|remote]] [--keys DIR]\n"
     "                       [--save-initial FILE]\n"
     "                       [--surface-weight W | --surface-share S] [--regrid-every N]\n"
     "                       [--energy image|geometric|image+geometric] [--c-rep C]\n"
@@ -175,7 +175,9 @@ static const char co_optimize_help[] =
     "  --lanes MODE            how those K edges see each other: shared (default: each sees the\n"
     "                          others' statistics, clock and collapse queue as they go) or\n"
     "                          isolated (each sees only the group's start and its own moves,\n"
-    "                          merged in order afterwards). Part of the job, like K\n"
+    "                          merged in order afterwards). Part of the job, like K; remote:\n"
+    "                          isolated lanes, each run whole on a worker that serves every view\n"
+    "                          (needs K >= 2 and workers): the same output as isolated\n"
     "  --keys DIR              CURVE keys (lumesh keygen): workers' connections encrypted and\n"
     "                          authenticated, only keys in DIR/workers.allow admitted; needed to\n"
     "                          --listen beyond this machine\n"
@@ -282,12 +284,15 @@ static int parse_quality(void *to, const char *val)
 static int parse_lanes(void *to, const char *val)
 {
     co_job_options *o = to;
+    o->lanes_remote = 0;
     if (!strcmp(val, "shared"))
         o->lane_isolation = 0;
     else if (!strcmp(val, "isolated"))
         o->lane_isolation = 1;
+    else if (!strcmp(val, "remote"))
+        o->lane_isolation = o->lanes_remote = 1;
     else
-        return co_cli_usage_error(CMD, "--lanes expects shared or isolated, got '%s'", val);
+        return co_cli_usage_error(CMD, "--lanes expects shared, isolated or remote, got '%s'", val);
     return -1;
 }
 

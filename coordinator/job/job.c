@@ -18,6 +18,7 @@
 #include "common/io/mesh_io.h"
 #include "common/mesh.h"
 #include "common/mesh_topology.h"
+#include "common/optimizer/lane_runner.h"
 #include "common/optimizer/optimizer.h"
 #include "common/optimizer/optimizer_tuning.h"
 #include "common/view.h"
@@ -245,6 +246,10 @@ static lm_status resolve_options(co_job *j, const co_job_options *in)
     if (o->edges_in_flight > LM_MAX_EDGES_IN_FLIGHT)
         return lm_fail(LM_E_RANGE, "--edges-in-flight %" PRIu32 " is above %u", o->edges_in_flight,
                        LM_MAX_EDGES_IN_FLIGHT);
+    if (o->lanes_remote && o->edges_in_flight < 2)
+        return lm_fail(LM_E_INVALID, "--lanes remote needs --edges-in-flight 2 or more");
+    if (o->lanes_remote && co_job_is_none(o->workers))
+        return lm_fail(LM_E_INVALID, "--lanes remote needs workers (not --workers 0)");
     if (!(o->time_limit_s >= 0) || !(o->checkpoint_every_s >= 0))
         return lm_fail(LM_E_RANGE, "time limits must be positive numbers");
     if (!o->checkpoint_every_s && !o->checkpoint_every_evals)
@@ -494,7 +499,8 @@ static lm_status create_views_of(co_job *j, uint32_t count, int size, uint32_t t
                        .materials = m->materials,
                        .n_materials = m->n_materials,
                        .device = j->o.device_spec,
-                       .pool = j->pool};
+                       .pool = j->pool,
+                       .whole = j->o.lanes_remote && j->pool && !local};
     if (st == LM_OK)
         st = co_views_create(&d, out);
     free(vs);
@@ -556,6 +562,18 @@ static lm_status make_views(co_job *j)
 
 /* The optimizer onto views of regrid draw `draw` (the old ones go). rescale_start as in
  * lm_optimizer_replace_views: 1 in the loop, 0 before a resume loads the energies. */
+/* --lanes remote: the optimizer runs its lanes on the workers of the views in force. */
+static lm_status use_lane_runner(co_job *j)
+{
+    if (!j->o.lanes_remote || !j->pool)
+        return LM_OK;
+    lm_lane_runner runner;
+    lm_status st = co_views_lane_runner(j->views, &runner);
+    if (st == LM_OK)
+        lm_optimizer_set_lane_runner(j->opt, &runner);
+    return st;
+}
+
 static lm_status switch_draw(co_job *j, uint32_t draw, int rescale_start)
 {
     lm_views *v = NULL;
@@ -569,7 +587,7 @@ static lm_status switch_draw(co_job *j, uint32_t draw, int rescale_start)
     lm_views_destroy(j->views);
     j->views = v;
     j->draw = draw;
-    return LM_OK;
+    return j->opt ? use_lane_runner(j) : LM_OK;
 }
 
 static lm_status make_key(co_job *j)
@@ -694,6 +712,8 @@ static lm_status make_optimizer(co_job *j)
                    coarse->live_verts);
     lm_status st = lm_optimizer_create_tuned(coarse, j->views, &params, &tuning, &j->opt);
     co_meter_end(&j->meter);
+    if (st == LM_OK)
+        st = use_lane_runner(j);
     if (st != LM_OK || !j->o.resume_path)
         return st;
     co_meter_phase(&j->meter, "resuming %s", j->o.resume_path);

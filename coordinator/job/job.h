@@ -115,6 +115,8 @@ typedef struct co_job_options {
     uint32_t
         edges_in_flight;     /* edges optimised at once (lm_params); 0 = CO_JOB_DEFAULT_IN_FLIGHT */
     uint32_t lane_isolation; /* 1: those edges' lanes isolated (lm_params.lane_isolation) */
+    uint32_t lanes_remote;   /* 1: isolated lanes run on the workers (--lanes remote: each worker
+                                serves every view); the same output as in process */
     double surface_weight;   /* the optimizer's geometric term (lm_tuning.surface_weight): 0 =
                                 default, CO_JOB_NONE = none */
     double surface_share;    /* its weight relative to the start (lm_tuning.surface_share): 0 =

@@ -71,7 +71,8 @@ typedef struct co_worker {
     double armed_at;
     int replied;
     lm_wire_in reply;
-    uint32_t failures; /* requests it failed (CO_POOL_MAX_FAILURES: blocklisted) */
+    uint64_t lane_group; /* --lanes remote: the group whose start mesh it was sent (0 = none) */
+    uint32_t failures;   /* requests it failed (CO_POOL_MAX_FAILURES: blocklisted) */
 } co_worker;
 
 typedef struct co_pool co_pool;
@@ -139,6 +140,9 @@ void co_pool_disarm(co_worker *w);
 /* A request of w failed (a Failure answer): the third blocklists w for the job (lost; its Hello
  * refused). */
 void co_pool_failed(co_pool *p, co_worker *w, const char *what);
+/* w answered something that cannot be right (a lane's result that does not decode or fit): it is
+ * blocklisted for the job at once (lost), as if it had failed CO_POOL_MAX_FAILURES times. */
+void co_pool_fence(co_pool *p, co_worker *w, const char *what);
 /* What status queries report as the job's evaluations so far. */
 void co_pool_set_job_evals(co_pool *p, uint64_t evals);
 

@@ -295,6 +295,13 @@ void co_pool_failed(co_pool *p, co_worker *w, const char *what)
     co_pool_lose(p, w, why);
 }
 
+void co_pool_fence(co_pool *p, co_worker *w, const char *what)
+{
+    if (w->failures < CO_POOL_MAX_FAILURES - 1)
+        w->failures = CO_POOL_MAX_FAILURES - 1;
+    co_pool_failed(p, w, what);
+}
+
 /* ---- status ---------------------------------------------------------------------------------- */
 
 static void answer_status(co_pool *p, const lm_wire_frame *f)

@@ -41,6 +41,8 @@ typedef struct co_views_desc {
     const char *device;  /* local and split children: "auto" (NULL), "host", "egl:N" */
     uint32_t split;      /* split: children (at most the range's views); 0 = 2 */
     co_pool *pool;       /* remote: the workers (borrowed; must outlive the views) */
+    int whole;           /* remote: every worker serves every view (workers beyond the first are
+                            replicas), so that each can run whole lanes (co_views_lane_runner) */
 } co_views_desc;
 
 /* The description with every zero field resolved (no checks). */
@@ -54,5 +56,11 @@ lm_status co_views_create(const co_views_desc *d, lm_views **out);
  * every child the same width, height and renderer). Takes ownership of the children, also on
  * failure. */
 lm_status co_views_split_create(lm_views **children, uint32_t n, lm_views **out);
+
+/* Remote views made with `whole`: *out runs the isolated lanes of each group on the workers
+ * (coordinator/views/views_remote_lanes.c), its ctx the views (valid while they are). Other
+ * views: LM_E_UNSUPPORTED. */
+typedef struct lm_lane_runner lm_lane_runner;
+lm_status co_views_lane_runner(lm_views *v, lm_lane_runner *out);
 
 #endif

@@ -557,6 +557,11 @@ static const lm_views_ops remote_ops = {
     .evaluate_surface = rm_evaluate_surface,
 };
 
+co_remote *co_remote_of(lm_views *v)
+{
+    return v && v->ops == &remote_ops ? (co_remote *)v : NULL;
+}
+
 lm_status co_views_remote_create(const co_views_desc *d, lm_views **out)
 {
     static uint32_t jobs;
@@ -569,6 +574,7 @@ lm_status co_views_remote_create(const co_views_desc *d, lm_views **out)
         r->job = (uint64_t)getpid() << 32 | ++jobs;
         r->first = d->first;
         r->count = d->count;
+        r->whole = d->whole;
         r->original_mesh = d->original;
         r->width = d->views->views[0].width;
         r->height = d->views->views[0].height;

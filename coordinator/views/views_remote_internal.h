@@ -43,6 +43,8 @@ typedef struct co_remote {
     uint32_t n_ranges;
     char renderer[128];
     uint64_t evaluations;
+    int whole;           /* every worker serves every view (co_views_desc.whole) */
+    uint64_t lane_group; /* the group of lanes running on the workers (views_remote_lanes.c) */
     /* scratch */
     lm_wire_arena arena;
     uint8_t *pack;
@@ -81,5 +83,8 @@ lm_status co_remote_mesh_msg(co_remote *r, Lumesh__SetMesh *out, lm_tri_data **t
 lm_status co_remote_check_reply(co_remote *r, co_worker *w, Lumesh__Msg__BodyCase want, int *stale);
 
 void co_remote_layout_free(co_remote *r);
+
+/* The remote views behind v, or NULL when v is another kind. */
+co_remote *co_remote_of(lm_views *v);
 
 #endif

@@ -288,7 +288,7 @@ static lm_status gather_live(co_remote *r)
  * evenly (contiguous shares would each look from one side). Worker i serves share i mod G. */
 static void plan(co_remote *r)
 {
-    uint32_t g = r->n_live < r->count ? r->n_live : r->count;
+    uint32_t g = r->whole ? 1 : r->n_live < r->count ? r->n_live : r->count;
     r->n_ranges = g;
     for (uint32_t k = 0; k < g; k++)
         r->ranges[k] = (co_range){r->first + k, r->count / g + (k < r->count % g), g};

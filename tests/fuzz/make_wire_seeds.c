@@ -151,6 +151,17 @@ static void msg_seeds(const char *dir)
     Lumesh__Assign as2 = LUMESH__ASSIGN__INIT;
     as2.job = 1, as2.first = 0, as2.count = 3;
     write_msg(dir, "assign", LUMESH__MSG__BODY_ASSIGN, &as2);
+    uint8_t lane_bytes[24] = {0x4c, 0x4e, 0x52, 0x51, 1, 0, 0, 0}; /* not a whole request */
+    Lumesh__RunLane rl = LUMESH__RUN_LANE__INIT;
+    rl.job = 1, rl.group = 2, rl.lane = 1, rl.start_hash = 42, rl.surface = 1;
+    rl.request = (ProtobufCBinaryData){sizeof lane_bytes, lane_bytes};
+    rl.start = (ProtobufCBinaryData){16, hash};
+    rl.config = (ProtobufCBinaryData){8, hash};
+    write_msg(dir, "run_lane", LUMESH__MSG__BODY_RUN_LANE, &rl);
+    Lumesh__LaneDone ld = LUMESH__LANE_DONE__INIT;
+    ld.group = 2, ld.lane = 1, ld.busy_us = 1500;
+    ld.result = (ProtobufCBinaryData){sizeof lane_bytes, lane_bytes};
+    write_msg(dir, "lane_done", LUMESH__MSG__BODY_LANE_DONE, &ld);
     lm_patch_free(&p);
     lm_wire_arena_free(&a);
 }

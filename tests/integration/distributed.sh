@@ -6,7 +6,9 @@
 # on another number of workers, with a pixel grid that moves (--regrid-every: new targets on the
 # same workers, resumed across a draw), and in cluster mode (--listen) with a worker that joins late, one
 # that joins mid-run, and a long-lived worker serving two jobs in a row. Isolated lanes (--lanes
-# isolated) give the same bytes in process and on 3 workers, and a resume refuses the other mode. One renderer per job:
+# isolated) give the same bytes in process and on 3 workers, and a resume refuses the other mode;
+# lanes run whole on 1, 2, 3 workers (--lanes remote) give those bytes too, also resumed from a
+# checkpoint of isolated lanes in process. One renderer per job:
 # llvmpipe at 128 bits is the same renderer and is accepted; softpipe draws other pixels and is
 # refused with the reason. --device cpu (lumesh's CPU rasteriser) gives the same bytes in process,
 # in local workers and in a worker started by hand, and a job pinned to its renderer id refuses an
@@ -96,6 +98,32 @@ expect_fail_line "$LUMESH" optimize "$bunny" -o "$tmp/x.glb" "${job[@]}" --edges
   --lanes isolated --workers 0 --resume "$tmp/ck"
 expect_fail_line "$LUMESH" optimize "$bunny" -o "$tmp/x.glb" "${job[@]}" --edges-in-flight 4 \
   --lanes parallel
+
+# -- lanes run whole on the workers (--lanes remote): the bytes of isolated lanes in process, for
+# 1, 2 and 3 workers (each serving every view); it needs K >= 2 and workers: one line each --
+rcounts="1 2 3"
+[ "$light" = 1 ] && rcounts="2" # the sanitizer stage: one run (the release stage runs all)
+for w in $rcounts; do
+  "$LUMESH" optimize "$bunny" -o "$tmp/rem-w$w.glb" "${job[@]}" --edges-in-flight 4 \
+    --lanes remote --workers "$w" 2>"$tmp/err" || fail "remote lanes, $w workers: $(tail -1 "$tmp/err")"
+  same "remote lanes, $w workers" "$tmp/iso-w0.glb" "$tmp/rem-w$w.glb"
+done
+# a checkpoint of isolated lanes in process resumed with remote lanes: the bytes of the whole
+# run in process (the mode is where lanes run, not what they decide)
+if [ "$light" != 1 ]; then
+  rjob=("${job[@]}" --edges-in-flight 4)
+  "$LUMESH" optimize "$bunny" -o "$tmp/rl-full.glb" "${rjob[@]}" --evals 5000 --lanes isolated \
+    --workers 0 2>"$tmp/err" || fail "isolated lanes, 5000: $(tail -1 "$tmp/err")"
+  "$LUMESH" optimize "$bunny" -o "$tmp/rl-half.glb" "${rjob[@]}" --evals 1200 --lanes isolated \
+    --workers 0 --checkpoint "$tmp/rl-ck" 2>"$tmp/err" || fail "isolated lanes, half: $(tail -1 "$tmp/err")"
+  "$LUMESH" optimize "$bunny" -o "$tmp/rl-res.glb" "${rjob[@]}" --evals 5000 --lanes remote \
+    --workers 2 --resume "$tmp/rl-ck" 2>"$tmp/err" || fail "remote lanes, resumed: $(tail -1 "$tmp/err")"
+  same "isolated lanes resumed as remote lanes" "$tmp/rl-full.glb" "$tmp/rl-res.glb"
+fi
+expect_fail_line "$LUMESH" optimize "$bunny" -o "$tmp/x.glb" "${job[@]}" --edges-in-flight 1 \
+  --lanes remote --workers 2
+expect_fail_line "$LUMESH" optimize "$bunny" -o "$tmp/x.glb" "${job[@]}" --edges-in-flight 4 \
+  --lanes remote --workers 0
 
 # -- a pixel grid that moves (--regrid-every): new targets on the same workers, the same bytes in
 # process and on 2 workers, and resumed across a draw on another count --

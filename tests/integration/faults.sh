@@ -7,7 +7,9 @@
 # by themselves; garbage, bodyless, oversize and wrong-version frames at the port; workers with no
 # key, a wrong coordinator key, and a key not on the allow-list. Poison batches (a fault hook in
 # the worker, LUMESH_WORKER_FAULT) are retried 3 times then refused, deterministically; workers
-# that fail 3 times are blocklisted. Prints the detection time of each loss it causes.
+# that fail 3 times are blocklisted. With --lanes remote: a worker SIGKILLed with a lane in flight,
+# and one whose lane results do not decode (fenced at once), leave the bytes of isolated lanes.
+# Prints the detection time of each loss it causes.
 set -uo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 source "$here/lib.bash"
@@ -78,6 +80,23 @@ kill -9 "$(pgrep -P "$coord" lumesh-worker | tail -1)"
 wait "$coord" || fail "the run with killed workers failed: $(tail -2 "$tmp/kill.err")"
 same "workers SIGKILLed" 4 "$tmp/kill.glb"
 echo "faults.sh: local worker SIGKILL detected after $(detected "$tmp/kill.err" "$t_kill" "pid $victim) lost") s"
+
+# -- lanes run whole on the workers (--lanes remote): a worker SIGKILLed with a lane in flight;
+# its lane goes to another worker (the same request bytes): the bytes of isolated lanes in
+# process --
+"$LUMESH" optimize "$bunny" -o "$tmp/ref-iso.glb" "${job[@]}" --edges-in-flight 4 --lanes isolated \
+  --workers 0 2>"$tmp/ref.err" || fail "reference run, isolated lanes: $(tail -3 "$tmp/ref.err")"
+"$LUMESH" optimize "$bunny" -o "$tmp/kill-lanes.glb" "${job[@]}" --edges-in-flight 4 \
+  --lanes remote --workers 2 2> >(stamp >"$tmp/kill-lanes.err") &
+coord=$!
+wait_for 60 grep -q "evals [0-9]*/s .*2 workers" "$tmp/kill-lanes.err" ||
+  fail "the remote-lanes run never had its 2 workers"
+sleep 0.3
+kill -9 "$(pgrep -P "$coord" lumesh-worker | head -1)"
+wait "$coord" || fail "the remote-lanes run with a killed worker failed: $(tail -2 "$tmp/kill-lanes.err")"
+checks=$((checks + 1))
+cmp -s "$tmp/ref-iso.glb" "$tmp/kill-lanes.glb" ||
+  fail "remote lanes, a worker SIGKILLed: the output differs from isolated lanes in process"
 
 # -- a cluster worker stopped past its lease, then continued --
 port=$((base + 1))
@@ -212,5 +231,16 @@ for fault in crash fail; do
 done
 checks=$((checks + 1))
 grep -q "blocklisted for the job" "$tmp/poison-fail-a.err" || fail "a worker failing 3 times was not blocklisted"
+
+# -- a worker that lies (--lanes remote): worker 1 answers every lane with a result that does not
+# decode; it is fenced at its first, its lane runs elsewhere, the bytes are isolated lanes' --
+LUMESH_WORKER_FAULT="lie-lanes-as=1" "$LUMESH" optimize "$bunny" -o "$tmp/lie.glb" "${job[@]}" \
+  --edges-in-flight 4 --lanes remote --workers 2 2>"$tmp/lie.err" ||
+  fail "the run with a lying worker failed: $(tail -2 "$tmp/lie.err")"
+checks=$((checks + 1))
+grep -q "worker 1 .*blocklisted for the job" "$tmp/lie.err" || fail "the lying worker was not fenced"
+checks=$((checks + 1))
+cmp -s "$tmp/ref-iso.glb" "$tmp/lie.glb" ||
+  fail "remote lanes, a lying worker: the output differs from isolated lanes in process"
 
 finish

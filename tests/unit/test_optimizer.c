@@ -16,6 +16,10 @@
 #include <string.h>
 
 #include "common/mesh_topology.h"
+#include "common/optimizer/lane_host.h"
+#include "common/optimizer/lane_runner.h"
+#include "common/optimizer/lane_start.h"
+#include "common/optimizer/lane_wire.h"
 #include "common/optimizer/optimizer.h"
 #include "common/optimizer/optimizer_tuning.h"
 #include "common/optimizer/surface_term.h"
@@ -36,8 +40,55 @@ static const char *g_device = "host";
 /* the start's subdivision level (the original is one finer) */
 static int g_level = 2;
 /* lanes run detached (lm_optimizer_set_lanes_detached) in the runs started; their traffic */
-static int g_detached;
+static int g_detached; /* 1: lm_optimizer_set_lanes_detached; 2: a lane runner (below) */
 static lm_lane_traffic g_traffic;
+
+/* A lane runner as a worker process would be (--lanes remote): the config and the start mesh
+ * through their bytes into a mesh of its own (placeholder materials), each lane's request and
+ * result through theirs, the lanes run in reverse order against the views (committed to the
+ * start). */
+typedef struct test_runner {
+    lm_views *views;
+    lm_lane_host *host;
+    uint64_t groups;
+} test_runner;
+static test_runner g_runner;
+
+static lm_status test_run_lanes(void *ctx, const lm_lane_batch *b)
+{
+    test_runner *t = ctx;
+    uint8_t *buf = NULL;
+    size_t len = 0;
+    lm_moves_config cfg;
+    assert_int_equal(lm_lane_config_encode(b->cfg, &buf, &len), LM_OK);
+    assert_int_equal(lm_lane_config_decode(buf, len, &cfg), LM_OK);
+    free(buf);
+    if (!t->host)
+        assert_int_equal(lm_lane_host_create(&cfg, &t->host), LM_OK);
+    lm_mesh *start = NULL;
+    assert_int_equal(lm_lane_mesh_encode(b->start, &buf, &len), LM_OK);
+    assert_int_equal(lm_mesh_create(&start), LM_OK);
+    assert_int_equal(lm_lane_mesh_decode(buf, len, start), LM_OK);
+    free(buf);
+    assert_true(lm_mesh_hash(start) == lm_mesh_hash(b->start));
+    lm_lane_request q;
+    lm_lane_result r;
+    lm_lane_request_init(&q);
+    lm_lane_result_init(&r);
+    for (uint32_t j = b->n; j-- > 0;) {
+        assert_int_equal(lm_lane_request_decode(b->req[j], b->req_len[j], &q), LM_OK);
+        assert_int_equal(lm_lane_host_run(t->host, start, t->views, &q, &r), LM_OK);
+        assert_int_equal(lm_lane_result_encode(&r, &buf, &len), LM_OK);
+        assert_int_equal(lm_lane_result_decode(buf, len, b->n_verts, b->res[j]), LM_OK);
+        *b->result_bytes += len;
+        free(buf);
+    }
+    lm_lane_request_free(&q);
+    lm_lane_result_free(&r);
+    lm_mesh_destroy(start);
+    t->groups++;
+    return LM_OK;
+}
 
 typedef struct run {
     lm_mesh *orig;
@@ -80,7 +131,12 @@ static void run_start_lanes(run *r, uint64_t seed, uint32_t k, uint32_t isolated
                    .surface_share = g_surface == 2 ? SURFACE_SHARE : 0};
     assert_int_equal(lm_optimizer_create_tuned(noisy_sphere(), r->v, &p, &t, &r->o), LM_OK);
     lm_optimizer_set_lane_order(r->o, order);
-    assert_int_equal(lm_optimizer_set_lanes_detached(r->o, g_detached), LM_OK);
+    assert_int_equal(lm_optimizer_set_lanes_detached(r->o, g_detached == 1), LM_OK);
+    if (g_detached == 2) {
+        lm_lane_host_destroy(g_runner.host);
+        g_runner = (test_runner){.views = r->v};
+        lm_optimizer_set_lane_runner(r->o, &(lm_lane_runner){test_run_lanes, &g_runner});
+    }
 }
 
 static void run_free(run *r)
@@ -444,6 +500,32 @@ static void test_detached_lanes_same_state(void **state)
     }
 }
 
+/* Isolated lanes handed to a runner (lm_optimizer_set_lane_runner, as --lanes remote does), the
+ * start mesh sent as bytes and the lanes run in reverse order, end in the state of the lanes run
+ * in process. */
+static void test_runner_lanes_same_state(void **state)
+{
+    (void)state;
+    const uint32_t ks[2] = {4, 8};
+    const int levels[2] = {2, 3};
+    for (int i = 0; i < 2; i++) {
+        size_t l0, l1;
+        char *s0 = isolated_state(levels[i], ks[i], &l0);
+        g_detached = 2;
+        char *s1 = lanes_state(levels[i], ks[i], 1, 0, &l1);
+        g_detached = 0;
+        print_message("runner K=%u, level %d: %s; %llu groups, %llu lanes\n", ks[i], levels[i],
+                      same_state(s0, l0, s1, l1) ? "same state" : "DIFFERENT state",
+                      (unsigned long long)g_runner.groups, (unsigned long long)g_traffic.lanes);
+        assert_true(g_runner.groups > 0 && g_traffic.lanes > 0);
+        assert_true(same_state(s0, l0, s1, l1));
+        lm_lane_host_destroy(g_runner.host);
+        g_runner.host = NULL;
+        free(s0);
+        free(s1);
+    }
+}
+
 static void test_isolated_lanes_energy_and_resume(void **state)
 {
     (void)state;
@@ -493,6 +575,7 @@ int main(void)
         cmocka_unit_test(test_relative_weight),
         cmocka_unit_test(test_isolated_lanes_order_free),
         cmocka_unit_test(test_detached_lanes_same_state),
+        cmocka_unit_test(test_runner_lanes_same_state),
         cmocka_unit_test(test_shared_lanes_depend_on_order),
         cmocka_unit_test(test_isolated_lanes_energy_and_resume),
     };

@@ -256,6 +256,7 @@ static lm_status dispatch(wk_server *s, const lm_msg *m, int *job_ended)
         if (s->welcomed || m->welcome->join != s->join)
             return LM_OK; /* the answer to a repeated Hello, or to an older join */
         s->welcomed = 1;
+        s->worker_id = m->welcome->worker;
         s->unheard_noted = 0;
         lm_info("welcomed by %s as worker %u", s->o.endpoint, m->welcome->worker);
         return LM_OK;
@@ -290,6 +291,8 @@ static lm_status dispatch(wk_server *s, const lm_msg *m, int *job_ended)
     case LUMESH__MSG__BODY_POTENTIALS:
     case LUMESH__MSG__BODY_READ_IMAGE:
         return wk_serve_request(s, m);
+    case LUMESH__MSG__BODY_RUN_LANE:
+        return wk_serve_lane(s, m);
     case LUMESH__MSG__BODY_END_JOB:
         wk_serve_end_job(s);
         drop_welcome(s); /* the next job may come from another coordinator */

@@ -27,7 +27,8 @@ typedef struct wk_upload {
     size_t size, got;
 } wk_upload;
 
-typedef struct wk_beat wk_beat; /* serve_beat.c */
+typedef struct wk_beat wk_beat;   /* serve_beat.c */
+typedef struct wk_lanes wk_lanes; /* serve_lane.c */
 
 typedef struct wk_server {
     wk_serve_options o;
@@ -40,8 +41,9 @@ typedef struct wk_server {
     char id[320]; /* routing id */
     char host[256], renderer[128], renderer_id[LM_WIRE_RENDERER_ID_CHARS + 1];
     int welcomed, unheard_noted;
-    uint32_t join;     /* the join Hello says: one more each time the worker drops its welcome */
-    const char *fault; /* LUMESH_WORKER_FAULT (test builds only, LUMESH_TEST_HOOKS): serve_job.c */
+    uint32_t worker_id; /* the coordinator's id for this worker (its Welcome) */
+    uint32_t join;      /* the join Hello says: one more each time the worker drops its welcome */
+    const char *fault;  /* LUMESH_WORKER_FAULT (test builds only, LUMESH_TEST_HOOKS): serve_job.c */
     double last_heard, last_hello, last_beat;
     /* assets */
     lm_asset_set cache;
@@ -63,9 +65,10 @@ typedef struct wk_server {
     lm_surface_table *geo;
     lm_bvh *bvh;
     lm_asset_hash bvh_of;
-    uint64_t seq; /* of the replica (the coordinator's count of changes) */
-    int stale;    /* a change failed or was missed: no request is answered until the state is
-                     sent again */
+    wk_lanes *lanes; /* RunLane's host, start mesh and scratch (NULL until a lane comes) */
+    uint64_t seq;    /* of the replica (the coordinator's count of changes) */
+    int stale;       /* a change failed or was missed: no request is answered until the state is
+                        sent again */
     /* scratch */
     lm_patch *patches;
     uint32_t cap_patches;
@@ -104,5 +107,8 @@ lm_status wk_serve_assign(wk_server *s, const lm_msg *m);
 lm_status wk_serve_change(wk_server *s, const lm_msg *m);
 lm_status wk_serve_request(wk_server *s, const lm_msg *m);
 void wk_serve_end_job(wk_server *s);
+/* RunLane (serve_lane.c): the lane run and answered LaneDone, or Stale, or a Failure. */
+lm_status wk_serve_lane(wk_server *s, const lm_msg *m);
+void wk_serve_lanes_free(wk_server *s);
 
 #endif

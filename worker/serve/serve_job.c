@@ -28,6 +28,7 @@ static void drop_views(wk_server *s)
 
 void wk_serve_end_job(wk_server *s)
 {
+    wk_serve_lanes_free(s);
     drop_views(s);
     lm_mesh_destroy(s->original);
     s->original = NULL;

@@ -1,0 +1,226 @@
+/* worker/serve/serve_lane.c — RunLane (--lanes remote): an isolated lane of a group of edges in
+ * flight, run here with lm_lane_host_run against the group's start mesh (sent with the first lane
+ * of each group this worker gets, kept for the others) and this worker's views, which serve every
+ * view of the job and are at the group's start (the request's seq), the geometric term added where
+ * the request asks for it. Everything decoded is checked (lane_wire.h, lane_start.h); a failure is
+ * answered, never fatal. */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "common/optimizer/lane_host.h"
+#include "common/optimizer/lane_start.h"
+#include "common/optimizer/lane_wire.h"
+#include "worker/serve/serve_internal.h"
+
+#define CFG_MAX 128 /* bytes of an encoded moves config */
+
+struct wk_lanes {
+    lm_views base; /* the views a lane is priced with: the worker's, plus the geometric term */
+    wk_server *s;
+    int surface;
+    lm_lane_host *host;
+    uint8_t cfg[CFG_MAX]; /* the config the host was made with */
+    size_t n_cfg;
+    lm_mesh *start; /* the start mesh of (job, group) */
+    uint64_t job, group;
+    lm_lane_request req;
+    lm_lane_result res;
+};
+
+static wk_lanes *of(lm_views *v)
+{
+    return (wk_lanes *)v;
+}
+
+static lm_status lv_evaluate(lm_views *v, const lm_patch *p, uint32_t n, int64_t *delta)
+{
+    wk_lanes *l = of(v);
+    wk_server *s = l->s;
+    lm_status st = s->v->ops->evaluate(s->v, p, n, delta);
+    for (uint32_t i = 0; i < n && st == LM_OK && l->surface; i++)
+        delta[i] += lm_surface_table_delta(s->geo, &p[i]);
+    return st;
+}
+
+static void lv_info(lm_views *v, lm_views_info *out)
+{
+    wk_server *s = of(v)->s;
+    s->v->ops->info(s->v, out);
+}
+
+static void lv_destroy(lm_views *v)
+{
+    (void)v; /* owned by wk_lanes */
+}
+
+static const lm_views_ops lane_views_ops = {
+    .evaluate = lv_evaluate,
+    .info = lv_info,
+    .destroy = lv_destroy,
+};
+
+void wk_serve_lanes_free(wk_server *s)
+{
+    wk_lanes *l = s->lanes;
+    if (!l)
+        return;
+    lm_lane_host_destroy(l->host);
+    lm_mesh_destroy(l->start);
+    lm_lane_request_free(&l->req);
+    lm_lane_result_free(&l->res);
+    free(l);
+    s->lanes = NULL;
+}
+
+static lm_status lanes_get(wk_server *s, wk_lanes **out)
+{
+    if (!s->lanes) {
+        wk_lanes *l = calloc(1, sizeof *l);
+        if (!l)
+            return lm_fail(LM_E_NOMEM, "out of memory for lanes");
+        l->base.ops = &lane_views_ops;
+        l->s = s;
+        lm_lane_request_init(&l->req);
+        lm_lane_result_init(&l->res);
+        s->lanes = l;
+    }
+    *out = s->lanes;
+    return LM_OK;
+}
+
+/* The group's start: the one sent with this request, else the one kept for its group. */
+static lm_status take_start(wk_server *s, wk_lanes *l, const Lumesh__RunLane *q)
+{
+    if (!q->start.len) {
+        if (!l->start || l->job != s->job || l->group != q->group)
+            return lm_fail(LM_E_INVALID, "a lane of group %llu without its start mesh",
+                           (unsigned long long)q->group);
+        return LM_OK;
+    }
+    lm_mesh_destroy(l->start);
+    l->start = NULL;
+    l->group = 0;
+    lm_mesh *m = NULL;
+    lm_status st = lm_mesh_create(&m);
+    if (st == LM_OK)
+        st = lm_lane_mesh_decode(q->start.data, q->start.len, m);
+    if (st == LM_OK && lm_mesh_hash(m) != q->start_hash)
+        st = lm_fail(LM_E_FORMAT, "a start mesh whose hash is not the one named");
+    if (st != LM_OK) {
+        lm_mesh_destroy(m);
+        return st;
+    }
+    l->start = m;
+    l->job = s->job;
+    l->group = q->group;
+    return LM_OK;
+}
+
+/* A host made with the request's config (kept while the config stays). */
+static lm_status take_config(wk_lanes *l, const Lumesh__RunLane *q)
+{
+    if (l->host && q->config.len == l->n_cfg && !memcmp(q->config.data, l->cfg, l->n_cfg))
+        return LM_OK;
+    lm_moves_config cfg;
+    lm_status st = q->config.len <= CFG_MAX
+                       ? lm_lane_config_decode(q->config.data, q->config.len, &cfg)
+                       : lm_fail(LM_E_FORMAT, "a moves config of %zu bytes", q->config.len);
+    lm_lane_host_destroy(l->host);
+    l->host = NULL;
+    l->n_cfg = 0;
+    if (st == LM_OK)
+        st = lm_lane_host_create(&cfg, &l->host);
+    if (st == LM_OK) {
+        memcpy(l->cfg, q->config.data, q->config.len);
+        l->n_cfg = q->config.len;
+    }
+    return st;
+}
+
+/* Why this worker cannot price the lane now: 1 stale (its views are not at seq, or lack the
+ * term); LM_OK with 0 when it can; a failure when it never could (not every view). */
+static lm_status check_views(wk_server *s, const lm_msg *m, int *stale)
+{
+    *stale = !s->v || s->stale || m->seq != s->seq || (m->run_lane->surface && !s->geo);
+    if (*stale)
+        return LM_OK;
+    if (s->deal.first != 0 || s->deal.stride != 1 || s->deal.count != s->views->count)
+        return lm_fail(LM_E_INVALID, "a lane asked of a worker that serves %u of %u views",
+                       s->deal.count, s->views->count);
+    return LM_OK;
+}
+
+static double now_s(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* Fault injection for tests (LUMESH_WORKER_FAULT, read only by builds with LUMESH_TEST_HOOKS):
+ * "lie-lanes-as=N" makes the worker the coordinator welcomed as worker N answer every lane with a
+ * result cut short by a byte (a worker gone wrong: the coordinator must fence it). */
+static int lies(const wk_server *s)
+{
+    static const char kind[] = "lie-lanes-as=";
+    return s->fault && !strncmp(s->fault, kind, sizeof kind - 1) &&
+           strtoul(s->fault + sizeof kind - 1, NULL, 10) == s->worker_id;
+}
+
+static lm_status run_lane(wk_server *s, wk_lanes *l, const lm_msg *m)
+{
+    const Lumesh__RunLane *q = m->run_lane;
+    double t0 = now_s();
+    lm_status st = lm_lane_request_decode(q->request.data, q->request.len, &l->req);
+    if (st == LM_OK && l->req.n_verts != l->start->n_verts)
+        st = lm_fail(LM_E_FORMAT, "a lane's request for %u vertex slots, the start has %u",
+                     l->req.n_verts, l->start->n_verts);
+    if (st == LM_OK && (l->req.index != q->lane || l->req.index >= l->req.n_group))
+        st = lm_fail(LM_E_FORMAT, "lane %u of a group of %u named lane %u", l->req.index,
+                     l->req.n_group, q->lane);
+    l->surface = q->surface;
+    if (st == LM_OK && lm_lane_host_run(l->host, l->start, &l->base, &l->req, &l->res) != LM_OK)
+        st = lm_fail(l->res.status, "%s", l->res.msg);
+    uint8_t *buf = NULL;
+    size_t len = 0;
+    if (st == LM_OK)
+        st = lm_lane_result_encode(&l->res, &buf, &len);
+    if (st != LM_OK)
+        return wk_serve_fail(s, m->req, st, lm_last_error());
+    Lumesh__LaneDone d = LUMESH__LANE_DONE__INIT;
+    d.group = q->group;
+    d.lane = q->lane;
+    d.result = (ProtobufCBinaryData){len - (len && lies(s)), buf};
+    d.busy_us = (uint64_t)((now_s() - t0) * 1e6);
+    st = wk_serve_send(s, m->req, LUMESH__MSG__BODY_LANE_DONE, &d);
+    free(buf);
+    return st;
+}
+
+lm_status wk_serve_lane(wk_server *s, const lm_msg *m)
+{
+    const Lumesh__RunLane *q = m->run_lane;
+    wk_lanes *l = NULL;
+    int stale = 0;
+    lm_status st = s->original && q->job == s->job
+                       ? LM_OK
+                       : lm_fail(LM_E_INVALID, "a lane of job %llu, but the job is %llu",
+                                 (unsigned long long)q->job, (unsigned long long)s->job);
+    if (st == LM_OK)
+        st = lanes_get(s, &l);
+    if (st == LM_OK)
+        st = take_start(s, l, q); /* kept even when the views are stale: the retry names it */
+    if (st == LM_OK)
+        st = check_views(s, m, &stale);
+    if (st == LM_OK && !stale)
+        st = take_config(l, q);
+    if (st != LM_OK)
+        return wk_serve_fail(s, m->req, st, lm_last_error());
+    if (stale) {
+        Lumesh__Stale r = LUMESH__STALE__INIT;
+        return wk_serve_send(s, m->req, LUMESH__MSG__BODY_STALE, &r);
+    }
+    return run_lane(s, l, m);
+}
