@@ -100,5 +100,7 @@ fuzz fuzz_cameras "${LUMESH_FUZZ_RUNS:-1000000}" tests/fuzz/corpus/cameras
 FUZZ_ARGS=-malloc_limit_mb=256 fuzz fuzz_checkpoint "${LUMESH_FUZZ_RUNS:-300000}" tests/fuzz/corpus/checkpoint
 # a lane request or result (issue 36: the whole-edge work unit): counts bounded by the bytes left
 FUZZ_ARGS=-malloc_limit_mb=256 fuzz fuzz_lane_wire "${LUMESH_FUZZ_RUNS:-2000000}" tests/fuzz/corpus/lane_wire
+# a lane's start (moves config and the group's start mesh, --lanes remote's RunLane): bounded counts
+FUZZ_ARGS=-malloc_limit_mb=256 fuzz fuzz_lane_start "${LUMESH_FUZZ_RUNS:-400000}" tests/fuzz/corpus/lane_start
 rm -rf "$seeds"
 echo "all tests passed"
