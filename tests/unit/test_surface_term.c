@@ -303,7 +303,8 @@ static void test_refuses_bad_arguments(void **state)
 }
 /* set_inner with views of another count and size: k becomes weight · views · px² · px256² of the
  * new ones (k × views × pixels relative to the old), e(t) and E_geo with it, the weight and the
- * term handed to the new views where they take it; back on views like the first, k's bits are the first's. */
+ * term handed to the new views where they take it; back on views like the first, k's bits are the
+ * first's. */
 static void test_inner_of_other_size(void **state)
 {
     (void)state;
