@@ -43,8 +43,11 @@ expect_exit 0 "$LUMESH" simplify "$tmp/nrm/frog.obj" -o "$tmp/out/normal_mapped.
 checks=$((checks + 1))
 grep -aq '"normalTexture"' "$tmp/out/normal_mapped.glb" && grep -aq '"TANGENT"' "$tmp/out/normal_mapped.glb" ||
   fail "normal_mapped.glb has no normalTexture or no TANGENT"
+# the exact CPU renderer here: this command with --device host (llvmpipe) crashed twice (SIGSEGV,
+# nothing on stderr) on a loaded 2-core machine and never in ~100 runs alone; open, see the issue
+# 39 note of 2026-12-06. What this test checks is the GLB, not the renderer.
 expect_exit 0 "$LUMESH" simplify "$tmp/frog.glb" -o "$tmp/out/image.glb" --target-verts 150 \
-  --method image --pm "$tmp/frog.pm" "${small[@]}"
+  --method image --pm "$tmp/frog.pm" --views 4 --size 32 --device cpu
 expect_exit 0 "$LUMESH" simplify "$tmp/frog.glb" -o "$tmp/out/adaptive.glb" --target-verts 150 \
   --method adaptive
 expect_exit 0 "$LUMESH" pm-extract "$tmp/frog.pm" -o "$tmp/out/pm.glb" --verts 300
