@@ -20,4 +20,22 @@
  * copied. LM_E_INVALID when the grid's cells are too small at this size (one line). */
 lm_status lm_atlas_per_triangle(const lm_mesh *src, int size, lm_mesh **out);
 
+/* The side of the smallest square grid with `charts` cells (at least 1). */
+uint32_t lm_atlas_cells(uint32_t charts);
+
+/* LM_OK when cells of a grid `cells` a side leave a chart its LM_ATLAS_MIN_LEG at this size, else
+ * LM_E_INVALID with one line naming the size needed (`charts`: the triangles, for the message). */
+lm_status lm_atlas_fits(uint32_t charts, uint32_t cells, int size);
+
+/* Corner k's texture coordinates of the chart in cell i of a grid `cells` a side, size x size:
+ * the bits lm_atlas_per_triangle gives (maps in the loop rewrite a renderer's triangles with
+ * them). */
+void lm_atlas_cell_uv(uint32_t i, uint32_t cells, int size, int k, float uv[2]);
+
+/* As lm_atlas_per_triangle, but triangle t's chart lies in cell t mod cells² of a grid `cells` a
+ * side chosen by the caller (so that a triangle keeps its chart while its id lives: the optimizer's
+ * maps in the loop, coordinator/job/bake_loop.h); the i-th live triangle of src is still the
+ * copy's triangle i. LM_E_INVALID as lm_atlas_fits. */
+lm_status lm_atlas_by_id(const lm_mesh *src, int size, uint32_t cells, lm_mesh **out);
+
 #endif

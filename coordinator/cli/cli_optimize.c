@@ -32,7 +32,7 @@ static const char co_optimize_help[] =
     "                       [--geo-improvements LIST] [--geo-start-multiple K]\n"
     "                       [--validate-every K [--validate-views N] [--validate-patience P]]\n"
     "                       [--quality draft|good|best] [--view-schedule fixed|grow]\n"
-    "                       [--bake normal,color [--bake-size N]]\n"
+    "                       [--bake normal,color [--bake-size N] [--bake-every N]]\n"
     "\n"
     "Improve a coarse mesh so that its rendered images match the original's from many viewpoints\n"
     "(Lindstrom & Turk 2001): vertex positions and attributes by downhill simplex, connectivity "
@@ -199,6 +199,16 @@ static const char co_optimize_help[] =
     "                          replaces them (without color, the result's colour textures\n"
     "                          resampled into it); see coordinator/cli/COMMANDS.md\n"
     "  --bake-size N           side of the baked map in texels (default %u, %u to %u)\n"
+    "  --bake-every N          maps in the loop: also bake them onto the current mesh every N\n"
+    "                          evaluations (from the first) and render the current mesh with\n"
+    "                          them, so that the geometry is optimised with the maps on\n"
+    "                          (default: bake once, after optimising). In the loop the maps go\n"
+    "                          through a per-triangle atlas keyed by triangle id (a triangle a\n"
+    "                          move changes keeps its chart until the next bake), so uv is not\n"
+    "                          optimised; the output is baked as --bake says, from the final\n"
+    "                          mesh. Any --workers; excludes --checkpoint, --resume,\n"
+    "                          --validate-every and --lanes remote. Part of the job, like the\n"
+    "                          seed\n"
     "  --report DIR            then write the quality report into DIR (created): index.html,\n"
     "                          a self-contained page comparing the result and its coarse start\n"
     "                          (saved as DIR/initial.obj) with ORIGINAL on 24 held-out views\n"
@@ -417,6 +427,21 @@ static int check_options(optimize_args *a)
         return co_cli_usage_error(CMD, "--bake-size needs --bake");
     if (!a->bake_size)
         a->bake_size = CO_BAKE_DEFAULT_SIZE;
+    if (o->bake_every && !a->bake)
+        return co_cli_usage_error(CMD, "--bake-every needs --bake");
+    if (o->bake_every && a->energy == ENERGY_GEOMETRIC)
+        return co_cli_usage_error(CMD, "--bake-every needs rendering: use --energy image or "
+                                       "image+geometric");
+    if (o->bake_every && (o->checkpoint_path || o->resume_path))
+        return co_cli_usage_error(CMD, "--bake-every excludes --checkpoint and --resume (the "
+                                       "maps in the loop are not checkpointed)");
+    if (o->bake_every && o->validate_every && !co_job_is_none(o->validate_every))
+        return co_cli_usage_error(CMD, "--bake-every excludes --validate-every (the validation "
+                                       "views render without the maps)");
+    if (o->bake_every && o->lanes_remote)
+        return co_cli_usage_error(CMD, "--bake-every excludes --lanes remote");
+    a->o.bake_kinds = a->bake;
+    a->o.bake_size = a->bake_size;
     return -1;
 }
 
@@ -445,6 +470,8 @@ static int parse_args(int argc, char **argv, optimize_args *a)
         CO_OPT_STR("report", 0, &a->report_dir),
         CO_OPT_CALL("bake", 0, parse_bake, &a->bake),
         CO_OPT_U32("bake-size", 0, &a->bake_size, CO_BAKE_MIN_SIZE, CO_BAKE_MAX_SIZE),
+        {CO_OPT_ROW("bake-every", 0, CO_OPT_KIND_U64, uint64_t, &o->bake_every), .lo = 1,
+         .hi = UINT64_MAX / 2},
         CO_OPT_U32("edges-in-flight", 0, &o->edges_in_flight, 1, LM_MAX_EDGES_IN_FLIGHT),
         CO_OPT_CALL("lanes", 0, parse_lanes, o),
         CO_OPT_STR("keys", 0, &o->keys),

@@ -90,13 +90,14 @@ static lm_status attach_color(lm_mesh *res, const char *path, const lm_image *im
     for (uint32_t i = 0; i < res->n_materials; i++) {
         lm_material *mat = &res->materials[i];
         lm_image *copy;
-        char *name = malloc(strlen(path) + 1);
-        lm_status st = name ? lm_image_clone(img, &copy) : LM_E_NOMEM;
+        char *name = path ? malloc(strlen(path) + 1) : NULL;
+        lm_status st = name || !path ? lm_image_clone(img, &copy) : LM_E_NOMEM;
         if (st != LM_OK) {
             free(name);
             return st == LM_E_NOMEM ? lm_fail(st, "out of memory attaching a colour map") : st;
         }
-        memcpy(name, path, strlen(path) + 1);
+        if (name)
+            memcpy(name, path, strlen(path) + 1);
         lm_image_destroy(mat->texture);
         free(mat->texture_path);
         mat->texture = copy, mat->texture_path = name;
@@ -170,6 +171,27 @@ static lm_status write_maps(lm_mesh *res, bake_maps *b, co_bake_result *r)
         st = attach_color(res, r->color_path, b->imgs[1]);
     if (st == LM_OK && b->transfer.from)
         attach_resampled(res, b->imgs + 2, r);
+    return st;
+}
+
+lm_status co_bake_attach(const lm_mesh *orig, lm_mesh *res, const lm_mesh *from, unsigned kinds,
+                         int size, lm_bake_stats *stats, unsigned *resampled)
+{
+    bake_maps b;
+    uint32_t n_materials = res->n_materials;
+    lm_status st = maps_make(&b, res, from, kinds, size);
+    if (st == LM_OK)
+        st = lm_bake_walk(orig, res, size, b.sinks, b.n_sinks, b.imgs, 2 + (int)n_materials, stats);
+    if (st == LM_OK && b.imgs[0])
+        st = attach_normal(res, NULL, b.imgs[0]);
+    if (st == LM_OK && b.imgs[1])
+        st = attach_color(res, NULL, b.imgs[1]);
+    co_bake_result r = {0};
+    if (st == LM_OK && b.transfer.from)
+        attach_resampled(res, b.imgs + 2, &r);
+    if (resampled)
+        *resampled = r.resampled;
+    maps_free(&b, n_materials);
     return st;
 }
 

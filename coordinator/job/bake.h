@@ -37,6 +37,14 @@ lm_status co_bake_parse_kind(const char *val, unsigned *kinds);
 lm_status co_bake_file(const char *original, const char *output, unsigned kinds, int size,
                        co_bake_result *res);
 
+/* The maps `kinds` of `original` baked onto `res` (normals and an atlas's coordinates, made of
+ * `from`: lm_atlas_per_triangle or lm_atlas_by_id) in memory: every material of res takes them
+ * (no path; with a colour map the factor's RGB 1 and res's vertex colours white; without one and
+ * with `from`, from's textures resampled into the atlas, *resampled counting them, may be NULL).
+ * Blocking; stats may be NULL; LM_E_NOMEM. The bakes of the optimizer's loop (bake_loop.h). */
+lm_status co_bake_attach(const lm_mesh *original, lm_mesh *res, const lm_mesh *from, unsigned kinds,
+                         int size, lm_bake_stats *stats, unsigned *resampled);
+
 /* Prints what co_bake_file did: a line a map, or a {"type":"bake",...} record with json. */
 void co_bake_print(const co_bake_result *res, int json);
 

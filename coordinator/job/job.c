@@ -22,6 +22,8 @@
 #include "common/optimizer/optimizer.h"
 #include "common/optimizer/optimizer_tuning.h"
 #include "common/view.h"
+#include "coordinator/job/bake.h"
+#include "coordinator/job/bake_loop.h"
 #include "coordinator/job/checkpoint.h"
 #include "coordinator/job/regrid.h"
 #include "coordinator/job/schedule.h"
@@ -54,6 +56,8 @@ typedef struct co_job {
     uint64_t validate_every;    /* 0 = no validation */
     uint32_t validate_patience; /* 0 = the training views never change */
     uint32_t stage;             /* the view schedule's stage in force (schedule.h) */
+    co_bake_loop *bake;         /* with bake_every: the maps in the loop (bake_loop.h) */
+    uint64_t bake_round;        /* evaluations / bake_every at the last bake; UINT64_MAX = none */
     lm_optimizer *opt;
     co_checkpoint_key key;
     co_reporter rep;
@@ -216,6 +220,28 @@ static void apply_preset(co_job_options *o)
         o->view_schedule = p->schedule;
 }
 
+/* --bake-every: what it goes with (one line for each thing it refuses); its size. */
+static lm_status resolve_bake_loop(co_job *j)
+{
+    co_job_options *o = &j->o;
+    j->bake_round = UINT64_MAX;
+    if (!o->bake_every)
+        return LM_OK;
+    if (!o->bake_kinds)
+        return lm_fail(LM_E_INVALID, "--bake-every needs --bake normal, color or normal,color");
+    if (j->checkpoint_path)
+        return lm_fail(LM_E_INVALID, "--bake-every excludes --checkpoint and --resume (the maps "
+                                     "in the loop are not checkpointed)");
+    if (j->validate_every)
+        return lm_fail(LM_E_INVALID, "--bake-every excludes --validate-every (the validation "
+                                     "views render without the maps)");
+    if (o->lanes_remote)
+        return lm_fail(LM_E_INVALID, "--bake-every excludes --lanes remote");
+    if (!o->bake_size)
+        o->bake_size = CO_BAKE_DEFAULT_SIZE;
+    return LM_OK;
+}
+
 static lm_status resolve_options(co_job *j, const co_job_options *in)
 {
     j->o = *in;
@@ -266,7 +292,9 @@ static lm_status resolve_options(co_job *j, const co_job_options *in)
     if (vst != LM_OK)
         return vst;
     j->checkpoint_path = o->checkpoint_path ? o->checkpoint_path : o->resume_path;
-    lm_status st = check_output_path(o->output_path);
+    lm_status st = resolve_bake_loop(j);
+    if (st == LM_OK)
+        st = check_output_path(o->output_path);
     if (st == LM_OK && j->checkpoint_path)
         st = check_writable("checkpoint", j->checkpoint_path);
     if (st == LM_OK && o->initial_output_path)
@@ -351,6 +379,14 @@ static lm_status load_original(co_job *j)
     if (st != LM_OK)
         return st;
     st = choose_attrs(j);
+    if (st == LM_OK && j->o.bake_every && (j->attrs & LM_ATTR_UV)) {
+        j->attrs &= ~(uint32_t)LM_ATTR_UV; /* the views see the loop's atlas (bake_loop.h) */
+        note(j, "bake",
+             "--bake-every: texture coordinates are not optimised (the views see the "
+             "maps' atlas)");
+    }
+    if (st == LM_OK && j->o.bake_every)
+        st = co_bake_loop_create(j->original, j->o.bake_kinds, (int)j->o.bake_size, &j->bake);
     if (st == LM_OK)
         st = resolve_target(j);
     if (st == LM_OK)
@@ -493,11 +529,13 @@ static lm_status create_views_of(co_job *j, uint32_t count, int size, uint32_t t
     co_view_turn_apply(vs, spec.dist, j->o.seed, turn, centre);
     co_regrid_apply(vs, j->o.seed, draw);
     const lm_mesh *m = j->coarse ? j->coarse : lm_optimizer_mesh(j->opt);
+    uint32_t n_baked = 0;
+    const lm_material *baked = j->bake ? co_bake_loop_materials(j->bake, &n_baked) : NULL;
     co_views_desc d = {.kind = j->pool && !local ? CO_VIEWS_REMOTE : CO_VIEWS_LOCAL,
                        .original = j->original,
                        .views = vs,
-                       .materials = m->materials,
-                       .n_materials = m->n_materials,
+                       .materials = baked ? baked : m->materials,
+                       .n_materials = baked ? n_baked : m->n_materials,
                        .device = j->o.device_spec,
                        .pool = j->pool,
                        .whole = j->o.lanes_remote && j->pool && !local};
@@ -517,7 +555,10 @@ static lm_status create_views(co_job *j, uint32_t draw, lm_views **out)
     co_schedule_views(j->o.view_schedule, j->stage, j->o.views.count, j->o.size,
                       cameras ? j->o.views.count : LM_MAX_VIEWS, LM_MAX_VIEW_SIZE, &count, &size);
     uint32_t turn = j->val.epoch + CO_SCHEDULE_TURN_STREAM(j->stage);
-    return create_views_of(j, count, size, turn, draw, 0, out);
+    lm_status st = create_views_of(j, count, size, turn, draw, 0, out);
+    if (st == LM_OK && j->bake) /* the loop's maps on the current mesh (bake_loop.h) */
+        st = co_bake_loop_wrap(j->bake, *out, out);
+    return st;
 }
 
 /* The validation views: never fitted, one pixel grid, rendered in this process with the job's
@@ -927,6 +968,39 @@ static lm_status validate_if_due(co_job *j, lm_progress *p)
     return st;
 }
 
+/* --bake-every: the maps baked onto the current mesh when the evaluations have reached the next
+ * bake's count (0 included, before the next step as a regrid), handed to the views with the mesh
+ * (its coordinates the new atlas's); the energies follow, as across a regrid. */
+static lm_status bake_if_due(co_job *j, lm_progress *p)
+{
+    if (!j->bake || p->evals / j->o.bake_every == j->bake_round)
+        return LM_OK;
+    int64_t before = p->energy;
+    double t0 = seconds_since(&j->t0);
+    j->bake_round = p->evals / j->o.bake_every;
+    meter_heard_reporter(j);
+    co_meter_phase(&j->meter, "maps in the loop: baking onto %" PRIu32 " triangles", p->live_tris);
+    lm_bake_stats bs;
+    lm_status st = co_bake_loop_bake(j->bake, lm_optimizer_mesh(j->opt), &bs);
+    uint32_t n = 0;
+    const lm_material *mats = st == LM_OK ? co_bake_loop_materials(j->bake, &n) : NULL;
+    if (st == LM_OK)
+        st = j->views->ops->set_materials(j->views, mats, n);
+    if (st == LM_OK) /* the mesh again, with the new atlas; the energies on the maps */
+        st = lm_optimizer_replace_views(j->opt, j->views, 1);
+    co_meter_end(&j->meter);
+    if (st != LM_OK)
+        return st;
+    lm_optimizer_progress(j->opt, p);
+    if (j->rep.style == CO_REPORT_JSON)
+        note(j, "bake",
+             "maps in the loop at %" PRIu64 " evaluations: %" PRIu64 " texels, %" PRIu64
+             " met the original; energy %" PRId64 " before, %" PRId64 " with the new maps "
+             "(%.2f s)",
+             p->evals, bs.texels, bs.hits, before, p->energy, seconds_since(&j->t0) - t0);
+    return LM_OK;
+}
+
 /* Optimise until the budget, the time limit, or nothing is left to evaluate. The optimizer stops
  * between moves when it reaches the evaluation count it is given and goes on with the same
  * iteration at the next call, so the chunking changes nothing in the result. Periodic checkpoints
@@ -946,6 +1020,8 @@ static lm_status run_loop(co_job *j, const char **reason)
         if (st == LM_OK)
             st = stage_if_due(j, &p);
         if (st == LM_OK)
+            st = bake_if_due(j, &p);
+        if (st == LM_OK)
             st = validate_if_due(j, &p);
         if (st != LM_OK)
             return st;
@@ -956,6 +1032,8 @@ static lm_status run_loop(co_job *j, const char **reason)
         target = target < stage ? target : stage;
         if (j->validate_every && j->val.next_evals < target)
             target = j->val.next_evals;
+        if (j->bake && (j->bake_round + 1) * j->o.bake_every < target)
+            target = (j->bake_round + 1) * j->o.bake_every;
         st = lm_optimizer_step(j->opt, target < j->o.max_evals ? target : j->o.max_evals);
         if (st != LM_OK)
             return st;
@@ -1128,6 +1206,7 @@ lm_status co_job_run(const co_job_options *opts, co_job_summary *summary)
         lm_optimizer_destroy(j->opt);
     lm_views_destroy(j->views);
     co_validation_free(&j->val);
+    co_bake_loop_destroy(j->bake);
     co_pool_destroy(j->pool);
     free(j->workers);
     if (j->coarse)

@@ -139,8 +139,14 @@ typedef struct co_job_options {
                                         default budget) */
     const char *initial_output_path; /* write the coarse mesh the optimisation starts from (after
                                         its preparation) here; NULL = not */
-    int cull_unseen; /* remove the output's triangles no view sees (quality/cull_unseen.h); not
-                        part of the optimisation, so a checkpoint does not record it */
+    unsigned bake_kinds; /* with bake_every: the maps baked in the loop (job/bake.h CO_BAKE_*) */
+    uint32_t bake_size;  /* their side in texels; 0 = CO_BAKE_DEFAULT_SIZE */
+    uint64_t bake_every; /* maps in the loop (bake_loop.h): bake them onto the current mesh every
+                            so many evaluations (from 0) and render the current mesh with them;
+                            0 = never (the default). Excludes checkpoints, validation and
+                            --lanes remote; uv is then not optimised */
+    int cull_unseen;     /* remove the output's triangles no view sees (quality/cull_unseen.h); not
+                            part of the optimisation, so a checkpoint does not record it */
     /* Called with the counters at the start, after every optimizer step and at the end (the
        quality report's history); NULL = none. */
     void (*on_progress)(void *ctx, const lm_progress *p, double elapsed_s);

@@ -5,7 +5,7 @@
  * same UVs (the texture back texel by texel), mirrored and rotated UVs (the right texels), factor
  * and vertex colours (their product), both maps in one walk (the bytes of each alone), and the
  * per-triangle atlas (valid, and each wedge's tangent its triangle's frame: the renderers'
- * per-triangle frame and the GLB's TANGENT agree on it). */
+ * per-triangle frame and the GLB's TANGENT agree on it), and its variant keyed by triangle id. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -389,6 +389,48 @@ static void test_atlas(void **state)
     lm_mesh_destroy(m);
 }
 
+/* The atlas keyed by triangle id (maps in the loop, coordinator/job/bake_loop.h): triangle t's
+ * chart in cell t mod cells², with lm_atlas_cell_uv's bits (the views' triangles are rewritten
+ * with them), a dead triangle's cell left empty, lm_atlas_per_triangle's charts those bits too;
+ * valid for a bake. */
+static void test_atlas_by_id(void **state)
+{
+    (void)state;
+    lm_mesh *m = lmt_make_sphere(2), *a;
+    m->tri_alive[3] = 0; /* a dead slot: the live triangles after it keep their ids' cells */
+    m->live_tris--;
+    uint32_t cells = lm_atlas_cells(m->n_tris + m->n_tris / 4 + 16);
+    assert_int_equal(lm_atlas_by_id(m, 512, cells, &a), LM_OK);
+    assert_int_equal(a->live_tris, m->live_tris);
+    assert_int_equal(lm_bake_uv_check(a, 512, NULL), LM_OK);
+    uint32_t i = 0;
+    for (uint32_t t = 0; t < m->n_tris; t++) {
+        if (!m->tri_alive[t])
+            continue;
+        for (int k = 0; k < 3; k++) {
+            float uv[2];
+            lm_atlas_cell_uv(t % (cells * cells), cells, 512, k, uv);
+            const float *w = a->wedges[a->tris[i].w[k]].uv;
+            assert_true(w[0] == uv[0] && w[1] == uv[1]);
+        }
+        i++;
+    }
+    lm_mesh_destroy(a);
+    assert_int_equal(lm_atlas_per_triangle(m, 512, &a), LM_OK);
+    uint32_t c = lm_atlas_cells(m->live_tris);
+    for (uint32_t t = 0; t < a->n_tris; t++)
+        for (int k = 0; k < 3; k++) {
+            float uv[2];
+            lm_atlas_cell_uv(t, c, 512, k, uv);
+            const float *w = a->wedges[a->tris[t].w[k]].uv;
+            assert_true(w[0] == uv[0] && w[1] == uv[1]);
+        }
+    lm_mesh_destroy(a);
+    assert_int_equal(lm_atlas_by_id(m, 64, cells, &a), LM_E_INVALID);
+    assert_null(a);
+    lm_mesh_destroy(m);
+}
+
 /* A baked atlas mesh written as GLB and read back: still one triangle per wedge (nothing
  * merged), so the tangents a reader derives (and the file's TANGENT, written from the same
  * function) are the renderer's per-triangle frames. */
@@ -425,6 +467,7 @@ int main(void)
         cmocka_unit_test(test_bake_color_factor_and_vertex_colours),
         cmocka_unit_test(test_bake_both_in_one_walk),
         cmocka_unit_test(test_atlas),
+        cmocka_unit_test(test_atlas_by_id),
         cmocka_unit_test(test_atlas_glb_round_trip),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
