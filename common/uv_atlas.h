@@ -30,7 +30,9 @@
 
 #define LM_ATLAS_MARGIN 5  /* texels between a chart and its cell's sides */
 #define LM_ATLAS_MIN_LEG 4 /* a chart's legs must span at least this many texels */
-#define LM_ATLAS_GUTTER 4  /* texels between the packed atlas's charts */
+#ifndef LM_ATLAS_GUTTER
+#define LM_ATLAS_GUTTER 4 /* texels between the packed atlas's charts */
+#endif
 
 /* A copy of src (live elements, their order kept) whose triangles each have three wedges of
  * their own with the atlas's texture coordinates for a size x size map. Materials and parts are

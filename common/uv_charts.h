@@ -14,7 +14,9 @@
 #include "common/error.h"
 #include "common/mesh.h"
 
+#ifndef LM_CHART_MAX_ANGLE
 #define LM_CHART_MAX_ANGLE 30.0 /* degrees between a chart triangle's normal and its seed's */
+#endif
 
 typedef struct lm_charts {
     uint32_t n_tris;    /* live triangles of the mesh */
