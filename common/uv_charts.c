@@ -232,7 +232,8 @@ static void grow(seg *s, uint32_t seed, uint32_t c, uint32_t *len)
         uint32_t t = s->order[q];
         for (int k = 0; k < 3; k++) {
             uint32_t u = s->nb[t][k];
-            if (u == LM_NONE || s->c->chart[u] != LM_NONE || s->stamp[u] == c + 1)
+            if (u == LM_NONE || s->c->chart[u] != LM_NONE || s->stamp[u] == c + 1 ||
+                *len - from >= LM_CHART_MAX_TRIS)
                 continue;
             if (!accepts(s, u, n, ax, ay, from, *len)) {
                 s->stamp[u] = c + 1;

@@ -4,10 +4,10 @@
  * material and part, traversed in opposite directions) while each new triangle's normal stays
  * within LM_CHART_MAX_ANGLE degrees of the seed's, its projection keeps its orientation (no flip)
  * and does not overlap (separating axes, shared edges and corners allowed) any triangle already in
- * the chart. Seeds and growth in triangle order, no hashing: the same charts on every host. The
- * flattened chart is turned so its bounding rectangle is the smallest over its convex hull's edge
- * directions, and laid with its longer side along x. Double precision, no contracted
- * multiply-adds. */
+ * the chart, up to LM_CHART_MAX_TRIS triangles. Seeds and growth in triangle order, no hashing: the
+ * same charts on every host. The flattened chart is turned so its bounding rectangle is the
+ * smallest over its convex hull's edge directions, and laid with its longer side along x. Double
+ * precision, no contracted multiply-adds. */
 #ifndef LM_COMMON_UV_CHARTS_H
 #define LM_COMMON_UV_CHARTS_H
 
@@ -17,6 +17,8 @@
 #ifndef LM_CHART_MAX_ANGLE
 #define LM_CHART_MAX_ANGLE 30.0 /* degrees between a chart triangle's normal and its seed's */
 #endif
+/* a chart's triangles at most (the overlap test is linear in them) */
+#define LM_CHART_MAX_TRIS 2048
 
 typedef struct lm_charts {
     uint32_t n_tris;    /* live triangles of the mesh */

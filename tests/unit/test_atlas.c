@@ -1,10 +1,10 @@
 /* tests/unit/test_atlas.c — the packed chart atlas (common/uv_charts.h, common/uv_atlas.h): the
- * 2-D overlap test, a planar grid as one chart with one wedge a vertex, a cube as six or more
- * charts without flips, a helical ramp (near-planar but folding over itself in projection) split
- * so it does not overlap, charts that never share a texel and keep their gutters (rasterised
- * coverage), every triangle inside [0, 1]², the source's order, positions and normals kept, the
- * same bytes twice, a map too small refused, and how far the renderers' per-triangle frames lie
- * from the wedges' tangents on a curved mesh. */
+ * 2-D overlap test, a planar grid as one chart with one wedge a vertex (a larger one cut at
+ * LM_CHART_MAX_TRIS), a cube as six or more charts without flips, a helical ramp (near-planar
+ * but folding over itself in projection) split so it does not overlap, charts that never share a
+ * texel and keep their gutters (rasterised coverage), every triangle inside [0, 1]², the source's
+ * order, positions and normals kept, the same bytes twice, a map too small refused, and how far
+ * the renderers' per-triangle frames lie from the wedges' tangents on a curved mesh. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -196,6 +196,19 @@ static void test_grid_is_one_chart(void **state)
     lm_mesh_destroy(m);
 }
 
+/* A planar grid past LM_CHART_MAX_TRIS triangles: cut into a few charts, still apart. */
+static void test_large_grid_capped(void **state)
+{
+    (void)state;
+    lm_mesh *m = lmt_make_grid(40); /* 3042 triangles */
+    lm_charts c;
+    lm_mesh *a = packed_checked(m, 512, &c);
+    assert_true(c.n_charts >= 2 && c.n_charts <= 4);
+    lm_charts_free(&c);
+    lm_mesh_destroy(a);
+    lm_mesh_destroy(m);
+}
+
 /* A unit cube, 8 vertices, each face two triangles, one wedge per corner with its face's
  * normal. */
 static lm_mesh *make_cube(void)
@@ -322,6 +335,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_tri2_overlap),
         cmocka_unit_test(test_grid_is_one_chart),
+        cmocka_unit_test(test_large_grid_capped),
         cmocka_unit_test(test_cube_charts),
         cmocka_unit_test(test_ramp_splits_where_it_folds),
         cmocka_unit_test(test_sphere_charts_and_frames),
