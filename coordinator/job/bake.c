@@ -61,7 +61,11 @@ static lm_status bake_target(lm_mesh **res, lm_mesh **from, int size, co_bake_re
     if (st == LM_OK)
         return LM_OK;
     lm_mesh *a;
-    st = lm_atlas_per_triangle(*res, size, &a);
+    st = lm_atlas_packed(*res, size, &a, &r->charts);
+    if (st == LM_E_INVALID) { /* charts that do not pack: one triangle a cell */
+        r->charts = 0;
+        st = lm_atlas_per_triangle(*res, size, &a);
+    }
     if (st != LM_OK)
         return st;
     *from = *res;
@@ -242,25 +246,34 @@ lm_status co_bake_file(const char *original, const char *output, unsigned kinds,
     return st;
 }
 
-static const char *how(const co_bake_result *r)
+/* What the bake went through, into buf. */
+static const char *how(const co_bake_result *r, char *buf, size_t cap)
 {
-    return !r->atlas      ? "the result's own texture coordinates"
-           : r->resampled ? "a per-triangle atlas, the colour textures resampled into it"
-                          : "a per-triangle atlas";
+    if (!r->atlas)
+        return "the result's own texture coordinates";
+    if (r->charts)
+        snprintf(buf, cap, "a packed atlas of %u charts", r->charts);
+    else
+        snprintf(buf, cap, "a per-triangle atlas");
+    if (r->resampled)
+        snprintf(buf + strlen(buf), cap - strlen(buf), ", the colour textures resampled into it");
+    return buf;
 }
 
 void co_bake_print(const co_bake_result *r, int json)
 {
     const lm_bake_stats *s = &r->stats;
+    char buf[160];
     if (!json) {
         if (r->kinds & CO_BAKE_NORMAL)
             printf("baked normal map: %s (%s; %llu texels, %llu met the original along the "
                    "normal)\n",
-                   r->map_path, how(r), (unsigned long long)s->texels, (unsigned long long)s->hits);
+                   r->map_path, how(r, buf, sizeof buf), (unsigned long long)s->texels,
+                   (unsigned long long)s->hits);
         if (r->kinds & CO_BAKE_COLOR)
             printf("baked colour map: %s (%s; %llu texels, %llu met the original along the "
                    "normal)\n",
-                   r->color_path, how(r), (unsigned long long)s->texels,
+                   r->color_path, how(r, buf, sizeof buf), (unsigned long long)s->texels,
                    (unsigned long long)s->hits);
         return;
     }
@@ -273,7 +286,8 @@ void co_bake_print(const co_bake_result *r, int json)
         fputs(",\"color_map\":", stdout);
         co_json_string(stdout, r->color_path);
     }
-    printf(",\"atlas\":%s,\"resampled_textures\":%u,\"texels\":%llu,\"hits\":%llu}\n",
+    printf(",\"atlas\":%s,\"resampled_textures\":%u,\"texels\":%llu,\"hits\":%llu,"
+           "\"charts\":%u}\n",
            r->atlas ? "true" : "false", r->resampled, (unsigned long long)s->texels,
-           (unsigned long long)s->hits);
+           (unsigned long long)s->hits, r->charts);
 }

@@ -1,9 +1,10 @@
 /* coordinator/job/bake.h — `--bake normal,color` on a written result (optimize; lod's levels):
  * the original and the result loaded, the maps asked for baked in one texel walk
  * (common/bake_walk.h: common/bake_normal.h, common/bake_color.h) through the result's texture
- * coordinates when they can carry one, else through a per-triangle atlas (common/uv_atlas.h)
- * that replaces them (without a colour bake, the result's colour textures resampled into it);
- * written as PNG beside the result (OUT's name without its extension + "_normal.png",
+ * coordinates when they can carry one, else through a packed chart atlas (common/uv_atlas.h;
+ * the per-triangle atlas where its charts do not pack) that replaces them (without a colour bake,
+ * the result's colour textures resampled into it); written as PNG beside the result (OUT's name
+ * without its extension + "_normal.png",
  * "_color.png"), attached to every material and the result saved again (GLB: normalTexture and
  * TANGENT; baseColorTexture with the base colour factor's RGB 1 and the vertex colours dropped,
  * since the map holds them). */
@@ -23,7 +24,8 @@ typedef struct co_bake_result {
     unsigned kinds;        /* CO_BAKE_* baked */
     char map_path[4096];   /* the normal map written ("" without one) */
     char color_path[4096]; /* the colour map written ("" without one) */
-    int atlas;             /* 1: the result's coordinates were replaced by the atlas */
+    int atlas;             /* 1: the result's coordinates were replaced by an atlas */
+    uint32_t charts;       /* the packed atlas's charts (0: the per-triangle atlas or none) */
     unsigned resampled;    /* colour textures resampled into the atlas */
     lm_bake_stats stats;
 } co_bake_result;

@@ -1,12 +1,12 @@
 #!/usr/bin/env bash
 # tests/integration/bake.sh — optimize --bake normal: through the result's own texture
 # coordinates (a hill's 3x3 grid baked from its 9x9 one: the PNG beside OUT, the GLB with
-# normalTexture and TANGENT, an OBJ with its MTL norm line), through the per-triangle atlas (gen-frog,
-# whose parts share charts: the colour texture resampled, said in --json), --bake color and
-# --bake normal,color on the textured gen-frog (OUT_color.png, the GLB's baseColorTexture, the
-# --json record, an OBJ's map_Kd; the held-out energy of each and of the unbaked job measured),
-# lod --bake normal,color (both maps per level's file; refused with --msft-lod),
-# and bad values (one line, exit 1).
+# normalTexture and TANGENT, an OBJ with its MTL norm line), through the packed chart atlas
+# (gen-frog, whose parts share charts: the colour texture resampled, the atlas's charts said in
+# --json), --bake color and --bake normal,color on the textured gen-frog (OUT_color.png, the
+# GLB's baseColorTexture, the --json record, an OBJ's map_Kd; the held-out energy of each and of
+# the unbaked job measured), lod --bake normal,color (both maps per level's file; refused with
+# --msft-lod), and bad values (one line, exit 1).
 set -uo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 source "$here/lib.bash"
@@ -40,8 +40,8 @@ expect_exit 0 "$LUMESH" gen-frog -o "$tmp/frog.glb" --tris 1500 --seed 3
 run_out "$LUMESH" optimize "$tmp/frog.glb" -o "$tmp/frog_baked.glb" --target-verts 120 \
   --start qem --evals 300 --seed 1 "${small[@]}" --bake normal --bake-size 256 --json
 checks=$((checks + 1))
-grep -q '"type":"bake".*"atlas":true,"resampled_textures":1' "$tmp/out.txt" ||
-  fail "frog: no atlas bake record: $(tail -1 "$tmp/out.txt")"
+grep -q '"type":"bake".*"atlas":true,"resampled_textures":1,.*"charts":[1-9][0-9]*}' "$tmp/out.txt" ||
+  fail "frog: no packed atlas bake record: $(tail -1 "$tmp/out.txt")"
 
 # --bake color: the original's colour along the same lines, in the atlas (the frog's UVs overlap)
 run_out "$LUMESH" optimize "$tmp/frog.glb" -o "$tmp/frog_color.glb" --target-verts 120 \

@@ -4,7 +4,7 @@
 # tests/support/gltf) with no error and no warning: gen-frog's textured multi-part model, simplify
 # (qem, image, adaptive, from an OBJ with its texture, from an OBJ with a normal map (normalTexture
 # and TANGENT), from the assimp duck (Collada, textured), with --cull-unseen), optimize (also
-# --bake normal: through a hill grid's own UVs, and through the per-triangle atlas with gen-frog's
+# --bake normal: through a hill grid's own UVs, and through the packed chart atlas with gen-frog's
 # texture resampled; --bake color and --bake normal,color on the textured gen-frog (baseColorTexture
 # baked) and the duck), lod one file per level and --msft-lod, pm-extract. Every model is
 # converted with its texture beside it. Exits 77 (skipped, with the reason) without Node.js or
