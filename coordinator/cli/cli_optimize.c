@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "common/folders.h"
+#include "common/io/mesh_io.h"
 #include "common/optimizer/optimizer_tuning.h"
 #include "common/view.h"
 #include "coordinator/cli/cli_args.h"
@@ -214,7 +215,8 @@ static const char co_optimize_help[] =
     "  --report DIR            then write the quality report into DIR (created): index.html,\n"
     "                          a self-contained page comparing the result and its coarse start\n"
     "                          (saved as DIR/initial.obj) with ORIGINAL on 24 held-out views\n"
-    "                          (see lumesh report --help)\n"
+    "                          (see lumesh report --help); with --bake also the result before\n"
+    "                          its maps (saved as DIR/unbaked.glb), baked against unbaked\n"
     "  -h, --help              this help\n"
     "\n"
     "SIGINT or SIGTERM end the run at the next step: the last checkpoint and the output are\n"
@@ -243,6 +245,7 @@ typedef struct optimize_args {
     unsigned bake;        /* --bake's maps (CO_BAKE_*), 0: not given */
     uint32_t bake_size;   /* 0: not given (CO_BAKE_DEFAULT_SIZE) */
     char initial[4096];   /* DIR/initial.obj */
+    char unbaked[4096];   /* with --bake: DIR/unbaked.glb, the result before its maps; "": none */
     char geometric[4200]; /* image+geometric: OUT.geometric.glb, the image job's --initial */
 } optimize_args;
 
@@ -509,6 +512,7 @@ static lm_status write_report(const optimize_args *a, const co_job_summary *s, c
     co_report_options ro = {.original = a->o.original_path,
                             .initial = a->initial,
                             .optimized = a->o.output_path,
+                            .unbaked = a->unbaked[0] ? a->unbaked : NULL,
                             .log = log,
                             .device = a->o.device_spec,
                             .size = a->o.size,
@@ -538,14 +542,36 @@ static lm_status prepare_report(optimize_args *a, co_run_log *log)
     return lm_make_folders(a->report_dir);
 }
 
-/* With --bake: the written output's maps (job/bake.h). */
-static lm_status bake_output(const optimize_args *a)
+/* With --report and --bake: the result before its maps, kept as DIR/unbaked.glb (a GLB: its
+ * textures inside it) for the report to show beside the baked one. */
+static lm_status keep_unbaked(optimize_args *a)
+{
+    int n = snprintf(a->unbaked, sizeof a->unbaked, "%s/unbaked.glb", a->report_dir);
+    if (n < 0 || (size_t)n >= sizeof a->unbaked) {
+        a->unbaked[0] = 0;
+        return lm_fail(LM_E_INVALID, "--report: folder name '%s' is too long", a->report_dir);
+    }
+    lm_mesh *m = NULL;
+    lm_status st = lm_mesh_load(a->o.output_path, NULL, &m);
+    if (st == LM_OK)
+        st = lm_mesh_save(a->unbaked, m);
+    lm_mesh_destroy(m);
+    if (st != LM_OK)
+        a->unbaked[0] = 0;
+    return st;
+}
+
+/* With --bake: the written output's maps (job/bake.h); with --report too, the unbaked result
+ * kept first. */
+static lm_status bake_output(optimize_args *a)
 {
     if (!a->bake)
         return LM_OK;
+    lm_status st = a->report_dir ? keep_unbaked(a) : LM_OK;
+    if (st != LM_OK)
+        return st;
     co_bake_result r;
-    lm_status st =
-        co_bake_file(a->o.original_path, a->o.output_path, a->bake, (int)a->bake_size, &r);
+    st = co_bake_file(a->o.original_path, a->o.output_path, a->bake, (int)a->bake_size, &r);
     if (st == LM_OK)
         co_bake_print(&r, a->o.json);
     return st;

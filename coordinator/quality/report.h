@@ -8,7 +8,9 @@
  * the run's log; per-view error). Every number is measured on the files as written; the same
  * files and log give the same page, byte for byte. Given a level-of-detail manifest (lods.json of
  * `lumesh lod`) instead, the page shows its levels side by side: original | LOD0 | LOD1 | ... on
- * the sheet, every level measured in the table with the switch distance the manifest gives it. */
+ * the sheet, every level measured in the table with the switch distance the manifest gives it.
+ * Given the result before its maps were baked too (optimize --bake --report), the page shows it
+ * as "unbaked" between the initial and the optimized (baked) model. */
 #ifndef LM_COORDINATOR_REPORT_H
 #define LM_COORDINATOR_REPORT_H
 
@@ -28,6 +30,8 @@ typedef struct co_report_options {
     const char *original;  /* required */
     const char *initial;   /* the coarse mesh the optimisation started from; NULL = none */
     const char *optimized; /* required unless lods */
+    const char *unbaked;   /* the optimized model before its maps were baked (optimize --bake
+                              --report: shown beside the baked one); NULL = none */
     const char *lods;      /* a lods.json (`lumesh lod`): its levels instead of optimized and
                               initial (one file per level, paths relative to the manifest) */
     const co_run_log *log; /* the run (plots, evaluations, wall time); NULL = none */

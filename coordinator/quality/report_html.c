@@ -124,29 +124,24 @@ static void lead(FILE *fp, const co_report *r)
         fprintf(fp, "Held-out image energy of the optimized model over %u views: %" PRId64 ".",
                 r->heldout->count, o->energy);
     }
+    const co_report_model *u = co_report_unbaked(r);
+    if (u)
+        fprintf(fp, " With its maps baked it is <b>%.1f%%</b> of the unbaked result's.",
+                pct((double)o->energy, (double)u->energy));
     fputs("</p>\n", fp);
 }
 
 static lm_status pictures(FILE *fp, const co_report *r)
 {
-    const char *cols = co_report_initial(r) ? "original | initial | optimized"
-                                            : "original | "
-                                              "optimized";
     fprintf(fp, "<h2>Held-out views</h2>\n<figure>\n");
     lm_status s = embed_png(fp, r->sheet, "contact sheet");
-    if (r->levels) {
-        fputs("<figcaption>Columns: original", fp);
-        for (uint32_t k = 1; k < r->n_models; k++)
-            fprintf(fp, " | %s", r->model[k].label);
-        fprintf(fp,
-                " | difference (|luminance of original &minus; %s| &times;2: black none, red, "
-                "yellow, white most). Rows: held-out views",
-                co_report_optimized(r)->label);
-    } else
-        fprintf(fp,
-                "<figcaption>Columns: %s | difference (|luminance of original &minus; optimized| "
-                "&times;2: black none, red, yellow, white most). Rows: held-out views",
-                cols);
+    fputs("<figcaption>Columns: original", fp);
+    for (uint32_t k = 1; k < r->n_models; k++)
+        fprintf(fp, " | %s", r->model[k].label);
+    fprintf(fp,
+            " | difference (|luminance of original &minus; %s| &times;2: black none, red, "
+            "yellow, white most). Rows: held-out views",
+            co_report_optimized(r)->label);
     for (uint32_t k = 0; k < CO_REPORT_SHEET_VIEWS; k++)
         fprintf(fp, "%s %u", k ? "," : "", r->sheet_view[k]);
     fprintf(fp, ", %d&times;%d pixels.</figcaption>\n</figure>\n", r->size, r->size);

@@ -34,6 +34,8 @@ typedef struct co_report {
                                                     or the original and every level */
     uint32_t n_models;
     int levels;           /* the models after the original are a manifest's levels */
+    int has_initial;      /* model[1] is the initial mesh */
+    int has_unbaked;      /* the model before the optimized one is the unbaked result */
     lm_view_set *heldout; /* the 24 held-out views */
     int size;
     char renderer[128];
@@ -51,14 +53,18 @@ lm_status co_report_measure(co_report *r);
 /* Load the model of file `path` into m with its label and counts (no switch distance). */
 lm_status co_report_load_model(co_report_model *m, const char *label, const char *path);
 void co_report_free(co_report *r);
-/* The models after the original (initial if any, then optimized). */
+/* The models after the original (initial if any, unbaked if any, then optimized). */
 static inline const co_report_model *co_report_optimized(const co_report *r)
 {
     return &r->model[r->n_models - 1];
 }
 static inline const co_report_model *co_report_initial(const co_report *r)
 {
-    return !r->levels && r->n_models == 3 ? &r->model[1] : NULL;
+    return !r->levels && r->has_initial ? &r->model[1] : NULL;
+}
+static inline const co_report_model *co_report_unbaked(const co_report *r)
+{
+    return !r->levels && r->has_unbaked ? &r->model[r->n_models - 2] : NULL;
 }
 
 /* report_levels.c: load the original and the levels of the manifest o->lods. */

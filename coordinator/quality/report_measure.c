@@ -30,8 +30,14 @@ static lm_status load_all(co_report *r)
         return co_report_load_levels(r);
     lm_status s = co_report_load_model(&r->model[0], "original", o->original);
     r->n_models = 1;
-    if (!s && o->initial)
+    if (!s && o->initial) {
         s = co_report_load_model(&r->model[r->n_models++], "initial", o->initial);
+        r->has_initial = 1;
+    }
+    if (!s && o->unbaked) {
+        s = co_report_load_model(&r->model[r->n_models++], "unbaked", o->unbaked);
+        r->has_unbaked = 1;
+    }
     if (!s)
         s = co_report_load_model(&r->model[r->n_models++], "optimized", o->optimized);
     return s;

@@ -144,8 +144,8 @@ static double view_error(const co_report *r, const co_report_model *m, uint32_t 
     return (double)m->per_view[h] / ((double)r->size * r->size);
 }
 
-/* The models the per-view plot shows, with their colours: the initial (grey) and the optimized
- * (blue), or every level. */
+/* The models the per-view plot shows, with their colours: the initial (grey), the unbaked result
+ * (orange) and the optimized (blue), or every level. */
 static uint32_t per_view_models(const co_report *r, const co_report_model **m, const char **colour)
 {
     static const char *const level_colour[] = {"#1f77b4", "#ff7f0e", "#2ca02c", "#d62728",
@@ -158,10 +158,14 @@ static uint32_t per_view_models(const co_report *r, const co_report_model **m, c
         }
         return c;
     }
-    const co_report_model *ini = co_report_initial(r);
+    const co_report_model *ini = co_report_initial(r), *unbaked = co_report_unbaked(r);
     if (ini) {
         m[c] = ini;
         colour[c++] = "#b0b0b0";
+    }
+    if (unbaked) {
+        m[c] = unbaked;
+        colour[c++] = "#ff7f0e";
     }
     m[c] = co_report_optimized(r);
     colour[c++] = "#1f77b4";
@@ -172,9 +176,8 @@ static void per_view_legend(FILE *fp, const co_report *r, const co_report_model 
                             const char *const *colour, uint32_t c)
 {
     if (!r->levels) {
-        if (c == 2)
-            legend(fp, PLOT_RIGHT - 180, 18, colour[0], "initial");
-        legend(fp, PLOT_RIGHT - 100, 18, colour[c - 1], "optimized");
+        for (uint32_t j = 0; j < c; j++)
+            legend(fp, PLOT_RIGHT - 100 - 80 * (int)(c - 1 - j), 18, colour[j], m[j]->label);
         return;
     }
     for (uint32_t j = 0; j < c; j++)

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # tests/integration/bake.sh — optimize --bake normal: through the result's own texture
 # coordinates (a hill's 3x3 grid baked from its 9x9 one: the PNG beside OUT, the GLB with
-# normalTexture and TANGENT, an OBJ with its MTL norm line), through the packed chart atlas
+# normalTexture and TANGENT, an OBJ with its MTL norm line; with --report the unbaked result on
+# the page beside it, and the baked one lower on held-out views), through the packed chart atlas
 # (gen-frog, whose parts share charts: the colour texture resampled, the atlas's charts said in
 # --json), --bake color and --bake normal,color on the textured gen-frog (OUT_color.png, the
 # GLB's baseColorTexture, the --json record, an OBJ's map_Kd; the held-out energy of each and of
@@ -35,6 +36,21 @@ run_out "$LUMESH" optimize "$tmp/hill.obj" --initial "$tmp/hill3.obj" -o "$tmp/o
   --evals 50 --seed 1 "${small[@]}" --bake normal --bake-size 64
 checks=$((checks + 1))
 grep -q '^norm ' "$tmp/obj/hill.mtl" || fail "hill.obj's MTL has no norm line"
+# --report with --bake: the page shows the result before its maps (DIR/unbaked.glb) beside the
+# baked one, whose held-out energy is the lower (the hill's bumps are in its map only)
+run_out "$LUMESH" optimize "$tmp/hill.obj" --initial "$tmp/hill3.obj" -o "$tmp/rep/hill.glb" \
+  --evals 50 --seed 1 "${small[@]}" --bake normal --bake-size 64 --report "$tmp/rep/r"
+checks=$((checks + 1))
+[ -s "$tmp/rep/r/unbaked.glb" ] && ! grep -aq '"normalTexture"' "$tmp/rep/r/unbaked.glb" ||
+  fail "--report --bake: no DIR/unbaked.glb, or it carries the map"
+checks=$((checks + 1))
+grep -q 'Columns: original | initial | unbaked | optimized |' "$tmp/rep/r/index.html" &&
+  grep -q 'With its maps baked it is <b>[0-9.]*%</b> of the unbaked' "$tmp/rep/r/index.html" ||
+  fail "--report --bake: the unbaked result is not on the page"
+checks=$((checks + 1))
+pct=$(grep -o 'With its maps baked it is <b>[0-9.]*%' "$tmp/rep/r/index.html" | grep -o '[0-9.]*%' | tr -d %)
+awk -v p="${pct:-100}" 'BEGIN { exit !(p < 100) }' ||
+  fail "--report --bake: the baked hill is not below the unbaked one on held-out views (${pct:-?}%)"
 
 expect_exit 0 "$LUMESH" gen-frog -o "$tmp/frog.glb" --tris 1500 --seed 3
 run_out "$LUMESH" optimize "$tmp/frog.glb" -o "$tmp/frog_baked.glb" --target-verts 120 \
