@@ -29,6 +29,7 @@ struct wk_lanes {
     uint64_t job, group;
     uint8_t *record; /* its encoded record: the base of the next group's delta */
     size_t n_record;
+    uint64_t lanes_run; /* lanes taken (for the test hook crash-lanes-as) */
     lm_lane_request req;
     lm_lane_result res;
 };
@@ -220,6 +221,19 @@ static int lies(const wk_server *s)
            strtoul(s->fault + sizeof kind - 1, NULL, 10) == s->worker_id;
 }
 
+/* "crash-lanes-as=N:M": the worker welcomed as N dies (abort) when its M-th lane comes, after
+ * taking that lane's start (a worker lost mid-run: its replacement starts without a base). */
+static void maybe_crash(const wk_server *s, uint64_t lanes)
+{
+    static const char kind[] = "crash-lanes-as=";
+    if (!s->fault || strncmp(s->fault, kind, sizeof kind - 1))
+        return;
+    char *end = NULL;
+    unsigned long id = strtoul(s->fault + sizeof kind - 1, &end, 10);
+    if (id == s->worker_id && *end == ':' && strtoull(end + 1, NULL, 10) == lanes)
+        abort();
+}
+
 static lm_status run_lane(wk_server *s, wk_lanes *l, const lm_msg *m)
 {
     const Lumesh__RunLane *q = m->run_lane;
@@ -274,5 +288,6 @@ lm_status wk_serve_lane(wk_server *s, const lm_msg *m)
         Lumesh__Stale r = LUMESH__STALE__INIT;
         return wk_serve_send(s, m->req, LUMESH__MSG__BODY_STALE, &r);
     }
+    maybe_crash(s, ++l->lanes_run);
     return run_lane(s, l, m);
 }
