@@ -8,8 +8,12 @@
 # runs wrote the same bytes. The issue's target: >= 1.8x with workers >= 80% busy.
 #
 #   scripts/latency-check.sh [--tris N] [--verts V] [--evals N] [--model FILE] [--delay-us D]
-#                            [--spin-us S] [--device SPEC] [--build DIR]
+#                            [--spin-us S] [--device SPEC] [--build DIR] [-- OPTIMIZE-FLAGS...]
 #
+# Flags after `--` go to both optimize runs as they are (e.g. `-- --edges-in-flight 16 --lanes
+# remote`). A worker's busy share is given twice: over its life (the --json field: loading the
+# original and rendering its targets count as idle) and over the optimisation (its busy seconds
+# over the loop's).
 # Defaults: the issue's frog (--tris 2000000, --verts 10000, --start qem), --evals 30000, delay 50,
 # the proxy's own spin (see latency_proxy.c), --device auto, ./build. --model FILE uses a model
 # already made (gen-frog of 2M triangles takes a while). Workers are started before the job and
@@ -18,8 +22,14 @@
 set -uo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
 tris=2000000 verts=10000 evals=30000 model="" delay=50 spin="" device=auto build="$here/build"
-usage="usage: scripts/latency-check.sh [--tris N] [--verts V] [--evals N] [--model FILE] [--delay-us D] [--spin-us S] [--device SPEC] [--build DIR]"
+usage="usage: scripts/latency-check.sh [--tris N] [--verts V] [--evals N] [--model FILE] [--delay-us D] [--spin-us S] [--device SPEC] [--build DIR] [-- OPTIMIZE-FLAGS...]"
+extra=()
 while [ $# -gt 0 ]; do
+  if [ "$1" = -- ]; then
+    shift
+    extra=("$@")
+    break
+  fi
   [ $# -ge 2 ] || { echo "latency-check: $1 needs a value ($usage)" >&2; exit 1; }
   case $1 in
   --tris) tris=$2 ;;
@@ -74,7 +84,7 @@ run() {
     pids+=($!)
   done
   "$lumesh" optimize "$model" -o "$tmp/w$w.glb" --target-verts "$verts" --start qem \
-    --evals "$evals" --device "$device" --listen "tcp://127.0.0.1:$port" --json \
+    --evals "$evals" --device "$device" --listen "tcp://127.0.0.1:$port" --json "${extra[@]}" \
     >"$tmp/w$w.jsonl" 2>"$tmp/w$w.err"
   job=$?
   wait "${wpids[@]}" 2>/dev/null
@@ -83,7 +93,7 @@ run() {
 }
 
 say "model $(basename "$model"), --target-verts $verts --start qem --evals $evals, device $device," \
-  "proxy ${delay} µs each way"
+  "proxy ${delay} µs each way${extra[*]:+, also ${extra[*]}}"
 run 1 && run 2 || exit 1
 python3 - "$tmp/w1.jsonl" "$tmp/w2.jsonl" <<'PY'
 import json, sys
@@ -92,7 +102,11 @@ for path in sys.argv[1:]:
     s = json.loads(open(path).read().splitlines()[-1])
     assert s["type"] == "summary", s
     ws = s["workers"]
-    busy = ", ".join("worker %d %.0f%% busy (%d evals)" % (w["id"], 100 * w["busy"], w["evals"]) for w in ws)
+    def loop_share(w):  # busy seconds (busy share x life, life = evals / evals_per_s) / loop's
+        life = w["evals"] / w["evals_per_s"] if w["evals_per_s"] > 0 else 0
+        return 100 * w["busy"] * life / s["optimize_s"] if s["optimize_s"] > 0 else 0
+    busy = ", ".join("worker %d %.0f%% busy, %.0f%% of the optimisation (%d evals)"
+                     % (w["id"], 100 * w["busy"], loop_share(w), w["evals"]) for w in ws)
     print("latency-check: %d worker%s: %.1f evaluations/s (%d in %.2f s optimising, %.2f s wall), "
           "coordinator %.1f µs CPU/eval; %s" % (len(ws), "" if len(ws) == 1 else "s", s["evals_per_s"],
           s["evals"], s["optimize_s"], s["wall_s"], s["loop_cpu_us_per_eval"], busy))

@@ -582,8 +582,17 @@ void lm_lanes_traffic(const lm_lanes *l, lm_lane_traffic *out)
     *out = l->traffic;
 }
 
-/* Lane i of the group of n as a request: what it reads of the optimizer's state at the start. */
-static lm_status make_request(lm_lanes *l, uint32_t i, uint32_t n, lm_lane_request *q)
+/* The collapse queue exported once at a group's start, for every lane's request. */
+typedef struct shared_queue {
+    lm_cq_entry *e;
+    uint32_t n;
+} shared_queue;
+
+/* Lane i of the group of n as a request: what it reads of the optimizer's state at the start.
+ * shared: the group's queue (borrowed into q->queue: every lane's is the same), or NULL: exported
+ * here into q->queue (the caller frees it). */
+static lm_status make_request(lm_lanes *l, uint32_t i, uint32_t n, const shared_queue *shared,
+                              lm_lane_request *q)
 {
     const lm_optimizer *o = l->o;
     const lm_lane *lane = &l->lanes[i];
@@ -604,7 +613,11 @@ static lm_status make_request(lm_lanes *l, uint32_t i, uint32_t n, lm_lane_reque
     for (uint32_t v = 0; v < q->n_verts && st == LM_OK; v++)
         if (others(lane, v))
             st = lm_lane_request_veto(q, v);
-    return st ? st : lm_cq_export(o->tp.queue, &q->queue, &q->n_queue);
+    if (st != LM_OK || !shared)
+        return st ? st : lm_cq_export(o->tp.queue, &q->queue, &q->n_queue);
+    q->queue = shared->e;
+    q->n_queue = shared->n;
+    return LM_OK;
 }
 
 static void count_traffic(lm_lane_traffic *t, size_t request, size_t result, uint64_t evals)
@@ -623,7 +636,7 @@ static lm_status run_one_detached(lm_lanes *l, uint32_t i, uint32_t n, lm_lane_r
 {
     uint8_t *buf = NULL, *back = NULL;
     size_t len = 0, len_back = 0;
-    lm_status st = make_request(l, i, n, q);
+    lm_status st = make_request(l, i, n, NULL, q);
     if (st == LM_OK)
         st = lm_lane_request_encode(q, &buf, &len);
     free(q->queue);
@@ -674,16 +687,17 @@ static lm_status run_by_runner(lm_lanes *l, uint32_t n)
     lm_lane_result *res[LM_MAX_EDGES_IN_FLIGHT];
     lm_lane_request q;
     lm_lane_request_init(&q);
-    lm_status st = LM_OK;
+    shared_queue queue = {NULL, 0}; /* the group's, sorted once for all its lanes */
+    lm_status st = lm_cq_export(l->o->tp.queue, &queue.e, &queue.n);
     for (uint32_t i = 0; i < n && st == LM_OK; i++) {
         res[i] = &l->lanes[i].res;
-        st = make_request(l, i, n, &q);
+        st = make_request(l, i, n, &queue, &q);
         if (st == LM_OK)
             st = lm_lane_request_encode(&q, &req[i], &len[i]);
-        free(q.queue);
-        q.queue = NULL;
+        q.queue = NULL; /* borrowed */
         q.n_vetoed = 0;
     }
+    free(queue.e);
     lm_lane_request_free(&q);
     uint64_t back = 0;
     lm_lane_batch b = {.start = l->o->mesh,

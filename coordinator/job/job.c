@@ -64,9 +64,10 @@ typedef struct co_job {
     co_meter meter; /* the set-up's long phases, and the regrids' (once meter_on) */
     int meter_on;
     struct timespec t0;
-    double loop_start_s; /* seconds from t0 to the start of the optimisation loop */
-    double loop_cpu_s;   /* CPU seconds of this process at the start of the loop */
-    double loop_limit_s; /* the loop's share of the time limit; 0 = none */
+    double loop_start_s;      /* seconds from t0 to the start of the optimisation loop */
+    double loop_cpu_s;        /* CPU seconds of this process at the start of the loop */
+    co_lane_stats lane_stats; /* --lanes remote: what earlier views' groups sent */
+    double loop_limit_s;      /* the loop's share of the time limit; 0 = none */
     uint64_t resumed_from_evals;
     double start_weight; /* the geometric term's weight the image start used; 0 = none */
     double start_share;  /* the geometric term's share the image start prices with; 0 = none */
@@ -625,6 +626,7 @@ static lm_status switch_draw(co_job *j, uint32_t draw, int rescale_start)
         lm_views_destroy(v); /* the optimizer is left without views: the job ends here */
         return st;
     }
+    co_views_lane_stats(j->views, &j->lane_stats); /* kept past the views */
     lm_views_destroy(j->views);
     j->views = v;
     j->draw = draw;
@@ -1161,6 +1163,8 @@ static lm_status job_stages(co_job *j, co_job_summary *summary)
     snprintf(summary->renderer, sizeof summary->renderer, "%s", j->renderer);
     report_workers(j);
     summary->workers = j->rep.n_workers;
+    summary->lanes = j->lane_stats;
+    co_views_lane_stats(j->views, &summary->lanes);
     co_reporter_summary(&j->rep, summary);
     return LM_OK;
 }

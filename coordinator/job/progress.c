@@ -280,6 +280,19 @@ void co_reporter_note(co_reporter *r, const char *event, const char *detail)
     }
 }
 
+/* --lanes remote: what the groups sent to the workers (nothing without groups). */
+static void json_lanes(FILE *fp, const co_lane_stats *l)
+{
+    if (!l->groups)
+        return;
+    fprintf(fp,
+            ",\"lanes_remote\":{\"groups\":%" PRIu64 ",\"starts_full\":%" PRIu64
+            ",\"starts_delta\":%" PRIu64 ",\"start_bytes\":%" PRIu64
+            ",\"start_record_bytes\":%" PRIu64 ",\"request_bytes\":%" PRIu64 "}",
+            l->groups, l->starts_full, l->starts_delta, l->start_bytes, l->start_record_bytes,
+            l->request_bytes);
+}
+
 static void json_summary(FILE *fp, const co_reporter *r, const co_job_summary *s)
 {
     const lm_progress *p = &s->progress;
@@ -313,6 +326,7 @@ static void json_summary(FILE *fp, const co_reporter *r, const co_job_summary *s
     fputc(',', fp);
     json_counts(fp, "attempted", p->attempted);
     json_validation(fp, r, 1);
+    json_lanes(fp, &s->lanes);
     json_workers(fp, r);
     fputs("}\n", fp);
 }

@@ -10,6 +10,7 @@
 
 #include "common/optimizer/optimizer.h"
 #include "coordinator/quality/json_text.h"
+#include "coordinator/views/views.h"
 
 typedef enum co_report_style {
     CO_REPORT_QUIET, /* nothing */
@@ -69,6 +70,7 @@ typedef struct co_job_summary {
     char renderer[128];
     uint64_t resumed_from_evals; /* evaluations done before this process started (0 = fresh) */
     uint32_t workers;            /* worker processes that served the job (0 = in process) */
+    co_lane_stats lanes;         /* --lanes remote: what the groups sent (groups 0: none) */
 } co_job_summary;
 
 /* The style for a stream: JSON if asked, TTY if `out` is a terminal, plain lines otherwise. */

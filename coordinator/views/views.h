@@ -63,4 +63,17 @@ lm_status co_views_split_create(lm_views **children, uint32_t n, lm_views **out)
 typedef struct lm_lane_runner lm_lane_runner;
 lm_status co_views_lane_runner(lm_views *v, lm_lane_runner *out);
 
+/* What the lanes' groups sent to the workers (co_views_lane_runner's views). */
+typedef struct co_lane_stats {
+    uint64_t groups;             /* groups run */
+    uint64_t starts_full;        /* start meshes sent whole */
+    uint64_t starts_delta;       /* start meshes sent as deltas against the last group's */
+    uint64_t start_bytes;        /* their bytes, in all */
+    uint64_t request_bytes;      /* the lanes' requests' bytes, in all (re-sends included) */
+    uint64_t start_record_bytes; /* the start meshes' whole records, one per group, in all */
+} co_lane_stats;
+
+/* Adds v's counts to *sum (nothing when v is not remote views). */
+void co_views_lane_stats(lm_views *v, co_lane_stats *sum);
+
 #endif

@@ -539,6 +539,7 @@ static void rm_destroy(lm_views *v)
     lm_wire_arena_free(&r->arena);
     free(r->pack);
     free(r->views);
+    free(r->lane_base);
     free(r);
 }
 

@@ -45,6 +45,11 @@ typedef struct co_remote {
     uint64_t evaluations;
     int whole;           /* every worker serves every view (co_views_desc.whole) */
     uint64_t lane_group; /* the group of lanes running on the workers (views_remote_lanes.c) */
+    uint8_t *lane_base;  /* the last group's encoded start mesh: later starts go as deltas
+                            against it to the workers that took it (lane_delta.h) */
+    size_t n_lane_base;
+    uint64_t lane_base_group; /* its group (0 = none) */
+    co_lane_stats lane_stats; /* what the lanes' groups sent */
     /* scratch */
     lm_wire_arena arena;
     uint8_t *pack;

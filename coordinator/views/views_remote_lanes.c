@@ -14,6 +14,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "common/optimizer/lane_delta.h"
 #include "common/optimizer/lane_runner.h"
 #include "common/optimizer/lane_start.h"
 #include "common/optimizer/lane_wire.h"
@@ -23,9 +24,12 @@
 typedef struct lane_run {
     co_remote *r;
     const lm_lane_batch *b;
-    uint8_t *cfg, *mesh; /* encoded config; the start mesh (made when a worker first needs it) */
+    uint8_t *cfg, *mesh; /* encoded config; the start mesh */
     size_t n_cfg, n_mesh;
-    uint64_t hash;                          /* of the start mesh */
+    uint8_t *delta; /* the start mesh against r->lane_base (made when a worker first needs it) */
+    size_t n_delta;
+    int no_delta;  /* 1: the delta would not pay (or failed): starts go whole */
+    uint64_t hash; /* of the start mesh */
     uint32_t queue[LM_MAX_EDGES_IN_FLIGHT]; /* lanes waiting for a worker, in lane order */
     uint32_t n_queue, done;
     uint32_t strikes[LM_MAX_EDGES_IN_FLIGHT]; /* failures of each lane */
@@ -43,6 +47,22 @@ static void requeue(lane_run *x, uint32_t lane)
     x->queue[at] = lane;
 }
 
+/* The start as a delta for w, when w took the last group's start and the delta pays (at most
+ * half the record); else nothing (the start goes whole). */
+static int delta_for(lane_run *x, const co_worker *w)
+{
+    co_remote *r = x->r;
+    if (x->no_delta || !r->lane_base || !r->lane_base_group || w->lane_group != r->lane_base_group)
+        return 0;
+    if (!x->delta) {
+        lm_status st = lm_lane_delta_encode(r->lane_base, r->n_lane_base, x->mesh, x->n_mesh,
+                                            &x->delta, &x->n_delta);
+        x->no_delta = st != LM_OK || x->n_delta > x->n_mesh / 2;
+        lm_clear_error();
+    }
+    return !x->no_delta;
+}
+
 static lm_status send_lane(lane_run *x, co_worker *w, uint32_t lane)
 {
     co_remote *r = x->r;
@@ -55,15 +75,20 @@ static lm_status send_lane(lane_run *x, co_worker *w, uint32_t lane)
     m.start_hash = x->hash;
     m.config = (ProtobufCBinaryData){x->n_cfg, x->cfg};
     m.surface = r->surface_k > 0;
-    lm_status st = LM_OK;
-    if (w->lane_group != r->lane_group) {
-        if (!x->mesh)
-            st = lm_lane_mesh_encode(b->start, &x->mesh, &x->n_mesh);
+    co_lane_stats *ls = &r->lane_stats;
+    if (w->lane_group != r->lane_group && delta_for(x, w)) {
+        m.base_group = r->lane_base_group;
+        m.start_delta = (ProtobufCBinaryData){x->n_delta, x->delta};
+        ls->starts_delta++;
+        ls->start_bytes += x->n_delta;
+    } else if (w->lane_group != r->lane_group) {
         m.start = (ProtobufCBinaryData){x->n_mesh, x->mesh};
+        ls->starts_full++;
+        ls->start_bytes += x->n_mesh;
     }
-    if (st == LM_OK)
-        st = co_pool_send(r->pool, w, co_pool_arm(r->pool, w), r->seq, LUMESH__MSG__BODY_RUN_LANE,
-                          &m);
+    ls->request_bytes += b->req_len[lane];
+    lm_status st =
+        co_pool_send(r->pool, w, co_pool_arm(r->pool, w), r->seq, LUMESH__MSG__BODY_RUN_LANE, &m);
     if (st == LM_OK)
         w->lane_group = r->lane_group;
     return st;
@@ -150,6 +175,7 @@ static lm_status collect(lane_run *x)
             st = strike(x, w, lane, why);
         } else if (stale) {
             co_pool_disarm(w);
+            w->lane_group = 0; /* it may lack the start's base: sent whole next */
             requeue(x, lane);
             st = co_remote_send_state(r, w);
         } else {
@@ -213,6 +239,8 @@ static lm_status rl_run(void *ctx, const lm_lane_batch *b)
     lm_status st = co_remote_layout(r);
     if (st == LM_OK)
         st = lm_lane_config_encode(b->cfg, &x.cfg, &x.n_cfg);
+    if (st == LM_OK)
+        st = lm_lane_mesh_encode(b->start, &x.mesh, &x.n_mesh);
     if (st == LM_OK && !(x.lane_of = calloc(r->n_live + 1, sizeof *x.lane_of)))
         st = lm_fail(LM_E_NOMEM, "out of memory running lanes");
     if (st == LM_OK)
@@ -222,7 +250,15 @@ static lm_status rl_run(void *ctx, const lm_lane_batch *b)
             co_pool_disarm(r->live[i]); /* a failed run: late answers are dropped */
     free(x.lane_of);
     free(x.cfg);
-    free(x.mesh);
+    free(x.delta);
+    if (x.mesh) { /* the base of the next group's deltas: the workers sent it hold it */
+        r->lane_stats.groups++;
+        r->lane_stats.start_record_bytes += x.n_mesh;
+        free(r->lane_base);
+        r->lane_base = x.mesh;
+        r->n_lane_base = x.n_mesh;
+        r->lane_base_group = r->lane_group;
+    }
     return st;
 }
 
@@ -234,4 +270,18 @@ lm_status co_views_lane_runner(lm_views *v, lm_lane_runner *out)
                                          "serve every view on each worker");
     *out = (lm_lane_runner){rl_run, r};
     return LM_OK;
+}
+
+void co_views_lane_stats(lm_views *v, co_lane_stats *sum)
+{
+    co_remote *r = co_remote_of(v);
+    if (!r)
+        return;
+    const co_lane_stats *a = &r->lane_stats;
+    sum->groups += a->groups;
+    sum->starts_full += a->starts_full;
+    sum->starts_delta += a->starts_delta;
+    sum->start_bytes += a->start_bytes;
+    sum->request_bytes += a->request_bytes;
+    sum->start_record_bytes += a->start_record_bytes;
 }

@@ -1,9 +1,11 @@
 /* tests/fuzz/fuzz_lane_start.c — libFuzzer target for what a worker decodes besides a lane's
  * request when it runs lanes (--lanes remote): the moves config and the group's start mesh
- * (common/optimizer/lane_start.h). The first input byte picks the message (even: a config, odd: a
- * mesh), the rest is the message. Any input must be refused with a status and one line, or decode
- * (a config to one that encodes to exactly the input bytes; a mesh that validates); never a
- * crash, a read past the input or an allocation beyond O(input).
+ * (common/optimizer/lane_start.h), whole or as a delta against the last group's (lane_delta.h).
+ * The first input byte picks the message (mod 3: 0 a config, 1 a mesh, 2 a delta: a u32 base
+ * length, that many base bytes, the delta), the rest is the message. Any input must be refused
+ * with a status and one line, or decode (a config to one that encodes to exactly the input bytes;
+ * a mesh that validates; a delta to a record that then decodes or is refused); never a crash, a
+ * read past the input or an allocation beyond O(input).
  * LUMESH_FUZZ_WRITE_SEEDS=DIR writes the seeds (so does tests/replay_lane_start, which replays the
  * corpus as the ctest fuzz_replay_lane_start). */
 #include <stddef.h>
@@ -13,6 +15,7 @@
 #include <string.h>
 
 #include "common/log.h"
+#include "common/optimizer/lane_delta.h"
 #include "common/optimizer/lane_start.h"
 
 int LLVMFuzzerInitialize(int *argc, char ***argv);
@@ -72,8 +75,46 @@ static void write_seeds(const char *dir)
     lm_mesh *m = octahedron();
     LM_ASSERT(lm_lane_mesh_encode(m, &buf, &len) == LM_OK);
     write_seed(dir, "mesh", 1, buf, len);
+    m->pos[2][1] = 1.25f; /* the next group's start: a vertex moved */
+    uint8_t *cur, *d;
+    size_t n_cur, n_d;
+    LM_ASSERT(lm_lane_mesh_encode(m, &cur, &n_cur) == LM_OK);
+    LM_ASSERT(lm_lane_delta_encode(buf, len, cur, n_cur, &d, &n_d) == LM_OK);
+    uint8_t *seed = malloc(4 + len + n_d);
+    LM_ASSERT(seed);
+    for (int i = 0; i < 4; i++)
+        seed[i] = (uint8_t)(len >> (8 * i));
+    memcpy(seed + 4, buf, len);
+    memcpy(seed + 4 + len, d, n_d);
+    write_seed(dir, "delta", 2, seed, 4 + len + n_d);
+    free(seed);
+    free(d);
+    free(cur);
     free(buf);
     lm_mesh_destroy(m);
+}
+
+/* data: a u32 base length, the base, the delta (a short base length is what there is). */
+static lm_status try_delta(const uint8_t *data, size_t size)
+{
+    if (size < 4)
+        return lm_fail(LM_E_FORMAT, "no base length");
+    size_t n_base =
+        (size_t)data[0] | (size_t)data[1] << 8 | (size_t)data[2] << 16 | (size_t)data[3] << 24;
+    n_base = n_base < size - 4 ? n_base : size - 4;
+    uint8_t *rec = NULL;
+    size_t n_rec = 0;
+    lm_status st =
+        lm_lane_delta_apply(data + 4, n_base, data + 4 + n_base, size - 4 - n_base, &rec, &n_rec);
+    LM_ASSERT(st != LM_OK || n_rec <= size);
+    if (st == LM_OK) {
+        lm_mesh *m = NULL;
+        LM_ASSERT(lm_mesh_create(&m) == LM_OK);
+        st = lm_lane_mesh_decode(rec, n_rec, m);
+        lm_mesh_destroy(m);
+    }
+    free(rec);
+    return st;
 }
 
 int LLVMFuzzerInitialize(int *argc, char ***argv)
@@ -93,7 +134,9 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     if (size < 1)
         return 0;
     lm_status st;
-    if (data[0] % 2 == 0) {
+    if (data[0] % 3 == 2) {
+        st = try_delta(data + 1, size - 1);
+    } else if (data[0] % 3 == 0) {
         lm_moves_config c;
         st = lm_lane_config_decode(data + 1, size - 1, &c);
         if (st == LM_OK) {

@@ -158,6 +158,10 @@ static void msg_seeds(const char *dir)
     rl.start = (ProtobufCBinaryData){16, hash};
     rl.config = (ProtobufCBinaryData){8, hash};
     write_msg(dir, "run_lane", LUMESH__MSG__BODY_RUN_LANE, &rl);
+    rl.start = (ProtobufCBinaryData){0, NULL}; /* the next group's start as a delta */
+    rl.group = 3, rl.base_group = 2;
+    rl.start_delta = (ProtobufCBinaryData){16, hash};
+    write_msg(dir, "run_lane_delta", LUMESH__MSG__BODY_RUN_LANE, &rl);
     Lumesh__LaneDone ld = LUMESH__LANE_DONE__INIT;
     ld.group = 2, ld.lane = 1, ld.busy_us = 1500;
     ld.result = (ProtobufCBinaryData){sizeof lane_bytes, lane_bytes};

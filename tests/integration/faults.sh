@@ -8,6 +8,7 @@
 # key, a wrong coordinator key, and a key not on the allow-list. Poison batches (a fault hook in
 # the worker, LUMESH_WORKER_FAULT) are retried 3 times then refused, deterministically; workers
 # that fail 3 times are blocklisted. With --lanes remote: a worker SIGKILLed with a lane in flight,
+# a worker that dies after taking a group's start as a delta (its replacement gets it whole),
 # and one whose lane results do not decode (fenced at once), leave the bytes of isolated lanes.
 # Prints the detection time of each loss it causes.
 set -uo pipefail
@@ -242,5 +243,29 @@ grep -q "worker 1 .*blocklisted for the job" "$tmp/lie.err" || fail "the lying w
 checks=$((checks + 1))
 cmp -s "$tmp/ref-iso.glb" "$tmp/lie.glb" ||
   fail "remote lanes, a lying worker: the output differs from isolated lanes in process"
+
+# -- many groups of remote lanes (K = 2): each group's start goes to a worker that took the last
+# group's as a delta against it; worker 1 dies (abort) when its 2nd lane comes, after taking
+# that group's start as a delta; its replacement's first start goes whole. The bytes are
+# isolated lanes' in process --
+djob=("${job[@]}" --evals 3000 --edges-in-flight 2) # 5 groups: also in the sanitizer stage
+"$LUMESH" optimize "$bunny" -o "$tmp/ref-iso2.glb" "${djob[@]}" --lanes isolated \
+  --workers 0 2>"$tmp/ref.err" || fail "reference run, isolated lanes, K = 2: $(tail -3 "$tmp/ref.err")"
+LUMESH_WORKER_FAULT="crash-lanes-as=1:2" "$LUMESH" optimize "$bunny" -o "$tmp/delta.glb" "${djob[@]}" \
+  --lanes remote --workers 2 --json >"$tmp/delta.json" 2>"$tmp/delta.err" ||
+  fail "remote lanes, K = 2, a worker restarted: $(tail -2 "$tmp/delta.err")"
+checks=$((checks + 1))
+cmp -s "$tmp/ref-iso2.glb" "$tmp/delta.glb" ||
+  fail "remote lanes as deltas, a worker restarted: the output differs from isolated lanes in process"
+checks=$((checks + 1))
+python3 - "$tmp/delta.json" <<'PY' || fail "remote lanes as deltas: $(tail -1 "$tmp/delta.json" | head -c 600)"
+import json, sys
+s = [json.loads(l) for l in open(sys.argv[1]) if '"summary"' in l][-1]
+l = s["lanes_remote"]
+ids = {w["id"] for w in s["workers"]}
+assert 3 in ids, ("no replacement worker", ids)
+assert l["groups"] >= 3 and l["starts_delta"] >= 1 and l["starts_full"] >= 3, l
+assert l["start_bytes"] < l["start_record_bytes"] * (l["starts_full"] + l["starts_delta"]) / 2, l
+PY
 
 finish

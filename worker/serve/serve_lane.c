@@ -1,6 +1,7 @@
 /* worker/serve/serve_lane.c — RunLane (--lanes remote): an isolated lane of a group of edges in
  * flight, run here with lm_lane_host_run against the group's start mesh (sent with the first lane
- * of each group this worker gets, kept for the others) and this worker's views, which serve every
+ * of each group this worker gets, whole or as a delta against the last group's record, which this
+ * worker keeps; kept for the group's other lanes) and this worker's views, which serve every
  * view of the job and are at the group's start (the request's seq), the geometric term added where
  * the request asks for it. Everything decoded is checked (lane_wire.h, lane_start.h); a failure is
  * answered, never fatal. */
@@ -9,6 +10,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "common/optimizer/lane_delta.h"
 #include "common/optimizer/lane_host.h"
 #include "common/optimizer/lane_start.h"
 #include "common/optimizer/lane_wire.h"
@@ -25,6 +27,9 @@ struct wk_lanes {
     size_t n_cfg;
     lm_mesh *start; /* the start mesh of (job, group) */
     uint64_t job, group;
+    uint8_t *record; /* its encoded record: the base of the next group's delta */
+    size_t n_record;
+    uint64_t lanes_run; /* lanes taken (for the test hook crash-lanes-as) */
     lm_lane_request req;
     lm_lane_result res;
 };
@@ -68,6 +73,7 @@ void wk_serve_lanes_free(wk_server *s)
         return;
     lm_lane_host_destroy(l->host);
     lm_mesh_destroy(l->start);
+    free(l->record);
     lm_lane_request_free(&l->req);
     lm_lane_result_free(&l->res);
     free(l);
@@ -90,29 +96,75 @@ static lm_status lanes_get(wk_server *s, wk_lanes **out)
     return LM_OK;
 }
 
-/* The group's start: the one sent with this request, else the one kept for its group. */
-static lm_status take_start(wk_server *s, wk_lanes *l, const Lumesh__RunLane *q)
+/* Drops the start (and the base it gives deltas). */
+static void drop_start(wk_lanes *l)
 {
-    if (!q->start.len) {
+    lm_mesh_destroy(l->start);
+    l->start = NULL;
+    free(l->record);
+    l->record = NULL;
+    l->n_record = 0;
+    l->group = 0;
+}
+
+/* The start record the request carries: its `start` (copied), or its delta applied to the record
+ * kept for base_group (*missing = 1 and nothing made when that is not the one kept). */
+static lm_status start_record(const wk_server *s, const wk_lanes *l, const Lumesh__RunLane *q,
+                              uint8_t **rec, size_t *n, int *missing)
+{
+    *rec = NULL;
+    *n = 0;
+    if (q->start.len && q->start_delta.len)
+        return lm_fail(LM_E_FORMAT, "a lane with both a start mesh and a delta");
+    if (q->start_delta.len) {
+        *missing = !l->record || l->job != s->job || l->group != q->base_group;
+        return *missing ? LM_OK
+                        : lm_lane_delta_apply(l->record, l->n_record, q->start_delta.data,
+                                              q->start_delta.len, rec, n);
+    }
+    if (!(*rec = malloc(q->start.len)))
+        return lm_fail(LM_E_NOMEM, "out of memory for a start mesh");
+    memcpy(*rec, q->start.data, q->start.len);
+    *n = q->start.len;
+    return LM_OK;
+}
+
+/* The group's start: the one sent with this request (whole or as a delta against the last
+ * group's), else the one kept for its group. *missing = 1: the delta's base is not the one kept
+ * (the coordinator is told Stale and sends the start whole). */
+static lm_status take_start(wk_server *s, wk_lanes *l, const Lumesh__RunLane *q, int *missing)
+{
+    *missing = 0;
+    if (!q->start.len && !q->start_delta.len) {
         if (!l->start || l->job != s->job || l->group != q->group)
             return lm_fail(LM_E_INVALID, "a lane of group %llu without its start mesh",
                            (unsigned long long)q->group);
         return LM_OK;
     }
-    lm_mesh_destroy(l->start);
-    l->start = NULL;
-    l->group = 0;
+    uint8_t *rec = NULL;
+    size_t n = 0;
+    lm_status st = start_record(s, l, q, &rec, &n, missing);
+    if (st != LM_OK || *missing) {
+        free(rec);
+        if (st != LM_OK)
+            drop_start(l);
+        return st;
+    }
+    drop_start(l);
     lm_mesh *m = NULL;
-    lm_status st = lm_mesh_create(&m);
+    st = lm_mesh_create(&m);
     if (st == LM_OK)
-        st = lm_lane_mesh_decode(q->start.data, q->start.len, m);
+        st = lm_lane_mesh_decode(rec, n, m);
     if (st == LM_OK && lm_mesh_hash(m) != q->start_hash)
         st = lm_fail(LM_E_FORMAT, "a start mesh whose hash is not the one named");
     if (st != LM_OK) {
         lm_mesh_destroy(m);
+        free(rec);
         return st;
     }
     l->start = m;
+    l->record = rec;
+    l->n_record = n;
     l->job = s->job;
     l->group = q->group;
     return LM_OK;
@@ -169,6 +221,19 @@ static int lies(const wk_server *s)
            strtoul(s->fault + sizeof kind - 1, NULL, 10) == s->worker_id;
 }
 
+/* "crash-lanes-as=N:M": the worker welcomed as N dies (abort) when its M-th lane comes, after
+ * taking that lane's start (a worker lost mid-run: its replacement starts without a base). */
+static void maybe_crash(const wk_server *s, uint64_t lanes)
+{
+    static const char kind[] = "crash-lanes-as=";
+    if (!s->fault || strncmp(s->fault, kind, sizeof kind - 1))
+        return;
+    char *end = NULL;
+    unsigned long id = strtoul(s->fault + sizeof kind - 1, &end, 10);
+    if (id == s->worker_id && *end == ':' && strtoull(end + 1, NULL, 10) == lanes)
+        abort();
+}
+
 static lm_status run_lane(wk_server *s, wk_lanes *l, const lm_msg *m)
 {
     const Lumesh__RunLane *q = m->run_lane;
@@ -203,7 +268,7 @@ lm_status wk_serve_lane(wk_server *s, const lm_msg *m)
 {
     const Lumesh__RunLane *q = m->run_lane;
     wk_lanes *l = NULL;
-    int stale = 0;
+    int stale = 0, missing = 0;
     lm_status st = s->original && q->job == s->job
                        ? LM_OK
                        : lm_fail(LM_E_INVALID, "a lane of job %llu, but the job is %llu",
@@ -211,9 +276,10 @@ lm_status wk_serve_lane(wk_server *s, const lm_msg *m)
     if (st == LM_OK)
         st = lanes_get(s, &l);
     if (st == LM_OK)
-        st = take_start(s, l, q); /* kept even when the views are stale: the retry names it */
+        st = take_start(s, l, q, &missing); /* kept even when the views are stale */
     if (st == LM_OK)
         st = check_views(s, m, &stale);
+    stale = stale || missing;
     if (st == LM_OK && !stale)
         st = take_config(l, q);
     if (st != LM_OK)
@@ -222,5 +288,6 @@ lm_status wk_serve_lane(wk_server *s, const lm_msg *m)
         Lumesh__Stale r = LUMESH__STALE__INIT;
         return wk_serve_send(s, m->req, LUMESH__MSG__BODY_STALE, &r);
     }
+    maybe_crash(s, ++l->lanes_run);
     return run_lane(s, l, m);
 }
