@@ -14,11 +14,6 @@ source "$here/lib.bash"
 source "$here/bake_grid.bash"
 
 scratch
-# run_out CMD... — CMD succeeds; its stdout in $tmp/out.txt
-run_out() {
-  checks=$((checks + 1))
-  "$@" >"$tmp/out.txt" 2>"$tmp/err.txt" || fail "'$*' failed: $(head -c 300 "$tmp/err.txt")"
-}
 small=(--views 4 --size 32 --device cpu --workers 0)
 grid 9 0.3 >"$tmp/hill.obj"
 grid 3 0.3 >"$tmp/hill3.obj"

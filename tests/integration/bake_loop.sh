@@ -10,11 +10,6 @@ source "$here/lib.bash"
 source "$here/bake_grid.bash"
 
 scratch
-# run_out CMD... — CMD succeeds; its stdout in $tmp/out.txt
-run_out() {
-  checks=$((checks + 1))
-  "$@" >"$tmp/out.txt" 2>"$tmp/err.txt" || fail "'$*' failed: $(head -c 300 "$tmp/err.txt")"
-}
 small=(--views 4 --size 32 --device cpu --target-verts 120 --start qem --evals 1500 --seed 1)
 expect_exit 0 "$LUMESH" gen-frog -o "$tmp/frog.glb" --tris 1500 --seed 3
 

@@ -28,6 +28,12 @@ expect_fail_line() {
   lines=$(printf '%s\n' "$err" | grep -v -E ', [^,]+ (so far|to go)$' | grep -c .)
   [ "$lines" = 1 ] || fail "'$*' printed $lines lines on stderr besides progress, expected 1: $err"
 }
+# run_out CMD... — CMD succeeds (a check); its stdout in $tmp/out.txt, its stderr in
+# $tmp/err.txt (after scratch)
+run_out() {
+  checks=$((checks + 1))
+  "$@" >"$tmp/out.txt" 2>"$tmp/err.txt" || fail "'$*' failed: $(head -c 300 "$tmp/err.txt")"
+}
 # wait_for SECONDS CMD... — run CMD every 0.2 s until it succeeds (0) or SECONDS have passed (1):
 # for states a loaded machine reaches late, never a fixed sleep.
 wait_for() {
