@@ -234,12 +234,15 @@ static lm_status update_edges(isimp *s, uint32_t entry, const uint32_t *ring, ui
 
 static lm_status step_hook(isimp *s, const co_eq_entry *e, co_pm_split *split)
 {
+    co_pricer_stats ps;
+    co_pricer_stats_get(s->pricer, &ps);
     co_isimp_step step = {.index = s->commits - 1,
                           .keep = s->place.keep,
                           .drop = s->place.drop,
                           .place = s->place.kind,
                           .cost = e->cost,
                           .live_verts = s->m->live_verts,
+                          .evaluations = ps.evaluations,
                           .split = s->cfg.record_splits ? split : NULL};
     return s->cfg.on_step ? s->cfg.on_step(s->cfg.ctx, s->m, &step) : LM_OK;
 }
