@@ -103,35 +103,36 @@ lm_status lm_patch_build(lm_patch *p, const lm_mesh *m, const uint32_t *before, 
             p->removed[k++] = p->removed[i];
     p->n_removed = k;
     s = reserve((void **)&p->added, &p->cap_added, (uint32_t)n_now + 1, sizeof *p->added);
+    uint32_t *ids = s ? NULL : malloc((n_now + 1) * sizeof *ids);
+    if (!s && !ids)
+        s = lm_fail(LM_E_NOMEM, "out of memory building a patch");
     if (s)
         return s;
+    /* the live triangles of now by id, each once: ids sorted first, records read once each */
+    size_t n = 0;
     for (size_t i = 0; i < n_now; i++)
         if (now[i] < m->n_tris && m->tri_alive[now[i]])
-            lm_tri_data_from_mesh(m, now[i], &p->added[p->n_added++]);
-    /* sort records by id and drop duplicates */
-    for (uint32_t i = 1; i < p->n_added; i++) {
-        lm_tri_data x = p->added[i];
-        uint32_t j = i;
-        while (j > 0 && p->added[j - 1].id > x.id) {
-            p->added[j] = p->added[j - 1];
-            j--;
-        }
-        p->added[j] = x;
-    }
-    k = 0;
-    for (uint32_t i = 0; i < p->n_added; i++)
-        if (k == 0 || p->added[k - 1].id != p->added[i].id)
-            p->added[k++] = p->added[i];
-    p->n_added = k;
+            ids[n++] = now[i];
+    qsort(ids, n, sizeof *ids, cmp_u32);
+    for (size_t i = 0; i < n; i++)
+        if (i == 0 || ids[i - 1] != ids[i])
+            lm_tri_data_from_mesh(m, ids[i], &p->added[p->n_added++]);
+    free(ids);
     return LM_OK;
 }
 
 /* ---- the patch of a journal span ----------------------------------------------------------- */
 
+typedef struct tri_event {
+    uint32_t id; /* below m->n_tris */
+    uint8_t born, died;
+} tri_event;
+
 typedef struct touched {
     uint32_t *verts, *tris;
     size_t n_verts, n_tris, cap_verts, cap_tris;
-    uint8_t *born, *died; /* per triangle id below m->n_tris */
+    tri_event *ev; /* the journal's triangle records (sorted by id once gathered) */
+    size_t n_ev, cap_ev;
     const lm_mesh *m;
     lm_status st;
 } touched;
@@ -159,9 +160,13 @@ static void visit(void *ctx, int what, uint32_t id)
             push_id(t, &t->verts, &t->n_verts, &t->cap_verts, t->m->wedges[id].vertex);
         break;
     default:
-        if (id < t->m->n_tris) {
-            t->born[id] |= what == LM_TOUCH_TRI_ADDED;
-            t->died[id] |= what == LM_TOUCH_TRI_KILLED;
+        if (id < t->m->n_tris && !t->st) {
+            if (t->n_ev == t->cap_ev && !LM_GROW(&t->ev, &t->cap_ev, t->n_ev + 1, 16)) {
+                t->st = lm_fail(LM_E_NOMEM, "out of memory gathering a change");
+                return;
+            }
+            t->ev[t->n_ev++] =
+                (tri_event){id, what == LM_TOUCH_TRI_ADDED, what == LM_TOUCH_TRI_KILLED};
         }
         push_id(t, &t->tris, &t->n_tris, &t->cap_tris, id);
     }
@@ -186,15 +191,37 @@ static void add_incident(touched *t)
     }
 }
 
+static int cmp_event(const void *a, const void *b)
+{
+    uint32_t x = ((const tri_event *)a)->id, y = ((const tri_event *)b)->id;
+    return (x > y) - (x < y);
+}
+
+/* Whether the journal's records (sorted by id) say triangle id was born (added) and whether it
+ * died (killed). */
+static void born_died(const touched *t, uint32_t id, int *born, int *died)
+{
+    size_t lo = 0, hi = t->n_ev;
+    while (lo < hi) {
+        size_t mid = lo + (hi - lo) / 2;
+        if (t->ev[mid].id < id)
+            lo = mid + 1;
+        else
+            hi = mid;
+    }
+    *born = *died = 0;
+    for (size_t i = lo; i < t->n_ev && t->ev[i].id == id; i++) {
+        *born |= t->ev[i].born;
+        *died |= t->ev[i].died;
+    }
+}
+
 lm_status lm_patch_from_journal(lm_patch *p, const lm_mesh *m, const lm_journal *j, size_t mark)
 {
     touched t = {.m = m};
-    t.born = calloc((size_t)m->n_tris + 1, 1);
-    t.died = calloc((size_t)m->n_tris + 1, 1);
-    if (!t.born || !t.died)
-        t.st = lm_fail(LM_E_NOMEM, "out of memory gathering a change");
-    if (!t.st)
-        lm_journal_scan(j, mark, visit, &t);
+    lm_journal_scan(j, mark, visit, &t);
+    if (t.n_ev)
+        qsort(t.ev, t.n_ev, sizeof *t.ev, cmp_event);
     add_incident(&t);
     uint32_t *before = t.st ? NULL : malloc((t.n_tris + 1) * sizeof *before);
     if (!t.st && !before)
@@ -202,7 +229,11 @@ lm_status lm_patch_from_journal(lm_patch *p, const lm_mesh *m, const lm_journal 
     size_t nb = 0;
     for (size_t i = 0; i < t.n_tris && !t.st; i++) {
         uint32_t id = t.tris[i];
-        if (id < m->n_tris && !t.born[id] && (m->tri_alive[id] || t.died[id]))
+        int born, died;
+        if (id >= m->n_tris)
+            continue;
+        born_died(&t, id, &born, &died);
+        if (!born && (m->tri_alive[id] || died))
             before[nb++] = id;
     }
     if (!t.st)
@@ -210,8 +241,7 @@ lm_status lm_patch_from_journal(lm_patch *p, const lm_mesh *m, const lm_journal 
     free(before);
     free(t.verts);
     free(t.tris);
-    free(t.born);
-    free(t.died);
+    free(t.ev);
     return t.st;
 }
 

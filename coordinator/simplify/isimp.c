@@ -11,6 +11,7 @@
 #include "coordinator/simplify/candidates.h"
 #include "coordinator/simplify/collapse_op.h"
 #include "coordinator/simplify/edge_queue.h"
+#include "coordinator/simplify/fp_index.h"
 
 #define CO_ISIMP_FIRST_CHUNK 512 /* edges priced together in the first pass */
 #define CO_ISIMP_MAX_RING 1024
@@ -20,6 +21,7 @@ typedef struct isimp {
     co_isimp_config cfg;
     co_isimp_stats *stats;
     co_eq *q;
+    co_fpx *fpx; /* the clean entries' footprints (image method with footprints), else NULL */
     co_cands cands;
     co_pricer *pricer;
     lm_journal *j;
@@ -60,12 +62,15 @@ static lm_status setup(isimp *s, lm_mesh *m, lm_views *views, const co_isimp_con
         st = lm_journal_create(&s->j);
     if (!st)
         st = co_pricer_create(cfg->method, views, cfg->views, cfg->max_batch, &s->pricer);
+    if (!st && !co_pricer_is_local(s->pricer) && !s->cfg.unsafe_no_footprints)
+        st = co_fpx_create(cfg->views, &s->fpx);
     return st;
 }
 
 static void teardown(isimp *s)
 {
     co_pricer_destroy(s->pricer);
+    co_fpx_destroy(s->fpx);
     lm_journal_destroy(s->j);
     co_cands_free(&s->cands);
     co_eq_destroy(s->q);
@@ -103,6 +108,8 @@ static lm_status price_entries(isimp *s, const uint32_t *idx, uint32_t n)
         e->priced = 1;
         e->priced_at = s->commits;
         co_eq_set_cost(s->q, idx[i], cost);
+        if (s->fpx)
+            st = co_fpx_put(s->fpx, idx[i], co_eq_rects(s->q, idx[i]));
     }
     s->stats->edge_prices += n;
     return st;
@@ -196,19 +203,33 @@ static lm_status redo_plain(isimp *s, size_t mark)
     return before_and_redo(s);
 }
 
-/* Entries whose footprint meets the committed change's become dirty (image method). */
+/* An entry the footprint index names: dirty when clean and its footprint meets the change's; a
+ * dirty entry leaves the index (priced again, it comes back with its new footprint). */
+static void mark_if_met(void *ctx, uint32_t i)
+{
+    isimp *s = ctx;
+    co_eq_entry *e = co_eq_at(s->q, i);
+    if (e->state == CO_EQ_CLEAN && co_fp_meet(co_eq_rects(s->q, i), s->fp, s->cfg.views->count)) {
+        e->state = CO_EQ_DIRTY;
+        s->stats->marked_stale++;
+        co_fpx_drop(s->fpx, i);
+    }
+}
+
+/* Entries whose footprint meets the committed change's become dirty (image method): those the
+ * index names that meet it, which are all the clean entries that meet it (fp_index.h). */
 static void mark_footprints(isimp *s)
 {
-    if (co_pricer_is_local(s->pricer) || s->cfg.unsafe_no_footprints)
-        return;
-    uint32_t nv = s->cfg.views->count;
-    for (uint32_t i = 0; i < co_eq_size(s->q); i++) {
-        co_eq_entry *e = co_eq_at(s->q, i);
-        if (e->state == CO_EQ_CLEAN && co_fp_meet(co_eq_rects(s->q, i), s->fp, nv)) {
-            e->state = CO_EQ_DIRTY;
-            s->stats->marked_stale++;
-        }
-    }
+    if (s->fpx)
+        co_fpx_query(s->fpx, s->fp, mark_if_met, s);
+}
+
+/* The entry leaves the queue, and its footprint the index. */
+static void remove_entry(isimp *s, uint32_t i)
+{
+    co_eq_remove(s->q, i);
+    if (s->fpx)
+        co_fpx_drop(s->fpx, i);
 }
 
 /* The collapsed edge and drop's edges leave the queue; keep's new edges come in dirty, keyed by
@@ -216,7 +237,7 @@ static void mark_footprints(isimp *s)
 static lm_status update_edges(isimp *s, uint32_t entry, const uint32_t *ring, uint32_t n_ring)
 {
     uint32_t keep = s->place.keep, drop = s->place.drop;
-    co_eq_remove(s->q, entry);
+    remove_entry(s, entry);
     lm_status st = LM_OK;
     for (uint32_t i = 0; i < n_ring && !st; i++) {
         uint32_t x = ring[i];
@@ -225,7 +246,7 @@ static lm_status update_edges(isimp *s, uint32_t entry, const uint32_t *ring, ui
         uint32_t old = co_eq_find(s->q, drop, x);
         int64_t cost = old == UINT32_MAX ? 0 : co_eq_at(s->q, old)->cost;
         if (old != UINT32_MAX)
-            co_eq_remove(s->q, old);
+            remove_entry(s, old);
         if (co_eq_find(s->q, keep, x) == UINT32_MAX)
             st = co_eq_insert(s->q, keep, x, cost, NULL);
     }
@@ -234,12 +255,15 @@ static lm_status update_edges(isimp *s, uint32_t entry, const uint32_t *ring, ui
 
 static lm_status step_hook(isimp *s, const co_eq_entry *e, co_pm_split *split)
 {
+    co_pricer_stats ps;
+    co_pricer_stats_get(s->pricer, &ps);
     co_isimp_step step = {.index = s->commits - 1,
                           .keep = s->place.keep,
                           .drop = s->place.drop,
                           .place = s->place.kind,
                           .cost = e->cost,
                           .live_verts = s->m->live_verts,
+                          .evaluations = ps.evaluations,
                           .split = s->cfg.record_splits ? split : NULL};
     return s->cfg.on_step ? s->cfg.on_step(s->cfg.ctx, s->m, &step) : LM_OK;
 }
@@ -310,6 +334,8 @@ static lm_status verify_clean(isimp *s)
         int64_t cost = e->cost, fresh;
         uint8_t place = e->place, fresh_place;
         st = co_cands_build(&s->cands, s->m, s->q, s->cfg.views, s->cfg.derived_normals, &i, 1);
+        if (!st && s->fpx) /* the footprint just built (the same, for an exact entry) */
+            st = co_fpx_put(s->fpx, i, co_eq_rects(s->q, i));
         if (!st)
             st = co_pricer_price(s->pricer, &s->cands, s->q);
         if (st)

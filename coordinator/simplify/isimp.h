@@ -30,13 +30,14 @@
 
 /* One collapse made, for the caller's hook. */
 typedef struct co_isimp_step {
-    uint32_t index;      /* 0, 1, ... */
-    uint32_t keep, drop; /* the surviving and the removed vertex */
-    co_place_kind place; /* where keep went */
-    int64_t cost;        /* ΔE it was made at */
-    uint32_t live_verts; /* after it */
-    co_pm_split *split;  /* the vertex split undoing it (with record_splits; the hook may
-                            take its arrays), else NULL */
+    uint32_t index;       /* 0, 1, ... */
+    uint32_t keep, drop;  /* the surviving and the removed vertex */
+    co_place_kind place;  /* where keep went */
+    int64_t cost;         /* ΔE it was made at */
+    uint32_t live_verts;  /* after it */
+    uint64_t evaluations; /* patches priced so far (the first pass included) */
+    co_pm_split *split;   /* the vertex split undoing it (with record_splits; the hook may
+                             take its arrays), else NULL */
 } co_isimp_step;
 
 typedef struct co_isimp_stats {

@@ -4,6 +4,7 @@
 #include "coordinator/simplify/simplify_job.h"
 #include "coordinator/quality/cull_unseen.h"
 
+#include <inttypes.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -165,7 +166,8 @@ static lm_status on_step(void *ctx, const lm_mesh *m, co_isimp_step *s)
         co_meter_phase(j->meter, "collapses");
     uint32_t start = j->sum->start_verts, target = j->o->target_verts;
     char what[64];
-    snprintf(what, sizeof what, "%u vertices", m->live_verts);
+    snprintf(what, sizeof what, "%u vertices, %" PRIu64 " evaluations", m->live_verts,
+             s->evaluations);
     co_meter_show(j->meter, what, s->index + 1U, start > target ? start - target : 0,
                   m->live_verts <= target);
     return j->rec && s->split ? co_pm_recorder_take(j->rec, s->split) : LM_OK;

@@ -155,6 +155,10 @@ assert {"start: pricing every edge", "start: collapses"} <= names, names
 assert any(n.startswith("start: QEM to") for n in names), names
 done = [r for r in ph if r["phase"] == "start: collapses" and r["total"]]
 assert done and done[-1]["done"] == done[-1]["total"] and done[-1]["eta_s"] == 0, done[-1:]
+import re
+assert all(re.fullmatch(r"\d+ vertices, \d+ evaluations", r["detail"]) for r in done), done[-1:]
+ev = [int(r["detail"].split()[2]) for r in done]
+assert ev == sorted(ev) and ev[-1] > 0, ev
 EOF
 expect_same "$tmp/img0" "$tmp/img2" "image start, in process and on 2 workers"
 expect_exit 0 "$LUMESH" optimize "$frog" -o "$tmp/qs/out.obj" "${img[@]}" --workers 0 --evals 1 \
