@@ -267,12 +267,19 @@ uint64_t co_pool_arm(co_pool *p, co_worker *w)
     return w->want;
 }
 
+void co_pool_arm_load(co_worker *w, uint64_t req)
+{
+    co_pool_arm_req(w, req);
+    w->loading = 1;
+}
+
 void co_pool_disarm(co_worker *w)
 {
     if (w->replied)
         lm_wire_in_free(&w->reply);
     w->replied = 0;
     w->want = 0;
+    w->loading = 0;
 }
 
 /* ---- pumping and waiting -----------------------------------------------------------------------

@@ -273,9 +273,13 @@ void co_pool_notice_losses(co_pool *p, double now)
         co_worker *w = p->w[i];
         if (w->lost)
             continue;
-        if (now - w->last_heard > CO_POOL_SILENCE_S)
-            co_pool_lose(p, w, "silent for too long (presumed dead)");
-        else if (w->want && !w->replied && now - w->armed_at > CO_POOL_REQUEST_S)
+        int loading = w->loading && w->want && !w->replied; /* a set-up request in flight */
+        if (now - w->last_heard > (loading ? CO_POOL_LOAD_SILENCE_S : CO_POOL_SILENCE_S))
+            co_pool_lose(p, w,
+                         loading ? "silent for too long while loading the job (presumed dead)"
+                                 : "silent for too long (presumed dead)");
+        else if (w->want && !w->replied &&
+                 now - w->armed_at > (loading ? CO_POOL_LOAD_REQUEST_S : CO_POOL_REQUEST_S))
             co_pool_lose(p, w, "no answer to a request for too long (presumed stuck)");
     }
 }
