@@ -72,6 +72,9 @@ typedef struct co_worker {
     uint32_t first, count, stride; /* views assigned (an lm_view_deal) */
     uint64_t evals;                /* patches evaluated for the job */
     double busy_s;                 /* seconds spent evaluating them (the worker's own count) */
+    /* the optimisation loop's share (co_pool_mark_loop): busy_s then, and since when it counts
+       (the loop's start, or its join when later); loop_from 0 = the loop has not begun */
+    double loop_busy0, loop_from;
     /* the request in flight */
     uint64_t want; /* req armed; 0 = none */
     double armed_at;
@@ -156,6 +159,14 @@ void co_pool_failed(co_pool *p, co_worker *w, const char *what);
 void co_pool_fence(co_pool *p, co_worker *w, const char *what);
 /* What status queries report as the job's evaluations so far. */
 void co_pool_set_job_evals(co_pool *p, uint64_t evals);
+/* The optimisation loop begins now: each worker's busy share over the loop counts from here
+ * (workers that join later: from their join), co_pool_loop_busy. */
+void co_pool_mark_loop(co_pool *p);
+/* The optimisation loop has ended now: the shares stop counting. */
+void co_pool_mark_loop_end(co_pool *p);
+/* w's share of the loop's wall time (since the loop began or w joined, until the loop's end, now
+ * or, lost, when last heard) spent evaluating; 0 before co_pool_mark_loop. */
+double co_pool_loop_busy(const co_pool *p, const co_worker *w, double now);
 
 /* Seconds on the pool's clock (monotonic). */
 double co_pool_now(void);

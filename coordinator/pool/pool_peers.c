@@ -132,6 +132,7 @@ static lm_status on_hello(co_pool *p, const lm_wire_frame *f, const Lumesh__Hell
     w->pid = h->pid;
     w->join = h->join;
     w->joined = w->last_heard = co_pool_now();
+    w->loop_from = p->loop_t0 > 0 ? w->joined : 0.0; /* joined in the loop: counts from now */
     if (!p->renderer_id[0])
         copy_str(p->renderer_id, sizeof p->renderer_id, w->renderer_id);
     Lumesh__Welcome wel = LUMESH__WELCOME__INIT;
