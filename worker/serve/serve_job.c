@@ -73,8 +73,10 @@ static lm_status take_views(wk_server *s, const Lumesh__Job *j)
 /* Fault injection for tests (LUMESH_WORKER_FAULT, read only by builds with LUMESH_TEST_HOOKS):
  * "slow-load=S" makes loading the job's original (Job) and rendering its targets (Assign) take S
  * more seconds, silent: no heartbeats meanwhile (a worker whose load outlasts the liveness limit,
- * on a loaded machine). serve.c also shortens the worker's own limit on the coordinator's silence
- * to S - 1 s, so that the time spent loading must not count as the coordinator's silence. */
+ * on a loaded machine). From its first load on, the worker's own limit on the coordinator's
+ * silence is also cut to S - 1 s (S > 2), so that the time spent loading must not count as the
+ * coordinator's silence (serve.c); the set-up before it (a start made, a sanitizer build) keeps
+ * the usual limit. */
 double wk_serve_slow_load_s(const wk_server *s)
 {
     static const char kind[] = "slow-load=";
@@ -89,6 +91,8 @@ static void slow_load(wk_server *s)
     double d = wk_serve_slow_load_s(s);
     if (!(d > 0))
         return;
+    if (d > 2.0)
+        s->o.silence_s = d - 1.0;
     wk_beat_pause(s, 1);
     struct timespec ts = {(time_t)d, (long)((d - (double)(time_t)d) * 1e9)};
     while (nanosleep(&ts, &ts) != 0)
