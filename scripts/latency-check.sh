@@ -11,9 +11,9 @@
 #                            [--spin-us S] [--device SPEC] [--build DIR] [-- OPTIMIZE-FLAGS...]
 #
 # Flags after `--` go to both optimize runs as they are (e.g. `-- --edges-in-flight 16 --lanes
-# remote`). A worker's busy share is given twice: over its life (the --json field: loading the
-# original and rendering its targets count as idle) and over the optimisation (its busy seconds
-# over the loop's).
+# remote`). A worker's busy share is given twice: over its life (the --json `busy`: loading the
+# original and rendering its targets count as idle) and over the optimisation (the --json
+# `busy_loop`: its evaluating seconds over the loop's wall time, regrids included).
 # Defaults: the frog (--tris 2000000, --verts 10000, --start qem), --evals 30000, delay 50,
 # the proxy's own spin (see latency_proxy.c), --device auto, ./build. --model FILE uses a model
 # already made (gen-frog of 2M triangles takes a while). Workers are started before the job and
@@ -102,7 +102,9 @@ for path in sys.argv[1:]:
     s = json.loads(open(path).read().splitlines()[-1])
     assert s["type"] == "summary", s
     ws = s["workers"]
-    def loop_share(w):  # busy seconds (busy share x life, life = evals / evals_per_s) / loop's
+    def loop_share(w):  # the summary's busy_loop; from an older build: busy seconds / loop's
+        if "busy_loop" in w:
+            return 100 * w["busy_loop"]
         life = w["evals"] / w["evals_per_s"] if w["evals_per_s"] > 0 else 0
         return 100 * w["busy"] * life / s["optimize_s"] if s["optimize_s"] > 0 else 0
     busy = ", ".join("worker %d %.0f%% busy, %.0f%% of the optimisation (%d evals)"

@@ -806,6 +806,7 @@ static void report_workers(co_job *j)
                                 .evals = w->evals,
                                 .evals_per_s = (double)w->evals / age,
                                 .busy = w->busy_s / age,
+                                .busy_loop = co_pool_loop_busy(j->pool, w, now),
                                 .heard_s = now - w->last_heard,
                                 .lost = w->lost};
         snprintf(r->host, sizeof r->host, "%.63s", w->host);
@@ -1136,12 +1137,16 @@ static lm_status job_stages(co_job *j, co_job_summary *summary)
     /* The time limit counts set-up too; the loop gets what is left of it. */
     j->loop_start_s = seconds_since(&j->t0);
     j->loop_cpu_s = process_cpu_s();
+    if (j->pool)
+        co_pool_mark_loop(j->pool);
     if (j->o.time_limit_s > 0) {
         double left = j->o.time_limit_s - j->loop_start_s;
         j->loop_limit_s = j->rep.time_limit_s = left > 1e-3 ? left : 1e-3;
     }
     const char *reason = NULL;
     st = run_loop(j, &reason);
+    if (j->pool)
+        co_pool_mark_loop_end(j->pool);
     int suspended = st == LM_OK && strcmp(reason, "suspended") == 0;
     if (st == LM_OK && !suspended && j->validate_every)
         st = validate_final(j);

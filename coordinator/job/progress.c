@@ -116,9 +116,10 @@ static void json_workers(FILE *fp, const co_reporter *r)
         fprintf(fp,
                 ",\"views\":[%" PRIu32 ",%" PRIu32 "],\"views_stride\":%" PRIu32
                 ",\"evals\":%" PRIu64
-                ",\"evals_per_s\":%.1f,\"busy\":%.3f,\"last_heard_s\":%.2f,\"lost\":%s}",
+                ",\"evals_per_s\":%.1f,\"busy\":%.3f,\"busy_loop\":%.3f,\"last_heard_s\":%.2f,"
+                "\"lost\":%s}",
                 w->first, w->count, w->stride ? w->stride : 1, w->evals, w->evals_per_s, w->busy,
-                w->heard_s, w->lost ? "true" : "false");
+                w->busy_loop, w->heard_s, w->lost ? "true" : "false");
     }
     fputc(']', fp);
 }
@@ -340,8 +341,9 @@ static void human_workers(FILE *fp, const co_reporter *r)
         lm_view_deal_text((lm_view_deal){w->first, w->count, w->stride}, views, sizeof views);
         fprintf(fp,
                 "worker %" PRIu32 ": %s pid %" PRIu32 ", views %s, %" PRIu64
-                " evaluations, %.0f%% busy%s\n",
-                w->id, w->host, w->pid, views, w->evals, 100.0 * w->busy, w->lost ? " (lost)" : "");
+                " evaluations, %.0f%% busy (%.0f%% of the optimisation)%s\n",
+                w->id, w->host, w->pid, views, w->evals, 100.0 * w->busy, 100.0 * w->busy_loop,
+                w->lost ? " (lost)" : "");
     }
 }
 

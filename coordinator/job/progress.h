@@ -27,7 +27,9 @@ typedef struct co_worker_report {
     uint64_t evals;                /* patches it evaluated for the job */
     double evals_per_s;            /* since it joined */
     double busy;                   /* fraction of that time spent evaluating */
-    double heard_s;                /* seconds since it was last heard */
+    double busy_loop; /* fraction of the optimisation loop's time (since it began, or the worker
+                         joined) spent evaluating: co_pool_loop_busy */
+    double heard_s;   /* seconds since it was last heard */
     int lost;
 } co_worker_report;
 

@@ -218,6 +218,29 @@ void co_pool_set_job_evals(co_pool *p, uint64_t evals)
     p->job_evals = evals;
 }
 
+void co_pool_mark_loop(co_pool *p)
+{
+    p->loop_t0 = co_pool_now();
+    for (uint32_t i = 0; i < p->n; i++) {
+        p->w[i]->loop_busy0 = p->w[i]->busy_s;
+        p->w[i]->loop_from = p->loop_t0;
+    }
+}
+
+void co_pool_mark_loop_end(co_pool *p)
+{
+    p->loop_t1 = co_pool_now();
+}
+
+double co_pool_loop_busy(const co_pool *p, const co_worker *w, double now)
+{
+    double end = p->loop_t1 > 0 && p->loop_t1 < now ? p->loop_t1 : now;
+    end = w->lost && w->last_heard < end ? w->last_heard : end;
+    if (!(w->loop_from > 0) || end - w->loop_from < 1e-3)
+        return 0.0;
+    return (w->busy_s - w->loop_busy0) / (end - w->loop_from);
+}
+
 /* ---- sending --------------------------------------------------------------------------------- */
 
 lm_status co_pool_send(co_pool *p, co_worker *w, uint64_t req, uint64_t seq,
@@ -267,12 +290,19 @@ uint64_t co_pool_arm(co_pool *p, co_worker *w)
     return w->want;
 }
 
+void co_pool_arm_load(co_worker *w, uint64_t req)
+{
+    co_pool_arm_req(w, req);
+    w->loading = 1;
+}
+
 void co_pool_disarm(co_worker *w)
 {
     if (w->replied)
         lm_wire_in_free(&w->reply);
     w->replied = 0;
     w->want = 0;
+    w->loading = 0;
 }
 
 /* ---- pumping and waiting -----------------------------------------------------------------------

@@ -35,11 +35,17 @@
 #include "proto/wire.h"
 
 #define CO_POOL_SILENCE_S 3.0 /* a worker silent this long is presumed dead */
+/* ... but one loading a job (a set-up request in flight: the assets, the Job that unpacks the
+ * original, the Assign that renders its targets: tens of seconds for a 2M-triangle original, more
+ * on a loaded machine) only after this long: its beats may be late then, and losing it costs the
+ * whole load again (co_pool_arm_load). A worker hung while loading is still caught. */
+#define CO_POOL_LOAD_SILENCE_S 60.0
 /* losses (exited processes, silence, stuck requests) are looked for at most this often: their
  * limits are seconds, and a local worker's end shows at once on its link */
 #define CO_POOL_CHECK_S 0.02
 #define CO_POOL_END_LINGER_MS 2000 /* how long EndJob messages may take to go out on close */
 #define CO_POOL_REQUEST_S 120.0 /* a worker that leaves a request unanswered this long is stuck */
+#define CO_POOL_LOAD_REQUEST_S 900.0 /* the same for a set-up request (co_pool_arm_load) */
 /* How long a local worker looks for the next request after each reply before it sleeps
  * (lumesh-worker --spin-us), where the local workers fit on this machine's processors; 0 where
  * they do not (a worker waiting awake would take a processor from another). Why 150:
@@ -66,9 +72,13 @@ typedef struct co_worker {
     uint32_t first, count, stride; /* views assigned (an lm_view_deal) */
     uint64_t evals;                /* patches evaluated for the job */
     double busy_s;                 /* seconds spent evaluating them (the worker's own count) */
+    /* the optimisation loop's share (co_pool_mark_loop): busy_s then, and since when it counts
+       (the loop's start, or its join when later); loop_from 0 = the loop has not begun */
+    double loop_busy0, loop_from;
     /* the request in flight */
     uint64_t want; /* req armed; 0 = none */
     double armed_at;
+    int loading; /* the request armed is a set-up one (co_pool_arm_load): the load limits apply */
     int replied;
     lm_wire_in reply;
     uint64_t lane_group; /* --lanes remote: the group whose start mesh it was sent (0 = none) */
@@ -134,6 +144,10 @@ uint64_t co_pool_next_req(co_pool *p);
 void co_pool_arm_req(co_worker *w, uint64_t req);
 /* A fresh request number armed in w's slot. */
 uint64_t co_pool_arm(co_pool *p, co_worker *w);
+/* As co_pool_arm_req, for a request that sets w up for a job (assets, Job, Assign): until it is
+ * answered w is lost only after CO_POOL_LOAD_SILENCE_S of silence (CO_POOL_LOAD_REQUEST_S
+ * unanswered), not CO_POOL_SILENCE_S (CO_POOL_REQUEST_S). */
+void co_pool_arm_load(co_worker *w, uint64_t req);
 /* Release w's reply and disarm its slot. */
 void co_pool_disarm(co_worker *w);
 
@@ -145,6 +159,14 @@ void co_pool_failed(co_pool *p, co_worker *w, const char *what);
 void co_pool_fence(co_pool *p, co_worker *w, const char *what);
 /* What status queries report as the job's evaluations so far. */
 void co_pool_set_job_evals(co_pool *p, uint64_t evals);
+/* The optimisation loop begins now: each worker's busy share over the loop counts from here
+ * (workers that join later: from their join), co_pool_loop_busy. */
+void co_pool_mark_loop(co_pool *p);
+/* The optimisation loop has ended now: the shares stop counting. */
+void co_pool_mark_loop_end(co_pool *p);
+/* w's share of the loop's wall time (since the loop began or w joined, until the loop's end, now
+ * or, lost, when last heard) spent evaluating; 0 before co_pool_mark_loop. */
+double co_pool_loop_busy(const co_pool *p, const co_worker *w, double now);
 
 /* Seconds on the pool's clock (monotonic). */
 double co_pool_now(void);

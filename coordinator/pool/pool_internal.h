@@ -55,8 +55,9 @@ struct co_pool {
     char (*blocked)[160]; /* "host:pid" of blocklisted workers */
     uint32_t n_blocked;
     co_zap zap;
-    uint64_t job_evals; /* for status queries: evaluations of the job so far (views backend) */
-    co_link *links;     /* of the local workers */
+    double loop_t0, loop_t1; /* co_pool_mark_loop's, co_pool_mark_loop_end's times; 0 = not yet */
+    uint64_t job_evals;      /* for status queries: evaluations of the job so far (views backend) */
+    co_link *links;          /* of the local workers */
     uint32_t n_links, cap_links, links_made;
     struct pollfd *poll_fds; /* [cap_links + 1]: the links, then the socket's ZMQ_FD */
     /* The socket's descriptor signals only changes (ZeroMQ's ZMQ_FD): it can be slept on only

@@ -132,6 +132,7 @@ static lm_status on_hello(co_pool *p, const lm_wire_frame *f, const Lumesh__Hell
     w->pid = h->pid;
     w->join = h->join;
     w->joined = w->last_heard = co_pool_now();
+    w->loop_from = p->loop_t0 > 0 ? w->joined : 0.0; /* joined in the loop: counts from now */
     if (!p->renderer_id[0])
         copy_str(p->renderer_id, sizeof p->renderer_id, w->renderer_id);
     Lumesh__Welcome wel = LUMESH__WELCOME__INIT;
@@ -273,9 +274,13 @@ void co_pool_notice_losses(co_pool *p, double now)
         co_worker *w = p->w[i];
         if (w->lost)
             continue;
-        if (now - w->last_heard > CO_POOL_SILENCE_S)
-            co_pool_lose(p, w, "silent for too long (presumed dead)");
-        else if (w->want && !w->replied && now - w->armed_at > CO_POOL_REQUEST_S)
+        int loading = w->loading && w->want && !w->replied; /* a set-up request in flight */
+        if (now - w->last_heard > (loading ? CO_POOL_LOAD_SILENCE_S : CO_POOL_SILENCE_S))
+            co_pool_lose(p, w,
+                         loading ? "silent for too long while loading the job (presumed dead)"
+                                 : "silent for too long (presumed dead)");
+        else if (w->want && !w->replied &&
+                 now - w->armed_at > (loading ? CO_POOL_LOAD_REQUEST_S : CO_POOL_REQUEST_S))
             co_pool_lose(p, w, "no answer to a request for too long (presumed stuck)");
     }
 }

@@ -80,8 +80,10 @@ static lm_status step_all(co_remote *r, co_worker **ws, uint32_t n, step_fn step
 {
     lm_status st = LM_OK;
     for (uint32_t i = 0; i < n && st == LM_OK; i++)
-        if (!ws[i]->lost)
-            st = step(r, ws[i], co_pool_arm(r->pool, ws[i]));
+        if (!ws[i]->lost) {
+            co_pool_arm_load(ws[i], co_pool_next_req(r->pool)); /* the set-up's limits */
+            st = step(r, ws[i], ws[i]->want);
+        }
     if (st == LM_OK)
         st = co_remote_await(r, ws, n);
     for (uint32_t i = 0; i < n && st == LM_OK; i++) {
@@ -139,7 +141,7 @@ static lm_status send_needed(co_remote *r, co_worker *w)
                            w->id);
         st = send_asset(r, w, a, req);
     }
-    co_pool_arm_req(w, req);
+    co_pool_arm_load(w, req);
     return st;
 }
 
@@ -147,8 +149,10 @@ lm_status co_remote_ship(co_remote *r, co_worker **ws, uint32_t n)
 {
     lm_status st = LM_OK;
     for (uint32_t i = 0; i < n && st == LM_OK; i++)
-        if (!ws[i]->lost)
-            st = offer(r, ws[i], co_pool_arm(r->pool, ws[i]));
+        if (!ws[i]->lost) {
+            co_pool_arm_load(ws[i], co_pool_next_req(r->pool));
+            st = offer(r, ws[i], ws[i]->want);
+        }
     for (int round = 0; round < 2 && st == LM_OK; round++) {
         st = co_remote_await(r, ws, n);
         for (uint32_t i = 0; i < n && st == LM_OK; i++) {

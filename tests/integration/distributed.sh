@@ -161,6 +161,11 @@ assert sorted(w["views"][0] for w in ws) == [0, 1] and all(w["views"][1] == 6 fo
 assert all(w["views_stride"] == 2 for w in ws), ws
 assert all(w["evals"] == summary["evals"] and not w["lost"] for w in ws), ws
 assert any("workers" in r for r in recs if r["type"] == "progress"), "no workers in progress"
+# busy_loop: the share of the optimisation loop spent evaluating; its seconds are some of the
+# seconds the life share counts
+for w in ws:
+    assert 0 < w["busy_loop"] <= 1.05, w
+    assert w["busy_loop"] * summary["optimize_s"] <= w["busy"] * summary["wall_s"] + 0.05, (w, summary)
 PY
 
 # -- cluster mode: the job waits for its first worker, a second joins mid-run --

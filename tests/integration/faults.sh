@@ -10,6 +10,8 @@
 # that fail 3 times are blocklisted. With --lanes remote: a worker SIGKILLed with a lane in flight,
 # a worker that dies after taking a group's start as a delta (its replacement gets it whole),
 # and one whose lane results do not decode (fenced at once), leave the bytes of isolated lanes.
+# Workers silent for longer than the liveness limit while they load the job and render its
+# targets (the first grid and each regrid's) are not lost, and the bytes are in-process ones.
 # Prints the detection time of each loss it causes.
 set -uo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
@@ -267,5 +269,23 @@ assert 3 in ids, ("no replacement worker", ids)
 assert l["groups"] >= 3 and l["starts_delta"] >= 1 and l["starts_full"] >= 3, l
 assert l["start_bytes"] < l["start_record_bytes"] * (l["starts_full"] + l["starts_delta"]) / 2, l
 PY
+
+# -- slow, silent loads: each worker takes S s more to load the job and S s more to render its
+# targets, with no heartbeat meanwhile (LUMESH_WORKER_FAULT=slow-load=S; from its first load the
+# hook also cuts the worker's own limit on the coordinator's silence to S - 1 s), on the first grid
+# and on every regrid; neither side may give the other up (the coordinator's limit while a worker
+# loads is CO_POOL_LOAD_SILENCE_S), so no worker is lost and the bytes are in-process ones --
+sjob=("${job[@]}" --regrid-every 1000) # 2 regrids (1 in the sanitizer stage)
+slow=5
+[ "$light" = 1 ] && slow=8 # the sanitizer stage's coordinator is slower between its messages
+"$LUMESH" optimize "$bunny" -o "$tmp/ref-slow.glb" "${sjob[@]}" --workers 0 2>"$tmp/ref.err" ||
+  fail "reference run, regrid every 1000: $(tail -3 "$tmp/ref.err")"
+LUMESH_WORKER_FAULT="slow-load=$slow" "$LUMESH" optimize "$bunny" -o "$tmp/slow.glb" "${sjob[@]}" \
+  --workers 2 2>"$tmp/slow.err" || fail "the run with slow loads failed: $(tail -2 "$tmp/slow.err")"
+checks=$((checks + 1))
+cmp -s "$tmp/ref-slow.glb" "$tmp/slow.glb" || fail "slow loads: the output differs from in process"
+checks=$((checks + 1))
+! grep -Eq "lost:|silent for|worker 3 joined" "$tmp/slow.err" ||
+  fail "slow loads: a worker was given up: $(grep -E "lost:|silent for" "$tmp/slow.err" | head -2)"
 
 finish

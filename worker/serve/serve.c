@@ -355,6 +355,10 @@ static lm_status serve_loop(wk_server *s)
         if (st == LM_OK && f.data) {
             s->last_heard = wk_serve_now();
             st = handle(s, &f, &ended);
+            /* The coordinator's silence counts from here: while a message is handled (loading
+             * the original, rendering targets: minutes on a large asset and a loaded machine)
+             * nothing is read, so that time says nothing of the coordinator. */
+            s->last_heard = wk_serve_now();
         }
         lm_wire_frame_release(&f);
         if (st == LM_OK && ended && s->o.once)

@@ -19,7 +19,7 @@
 struct wk_beat {
     pthread_t thread;
     void *sock;
-    atomic_int run, busy;
+    atomic_int run, busy, paused; /* paused: no beats (a test hook's silent worker) */
     uint32_t rng;
 };
 
@@ -41,7 +41,7 @@ static void *beat_main(void *arg)
         lm_wire_frame f; /* anything the coordinator says to this socket is dropped */
         if (lm_wire_recv(b->sock, 0, (int)(1000.0 * BEAT_S * j), &f) == LM_OK)
             lm_wire_frame_release(&f);
-        if (atomic_load(&b->run) && beat_once(b) != LM_OK)
+        if (atomic_load(&b->run) && !atomic_load(&b->paused) && beat_once(b) != LM_OK)
             lm_clear_error(); /* no coordinator now: the next beat will try again */
     }
     return NULL;
@@ -81,6 +81,12 @@ void wk_beat_busy(wk_server *s, int busy)
 {
     if (s->beat)
         atomic_store(&s->beat->busy, busy);
+}
+
+void wk_beat_pause(wk_server *s, int paused)
+{
+    if (s->beat)
+        atomic_store(&s->beat->paused, paused);
 }
 
 void wk_beat_stop(wk_server *s)

@@ -85,6 +85,8 @@ lm_status wk_serve_secure(wk_server *s, void *sock);
 /* serve_beat.c */
 lm_status wk_beat_start(wk_server *s, const char *id);
 void wk_beat_busy(wk_server *s, int busy);
+/* Stop (1) or resume (0) the beats: only the test hook "slow-load" (serve_job.c) does. */
+void wk_beat_pause(wk_server *s, int paused);
 void wk_beat_stop(wk_server *s);
 
 /* serve_health.c */
@@ -104,6 +106,8 @@ void wk_serve_assets_free(wk_server *s);
 /* serve_job.c */
 lm_status wk_serve_job(wk_server *s, const lm_msg *m);
 lm_status wk_serve_assign(wk_server *s, const lm_msg *m);
+/* The test hook "slow-load=S": S, or 0 without it (serve_job.c). */
+double wk_serve_slow_load_s(const wk_server *s);
 lm_status wk_serve_change(wk_server *s, const lm_msg *m);
 lm_status wk_serve_request(wk_server *s, const lm_msg *m);
 void wk_serve_end_job(wk_server *s);

@@ -70,9 +70,40 @@ static lm_status take_views(wk_server *s, const Lumesh__Job *j)
     return st;
 }
 
+/* Fault injection for tests (LUMESH_WORKER_FAULT, read only by builds with LUMESH_TEST_HOOKS):
+ * "slow-load=S" makes loading the job's original (Job) and rendering its targets (Assign) take S
+ * more seconds, silent: no heartbeats meanwhile (a worker whose load outlasts the liveness limit,
+ * on a loaded machine). From its first load on, the worker's own limit on the coordinator's
+ * silence is also cut to S - 1 s (S > 2), so that the time spent loading must not count as the
+ * coordinator's silence (serve.c); the set-up before it (a start made, a sanitizer build) keeps
+ * the usual limit. */
+double wk_serve_slow_load_s(const wk_server *s)
+{
+    static const char kind[] = "slow-load=";
+    if (!s->fault || strncmp(s->fault, kind, sizeof kind - 1))
+        return 0.0;
+    double v = strtod(s->fault + sizeof kind - 1, NULL);
+    return v > 0 && v < 3600 ? v : 0.0;
+}
+
+static void slow_load(wk_server *s)
+{
+    double d = wk_serve_slow_load_s(s);
+    if (!(d > 0))
+        return;
+    if (d > 2.0)
+        s->o.silence_s = d - 1.0;
+    wk_beat_pause(s, 1);
+    struct timespec ts = {(time_t)d, (long)((d - (double)(time_t)d) * 1e9)};
+    while (nanosleep(&ts, &ts) != 0)
+        ;
+    wk_beat_pause(s, 0);
+}
+
 lm_status wk_serve_job(wk_server *s, const lm_msg *m)
 {
     wk_serve_end_job(s);
+    slow_load(s);
     const lm_asset *a = NULL;
     lm_status st = take_views(s, m->job);
     if (st == LM_OK)
@@ -103,6 +134,7 @@ lm_status wk_serve_assign(wk_server *s, const lm_msg *m)
 {
     const Lumesh__Assign *a = m->assign;
     drop_views(s);
+    slow_load(s);
     lm_status st = LM_OK;
     if (!s->original || a->job != s->job)
         st = lm_fail(LM_E_INVALID, "views of job %llu assigned, but the job is %llu",

@@ -83,17 +83,24 @@ void wk_cpu_view_init(const lm_view *v, wk_cpu_view *out)
     out->height = v->height;
 }
 
+/* Clip coordinates of one position; the sum of (c - c) over them: 0 when all are finite, NaN
+ * otherwise. The one projection of the rasteriser (triangles' corners and vertices alike). */
+static inline double project_one(const double *m, const float pos[3], double c[4])
+{
+    double p0 = pos[0], p1 = pos[1], p2 = pos[2], finite = 0.0;
+    for (int r = 0; r < 4; r++) {
+        c[r] = m[r] * p0 + m[4 + r] * p1 + m[8 + r] * p2 + m[12 + r];
+        finite += c[r] - c[r]; /* NaN once any is infinite or NaN */
+    }
+    return finite;
+}
+
 /* Clip coordinates of the triangle's corners; 0 when not finite. */
 static int project_corners(const wk_cpu_view *v, const lm_tri_data *t, corner *c)
 {
-    const double *m = v->m;
     double finite = 0.0;
     for (int k = 0; k < 3; k++) {
-        double p0 = t->c[k].pos[0], p1 = t->c[k].pos[1], p2 = t->c[k].pos[2];
-        for (int r = 0; r < 4; r++) {
-            c[k].c[r] = m[r] * p0 + m[4 + r] * p1 + m[8 + r] * p2 + m[12 + r];
-            finite += c[k].c[r] - c[k].c[r]; /* NaN once any is infinite or NaN */
-        }
+        finite += project_one(v->m, t->c[k].pos, c[k].c);
         for (int j = 0; j < 3; j++)
             c[k].beta[j] = j == k ? 1.0 : 0.0;
     }
@@ -261,6 +268,26 @@ int wk_cpu_tri_setup(const wk_cpu_view *v, const lm_tri_data *t, wk_cpu_sub *out
         k += setup_sub(v, &poly[cur][0], &poly[cur][i], &poly[cur][i + 1], base | (uint32_t)(i - 1),
                        &out[k]);
     return k;
+}
+
+void wk_cpu_vcorner_make(const wk_cpu_view *v, const float pos[3], wk_cpu_vcorner *out)
+{
+    corner c;
+    wcorner w;
+    out->inside = project_one(v->m, pos, c.c) == 0.0 && outcode(&c) == 0 && to_window(v, &c, &w);
+    out->x = out->inside ? w.x : 0;
+    out->y = out->inside ? w.y : 0;
+}
+
+int wk_cpu_tri_covers_none(const wk_cpu_view *v, const wk_cpu_vcorner *c0, const wk_cpu_vcorner *c1,
+                           const wk_cpu_vcorner *c2)
+{
+    if (!c0->inside || !c1->inside || !c2->inside)
+        return 0; /* clipped, outside or not finite: the full setup decides */
+    wcorner w[3] = {{.x = c0->x, .y = c0->y}, {.x = c1->x, .y = c1->y}, {.x = c2->x, .y = c2->y}};
+    int64_t area2 = (w[1].x - w[0].x) * (w[2].y - w[0].y) - (w[1].y - w[0].y) * (w[2].x - w[0].x);
+    wk_cpu_sub box;
+    return area2 == 0 || !pixel_box(v, w, &box);
 }
 
 uint64_t wk_cpu_depth_bound(double z)

@@ -64,6 +64,23 @@ void wk_cpu_view_init(const lm_view *v, wk_cpu_view *out);
  * no pixel centre of the view for certain: outside, degenerate or not finite). */
 int wk_cpu_tri_setup(const wk_cpu_view *v, const lm_tri_data *t, wk_cpu_sub *out);
 
+/* A vertex in a view, for the test below: its snapped window position, computed exactly as
+ * wk_cpu_tri_setup computes a corner's, when it lies inside every clip plane (else inside = 0). */
+typedef struct wk_cpu_vcorner {
+    int64_t x, y;
+    int inside;
+} wk_cpu_vcorner;
+
+void wk_cpu_vcorner_make(const wk_cpu_view *v, const float pos[3], wk_cpu_vcorner *out);
+
+/* 1 when the triangle with these corners (as wk_cpu_vcorner_make made them from its corners'
+ * positions) covers no pixel centre of the view: wk_cpu_tri_setup would return 0 for it, by the
+ * same arithmetic. 0 when it may cover one, or is clipped: the caller runs wk_cpu_tri_setup. A
+ * large mesh's vertices are projected once per view instead of once per corner, and its many
+ * triangles between pixel centres are dropped before their records are made. */
+int wk_cpu_tri_covers_none(const wk_cpu_view *v, const wk_cpu_vcorner *c0, const wk_cpu_vcorner *c1,
+                           const wk_cpu_vcorner *c2);
+
 /* Unbiased edge functions of a sub at pixel (x, y) (>= 0 where it covers the pixel). */
 static inline void wk_cpu_sub_edges(const wk_cpu_sub *s, int x, int y, int64_t e[3])
 {

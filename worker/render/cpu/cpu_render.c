@@ -42,6 +42,34 @@ static const lm_tri_data *source_tri(const wk_cpu_source *src, uint32_t id, lm_t
     return src->rep->alive[id] ? &src->rep->tris[id] : NULL;
 }
 
+/* A mesh source's vertices in view h (v->vc), for wk_cpu_tri_covers_none; 0 when out of memory
+ * (every triangle then takes the full setup: the same image, slower). */
+static int project_vertices(wk_cpu_views *v, uint32_t h, const lm_mesh *m)
+{
+    if (m->n_verts > v->cap_vc) {
+        wk_cpu_vcorner *vc = realloc(v->vc, (size_t)m->n_verts * sizeof *vc);
+        if (!vc)
+            return 0;
+        v->vc = vc;
+        v->cap_vc = m->n_verts;
+    }
+    for (uint32_t i = 0; i < m->n_verts; i++)
+        wk_cpu_vcorner_make(&v->cviews[h], m->pos[i], &v->vc[i]);
+    return 1;
+}
+
+/* 1 when mesh triangle id is alive and may cover a pixel centre of view h (vertices projected). */
+static int mesh_tri_may_cover(const wk_cpu_views *v, uint32_t h, const lm_mesh *m, uint32_t id)
+{
+    if (!m->tri_alive[id])
+        return 0;
+    const lm_tri *t = &m->tris[id];
+    const wk_cpu_vcorner *c0 = &v->vc[m->wedges[t->w[0]].vertex];
+    const wk_cpu_vcorner *c1 = &v->vc[m->wedges[t->w[1]].vertex];
+    const wk_cpu_vcorner *c2 = &v->vc[m->wedges[t->w[2]].vertex];
+    return !wk_cpu_tri_covers_none(&v->cviews[h], c0, c1, c2);
+}
+
 static void draw_all(wk_cpu_views *v, uint32_t h, const wk_cpu_source *src)
 {
     wk_cpu_keys k = wk_cpu_view_keys(v, h);
@@ -55,7 +83,12 @@ static void draw_all(wk_cpu_views *v, uint32_t h, const wk_cpu_source *src)
     wk_cpu_sub subs[WK_CPU_MAX_SUBS];
     lm_tri_data tmp;
     size_t n_ids = source_ids(src);
+    /* a mesh (the original: its targets) has its vertices projected once, and its triangles that
+       cover no pixel centre dropped before their records are made: the same subs are drawn */
+    int early = src->mesh && project_vertices(v, h, src->mesh);
     for (size_t id = 0; id < n_ids; id++) {
+        if (early && !mesh_tri_may_cover(v, h, src->mesh, (uint32_t)id))
+            continue;
         const lm_tri_data *t = source_tri(src, (uint32_t)id, &tmp);
         int n = t ? wk_cpu_tri_setup(&v->cviews[h], t, subs) : 0;
         for (int i = 0; i < n; i++)

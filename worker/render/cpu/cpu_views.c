@@ -90,6 +90,7 @@ static void cv_destroy(wk_views_core *c)
     wk_cpu_materials_free(&v->mats[1]);
     wk_cpu_eval_free(&v->eval, v->core.views.count);
     wk_cpu_subcache_free(&v->subcache);
+    free(v->vc);
     free(v->keys);
     free(v->tmax);
     free(v->second);

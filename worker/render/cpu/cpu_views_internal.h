@@ -60,6 +60,9 @@ typedef struct wk_cpu_views {
     uint8_t *rgba; /* [n_views * plane * 4] colours of the last full render */
     float *texf;   /* [n_views * plane * 3] texture factors of the visible surface (NULL: none) */
     wk_cpu_subcache subcache; /* subs of the current triangles */
+    wk_cpu_vcorner
+        *vc; /* [cap_vc] a mesh source's vertices in the view being drawn (cpu_render.c) */
+    size_t cap_vc;
     wk_cpu_eval eval;
 } wk_cpu_views;
 
