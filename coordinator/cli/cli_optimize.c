@@ -32,7 +32,7 @@ static const char co_optimize_help[] =
     "                       [--energy image|geometric|image+geometric] [--c-rep C]\n"
     "                       [--geo-improvements LIST] [--geo-start-multiple K]\n"
     "                       [--validate-every K [--validate-views N] [--validate-patience P]]\n"
-    "                       [--quality draft|good|best] [--view-schedule fixed|grow]\n"
+    "                       [--quality draft|good|best] [--view-schedule fixed|grow|extend]\n"
     "                       [--bake normal,color [--bake-size N] [--bake-every N]]\n"
     "\n"
     "Improve a coarse mesh so that its rendered images match the original's from many viewpoints\n"
@@ -92,7 +92,14 @@ static const char co_optimize_help[] =
     "                          and 1.12x as large as the last (30 of 208x208, 45 of 233x233, 68\n"
     "                          of 260x260): more pixels for more compute; the geometric term\n"
     "                          grows with the pixels, keeping its share of the energy. Part of\n"
-    "                          the job, like the seed (a --resume must give the same --evals)\n"
+    "                          the job, like the seed (a --resume must give the same --evals).\n"
+    "                          extend: the views above up to %u evaluations, then %u stages\n"
+    "                          at %u, %u, %u, %u evaluations whatever --evals\n"
+    "                          (45 of 233x233, 68 of 260x260, then 1.5x as many of 260x260\n"
+    "                          each stage): a run with a larger --evals passes through the\n"
+    "                          states of one with a smaller one, and --resume with a larger\n"
+    "                          --evals continues it. Pair it with --validate-every to keep the\n"
+    "                          best mesh on views it never fits\n"
     "  --seed S                random seed (default 1)\n"
     "  --checkpoint FILE       write checkpoints (atomically) to FILE at iteration boundaries,\n"
     "                          and when the run stops\n"
@@ -284,7 +291,8 @@ static int parse_schedule(void *to, const char *val)
 {
     co_job_options *o = to;
     if (co_schedule_parse(val, &o->view_schedule) != LM_OK)
-        return co_cli_usage_error(CMD, "--view-schedule expects fixed or grow, got '%s'", val);
+        return co_cli_usage_error(CMD, "--view-schedule expects fixed, grow or extend, got '%s'",
+                                  val);
     return -1;
 }
 
@@ -370,7 +378,9 @@ static void usage(FILE *f)
             (unsigned long long)CO_JOB_DEFAULT_EVALS, (unsigned long long)d->evals, d->views,
             d->size, d->size, (unsigned long long)g->evals, g->views, g->size, g->size,
             (unsigned long long)b->evals, b->views, b->size, b->size, CO_SCHEDULE_STAGES,
-            CO_SCHEDULE_STAGES, CO_SCHEDULE_STAGES, CO_JOB_DEFAULT_CHECKPOINT_S,
+            CO_SCHEDULE_STAGES, CO_SCHEDULE_STAGES, CO_SCHEDULE_EXTEND_BASE,
+            CO_SCHEDULE_EXTEND_STAGES - 1, CO_SCHEDULE_EXTEND_BASE, CO_SCHEDULE_EXTEND_BASE * 2,
+            CO_SCHEDULE_EXTEND_BASE * 4, CO_SCHEDULE_EXTEND_BASE * 8, CO_JOB_DEFAULT_CHECKPOINT_S,
             CO_JOB_IMAGE_START_SHARE, LM_SURFACE_SHARE,
             (unsigned long long)CO_JOB_DEFAULT_REGRID_EVERY, CO_GEO_DEFAULT_C_REP,
             CO_GEO_START_MULTIPLE, (unsigned long long)CO_JOB_DEFAULT_VALIDATE_EVERY,

@@ -10,6 +10,7 @@
 #include "common/io/atomic_file.h"
 #include "common/io/mesh_io.h"
 #include "common/view.h"
+#include "coordinator/job/schedule.h"
 
 static const char co_magic[8] = {'L', 'U', 'M', 'E', 'S', 'H', 'C', 'K'};
 
@@ -343,9 +344,10 @@ static lm_status verify_key(const char *path, const co_checkpoint_key *got,
     CO_KEY_CHECK(validate_views, "--validate-views", PRIu32)
     CO_KEY_CHECK(validate_patience, "--validate-patience", PRIu32)
     if (got->view_schedule != want->view_schedule)
-        return lm_fail(
-            LM_E_INVALID, "checkpoint '%s' was written with --view-schedule %s, this run uses %s",
-            path, got->view_schedule ? "grow" : "fixed", want->view_schedule ? "grow" : "fixed");
+        return lm_fail(LM_E_INVALID,
+                       "checkpoint '%s' was written with --view-schedule %s, this run uses %s",
+                       path, co_schedule_name((co_view_schedule)got->view_schedule),
+                       co_schedule_name((co_view_schedule)want->view_schedule));
     CO_KEY_CHECK(schedule_evals, "--view-schedule grow over --evals", PRIu64)
 #undef CO_KEY_CHECK
     return LM_OK;

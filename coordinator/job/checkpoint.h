@@ -51,8 +51,8 @@ typedef struct co_checkpoint_key {
     uint64_t validate_every;    /* evaluations between validation checks; 0 = none (version 3) */
     uint32_t validate_views;    /* the validation views' count (0 without validation) */
     uint32_t validate_patience; /* checks without a new best before new training views */
-    uint32_t view_schedule;     /* 0: fixed views; co_view_schedule's grow (version 5) */
-    uint64_t schedule_evals;    /* the budget the grow schedule's stages are fractions of */
+    uint32_t view_schedule;     /* 0: fixed views; co_view_schedule grow or extend (version 5) */
+    uint64_t schedule_evals; /* the budget the grow schedule's stages are fractions of (else 0) */
 } co_checkpoint_key;
 
 /* initial_hash of a job that started from the image-driven simplification ("image-v1"). */

@@ -655,8 +655,11 @@ static lm_status make_key(co_job *j)
     k->validate_every = j->validate_every;
     k->validate_views = j->validate_every ? j->o.validate_views : 0;
     k->validate_patience = j->validate_patience;
-    k->view_schedule = j->o.view_schedule == CO_SCHEDULE_GROW ? (uint32_t)CO_SCHEDULE_GROW : 0;
-    k->schedule_evals = k->view_schedule ? j->o.max_evals : 0;
+    /* A schedule other than fixed is in the key; grow's stages are fractions of the budget, so the
+     * budget is too, extend's are not (a resume may extend the run). */
+    k->view_schedule =
+        co_schedule_stages(j->o.view_schedule) > 1 ? (uint32_t)j->o.view_schedule : 0;
+    k->schedule_evals = j->o.view_schedule == CO_SCHEDULE_GROW ? j->o.max_evals : 0;
     return st;
 }
 
@@ -712,7 +715,7 @@ static lm_status load_payload(void *ctx, FILE *fp)
     if (draw && !j->regrid_every)
         return lm_fail(LM_E_INVALID,
                        "checkpoint names regrid draw %" PRIu32 " of a job without one", draw);
-    if (stage >= CO_SCHEDULE_STAGES)
+    if (stage >= co_schedule_stages(j->o.view_schedule))
         return lm_fail(LM_E_INVALID, "checkpoint names view schedule stage %" PRIu32, stage);
     int other = draw != j->draw || epoch != j->val.epoch || stage != j->stage;
     j->val.epoch = epoch;

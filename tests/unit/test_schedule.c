@@ -1,8 +1,9 @@
 /* tests/unit/test_schedule.c — the view schedule and the quality presets (schedule.h, preset.h,
  * `optimize --view-schedule grow`, `--quality`): the grow schedule's stages begin at 0, 1/3 and
  * 2/3 of the budget (exact integers, any budget), each with more views and pixels, capped; the
- * fixed schedule never leaves stage 0; names parse and bad ones are refused; `good` is the job's
- * defaults exactly. */
+ * fixed schedule never leaves stage 0; the extend schedule's stages begin at fixed evaluation
+ * counts whatever the budget; names parse and bad ones are refused; `good` is the job's defaults
+ * exactly. */
 #include <stdint.h>
 #include <string.h>
 
@@ -30,6 +31,40 @@ static void test_stages(void **state)
     for (uint64_t e = 0; e < 200000; e += 997)
         assert_int_equal(co_schedule_stage(CO_SCHEDULE_FIXED, e, 100000), 0);
     assert_true(co_schedule_next(CO_SCHEDULE_FIXED, 0, 100000) == UINT64_MAX);
+}
+
+/* extend: stages at 100k, 200k, 400k, 800k evaluations whatever the budget. */
+static void test_extend_stages(void **state)
+{
+    (void)state;
+    const uint64_t budgets[] = {1000, 100000, 1000000, UINT64_MAX};
+    for (size_t i = 0; i < sizeof budgets / sizeof budgets[0]; i++) {
+        uint64_t b = budgets[i];
+        assert_int_equal(co_schedule_stage(CO_SCHEDULE_EXTEND, 99999, b), 0);
+        assert_int_equal(co_schedule_stage(CO_SCHEDULE_EXTEND, 100000, b), 1);
+        assert_int_equal(co_schedule_stage(CO_SCHEDULE_EXTEND, 399999, b), 2);
+        assert_int_equal(co_schedule_stage(CO_SCHEDULE_EXTEND, 400000, b), 3);
+        assert_int_equal(co_schedule_stage(CO_SCHEDULE_EXTEND, 800000, b), 4);
+        assert_int_equal(co_schedule_stage(CO_SCHEDULE_EXTEND, UINT64_MAX, b), 4);
+        assert_int_equal(co_schedule_next(CO_SCHEDULE_EXTEND, 0, b), 100000);
+        assert_int_equal(co_schedule_next(CO_SCHEDULE_EXTEND, 3, b), 800000);
+        assert_true(co_schedule_next(CO_SCHEDULE_EXTEND, 4, b) == UINT64_MAX);
+    }
+    assert_int_equal(co_schedule_stages(CO_SCHEDULE_EXTEND), 5);
+    assert_int_equal(co_schedule_stages(CO_SCHEDULE_GROW), 3);
+    assert_int_equal(co_schedule_stages(CO_SCHEDULE_FIXED), 1);
+    assert_int_equal(co_schedule_stages(CO_SCHEDULE_DEFAULT), 1);
+    uint32_t n;
+    int size;
+    const uint32_t want_n[] = {30, 45, 68, 101, 152};
+    const int want_size[] = {208, 233, 260, 260, 260};
+    for (uint32_t k = 0; k < 5; k++) {
+        co_schedule_views(CO_SCHEDULE_EXTEND, k, 30, 208, 256, 4096, &n, &size);
+        assert_int_equal(n, want_n[k]);
+        assert_int_equal(size, want_size[k]);
+    }
+    co_schedule_views(CO_SCHEDULE_EXTEND, 4, 100, 208, 256, 4096, &n, &size);
+    assert_int_equal(n, 256); /* capped */
 }
 
 static void test_views(void **state)
@@ -62,6 +97,9 @@ static void test_names(void **state)
     assert_int_equal(s, CO_SCHEDULE_GROW);
     assert_int_equal(co_schedule_parse("fixed", &s), LM_OK);
     assert_int_equal(s, CO_SCHEDULE_FIXED);
+    assert_int_equal(co_schedule_parse("extend", &s), LM_OK);
+    assert_int_equal(s, CO_SCHEDULE_EXTEND);
+    assert_string_equal(co_schedule_name(CO_SCHEDULE_EXTEND), "extend");
     assert_int_equal(co_schedule_parse("Grow", &s), LM_E_INVALID);
     assert_int_equal(co_schedule_parse(NULL, &s), LM_E_INVALID);
     co_job_quality q;
@@ -93,6 +131,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_stages),
+        cmocka_unit_test(test_extend_stages),
         cmocka_unit_test(test_views),
         cmocka_unit_test(test_names),
         cmocka_unit_test(test_good_is_the_defaults),
