@@ -335,4 +335,8 @@ void co_views_lane_stats(lm_views *v, co_lane_stats *sum)
     sum->start_bytes += a->start_bytes;
     sum->request_bytes += a->request_bytes;
     sum->start_record_bytes += a->start_record_bytes;
+    sum->queues_full += a->queues_full;
+    sum->queues_delta += a->queues_delta;
+    sum->queue_bytes += a->queue_bytes;
+    sum->queue_record_bytes += a->queue_record_bytes;
 }

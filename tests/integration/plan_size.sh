@@ -14,7 +14,7 @@ bunny="$LUMESH_TEST_DATA/cache/meshes/bunny00.off"
 scratch
 export TMPDIR="$tmp"
 export LP_NUM_THREADS=0
-job=(--evals 1500 --target-verts 300 --views 12 --size 96 --device host --start qem
+job=(--evals 2500 --target-verts 300 --views 12 --size 96 --device host --start qem
   --edges-in-flight 4)
 same() { # same NAME FILE_A FILE_B
   checks=$((checks + 1))
@@ -26,17 +26,17 @@ same() { # same NAME FILE_A FILE_B
 "$LUMESH" optimize "$bunny" -o "$tmp/p64x.glb" "${job[@]}" --lanes isolated --workers 0 \
   --edges-per-iteration 64 2>"$tmp/err" || fail "plan 64: $(tail -1 "$tmp/err")"
 same "--edges-per-iteration 64 is the default" "$tmp/p64.glb" "$tmp/p64x.glb"
-"$LUMESH" optimize "$bunny" -o "$tmp/p256.glb" "${job[@]}" --lanes isolated --workers 0 \
-  --edges-per-iteration 256 2>"$tmp/err" || fail "plan 256: $(tail -1 "$tmp/err")"
+"$LUMESH" optimize "$bunny" -o "$tmp/p4.glb" "${job[@]}" --lanes isolated --workers 0 \
+  --edges-per-iteration 4 2>"$tmp/err" || fail "plan 4: $(tail -1 "$tmp/err")"
 checks=$((checks + 1))
-cmp -s "$tmp/p64.glb" "$tmp/p256.glb" && fail "--edges-per-iteration 256 gave the bytes of 64"
+cmp -s "$tmp/p64.glb" "$tmp/p4.glb" && fail "--edges-per-iteration 4 gave the bytes of 64"
 
 # the same plan on 2 workers running whole lanes: the same bytes; the queue went once per group and
 # worker, mostly as deltas
-"$LUMESH" optimize "$bunny" -o "$tmp/p256-r2.glb" "${job[@]}" --lanes remote --workers 2 \
-  --edges-per-iteration 256 --json >"$tmp/r2.jsonl" 2>"$tmp/err" ||
-  fail "plan 256, remote lanes: $(tail -1 "$tmp/err")"
-same "plan 256, remote lanes on 2 workers" "$tmp/p256.glb" "$tmp/p256-r2.glb"
+"$LUMESH" optimize "$bunny" -o "$tmp/p4-r2.glb" "${job[@]}" --lanes remote --workers 2 \
+  --edges-per-iteration 4 --json >"$tmp/r2.jsonl" 2>"$tmp/err" ||
+  fail "plan 4, remote lanes: $(tail -1 "$tmp/err")"
+same "plan 4, remote lanes on 2 workers" "$tmp/p4.glb" "$tmp/p4-r2.glb"
 checks=$((checks + 1))
 python3 - "$tmp/r2.jsonl" <<'EOF' || fail "lanes_remote's queue counts: $(grep -o '"lanes_remote":{[^}]*}' "$tmp/r2.jsonl")"
 import json, sys
@@ -47,15 +47,15 @@ assert s["queue_bytes"] < s["queue_record_bytes"], s
 EOF
 
 # resumed with its plan: the whole run's bytes; with another or none: refused
-"$LUMESH" optimize "$bunny" -o "$tmp/half.glb" "${job[@]}" --evals 600 --lanes isolated \
-  --workers 0 --edges-per-iteration 256 --checkpoint "$tmp/ck" 2>"$tmp/err" ||
-  fail "plan 256, half: $(tail -1 "$tmp/err")"
+"$LUMESH" optimize "$bunny" -o "$tmp/half.glb" "${job[@]}" --evals 1000 --lanes isolated \
+  --workers 0 --edges-per-iteration 4 --checkpoint "$tmp/ck" 2>"$tmp/err" ||
+  fail "plan 4, half: $(tail -1 "$tmp/err")"
 "$LUMESH" optimize "$bunny" -o "$tmp/res.glb" "${job[@]}" --lanes remote --workers 2 \
-  --edges-per-iteration 256 --resume "$tmp/ck" 2>"$tmp/err" ||
-  fail "plan 256, resumed: $(tail -1 "$tmp/err")"
-same "plan 256, resumed on remote lanes" "$tmp/p256.glb" "$tmp/res.glb"
+  --edges-per-iteration 4 --resume "$tmp/ck" 2>"$tmp/err" ||
+  fail "plan 4, resumed: $(tail -1 "$tmp/err")"
+same "plan 4, resumed on remote lanes" "$tmp/p4.glb" "$tmp/res.glb"
 expect_fail_line "$LUMESH" optimize "$bunny" -o "$tmp/x.glb" "${job[@]}" --lanes isolated \
-  --workers 0 --edges-per-iteration 128 --resume "$tmp/ck"
+  --workers 0 --edges-per-iteration 8 --resume "$tmp/ck"
 expect_fail_line "$LUMESH" optimize "$bunny" -o "$tmp/x.glb" "${job[@]}" --lanes isolated \
   --workers 0 --resume "$tmp/ck"
 for bad in 0 -3 abc 2000000 ""; do
