@@ -644,7 +644,7 @@ static lm_status run_one_detached(lm_lanes *l, uint32_t i, uint32_t n, lm_lane_r
     if (st == LM_OK)
         st = lm_lane_request_decode(buf, len, wq);
     if (st == LM_OK) {
-        lm_lane_host_run(l->host, l->o->mesh, l->o->views, wq, wr); /* failure: in wr */
+        lm_lane_host_run(l->host, l->o->mesh, l->o->views, wq, 0, wr); /* failure: in wr */
         st = lm_lane_result_encode(wr, &back, &len_back);
     }
     if (st == LM_OK)

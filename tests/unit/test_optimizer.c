@@ -82,7 +82,7 @@ static lm_status test_run_lanes(void *ctx, const lm_lane_batch *b)
         memcpy(whole + b->req_len[j], b->queue, b->queue_len);
         assert_int_equal(lm_lane_request_decode(whole, b->req_len[j] + b->queue_len, &q), LM_OK);
         free(whole);
-        assert_int_equal(lm_lane_host_run(t->host, start, t->views, &q, &r), LM_OK);
+        assert_int_equal(lm_lane_host_run(t->host, start, t->views, &q, t->groups + 1, &r), LM_OK);
         assert_int_equal(lm_lane_result_encode(&r, &buf, &len), LM_OK);
         assert_int_equal(lm_lane_result_decode(buf, len, b->n_verts, b->res[j]), LM_OK);
         *b->result_bytes += len;

@@ -37,6 +37,7 @@ struct wk_lanes {
     uint8_t *qrecord; /* its encoded section: the base of the next group's queue delta */
     size_t n_qrecord;
     uint64_t lanes_run; /* lanes taken (for the test hook crash-lanes-as) */
+    uint64_t epoch;     /* counts the starts and queues taken: names the pair for the host */
     lm_lane_request req;
     lm_lane_result res;
 };
@@ -173,6 +174,7 @@ static lm_status take_start(wk_server *s, wk_lanes *l, const Lumesh__RunLane *q,
         return st;
     }
     l->start = m;
+    l->epoch++;
     l->record = rec;
     l->n_record = n;
     l->job = s->job;
@@ -244,6 +246,7 @@ static lm_status take_queue(wk_server *s, wk_lanes *l, const Lumesh__RunLane *q,
     }
     l->queue = e;
     l->n_queue = n_e;
+    l->epoch++;
     l->qrecord = rec;
     l->n_qrecord = n;
     l->qjob = s->job;
@@ -330,7 +333,8 @@ static lm_status run_lane(wk_server *s, wk_lanes *l, const lm_msg *m)
         st = lm_fail(LM_E_FORMAT, "lane %u of a group of %u named lane %u", l->req.index,
                      l->req.n_group, q->lane);
     l->surface = q->surface;
-    if (st == LM_OK && lm_lane_host_run(l->host, l->start, &l->base, &l->req, &l->res) != LM_OK)
+    if (st == LM_OK &&
+        lm_lane_host_run(l->host, l->start, &l->base, &l->req, l->epoch, &l->res) != LM_OK)
         st = lm_fail(l->res.status, "%s", l->res.msg);
     uint8_t *buf = NULL;
     size_t len = 0;
