@@ -18,7 +18,9 @@
 #include "common/error.h"
 #include "proto/lumesh.pb-c.h"
 
-#define LM_WIRE_VERSION 4u /* 2: SetSurface, Tri.same; 3: RunLane; 4: RunLane.start_delta */
+#define LM_WIRE_VERSION                                                                            \
+    5u /* 2: SetSurface, Tri.same; 3: RunLane; 4: RunLane.start_delta;                             \
+          5: RunLane.queue, .queue_delta */
 #define LM_WIRE_MAX_FRAME (64u << 20) /* bytes of one frame */
 #define LM_WIRE_MAX_IDENTITY 256u     /* bytes of a ROUTER routing id */
 #define LM_WIRE_CHUNK (4u << 20)      /* bytes of asset data per Asset message */

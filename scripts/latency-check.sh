@@ -7,8 +7,9 @@
 # share (from the `--json` summary), then the speed-up of 2 workers over 1, and checks that both
 # runs wrote the same bytes. The issue's target: >= 1.8x with workers >= 80% busy.
 #
-#   scripts/latency-check.sh [--tris N] [--verts V] [--evals N] [--model FILE] [--delay-us D]
-#                            [--spin-us S] [--device SPEC] [--build DIR] [-- OPTIMIZE-FLAGS...]
+#   scripts/latency-check.sh [--tris N] [--verts V] [--evals N] [--model FILE] [--initial FILE]
+#                            [--delay-us D] [--spin-us S] [--device SPEC] [--build DIR]
+#                            [-- OPTIMIZE-FLAGS...]
 #
 # Flags after `--` go to both optimize runs as they are (e.g. `-- --edges-in-flight 16 --lanes
 # remote`). A worker's busy share is given twice: over its life (the --json `busy`: loading the
@@ -16,13 +17,15 @@
 # `busy_loop`: its evaluating seconds over the loop's wall time, regrids included).
 # Defaults: the issue's frog (--tris 2000000, --verts 10000, --start qem), --evals 30000, delay 50,
 # the proxy's own spin (see latency_proxy.c), --device auto, ./build. --model FILE uses a model
-# already made (gen-frog of 2M triangles takes a while). Workers are started before the job and
+# already made (gen-frog of 2M triangles takes a while); --initial FILE starts from that coarse mesh
+# (e.g. the QEM start saved once with `optimize --save-initial`) instead of `--target-verts V
+# --start qem` (the simplification of a 2M-triangle model takes a while too). Workers are started before the job and
 # join as soon as it listens (they retry); a worker that joined late shows as fewer evaluations than
 # the job's. Exit status: 0 when both runs finished with the same bytes, 1 otherwise.
 set -uo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
-tris=2000000 verts=10000 evals=30000 model="" delay=50 spin="" device=auto build="$here/build"
-usage="usage: scripts/latency-check.sh [--tris N] [--verts V] [--evals N] [--model FILE] [--delay-us D] [--spin-us S] [--device SPEC] [--build DIR] [-- OPTIMIZE-FLAGS...]"
+tris=2000000 verts=10000 evals=30000 model="" initial="" delay=50 spin="" device=auto build="$here/build"
+usage="usage: scripts/latency-check.sh [--tris N] [--verts V] [--evals N] [--model FILE] [--initial FILE] [--delay-us D] [--spin-us S] [--device SPEC] [--build DIR] [-- OPTIMIZE-FLAGS...]"
 extra=()
 while [ $# -gt 0 ]; do
   if [ "$1" = -- ]; then
@@ -36,6 +39,7 @@ while [ $# -gt 0 ]; do
   --verts) verts=$2 ;;
   --evals) evals=$2 ;;
   --model) model=$2 ;;
+  --initial) initial=$2 ;;
   --delay-us) delay=$2 ;;
   --spin-us) spin=$2 ;;
   --device) device=$2 ;;
@@ -67,6 +71,9 @@ if [ -z "$model" ]; then
     { say "gen-frog failed: $(tail -1 "$tmp/gen.err")"; exit 1; }
 fi
 
+start=(--target-verts "$verts" --start qem)
+[ -z "$initial" ] || start=(--initial "$initial")
+
 # run W — the job with W cluster workers behind the proxy; its JSON records in $tmp/wW.jsonl
 run() {
   local w=$1 port ppid job wpids=()
@@ -83,7 +90,7 @@ run() {
     wpids+=($!)
     pids+=($!)
   done
-  "$lumesh" optimize "$model" -o "$tmp/w$w.glb" --target-verts "$verts" --start qem \
+  "$lumesh" optimize "$model" -o "$tmp/w$w.glb" "${start[@]}" \
     --evals "$evals" --device "$device" --listen "tcp://127.0.0.1:$port" --json "${extra[@]}" \
     >"$tmp/w$w.jsonl" 2>"$tmp/w$w.err"
   job=$?
@@ -92,7 +99,7 @@ run() {
   [ "$job" = 0 ] || { say "the job with $w workers exited $job: $(tail -2 "$tmp/w$w.err")"; return 1; }
 }
 
-say "model $(basename "$model"), --target-verts $verts --start qem --evals $evals, device $device," \
+say "model $(basename "$model"), ${start[*]} --evals $evals, device $device," \
   "proxy ${delay} µs each way${extra[*]:+, also ${extra[*]}}"
 run 1 && run 2 || exit 1
 python3 - "$tmp/w1.jsonl" "$tmp/w2.jsonl" <<'PY'

@@ -1,5 +1,5 @@
-/* common/optimizer/lane_delta.c — a start mesh record as a delta against an earlier one
- * (lane_delta.h): the encoder (section by section) and the hostile-input-safe apply. */
+/* common/optimizer/lane_delta.c — a start mesh record or a collapse queue as a delta against an
+ * earlier one (lane_delta.h): the encoder (section by section) and the hostile-input-safe apply. */
 #include "common/optimizer/lane_delta.h"
 
 #include <stdlib.h>
@@ -152,6 +152,23 @@ static int sections(const uint8_t *r, size_t n, size_t at[SECTIONS + 1])
     return end == n;
 }
 
+/* The delta's header written, handed out (or freed when memory ran out). */
+static lm_status finish(builder *b, size_t n_base, size_t n_cur, uint8_t **out, size_t *n_out)
+{
+    close_op(b);
+    if (b->oom) {
+        free(b->p);
+        return lm_fail(LM_E_NOMEM, "out of memory for a delta");
+    }
+    u32_to(b->p, DELTA_MAGIC);
+    u32_to(b->p + 4, (uint32_t)n_base);
+    u32_to(b->p + 8, (uint32_t)n_cur);
+    u32_to(b->p + 12, b->n_ops);
+    *out = b->p;
+    *n_out = b->n;
+    return LM_OK;
+}
+
 lm_status lm_lane_delta_encode(const uint8_t *base, size_t n_base, const uint8_t *cur, size_t n_cur,
                                uint8_t **out, size_t *n_out)
 {
@@ -168,18 +185,65 @@ lm_status lm_lane_delta_encode(const uint8_t *base, size_t n_base, const uint8_t
     } else {
         diff_section(&b, base, 0, n_base, cur, 0, n_cur);
     }
-    close_op(&b);
-    if (b.oom) {
-        free(b.p);
-        return lm_fail(LM_E_NOMEM, "out of memory for a start mesh's delta");
+    return finish(&b, n_base, n_cur, out, n_out);
+}
+
+/* ---- a collapse queue's section (lane_wire.h) ---------------------------------------------- */
+
+#define ENTRY_BYTES 24u
+
+/* A queue's section: a count and that many entries. */
+static int queue_section(const uint8_t *r, size_t n)
+{
+    return n >= 4 && (n - 4) % ENTRY_BYTES == 0 && u32_at(r) == (n - 4) / ENTRY_BYTES;
+}
+
+/* The order of two entries' edges (a, then b). */
+static int edge_cmp(const uint8_t *x, const uint8_t *y)
+{
+    uint32_t xa = u32_at(x), ya = u32_at(y), xb = u32_at(x + 4), yb = u32_at(y + 4);
+    return xa != ya ? (xa < ya ? -1 : 1) : xb != yb ? (xb < yb ? -1 : 1) : 0;
+}
+
+/* The two sections walked in edge order: an entry of both, unchanged, is copied; one only the
+ * base has is skipped; one new or changed is a literal. An unsorted section costs bytes, never
+ * correctness (the apply rebuilds cur exactly either way). */
+static void diff_queue(builder *b, const uint8_t *base, size_t n_base, const uint8_t *cur,
+                       size_t n_cur)
+{
+    if (memcmp(base, cur, 4))
+        literal(b, cur, 4);
+    else
+        copy(b, 0, 4);
+    size_t i = 4, j = 4;
+    while (j < n_cur) {
+        int c = i < n_base ? edge_cmp(base + i, cur + j) : 1;
+        if (c < 0) {
+            i += ENTRY_BYTES; /* gone */
+            continue;
+        }
+        if (c == 0 && !memcmp(base + i, cur + j, ENTRY_BYTES))
+            copy(b, i, ENTRY_BYTES);
+        else
+            literal(b, cur + j, ENTRY_BYTES);
+        i += c == 0 ? ENTRY_BYTES : 0;
+        j += ENTRY_BYTES;
     }
-    u32_to(b.p, DELTA_MAGIC);
-    u32_to(b.p + 4, (uint32_t)n_base);
-    u32_to(b.p + 8, (uint32_t)n_cur);
-    u32_to(b.p + 12, b.n_ops);
-    *out = b.p;
-    *n_out = b.n;
-    return LM_OK;
+}
+
+lm_status lm_lane_queue_delta_encode(const uint8_t *base, size_t n_base, const uint8_t *cur,
+                                     size_t n_cur, uint8_t **out, size_t *n_out)
+{
+    if (!queue_section(base, n_base) || !queue_section(cur, n_cur))
+        return lm_lane_delta_encode(base, n_base, cur, n_cur, out, n_out);
+    *out = NULL;
+    *n_out = 0;
+    if (n_base > UINT32_MAX || n_cur > UINT32_MAX)
+        return lm_fail(LM_E_INVALID, "a collapse queue of more than 4 GiB");
+    builder b = {.n = 0};
+    grow(&b, HEAD_BYTES);
+    diff_queue(&b, base, n_base, cur, n_cur);
+    return finish(&b, n_base, n_cur, out, n_out);
 }
 
 /* ---- applying ----------------------------------------------------------------------------------
@@ -188,7 +252,7 @@ lm_status lm_lane_delta_encode(const uint8_t *base, size_t n_base, const uint8_t
 static lm_status bad(uint8_t *buf, const char *why)
 {
     free(buf);
-    return lm_fail(LM_E_FORMAT, "a start mesh's delta %s", why);
+    return lm_fail(LM_E_FORMAT, "a delta %s", why);
 }
 
 lm_status lm_lane_delta_apply(const uint8_t *base, size_t n_base, const uint8_t *delta,
@@ -206,7 +270,7 @@ lm_status lm_lane_delta_apply(const uint8_t *base, size_t n_base, const uint8_t 
         return bad(NULL, "whose counts do not fit its bytes");
     uint8_t *buf = malloc(len ? len : 1);
     if (!buf)
-        return lm_fail(LM_E_NOMEM, "out of memory for a start mesh");
+        return lm_fail(LM_E_NOMEM, "out of memory for a delta's result");
     size_t at = HEAD_BYTES, cursor = 0, w = 0;
     for (uint32_t i = 0; i < n_ops; i++) {
         if (n_delta - at < OP_BYTES)

@@ -1,6 +1,6 @@
-/* common/optimizer/lane_delta.h — a group's start mesh record (lane_start.h) as a delta against
- * an earlier one (--lanes remote: a worker that holds the previous group's start is sent what
- * changed, not the whole record).
+/* common/optimizer/lane_delta.h — a group's start mesh record (lane_start.h), or its collapse
+ * queue (lane_wire.h), as a delta against an earlier one (--lanes remote: a worker that holds the
+ * previous group's start and queue is sent what changed, not the whole record).
  *
  * The delta is little-endian: magic "LNDL", base length, result length, op count, then ops. An op
  * is {skip, copy, literal} (u32 each) and `literal` bytes: the base cursor moves on `skip` bytes,
@@ -22,6 +22,12 @@
  * memory. */
 lm_status lm_lane_delta_encode(const uint8_t *base, size_t n_base, const uint8_t *cur, size_t n_cur,
                                uint8_t **out, size_t *n_out);
+
+/* The same for a collapse queue's section (lane_wire.h: a count, then 24-byte entries sorted by
+ * edge): the two are walked in edge order, so entries added or removed do not shift the rest
+ * (lm_lane_delta_apply applies it). Other bytes: as lm_lane_delta_encode. Fails only for memory. */
+lm_status lm_lane_queue_delta_encode(const uint8_t *base, size_t n_base, const uint8_t *cur,
+                                     size_t n_cur, uint8_t **out, size_t *n_out);
 
 /* base + delta -> *out (malloc'd, caller frees), *n_out. Hostile input: a delta made for a base
  * of another length, truncated, with trailing bytes, ops that move past the base or a result of

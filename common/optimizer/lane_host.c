@@ -20,6 +20,8 @@ struct lm_lane_host {
     uint64_t clock;
     lm_tri_data *start; /* the group's start as records, sorted by id */
     size_t n_start;
+    uint64_t token;             /* names start and pristine (0: nothing kept) */
+    lm_cq *pristine;            /* the queue as the requests of token give it */
     const lm_lane_request *req; /* during a run */
     lm_lane_result *res;
 };
@@ -78,12 +80,14 @@ void lm_lane_host_destroy(lm_lane_host *h)
     if (h->tp.queue)
         lm_teleport_free(&h->tp);
     free(h->start);
+    lm_cq_destroy(h->pristine);
     free(h);
 }
 
 /* The teleport state of the request: its constants, threshold, improve[] and queue; the
  * counters from 0 (the result gives what the lane added). */
-static lm_status load_teleport(lm_lane_host *h, const lm_lane_request *q, lm_lane_result *res)
+static lm_status load_teleport(lm_lane_host *h, const lm_lane_request *q, int kept,
+                               lm_lane_result *res)
 {
     lm_teleport *tp = &h->tp;
     lm_cq *queue = tp->queue;
@@ -98,37 +102,51 @@ static lm_status load_teleport(lm_lane_host *h, const lm_lane_request *q, lm_lan
     tp->veto_ctx = h;
     tp->log = &res->log;
     lm_cq_observe(queue, NULL, NULL);
-    lm_cq_clear(queue);
-    lm_status st = LM_OK;
-    for (uint32_t i = 0; i < q->n_queue && st == LM_OK; i++) {
-        const lm_cq_entry *e = &q->queue[i];
-        st = lm_cq_set(queue, e->a, e->b, e->est, e->level, (int)e->in_heap);
+    lm_status st = kept ? lm_cq_copy(queue, h->pristine) : LM_OK;
+    if (!kept) {
+        lm_cq_clear(queue);
+        for (uint32_t i = 0; i < q->n_queue && st == LM_OK; i++) {
+            const lm_cq_entry *e = &q->queue[i];
+            st = lm_cq_set(queue, e->a, e->b, e->est, e->level, (int)e->in_heap);
+        }
     }
+    if (!kept && h->token && st == LM_OK) /* kept for the token's next lanes */
+        st = h->pristine ? LM_OK : lm_cq_create(&h->pristine);
+    if (!kept && h->token && st == LM_OK)
+        st = lm_cq_copy(h->pristine, queue);
     lm_cq_observe(queue, lm_lane_log_queue, &res->log);
     return st;
 }
 
-/* The mesh, the views' start and the state of the group's start. */
+/* The mesh, the views' start and the state of the group's start (what token names kept). */
 static lm_status begin(lm_lane_host *h, const lm_mesh *start, lm_views *views,
-                       const lm_lane_request *q, lm_lane_result *res)
+                       const lm_lane_request *q, uint64_t token, lm_lane_result *res)
 {
     lm_lane_result_clear(res);
     h->req = q;
     h->res = res;
     h->views.real = h->views.direct = views;
-    free(h->start);
-    h->start = NULL;
+    int kept = token && token == h->token && h->start;
+    if (!kept) {
+        free(h->start);
+        h->start = NULL;
+        h->token = 0;
+    }
     lm_status st = lm_mesh_copy_geometry(h->mesh, start);
-    if (st == LM_OK)
+    if (st == LM_OK && !kept)
         st = lm_mesh_export_tris(start, &h->start, &h->n_start);
     if (st != LM_OK)
         return st;
+    h->token = token;
     lm_lane_views_reset(&h->views, h->start, h->n_start);
     lm_moves_forget(h->mv);
     h->stats = q->stats;
     h->clock = q->clock;
     memset(&h->prog, 0, sizeof h->prog);
-    return load_teleport(h, q, res);
+    st = load_teleport(h, q, kept, res);
+    if (st != LM_OK)
+        h->token = 0; /* derived again next time */
+    return st;
 }
 
 static void finish(lm_lane_host *h, const lm_edge_ctx *c, uint64_t evals0, lm_lane_result *res)
@@ -146,9 +164,9 @@ static void finish(lm_lane_host *h, const lm_edge_ctx *c, uint64_t evals0, lm_la
 }
 
 lm_status lm_lane_host_run(lm_lane_host *h, const lm_mesh *start, lm_views *views,
-                           const lm_lane_request *req, lm_lane_result *res)
+                           const lm_lane_request *req, uint64_t token, lm_lane_result *res)
 {
-    lm_status st = begin(h, start, views, req, res);
+    lm_status st = begin(h, start, views, req, token, res);
     lm_edge_ctx c = {.mesh = h->mesh,
                      .mv = h->mv,
                      .stats = &h->stats,

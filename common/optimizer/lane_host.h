@@ -20,8 +20,12 @@ void lm_lane_host_destroy(lm_lane_host *h);
 
 /* Run the lane of req on a copy of start (the group's start mesh) against views (committed to
  * start, left so); res is cleared and filled. A failure of the lane's run is in res->status (and
- * returned). */
+ * returned). token names start and req's queue: while a caller gives the same nonzero token, start
+ * is the same mesh, unchanged, and req->queue the same entries, so the host derives the start's
+ * triangle records and the queue's heap once for all those lanes (a copy of the kept queue is the
+ * rebuilt one: its pop order depends only on its entries). A caller gives a token never given
+ * before whenever either changes; 0 keeps nothing. The result does not depend on the token. */
 lm_status lm_lane_host_run(lm_lane_host *h, const lm_mesh *start, lm_views *views,
-                           const lm_lane_request *req, lm_lane_result *res);
+                           const lm_lane_request *req, uint64_t token, lm_lane_result *res);
 
 #endif

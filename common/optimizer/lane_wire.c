@@ -138,9 +138,13 @@ static void put_request(lm_bin *b, const lm_lane_request *q)
     lm_put_u64(b, q->last_time);
     for (int l = 0; l < LM_LEVELS; l++)
         lm_stat_save(b, &q->improve[l]);
-    lm_put_u32(b, q->n_queue);
-    for (uint32_t i = 0; i < q->n_queue; i++)
-        put_entry(b, &q->queue[i]);
+}
+
+static void put_queue(lm_bin *b, const lm_cq_entry *e, uint32_t n)
+{
+    lm_put_u32(b, n);
+    for (uint32_t i = 0; i < n; i++)
+        put_entry(b, &e[i]);
 }
 
 lm_status lm_lane_request_encode(const lm_lane_request *q, uint8_t **buf, size_t *len)
@@ -150,6 +154,27 @@ lm_status lm_lane_request_encode(const lm_lane_request *q, uint8_t **buf, size_t
     if (st)
         return st;
     put_request(&w.b, q);
+    put_queue(&w.b, q->queue, q->n_queue);
+    return close_write(&w, buf, len);
+}
+
+lm_status lm_lane_request_encode_head(const lm_lane_request *q, uint8_t **buf, size_t *len)
+{
+    wire w;
+    lm_status st = open_write(&w, buf, len, "a lane request's head");
+    if (st)
+        return st;
+    put_request(&w.b, q);
+    return close_write(&w, buf, len);
+}
+
+lm_status lm_lane_queue_encode(const lm_cq_entry *e, uint32_t n, uint8_t **buf, size_t *len)
+{
+    wire w;
+    lm_status st = open_write(&w, buf, len, "a collapse queue");
+    if (st)
+        return st;
+    put_queue(&w.b, e, n);
     return close_write(&w, buf, len);
 }
 
@@ -195,29 +220,66 @@ static void get_request_state(wire *w, lm_lane_request *q)
     q->last_time = lm_get_u64(&w->b);
     for (int l = 0; l < LM_LEVELS; l++)
         lm_stat_load(&w->b, &q->improve[l]);
-    q->n_queue = get_count(w, 24, UINT32_MAX, "queue entries");
-    q->queue = get_array(w, q->n_queue, sizeof *q->queue);
-    for (uint32_t i = 0; i < q->n_queue && w->b.status == LM_OK; i++) {
-        q->queue[i] = get_entry(w, q->n_verts, i);
-        const lm_cq_entry *p = i ? &q->queue[i - 1] : NULL;
-        get_check(w, !p || p->a < q->queue[i].a || (p->a == q->queue[i].a && p->b < q->queue[i].b),
+}
+
+/* The queue's section: entries below n_verts, strictly sorted by edge, into *e (*n). */
+static void get_queue(wire *w, uint32_t n_verts, lm_cq_entry **e, uint32_t *n)
+{
+    *n = get_count(w, 24, UINT32_MAX, "queue entries");
+    lm_cq_entry *q = *e = get_array(w, *n, sizeof *q);
+    for (uint32_t i = 0; i < *n && w->b.status == LM_OK; i++) {
+        q[i] = get_entry(w, n_verts, i);
+        const lm_cq_entry *p = i ? &q[i - 1] : NULL;
+        get_check(w, !p || p->a < q[i].a || (p->a == q[i].a && p->b < q[i].b),
                   "queue order at entry", i);
     }
 }
 
-lm_status lm_lane_request_decode(const uint8_t *buf, size_t len, lm_lane_request *q)
+/* The request (head, and its queue when with_queue) from buf. */
+static lm_status decode_request(const uint8_t *buf, size_t len, int with_queue, lm_lane_request *q)
 {
     lm_lane_request_free(q);
     wire w;
-    lm_status st = open_read(&w, buf, len, "a lane request");
+    lm_status st = open_read(&w, buf, len, with_queue ? "a lane request" : "a lane request's head");
     if (st)
         return st;
     get_request_head(&w, q);
     if (w.b.status == LM_OK)
         get_request_state(&w, q);
+    if (w.b.status == LM_OK && with_queue)
+        get_queue(&w, q->n_verts, &q->queue, &q->n_queue);
     st = close_read(&w);
     if (st)
         lm_lane_request_free(q);
+    return st;
+}
+
+lm_status lm_lane_request_decode(const uint8_t *buf, size_t len, lm_lane_request *q)
+{
+    return decode_request(buf, len, 1, q);
+}
+
+lm_status lm_lane_request_decode_head(const uint8_t *buf, size_t len, lm_lane_request *q)
+{
+    return decode_request(buf, len, 0, q);
+}
+
+lm_status lm_lane_queue_decode(const uint8_t *buf, size_t len, uint32_t n_verts, lm_cq_entry **e,
+                               uint32_t *n)
+{
+    *e = NULL;
+    *n = 0;
+    wire w;
+    lm_status st = open_read(&w, buf, len, "a collapse queue");
+    if (st)
+        return st;
+    get_queue(&w, n_verts, e, n);
+    st = close_read(&w);
+    if (st) {
+        free(*e);
+        *e = NULL;
+        *n = 0;
+    }
     return st;
 }
 

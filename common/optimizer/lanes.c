@@ -644,7 +644,7 @@ static lm_status run_one_detached(lm_lanes *l, uint32_t i, uint32_t n, lm_lane_r
     if (st == LM_OK)
         st = lm_lane_request_decode(buf, len, wq);
     if (st == LM_OK) {
-        lm_lane_host_run(l->host, l->o->mesh, l->o->views, wq, wr); /* failure: in wr */
+        lm_lane_host_run(l->host, l->o->mesh, l->o->views, wq, 0, wr); /* failure: in wr */
         st = lm_lane_result_encode(wr, &back, &len_back);
     }
     if (st == LM_OK)
@@ -687,13 +687,17 @@ static lm_status run_by_runner(lm_lanes *l, uint32_t n)
     lm_lane_result *res[LM_MAX_EDGES_IN_FLIGHT];
     lm_lane_request q;
     lm_lane_request_init(&q);
-    shared_queue queue = {NULL, 0}; /* the group's, sorted once for all its lanes */
+    shared_queue queue = {NULL, 0}; /* the group's, sorted and encoded once for all its lanes */
+    uint8_t *qbuf = NULL;
+    size_t qlen = 0;
     lm_status st = lm_cq_export(l->o->tp.queue, &queue.e, &queue.n);
+    if (st == LM_OK)
+        st = lm_lane_queue_encode(queue.e, queue.n, &qbuf, &qlen);
     for (uint32_t i = 0; i < n && st == LM_OK; i++) {
         res[i] = &l->lanes[i].res;
         st = make_request(l, i, n, &queue, &q);
         if (st == LM_OK)
-            st = lm_lane_request_encode(&q, &req[i], &len[i]);
+            st = lm_lane_request_encode_head(&q, &req[i], &len[i]);
         q.queue = NULL; /* borrowed */
         q.n_vetoed = 0;
     }
@@ -706,15 +710,19 @@ static lm_status run_by_runner(lm_lanes *l, uint32_t n)
                        .n_verts = l->o->mesh->n_verts,
                        .req = (const uint8_t *const *)req,
                        .req_len = len,
+                       .queue = qbuf,
+                       .queue_len = qlen,
                        .res = res,
                        .result_bytes = &back};
     if (st == LM_OK)
         st = l->runner.run(l->runner.ctx, &b);
-    for (uint32_t i = 0; i < n; i++) {
+    for (uint32_t i = 0; i < n; i++) { /* the queue counted once, with lane 0 */
         if (st == LM_OK)
-            count_traffic(&l->traffic, len[i], i ? 0 : back, l->lanes[i].res.evals);
+            count_traffic(&l->traffic, len[i] + (i ? 0 : qlen), i ? 0 : back,
+                          l->lanes[i].res.evals);
         free(req[i]);
     }
+    free(qbuf);
     return st;
 }
 

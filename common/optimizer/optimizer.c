@@ -176,13 +176,14 @@ lm_status lm_optimizer_create_tuned(lm_mesh *mesh, lm_views *views, const lm_par
     if (!o->params.seed)
         o->params.seed = 1;
     if (!o->params.edges_per_iteration)
-        o->params.edges_per_iteration = 64;
+        o->params.edges_per_iteration = LM_DEFAULT_EDGES_PER_ITERATION;
     if (!o->params.simplex_evals_per_dim)
         o->params.simplex_evals_per_dim = 32;
     if (!o->params.edges_in_flight)
         o->params.edges_in_flight = 1;
     o->params.lane_isolation = o->params.lane_isolation && o->params.edges_in_flight > 1;
-    if (o->params.edges_per_iteration > 1u << 20 || o->params.simplex_evals_per_dim > 1u << 16 ||
+    if (o->params.edges_per_iteration > LM_MAX_EDGES_PER_ITERATION ||
+        o->params.simplex_evals_per_dim > 1u << 16 ||
         o->params.edges_in_flight > LM_MAX_EDGES_IN_FLIGHT) {
         lm_optimizer_destroy(o); /* the mesh was taken: it goes too */
         return lm_fail(LM_E_RANGE, "optimizer: edges per iteration, evaluations per dimension or "

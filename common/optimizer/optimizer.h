@@ -24,7 +24,11 @@ typedef enum lm_move_kind {
 typedef struct lm_params {
     uint64_t seed;  /* 0 = default 1 */
     uint32_t attrs; /* LM_ATTR_* optimised besides positions; normals not in the set are derived */
-    uint32_t edges_per_iteration;   /* 0 = 64 */
+    uint32_t edges_per_iteration;   /* the plan's size: edges planned per iteration (groups of
+                                       edges in flight are taken from it); 0 =
+                                       LM_DEFAULT_EDGES_PER_ITERATION; at most
+                                       LM_MAX_EDGES_PER_ITERATION. A job parameter (kept in
+                                       checkpoints): the output depends on it */
     uint32_t simplex_evals_per_dim; /* 0 = 32 (at most 32n evaluations per simplex run) */
     uint32_t edges_in_flight; /* edges optimised at once, their evaluations in one batch (lanes.h);
                                  0 = 1, the paper's order; at most LM_MAX_EDGES_IN_FLIGHT. A job
@@ -41,6 +45,8 @@ typedef struct lm_params {
 } lm_params;
 
 #define LM_MAX_EDGES_IN_FLIGHT 64u
+#define LM_DEFAULT_EDGES_PER_ITERATION 64u
+#define LM_MAX_EDGES_PER_ITERATION (1u << 20)
 
 typedef struct lm_progress {
     uint64_t evals;                     /* ΔE evaluations so far */

@@ -27,7 +27,7 @@ static const char co_optimize_help[] =
     "                       [--attrs pos,normal,uv,color] [--device D] [--json] [--report DIR]\n"
     "                       [--workers N] [--listen tcp://ADDR:PORT] [--renderer ID]\n"
     "                       [--edges-in-flight K [--lanes shared|isolated|remote]] [--keys DIR]\n"
-    "                       [--save-initial FILE]\n"
+    "                       [--edges-per-iteration P] [--save-initial FILE]\n"
     "                       [--surface-weight W | --surface-share S] [--regrid-every N]\n"
     "                       [--energy image|geometric|image+geometric] [--c-rep C]\n"
     "                       [--geo-improvements LIST] [--geo-start-multiple K]\n"
@@ -186,6 +186,10 @@ static const char co_optimize_help[] =
     "                          merged in order afterwards). Part of the job, like K; remote:\n"
     "                          isolated lanes, each run whole on a worker that serves every view\n"
     "                          (needs K >= 2 and workers): the same output as isolated\n"
+    "  --edges-per-iteration P edges planned per iteration (default %u, at most %u): the\n"
+    "                          groups of K edges in flight are taken from each plan, so a larger\n"
+    "                          plan gives --lanes remote more work between plans. Part of the\n"
+    "                          job, like K (a --resume must give the same P)\n"
     "  --keys DIR              CURVE keys (lumesh keygen): workers' connections encrypted and\n"
     "                          authenticated, only keys in DIR/workers.allow admitted; needed to\n"
     "                          --listen beyond this machine\n"
@@ -384,7 +388,8 @@ static void usage(FILE *f)
             CO_JOB_IMAGE_START_SHARE, LM_SURFACE_SHARE,
             (unsigned long long)CO_JOB_DEFAULT_REGRID_EVERY, CO_GEO_DEFAULT_C_REP,
             CO_GEO_START_MULTIPLE, (unsigned long long)CO_JOB_DEFAULT_VALIDATE_EVERY,
-            CO_JOB_DEFAULT_VALIDATE_PATIENCE, CO_JOB_DEFAULT_IN_FLIGHT, CO_BAKE_DEFAULT_SIZE,
+            CO_JOB_DEFAULT_VALIDATE_PATIENCE, CO_JOB_DEFAULT_IN_FLIGHT,
+            LM_DEFAULT_EDGES_PER_ITERATION, LM_MAX_EDGES_PER_ITERATION, CO_BAKE_DEFAULT_SIZE,
             CO_BAKE_MIN_SIZE, CO_BAKE_MAX_SIZE);
 }
 
@@ -488,6 +493,8 @@ static int parse_args(int argc, char **argv, optimize_args *a)
         {CO_OPT_ROW("bake-every", 0, CO_OPT_KIND_U64, uint64_t, &o->bake_every), .lo = 1,
          .hi = UINT64_MAX / 2},
         CO_OPT_U32("edges-in-flight", 0, &o->edges_in_flight, 1, LM_MAX_EDGES_IN_FLIGHT),
+        CO_OPT_U32("edges-per-iteration", 0, &o->edges_per_iteration, 1,
+                   LM_MAX_EDGES_PER_ITERATION),
         CO_OPT_CALL("lanes", 0, parse_lanes, o),
         CO_OPT_STR("keys", 0, &o->keys),
         CO_OPT_STR("save-initial", 0, &o->initial_output_path),

@@ -273,6 +273,9 @@ static lm_status resolve_options(co_job *j, const co_job_options *in)
     if (o->edges_in_flight > LM_MAX_EDGES_IN_FLIGHT)
         return lm_fail(LM_E_RANGE, "--edges-in-flight %" PRIu32 " is above %u", o->edges_in_flight,
                        LM_MAX_EDGES_IN_FLIGHT);
+    if (o->edges_per_iteration > LM_MAX_EDGES_PER_ITERATION)
+        return lm_fail(LM_E_RANGE, "--edges-per-iteration %" PRIu32 " is above %u",
+                       o->edges_per_iteration, LM_MAX_EDGES_PER_ITERATION);
     if (o->lanes_remote && o->edges_in_flight < 2)
         return lm_fail(LM_E_INVALID, "--lanes remote needs --edges-in-flight 2 or more");
     if (o->lanes_remote && co_job_is_none(o->workers))
@@ -745,6 +748,7 @@ static lm_status make_optimizer(co_job *j)
     lm_params params = {.seed = j->o.seed,
                         .attrs = j->attrs,
                         .edges_in_flight = j->o.edges_in_flight,
+                        .edges_per_iteration = j->o.edges_per_iteration,
                         .lane_isolation = j->o.lane_isolation,
                         .surface = j->original};
     /* From an image start the term keeps the weight the collapses were priced with (the share of

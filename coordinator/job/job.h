@@ -113,8 +113,9 @@ typedef struct co_job_options {
     const char *renderer; /* accept only workers of this renderer id; NULL = the first one's */
     const char *keys;     /* CURVE key folder for the workers' connections (proto/keys.h) */
     uint32_t
-        edges_in_flight;     /* edges optimised at once (lm_params); 0 = CO_JOB_DEFAULT_IN_FLIGHT */
-    uint32_t lane_isolation; /* 1: those edges' lanes isolated (lm_params.lane_isolation) */
+        edges_in_flight; /* edges optimised at once (lm_params); 0 = CO_JOB_DEFAULT_IN_FLIGHT */
+    uint32_t edges_per_iteration; /* the plan's size (lm_params): 0 = the optimizer's default */
+    uint32_t lane_isolation;      /* 1: those edges' lanes isolated (lm_params.lane_isolation) */
     uint32_t lanes_remote;   /* 1: isolated lanes run on the workers (--lanes remote: each worker
                                 serves every view); the same output as in process */
     double surface_weight;   /* the optimizer's geometric term (lm_tuning.surface_weight): 0 =

@@ -71,6 +71,10 @@ typedef struct co_lane_stats {
     uint64_t start_bytes;        /* their bytes, in all */
     uint64_t request_bytes;      /* the lanes' requests' bytes, in all (re-sends included) */
     uint64_t start_record_bytes; /* the start meshes' whole records, one per group, in all */
+    uint64_t queues_full;        /* collapse queues sent whole (once per group and worker) */
+    uint64_t queues_delta;       /* collapse queues sent as deltas against the last group's */
+    uint64_t queue_bytes;        /* their bytes, in all */
+    uint64_t queue_record_bytes; /* the queues' whole records, one per group, in all */
 } co_lane_stats;
 
 /* Adds v's counts to *sum (nothing when v is not remote views). */

@@ -540,6 +540,7 @@ static void rm_destroy(lm_views *v)
     free(r->pack);
     free(r->views);
     free(r->lane_base);
+    free(r->lane_queue_base);
     free(r);
 }
 

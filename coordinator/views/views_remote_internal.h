@@ -48,7 +48,10 @@ typedef struct co_remote {
     uint8_t *lane_base;  /* the last group's encoded start mesh: later starts go as deltas
                             against it to the workers that took it (lane_delta.h) */
     size_t n_lane_base;
-    uint64_t lane_base_group; /* its group (0 = none) */
+    uint8_t *lane_queue_base; /* the last group's encoded collapse queue: later queues go as
+                                 deltas against it */
+    size_t n_lane_queue_base;
+    uint64_t lane_base_group; /* their group (0 = none) */
     co_lane_stats lane_stats; /* what the lanes' groups sent */
     /* scratch */
     lm_wire_arena arena;

@@ -1,8 +1,10 @@
 /* coordinator/views/views_remote_lanes.c — the isolated lanes of a group run on the workers
  * (--lanes remote; common/optimizer/lane_runner.h). Every worker of such views serves every view
  * (co_views_desc.whole) and receives every change of state, so its views are at the group's start
- * when a group begins; what it lacks is the optimizer's mesh itself (vertex ids, wedges), which
- * goes with the first lane of each group a worker gets (RunLane.start), and the lane's request.
+ * when a group begins; what it lacks is the optimizer's mesh itself (vertex ids, wedges) and the
+ * collapse queue, which go with the first lane of each group a worker gets (RunLane.start and
+ * .queue, or as deltas against the last group's when the worker took that), and the lane's
+ * request (its head: the queue is the group's).
  *
  * Dispatch is first-free: each worker in the layout gets a lane, and the next one as soon as it
  * answers. A lane whose worker is lost, says Stale (it is sent the state again) or fails is sent
@@ -28,8 +30,11 @@ typedef struct lane_run {
     size_t n_cfg, n_mesh;
     uint8_t *delta; /* the start mesh against r->lane_base (made when a worker first needs it) */
     size_t n_delta;
-    int no_delta;  /* 1: the delta would not pay (or failed): starts go whole */
-    uint64_t hash; /* of the start mesh */
+    int no_delta;    /* 1: the delta would not pay (or failed): starts go whole */
+    uint8_t *qdelta; /* the group's queue (b->queue) against r->lane_queue_base, made likewise */
+    size_t n_qdelta;
+    int no_qdelta;
+    uint64_t hash;                          /* of the start mesh */
     uint32_t queue[LM_MAX_EDGES_IN_FLIGHT]; /* lanes waiting for a worker, in lane order */
     uint32_t n_queue, done;
     uint32_t strikes[LM_MAX_EDGES_IN_FLIGHT]; /* failures of each lane */
@@ -63,6 +68,51 @@ static int delta_for(lane_run *x, const co_worker *w)
     return !x->no_delta;
 }
 
+/* The queue as a delta for w, on the same terms as the start's. */
+static int qdelta_for(lane_run *x, const co_worker *w)
+{
+    co_remote *r = x->r;
+    if (x->no_qdelta || !r->lane_queue_base || !r->lane_base_group ||
+        w->lane_group != r->lane_base_group)
+        return 0;
+    if (!x->qdelta) {
+        lm_status st =
+            lm_lane_queue_delta_encode(r->lane_queue_base, r->n_lane_queue_base, x->b->queue,
+                                       x->b->queue_len, &x->qdelta, &x->n_qdelta);
+        x->no_qdelta = st != LM_OK || x->n_qdelta > x->b->queue_len / 2;
+        lm_clear_error();
+    }
+    return !x->no_qdelta;
+}
+
+/* The group's start and queue for w, which has neither: each whole or as a delta against the
+ * last group's (which w then holds). */
+static void add_start(lane_run *x, co_worker *w, Lumesh__RunLane *m)
+{
+    co_remote *r = x->r;
+    co_lane_stats *ls = &r->lane_stats;
+    if (delta_for(x, w)) {
+        m->base_group = r->lane_base_group;
+        m->start_delta = (ProtobufCBinaryData){x->n_delta, x->delta};
+        ls->starts_delta++;
+        ls->start_bytes += x->n_delta;
+    } else {
+        m->start = (ProtobufCBinaryData){x->n_mesh, x->mesh};
+        ls->starts_full++;
+        ls->start_bytes += x->n_mesh;
+    }
+    if (qdelta_for(x, w)) {
+        m->base_group = r->lane_base_group;
+        m->queue_delta = (ProtobufCBinaryData){x->n_qdelta, x->qdelta};
+        ls->queues_delta++;
+        ls->queue_bytes += x->n_qdelta;
+    } else {
+        m->queue = (ProtobufCBinaryData){x->b->queue_len, (uint8_t *)x->b->queue};
+        ls->queues_full++;
+        ls->queue_bytes += x->b->queue_len;
+    }
+}
+
 static lm_status send_lane(lane_run *x, co_worker *w, uint32_t lane)
 {
     co_remote *r = x->r;
@@ -75,18 +125,9 @@ static lm_status send_lane(lane_run *x, co_worker *w, uint32_t lane)
     m.start_hash = x->hash;
     m.config = (ProtobufCBinaryData){x->n_cfg, x->cfg};
     m.surface = r->surface_k > 0;
-    co_lane_stats *ls = &r->lane_stats;
-    if (w->lane_group != r->lane_group && delta_for(x, w)) {
-        m.base_group = r->lane_base_group;
-        m.start_delta = (ProtobufCBinaryData){x->n_delta, x->delta};
-        ls->starts_delta++;
-        ls->start_bytes += x->n_delta;
-    } else if (w->lane_group != r->lane_group) {
-        m.start = (ProtobufCBinaryData){x->n_mesh, x->mesh};
-        ls->starts_full++;
-        ls->start_bytes += x->n_mesh;
-    }
-    ls->request_bytes += b->req_len[lane];
+    if (w->lane_group != r->lane_group)
+        add_start(x, w, &m);
+    r->lane_stats.request_bytes += b->req_len[lane];
     lm_status st =
         co_pool_send(r->pool, w, co_pool_arm(r->pool, w), r->seq, LUMESH__MSG__BODY_RUN_LANE, &m);
     if (st == LM_OK)
@@ -251,13 +292,23 @@ static lm_status rl_run(void *ctx, const lm_lane_batch *b)
     free(x.lane_of);
     free(x.cfg);
     free(x.delta);
-    if (x.mesh) { /* the base of the next group's deltas: the workers sent it hold it */
+    free(x.qdelta);
+    uint8_t *queue = x.mesh ? malloc(b->queue_len ? b->queue_len : 1) : NULL;
+    if (queue) { /* the base of the next group's deltas: the workers sent them hold them */
+        memcpy(queue, b->queue, b->queue_len);
         r->lane_stats.groups++;
         r->lane_stats.start_record_bytes += x.n_mesh;
+        r->lane_stats.queue_record_bytes += b->queue_len;
         free(r->lane_base);
+        free(r->lane_queue_base);
         r->lane_base = x.mesh;
         r->n_lane_base = x.n_mesh;
+        r->lane_queue_base = queue;
+        r->n_lane_queue_base = b->queue_len;
         r->lane_base_group = r->lane_group;
+    } else { /* no base: every start and queue goes whole next */
+        free(x.mesh);
+        r->lane_base_group = 0;
     }
     return st;
 }
@@ -284,4 +335,8 @@ void co_views_lane_stats(lm_views *v, co_lane_stats *sum)
     sum->start_bytes += a->start_bytes;
     sum->request_bytes += a->request_bytes;
     sum->start_record_bytes += a->start_record_bytes;
+    sum->queues_full += a->queues_full;
+    sum->queues_delta += a->queues_delta;
+    sum->queue_bytes += a->queue_bytes;
+    sum->queue_record_bytes += a->queue_record_bytes;
 }

@@ -1,7 +1,8 @@
 /* tests/fuzz/fuzz_lane_wire.c — libFuzzer target for a lane's wire messages (lane_wire.h), what a
  * worker would send back to the coordinator and the coordinator to a worker. The first input
- * byte picks the message (even: a request, odd: a result of a lane whose group started with
- * FUZZ_VERTS vertex slots), the rest is the message. Any input must be refused with LM_E_FORMAT
+ * byte picks the message (mod 4: 0 a request, 2 a request's head, 3 a group's collapse queue, 1 a
+ * result; all of a lane whose group started with FUZZ_VERTS vertex slots), the rest is the
+ * message. Any input must be refused with LM_E_FORMAT
  * (or LM_E_NOMEM) and one line, or decode to a message that encodes to exactly the input bytes;
  * never a crash, a read past the input or an allocation beyond O(input).
  * LUMESH_FUZZ_WRITE_SEEDS=DIR writes the seeds (so does tests/replay_lane_wire, which replays the
@@ -49,6 +50,12 @@ static void write_seeds(const char *dir)
     size_t len;
     LM_ASSERT(lm_lane_request_encode(&q, &buf, &len) == LM_OK);
     write_seed(dir, "request", 0, buf, len);
+    free(buf);
+    LM_ASSERT(lm_lane_request_encode_head(&q, &buf, &len) == LM_OK);
+    write_seed(dir, "head", 2, buf, len);
+    free(buf);
+    LM_ASSERT(lm_lane_queue_encode(e, 4, &buf, &len) == LM_OK);
+    write_seed(dir, "queue", 3, buf, len);
     free(buf);
     q.queue = NULL;
     lm_lane_request_free(&q);
@@ -100,15 +107,27 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     uint8_t *buf = NULL;
     size_t len = 0;
     lm_status st;
-    if (data[0] % 2 == 0) {
+    if (data[0] % 4 == 0 || data[0] % 4 == 2) {
+        int head = data[0] % 4 == 2;
         lm_lane_request q;
         lm_lane_request_init(&q);
-        st = lm_lane_request_decode(data + 1, size - 1, &q);
+        st = head ? lm_lane_request_decode_head(data + 1, size - 1, &q)
+                  : lm_lane_request_decode(data + 1, size - 1, &q);
         if (st == LM_OK) {
-            LM_ASSERT(lm_lane_request_encode(&q, &buf, &len) == LM_OK);
+            LM_ASSERT((head ? lm_lane_request_encode_head(&q, &buf, &len)
+                            : lm_lane_request_encode(&q, &buf, &len)) == LM_OK);
             check_same(data + 1, size - 1, buf, len);
         }
         lm_lane_request_free(&q);
+    } else if (data[0] % 4 == 3) {
+        lm_cq_entry *e = NULL;
+        uint32_t n = 0;
+        st = lm_lane_queue_decode(data + 1, size - 1, FUZZ_VERTS, &e, &n);
+        if (st == LM_OK) {
+            LM_ASSERT(lm_lane_queue_encode(e, n, &buf, &len) == LM_OK);
+            check_same(data + 1, size - 1, buf, len);
+        }
+        free(e);
     } else {
         lm_lane_result r;
         lm_lane_result_init(&r);

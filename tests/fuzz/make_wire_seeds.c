@@ -162,6 +162,11 @@ static void msg_seeds(const char *dir)
     rl.group = 3, rl.base_group = 2;
     rl.start_delta = (ProtobufCBinaryData){16, hash};
     write_msg(dir, "run_lane_delta", LUMESH__MSG__BODY_RUN_LANE, &rl);
+    rl.queue_delta = (ProtobufCBinaryData){16, hash}; /* and its collapse queue */
+    write_msg(dir, "run_lane_queue_delta", LUMESH__MSG__BODY_RUN_LANE, &rl);
+    rl.start_delta = rl.queue_delta = (ProtobufCBinaryData){0, NULL};
+    rl.start = (ProtobufCBinaryData){16, hash}, rl.queue = (ProtobufCBinaryData){8, hash};
+    write_msg(dir, "run_lane_queue", LUMESH__MSG__BODY_RUN_LANE, &rl);
     Lumesh__LaneDone ld = LUMESH__LANE_DONE__INIT;
     ld.group = 2, ld.lane = 1, ld.busy_us = 1500;
     ld.result = (ProtobufCBinaryData){sizeof lane_bytes, lane_bytes};

@@ -1,6 +1,7 @@
-/* tests/unit/test_lane_delta.c — a start mesh record as a delta against an earlier one
- * (lane_delta.h): applied to its base it gives the record bit for bit (a few vertices moved: a
- * small delta; new slots, which grow the arrays: still small; unrelated bytes; empty buffers); a
+/* tests/unit/test_lane_delta.c — a start mesh record or a collapse queue as a delta against an
+ * earlier one (lane_delta.h): applied to its base it gives the record bit for bit (a few vertices
+ * moved: a small delta; new slots, which grow the arrays: still small; queue entries added,
+ * dropped, changed: a delta of those entries; unrelated bytes; empty buffers); a
  * delta for another base, every truncation, a trailing byte, ops past the base or the result are
  * refused with LM_E_FORMAT and one line, and no flipped byte crashes the apply. */
 #include <stdlib.h>
@@ -8,6 +9,7 @@
 
 #include "common/optimizer/lane_delta.h"
 #include "common/optimizer/lane_start.h"
+#include "common/optimizer/lane_wire.h"
 #include "test_support.h"
 
 static uint8_t *record(const lm_mesh *m, size_t *n)
@@ -79,6 +81,74 @@ static void test_any_bytes(void **state)
     round_trip(NULL, 0, NULL, 0);
 }
 
+/* A queue's section (lane_wire.h) of n entries: edges (i, i + 1 + i % 3) scaled by `stride`. */
+static uint8_t *queue_section(uint32_t n, uint32_t stride, int64_t est_add, size_t *len)
+{
+    lm_cq_entry *e = calloc(n + 1, sizeof *e);
+    for (uint32_t i = 0; i < n; i++)
+        e[i] = (lm_cq_entry){i * stride, i * stride + 1 + i % 3, (int64_t)i * 10 + est_add, 1, 1};
+    uint8_t *buf = NULL;
+    assert_int_equal(lm_lane_queue_encode(e, n, &buf, len), LM_OK);
+    free(e);
+    return buf;
+}
+
+/* delta(base -> cur) for queues applied to base gives cur; returns the delta's length. */
+static size_t queue_trip(const uint8_t *base, size_t n_base, const uint8_t *cur, size_t n_cur)
+{
+    uint8_t *d = NULL, *out = NULL;
+    size_t n_d = 0, n_out = 0;
+    assert_int_equal(lm_lane_queue_delta_encode(base, n_base, cur, n_cur, &d, &n_d), LM_OK);
+    assert_int_equal(lm_lane_delta_apply(base, n_base, d, n_d, &out, &n_out), LM_OK);
+    assert_int_equal(n_out, n_cur);
+    assert_true(n_cur == 0 || memcmp(out, cur, n_cur) == 0);
+    free(d);
+    free(out);
+    return n_d;
+}
+
+/* Entries removed, added and changed in the middle of a sorted queue: a delta of those entries,
+ * not of everything after them (the entries shift by whole records). */
+static void test_queue(void **state)
+{
+    (void)state;
+    size_t n_base, n_cur;
+    uint8_t *base = queue_section(3000, 4, 0, &n_base);
+    assert_true(queue_trip(base, n_base, base, n_base) <= 40); /* unchanged: one copy */
+    /* the same edges with every 100th est changed, entry 1500 dropped, one edge added */
+    lm_cq_entry *e = NULL;
+    uint32_t n = 0;
+    assert_int_equal(lm_lane_queue_decode(base, n_base, 4 * 3000 + 8, &e, &n), LM_OK);
+    assert_int_equal(n, 3000);
+    for (uint32_t i = 0; i < n; i += 100)
+        e[i].est -= 5;
+    memmove(e + 1500, e + 1501, (n - 1501) * sizeof *e); /* dropped */
+    n--;
+    e = realloc(e, (n + 1) * sizeof *e);
+    memmove(e + 11, e + 10, (n - 10) * sizeof *e); /* added between entries 9 and 10 */
+    e[10] = (lm_cq_entry){39, 40, 7, 0, 1};
+    n++;
+    uint8_t *cur = NULL;
+    assert_int_equal(lm_lane_queue_encode(e, n, &cur, &n_cur), LM_OK);
+    free(e);
+    size_t n_d = queue_trip(base, n_base, cur, n_cur);
+    assert_true(n_d < 40 * (12 + 24)); /* ~32 changed entries, an op each */
+    free(cur);
+    /* fewer and more entries, other edges altogether, empty, not a queue at all */
+    uint8_t *other = queue_section(500, 7, 3, &n_cur);
+    queue_trip(base, n_base, other, n_cur);
+    queue_trip(other, n_cur, base, n_base);
+    free(other);
+    other = queue_section(0, 1, 0, &n_cur);
+    queue_trip(base, n_base, other, n_cur);
+    queue_trip(other, n_cur, base, n_base);
+    queue_trip(base, n_base - 3, base, n_base);
+    queue_trip(base, n_base, base + 5, n_base - 5);
+    queue_trip(NULL, 0, NULL, 0);
+    free(other);
+    free(base);
+}
+
 static void refused(const uint8_t *base, size_t n_base, const uint8_t *d, size_t n_d)
 {
     uint8_t *out = (uint8_t *)1;
@@ -147,6 +217,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_moved_vertices),
         cmocka_unit_test(test_any_bytes),
+        cmocka_unit_test(test_queue),
         cmocka_unit_test(test_hostile),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

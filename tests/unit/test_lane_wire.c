@@ -140,6 +140,64 @@ static void test_request_round_trip(void **state)
     lm_lane_request_free(&d);
 }
 
+/* The head and the queue: head followed by queue is the whole request's bytes; each decodes
+ * alone; the whole request is no head (trailing bytes) and an unsorted queue is refused. */
+static void test_request_head_and_queue(void **state)
+{
+    (void)state;
+    lm_lane_request q, d;
+    make_request(&q);
+    lm_lane_request_init(&d);
+    size_t len, n_head, n_queue;
+    uint8_t *buf = encode_request(&q, &len), *head = NULL, *queue = NULL;
+    assert_int_equal(lm_lane_request_encode_head(&q, &head, &n_head), LM_OK);
+    assert_int_equal(lm_lane_queue_encode(q.queue, q.n_queue, &queue, &n_queue), LM_OK);
+    assert_int_equal(n_head + n_queue, len);
+    assert_memory_equal(buf, head, n_head);
+    assert_memory_equal(buf + n_head, queue, n_queue);
+    assert_int_equal(lm_lane_request_decode_head(head, n_head, &d), LM_OK);
+    assert_true(d.a == q.a && d.b == q.b && d.n_vetoed == q.n_vetoed && d.queue == NULL &&
+                d.n_queue == 0);
+    assert_int_equal(lm_lane_request_decode_head(buf, len, &d), LM_E_FORMAT);
+    lm_cq_entry *e = NULL;
+    uint32_t n = 0;
+    assert_int_equal(lm_lane_queue_decode(queue, n_queue, N_VERTS, &e, &n), LM_OK);
+    assert_int_equal(n, q.n_queue);
+    assert_memory_equal(e, q.queue, n * sizeof *e);
+    free(e);
+    /* vertices past n_verts; out of order; a count beyond the bytes */
+    assert_int_equal(lm_lane_queue_decode(queue, n_queue, 20, &e, &n), LM_E_FORMAT);
+    assert_null(e);
+    assert_int_equal(n, 0);
+    memcpy(queue + 4, buf + n_head + 4 + 24, 8);
+    assert_int_equal(lm_lane_queue_decode(queue, n_queue, N_VERTS, &e, &n), LM_E_FORMAT);
+    queue[0] = 0xff;
+    assert_int_equal(lm_lane_queue_decode(queue, n_queue, N_VERTS, &e, &n), LM_E_FORMAT);
+    free(buf);
+    free(head);
+    free(queue);
+    lm_lane_request_free(&q);
+    lm_lane_request_free(&d);
+}
+
+static lm_status decode_head(const uint8_t *buf, size_t len)
+{
+    lm_lane_request q;
+    lm_lane_request_init(&q);
+    lm_status st = lm_lane_request_decode_head(buf, len, &q);
+    lm_lane_request_free(&q);
+    return st;
+}
+
+static lm_status decode_queue(const uint8_t *buf, size_t len)
+{
+    lm_cq_entry *e = NULL;
+    uint32_t n = 0;
+    lm_status st = lm_lane_queue_decode(buf, len, N_VERTS, &e, &n);
+    free(e);
+    return st;
+}
+
 static void test_result_round_trip(void **state)
 {
     (void)state;
@@ -205,6 +263,14 @@ static void test_truncated_and_flipped(void **state)
     uint8_t *bq = encode_request(&q, &lq), *br = encode_result(&r, &lr);
     check_cut_and_flip(bq, lq, decode_request);
     check_cut_and_flip(br, lr, decode_result);
+    uint8_t *h = NULL, *qq = NULL;
+    size_t lh, lqq;
+    assert_int_equal(lm_lane_request_encode_head(&q, &h, &lh), LM_OK);
+    assert_int_equal(lm_lane_queue_encode(q.queue, q.n_queue, &qq, &lqq), LM_OK);
+    check_cut_and_flip(h, lh, decode_head);
+    check_cut_and_flip(qq, lqq, decode_queue);
+    free(h);
+    free(qq);
     free(bq);
     free(br);
     lm_lane_request_free(&q);
@@ -279,9 +345,8 @@ static void test_hostile_fields(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_request_round_trip),
-        cmocka_unit_test(test_result_round_trip),
-        cmocka_unit_test(test_truncated_and_flipped),
+        cmocka_unit_test(test_request_round_trip), cmocka_unit_test(test_request_head_and_queue),
+        cmocka_unit_test(test_result_round_trip),  cmocka_unit_test(test_truncated_and_flipped),
         cmocka_unit_test(test_hostile_fields),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

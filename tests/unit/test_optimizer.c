@@ -75,9 +75,14 @@ static lm_status test_run_lanes(void *ctx, const lm_lane_batch *b)
     lm_lane_result r;
     lm_lane_request_init(&q);
     lm_lane_result_init(&r);
-    for (uint32_t j = b->n; j-- > 0;) {
-        assert_int_equal(lm_lane_request_decode(b->req[j], b->req_len[j], &q), LM_OK);
-        assert_int_equal(lm_lane_host_run(t->host, start, t->views, &q, &r), LM_OK);
+    for (uint32_t j = b->n; j-- > 0;) { /* a request is its head followed by the queue */
+        uint8_t *whole = malloc(b->req_len[j] + b->queue_len);
+        assert_non_null(whole);
+        memcpy(whole, b->req[j], b->req_len[j]);
+        memcpy(whole + b->req_len[j], b->queue, b->queue_len);
+        assert_int_equal(lm_lane_request_decode(whole, b->req_len[j] + b->queue_len, &q), LM_OK);
+        free(whole);
+        assert_int_equal(lm_lane_host_run(t->host, start, t->views, &q, t->groups + 1, &r), LM_OK);
         assert_int_equal(lm_lane_result_encode(&r, &buf, &len), LM_OK);
         assert_int_equal(lm_lane_result_decode(buf, len, b->n_verts, b->res[j]), LM_OK);
         *b->result_bytes += len;

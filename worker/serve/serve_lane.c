@@ -3,7 +3,9 @@
  * of each group this worker gets, whole or as a delta against the last group's record, which this
  * worker keeps; kept for the group's other lanes) and this worker's views, which serve every
  * view of the job and are at the group's start (the request's seq), the geometric term added where
- * the request asks for it. Everything decoded is checked (lane_wire.h, lane_start.h); a failure is
+ * the request asks for it. The group's collapse queue comes the same way (whole or as a delta
+ * against the last group's, kept here) and every lane's request borrows it: a request carries only
+ * its head (lane_wire.h). Everything decoded is checked (lane_wire.h, lane_start.h); a failure is
  * answered, never fatal. */
 #include <stdio.h>
 #include <stdlib.h>
@@ -29,7 +31,13 @@ struct wk_lanes {
     uint64_t job, group;
     uint8_t *record; /* its encoded record: the base of the next group's delta */
     size_t n_record;
+    lm_cq_entry *queue; /* the collapse queue of (qjob, qgroup): every lane of it borrows it */
+    uint32_t n_queue;
+    uint64_t qjob, qgroup;
+    uint8_t *qrecord; /* its encoded section: the base of the next group's queue delta */
+    size_t n_qrecord;
     uint64_t lanes_run; /* lanes taken (for the test hook crash-lanes-as) */
+    uint64_t epoch;     /* counts the starts and queues taken: names the pair for the host */
     lm_lane_request req;
     lm_lane_result res;
 };
@@ -74,6 +82,9 @@ void wk_serve_lanes_free(wk_server *s)
     lm_lane_host_destroy(l->host);
     lm_mesh_destroy(l->start);
     free(l->record);
+    free(l->queue);
+    free(l->qrecord);
+    l->req.queue = NULL; /* borrowed */
     lm_lane_request_free(&l->req);
     lm_lane_result_free(&l->res);
     free(l);
@@ -163,10 +174,83 @@ static lm_status take_start(wk_server *s, wk_lanes *l, const Lumesh__RunLane *q,
         return st;
     }
     l->start = m;
+    l->epoch++;
     l->record = rec;
     l->n_record = n;
     l->job = s->job;
     l->group = q->group;
+    return LM_OK;
+}
+
+/* Drops the queue (and the base it gives deltas). */
+static void drop_queue(wk_lanes *l)
+{
+    free(l->queue);
+    l->queue = NULL;
+    l->n_queue = 0;
+    free(l->qrecord);
+    l->qrecord = NULL;
+    l->n_qrecord = 0;
+    l->qgroup = 0;
+}
+
+/* The queue section the request carries: its `queue` (copied), or its delta applied to the one
+ * kept for base_group (*missing = 1 and nothing made when that is not the one kept). */
+static lm_status queue_record(const wk_server *s, const wk_lanes *l, const Lumesh__RunLane *q,
+                              uint8_t **rec, size_t *n, int *missing)
+{
+    *rec = NULL;
+    *n = 0;
+    if (q->queue.len && q->queue_delta.len)
+        return lm_fail(LM_E_FORMAT, "a lane with both a collapse queue and its delta");
+    if (q->queue_delta.len) {
+        *missing = !l->qrecord || l->qjob != s->job || l->qgroup != q->base_group;
+        return *missing ? LM_OK
+                        : lm_lane_delta_apply(l->qrecord, l->n_qrecord, q->queue_delta.data,
+                                              q->queue_delta.len, rec, n);
+    }
+    if (!(*rec = malloc(q->queue.len)))
+        return lm_fail(LM_E_NOMEM, "out of memory for a collapse queue");
+    memcpy(*rec, q->queue.data, q->queue.len);
+    *n = q->queue.len;
+    return LM_OK;
+}
+
+/* The group's queue, after its start (take_start): the one sent with this request (whole or as a
+ * delta against the last group's), else the one kept for its group. *missing as take_start's. */
+static lm_status take_queue(wk_server *s, wk_lanes *l, const Lumesh__RunLane *q, int *missing)
+{
+    *missing = 0;
+    if (!q->queue.len && !q->queue_delta.len) {
+        if (!l->qrecord || l->qjob != s->job || l->qgroup != q->group)
+            return lm_fail(LM_E_INVALID, "a lane of group %llu without its collapse queue",
+                           (unsigned long long)q->group);
+        return LM_OK;
+    }
+    uint8_t *rec = NULL;
+    size_t n = 0;
+    lm_status st = queue_record(s, l, q, &rec, &n, missing);
+    if (st != LM_OK || *missing) {
+        free(rec);
+        if (st != LM_OK)
+            drop_queue(l);
+        return st;
+    }
+    drop_queue(l);
+    lm_cq_entry *e = NULL;
+    uint32_t n_e = 0;
+    st = lm_lane_queue_decode(rec, n, l->start->n_verts, &e, &n_e);
+    if (st != LM_OK) {
+        free(rec);
+        return st;
+    }
+    l->queue = e;
+    l->n_queue = n_e;
+    l->epoch++;
+    l->qrecord = rec;
+    l->n_qrecord = n;
+    l->qjob = s->job;
+    l->qgroup = q->group;
     return LM_OK;
 }
 
@@ -238,7 +322,10 @@ static lm_status run_lane(wk_server *s, wk_lanes *l, const lm_msg *m)
 {
     const Lumesh__RunLane *q = m->run_lane;
     double t0 = now_s();
-    lm_status st = lm_lane_request_decode(q->request.data, q->request.len, &l->req);
+    l->req.queue = NULL; /* borrowed from l->queue */
+    lm_status st = lm_lane_request_decode_head(q->request.data, q->request.len, &l->req);
+    l->req.queue = st == LM_OK ? l->queue : NULL;
+    l->req.n_queue = st == LM_OK ? l->n_queue : 0;
     if (st == LM_OK && l->req.n_verts != l->start->n_verts)
         st = lm_fail(LM_E_FORMAT, "a lane's request for %u vertex slots, the start has %u",
                      l->req.n_verts, l->start->n_verts);
@@ -246,10 +333,13 @@ static lm_status run_lane(wk_server *s, wk_lanes *l, const lm_msg *m)
         st = lm_fail(LM_E_FORMAT, "lane %u of a group of %u named lane %u", l->req.index,
                      l->req.n_group, q->lane);
     l->surface = q->surface;
-    if (st == LM_OK && lm_lane_host_run(l->host, l->start, &l->base, &l->req, &l->res) != LM_OK)
+    if (st == LM_OK &&
+        lm_lane_host_run(l->host, l->start, &l->base, &l->req, l->epoch, &l->res) != LM_OK)
         st = lm_fail(l->res.status, "%s", l->res.msg);
     uint8_t *buf = NULL;
     size_t len = 0;
+    l->req.queue = NULL;
+    l->req.n_queue = 0;
     if (st == LM_OK)
         st = lm_lane_result_encode(&l->res, &buf, &len);
     if (st != LM_OK)
@@ -277,6 +367,8 @@ lm_status wk_serve_lane(wk_server *s, const lm_msg *m)
         st = lanes_get(s, &l);
     if (st == LM_OK)
         st = take_start(s, l, q, &missing); /* kept even when the views are stale */
+    if (st == LM_OK && !missing)
+        st = take_queue(s, l, q, &missing); /* decoded against the start's vertex slots */
     if (st == LM_OK)
         st = check_views(s, m, &stale);
     stale = stale || missing;
