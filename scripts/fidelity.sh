@@ -25,6 +25,7 @@
 #   bunny: scanned statue, 378 (1%)        camel: scanned animal with thin legs, 300
 #   fandisk: CAD part with sharp edges, 200  duck: textured (Collada), 300
 #   frog: textured multi-part (lumesh gen-frog), 300   spider: textured multi-part, thin legs, 300
+#   armadillo: scanned statue, 26k vertices, 400
 # Default set: bunny,camel,fandisk,duck,frog. Renders in process (--workers 0); J models run at
 # once. Needs a release build (scripts/build.sh release) and the test data (install-deps.sh).
 set -euo pipefail
@@ -62,6 +63,7 @@ model_info() {
     duck) echo "textured|$assimp/Collada/duck.dae|300" ;;
     frog) echo "textured multi-part|$out/frog/frog.obj|300" ;;
     spider) echo "textured multi-part, thin legs|$assimp/OBJ/spider.obj|300" ;;
+    armadillo) echo "scanned statue, limbs|$cache/data/meshes/armadillo.off|400" ;;
     *) echo "fidelity.sh: unknown model '$1'" >&2; return 1 ;;
   esac
 }

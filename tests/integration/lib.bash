@@ -48,7 +48,8 @@ finish() {
   [ "$failures" = 0 ]
 }
 # scratch — a fresh folder in $tmp and an empty $pids; at exit every process in $pids is killed
-# (and reaped) and the folder removed. Scripts add the background processes they start to pids.
+# (and reaped) and the folder removed (kept with KEEP_TMP=1, to look at after a failure). Scripts
+# add the background processes they start to pids.
 scratch() {
   tmp=$(mktemp -d)
   pids=()
@@ -57,5 +58,5 @@ scratch() {
 scratch_cleanup() {
   for p in "${pids[@]}"; do kill -9 "$p" 2>/dev/null; done
   [ "${#pids[@]}" = 0 ] || wait "${pids[@]}" 2>/dev/null
-  rm -rf "$tmp"
+  [ -n "${KEEP_TMP:-}" ] || rm -rf "$tmp"
 }
