@@ -26,7 +26,8 @@ static const char co_optimize_help[] =
     "                       [--checkpoint FILE [--checkpoint-every N|Ns]] [--resume FILE]\n"
     "                       [--attrs pos,normal,uv,color] [--device D] [--json] [--report DIR]\n"
     "                       [--workers N] [--listen tcp://ADDR:PORT] [--renderer ID]\n"
-    "                       [--edges-in-flight K [--lanes shared|isolated|remote]] [--keys DIR]\n"
+    "                       [--edges-in-flight K [--lanes shared|isolated|remote]]\n"
+    "                       [--audit-lanes P,R|0] [--keys DIR]\n"
     "                       [--save-initial FILE]\n"
     "                       [--surface-weight W | --surface-share S] [--regrid-every N]\n"
     "                       [--energy image|geometric|image+geometric] [--c-rep C]\n"
@@ -186,6 +187,12 @@ static const char co_optimize_help[] =
     "                          merged in order afterwards). Part of the job, like K; remote:\n"
     "                          isolated lanes, each run whole on a worker that serves every view\n"
     "                          (needs K >= 2 and workers): the same output as isolated\n"
+    "  --audit-lanes P,R       --lanes remote: lanes run again by a second worker and the results\n"
+    "                          compared: every lane of a worker until P of its results agreed\n"
+    "                          with another's, then 1 lane in R (default %u,%u; 0 = off). A\n"
+    "                          mismatch goes to a third worker; the odd one is fenced. Two\n"
+    "                          workers that disagree with none to arbitrate stop the run. Never\n"
+    "                          changes the output\n"
     "  --keys DIR              CURVE keys (lumesh keygen): workers' connections encrypted and\n"
     "                          authenticated, only keys in DIR/workers.allow admitted; needed to\n"
     "                          --listen beyond this machine\n"
@@ -319,6 +326,15 @@ static int parse_lanes(void *to, const char *val)
     return -1;
 }
 
+static int parse_audit(void *to, const char *val)
+{
+    co_job_options *o = to;
+    if (co_audit_parse(val, &o->audit) != LM_OK)
+        return co_cli_usage_error(CMD, "%s", lm_last_error());
+    o->audit_set = 1;
+    return -1;
+}
+
 static int parse_energy(void *to, const char *val)
 {
     int *e = to;
@@ -384,8 +400,8 @@ static void usage(FILE *f)
             CO_JOB_IMAGE_START_SHARE, LM_SURFACE_SHARE,
             (unsigned long long)CO_JOB_DEFAULT_REGRID_EVERY, CO_GEO_DEFAULT_C_REP,
             CO_GEO_START_MULTIPLE, (unsigned long long)CO_JOB_DEFAULT_VALIDATE_EVERY,
-            CO_JOB_DEFAULT_VALIDATE_PATIENCE, CO_JOB_DEFAULT_IN_FLIGHT, CO_BAKE_DEFAULT_SIZE,
-            CO_BAKE_MIN_SIZE, CO_BAKE_MAX_SIZE);
+            CO_JOB_DEFAULT_VALIDATE_PATIENCE, CO_JOB_DEFAULT_IN_FLIGHT, CO_AUDIT_DEFAULT_PROBATION,
+            CO_AUDIT_DEFAULT_RATE, CO_BAKE_DEFAULT_SIZE, CO_BAKE_MIN_SIZE, CO_BAKE_MAX_SIZE);
 }
 
 /* What a 0 given stands for: no geometric term (--surface-weight, --surface-share), one grid all
@@ -489,6 +505,7 @@ static int parse_args(int argc, char **argv, optimize_args *a)
          .hi = UINT64_MAX / 2},
         CO_OPT_U32("edges-in-flight", 0, &o->edges_in_flight, 1, LM_MAX_EDGES_IN_FLIGHT),
         CO_OPT_CALL("lanes", 0, parse_lanes, o),
+        CO_OPT_CALL("audit-lanes", 0, parse_audit, o),
         CO_OPT_STR("keys", 0, &o->keys),
         CO_OPT_STR("save-initial", 0, &o->initial_output_path),
         CO_OPT_FLAG("cull-unseen", 0, &o->cull_unseen),

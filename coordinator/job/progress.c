@@ -289,9 +289,11 @@ static void json_lanes(FILE *fp, const co_lane_stats *l)
     fprintf(fp,
             ",\"lanes_remote\":{\"groups\":%" PRIu64 ",\"starts_full\":%" PRIu64
             ",\"starts_delta\":%" PRIu64 ",\"start_bytes\":%" PRIu64
-            ",\"start_record_bytes\":%" PRIu64 ",\"request_bytes\":%" PRIu64 "}",
+            ",\"start_record_bytes\":%" PRIu64 ",\"request_bytes\":%" PRIu64 ",\"audits\":%" PRIu64
+            ",\"audit_mismatches\":%" PRIu64 ",\"audit_fenced\":%" PRIu64
+            ",\"audits_skipped\":%" PRIu64 "}",
             l->groups, l->starts_full, l->starts_delta, l->start_bytes, l->start_record_bytes,
-            l->request_bytes);
+            l->request_bytes, l->audits, l->audit_mismatches, l->audit_fenced, l->audits_skipped);
 }
 
 static void json_summary(FILE *fp, const co_reporter *r, const co_job_summary *s)
