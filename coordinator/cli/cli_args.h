@@ -143,7 +143,7 @@ typedef struct co_cli_spec {
 #define CO_STR_(x) #x
 
 /* The most options one table may have. */
-#define CO_OPTS_MAX 40
+#define CO_OPTS_MAX 48
 #define CO_OPTS_N(t) (sizeof(t) / sizeof((t)[0]))
 
 /* Parse argv's options from getopt_long's optind on (the caller resets it: co_cli_reset_getopt)

@@ -273,11 +273,12 @@ static lm_status settle_stuck(lane_run *x)
             continue;
         }
         if (lv->n > 1)
-            return lm_fail(LM_E_INTERNAL,
-                           "lane %u: workers %u and %u returned different results and no third "
-                           "worker can arbitrate: stopping (a result that may be wrong is never "
-                           "merged)",
-                           lane, lv->v[0].worker, lv->v[1].worker);
+            return lm_fail(
+                LM_E_INTERNAL,
+                "lane %u of group %llu: workers %u and %u returned different results and no third "
+                "worker can arbitrate: stopping (a result that may be wrong is never "
+                "merged)",
+                lane, (unsigned long long)x->r->lane_group, lv->v[0].worker, lv->v[1].worker);
         lm_status st = use_vote(x, lane, 0);
         if (st != LM_OK)
             return st;
@@ -319,16 +320,19 @@ static lm_status vote(lane_run *x, co_worker *w, uint32_t lane, const uint8_t *b
         return settle(x, lane, win);
     if (vd == CO_AUDIT_SPLIT)
         return lm_fail(LM_E_INTERNAL,
-                       "lane %u: workers %u, %u and %u returned three different results: "
+                       "lane %u of group %llu: workers %u, %u and %u returned three different "
+                       "results: "
                        "stopping (a result that may be wrong is never merged)",
-                       lane, lv->v[0].worker, lv->v[1].worker, lv->v[2].worker);
+                       lane, (unsigned long long)x->r->lane_group, lv->v[0].worker, lv->v[1].worker,
+                       lv->v[2].worker);
     ls->audit_mismatches++;
     if (!other_worker(x, lane))
-        return lm_fail(LM_E_INTERNAL,
-                       "lane %u: workers %u and %u returned different results and no third "
-                       "worker can arbitrate: stopping (a result that may be wrong is never "
-                       "merged)",
-                       lane, lv->v[0].worker, lv->v[1].worker);
+        return lm_fail(
+            LM_E_INTERNAL,
+            "lane %u of group %llu: workers %u and %u returned different results and no third "
+            "worker can arbitrate: stopping (a result that may be wrong is never "
+            "merged)",
+            lane, (unsigned long long)x->r->lane_group, lv->v[0].worker, lv->v[1].worker);
     ls->audits++;
     requeue(x, lane);
     return LM_OK;
