@@ -33,6 +33,8 @@ typedef struct lane_votes {
     co_audit_vote v[CO_AUDIT_MAX_VOTES];
     uint32_t n;
     uint32_t decoded; /* the vote whose bytes are in the lane's lm_lane_result */
+    uint32_t want;    /* results wanted: 0 not yet decided (at its first send), 1, 2 (audited),
+                         3 (two disagree: a third arbitrates) */
     int accepted;     /* the lane's result is settled (counted in done) */
 } lane_votes;
 
@@ -46,7 +48,8 @@ typedef struct lane_run {
     size_t n_delta;
     int no_delta;  /* 1: the delta would not pay (or failed): starts go whole */
     uint64_t hash; /* of the start mesh */
-    uint32_t queue[LM_MAX_EDGES_IN_FLIGHT]; /* lanes waiting for a worker, in lane order */
+    uint32_t queue[CO_AUDIT_MAX_VOTES * LM_MAX_EDGES_IN_FLIGHT]; /* runs of lanes waiting for a
+                                                                   worker, in lane order */
     uint32_t n_queue, done;
     uint32_t strikes[LM_MAX_EDGES_IN_FLIGHT]; /* failures of each lane */
     uint32_t tries[LM_MAX_EDGES_IN_FLIGHT];   /* sends of each lane (lost, stale in between) */
@@ -62,6 +65,38 @@ static void requeue(lane_run *x, uint32_t lane)
         at--;
     }
     x->queue[at] = lane;
+}
+
+/* Runs of lane queued or in flight. */
+static uint32_t pending(const lane_run *x, uint32_t lane)
+{
+    uint32_t n = 0;
+    for (uint32_t k = 0; k < x->n_queue; k++)
+        n += x->queue[k] == lane;
+    for (uint32_t i = 0; i < x->r->n_live; i++)
+        n += x->lane_of[i] == lane + 1;
+    return n;
+}
+
+/* Queue runs of lane until its results and its runs cover what it wants. */
+static void top_up(lane_run *x, uint32_t lane)
+{
+    const lane_votes *lv = &x->votes[lane];
+    uint32_t want = lv->want ? lv->want : 1;
+    if (lv->accepted)
+        return;
+    for (uint32_t have = lv->n + pending(x, lane); have < want; have++)
+        requeue(x, lane);
+}
+
+/* Drops the queued runs of lane (settled). */
+static void unqueue(lane_run *x, uint32_t lane)
+{
+    uint32_t n = 0;
+    for (uint32_t k = 0; k < x->n_queue; k++)
+        if (x->queue[k] != lane)
+            x->queue[n++] = x->queue[k];
+    x->n_queue = n;
 }
 
 /* The start as a delta for w, when w took the last group's start and the delta pays (at most
@@ -121,14 +156,14 @@ static int voted(const lane_run *x, uint32_t lane, uint32_t id)
     return 0;
 }
 
-/* 1: a worker of the layout, not lost, that gave none of the lane's results (an auditor). */
-static int other_worker(const lane_run *x, uint32_t lane)
+/* Workers of the layout, not lost, that gave none of the lane's results (auditors); 0 none. */
+static uint32_t other_worker(const lane_run *x, uint32_t lane)
 {
     const co_remote *r = x->r;
+    uint32_t n = 0;
     for (uint32_t i = 0; i < r->n_live; i++)
-        if (!r->live[i]->lost && r->live[i]->job == r->job && !voted(x, lane, r->live[i]->id))
-            return 1;
-    return 0;
+        n += !r->live[i]->lost && r->live[i]->job == r->job && !voted(x, lane, r->live[i]->id);
+    return n;
 }
 
 /* The place in the queue of the first lane w may run (one it gave no result of), or n_queue. */
@@ -163,6 +198,16 @@ static lm_status dispatch(lane_run *x)
         memmove(x->queue + k, x->queue + k + 1, (x->n_queue - k) * sizeof *x->queue);
         st = send_lane(x, w, lane);
         x->lane_of[i] = lane + 1;
+        lane_votes *lv = &x->votes[lane];
+        if (!lv->want) { /* its first send: audited or not, by the worker it goes to (not with
+                            no other worker to audit it) */
+            lv->want = co_audit_wanted(r->audit, w->lanes_confirmed, x->hash, lane) &&
+                               other_worker(x, lane) > 1
+                           ? 2
+                           : 1;
+            r->lane_stats.audits += lv->want == 2;
+            top_up(x, lane); /* the audit's run goes to the next free other worker */
+        }
     }
     return st;
 }
@@ -175,7 +220,7 @@ static lm_status strike(lane_run *x, co_worker *w, uint32_t lane, lm_status why)
         return lm_fail(why ? why : LM_E_INTERNAL, "lane %u failed %u times, last: %s", lane,
                        x->strikes[lane], lm_last_error());
     w->lane_group = 0; /* send it the start again, in case that is what it lacked */
-    requeue(x, lane);
+    top_up(x, lane);
     return LM_OK;
 }
 
@@ -198,6 +243,7 @@ static void accept(lane_run *x, uint32_t lane)
 {
     x->votes[lane].accepted = 1;
     x->done++;
+    unqueue(x, lane); /* runs still in flight are answered and dropped */
 }
 
 /* A worker fenced for a wrong result: its results of this group that no one checked are dropped
@@ -210,11 +256,12 @@ static void forget_worker(lane_run *x, uint32_t id)
         if (lv->n != 1 || lv->v[0].worker != id)
             continue;
         int was = lv->accepted;
+        uint32_t want = lv->want;
         votes_clear(lv);
-        if (was) {
+        lv->want = was ? 0 : want; /* a settled lane is decided again at its next send */
+        if (was)
             x->done--;
-            requeue(x, lane);
-        }
+        top_up(x, lane);
     }
 }
 
@@ -272,6 +319,7 @@ static lm_status settle_stuck(lane_run *x)
             k++;
             continue;
         }
+        k = 0; /* the queue changes: from its start again */
         if (lv->n > 1)
             return lm_fail(
                 LM_E_INTERNAL,
@@ -283,15 +331,13 @@ static lm_status settle_stuck(lane_run *x)
         if (st != LM_OK)
             return st;
         x->r->lane_stats.audits_skipped++;
-        x->n_queue--;
-        memmove(x->queue + k, x->queue + k + 1, (x->n_queue - k) * sizeof *x->queue);
-        accept(x, lane);
+        accept(x, lane); /* unqueued */
     }
     return LM_OK;
 }
 
-/* The result bytes of lane from w, the lane's vote: accepted, audited by another worker,
- * arbitrated by a third, or the run stopped (lane_audit.h). */
+/* The result bytes of lane from w, the lane's vote: accepted, compared with the audit's,
+ * arbitrated by a third worker, or the run stopped (lane_audit.h). */
 static lm_status vote(lane_run *x, co_worker *w, uint32_t lane, const uint8_t *bytes, size_t len)
 {
     lane_votes *lv = &x->votes[lane];
@@ -303,15 +349,12 @@ static lm_status vote(lane_run *x, co_worker *w, uint32_t lane, const uint8_t *b
         memcpy(copy, bytes, len);
     lv->decoded = lv->n;
     lv->v[lv->n++] = (co_audit_vote){w->id, copy, len};
-    if (lv->n == 1) {
-        if (co_audit_off(x->r->audit) ||
-            !co_audit_wanted(x->r->audit, w->lanes_confirmed, x->hash, lane) ||
-            !other_worker(x, lane)) {
-            accept(x, lane);
-            return LM_OK;
-        }
-        ls->audits++;
-        requeue(x, lane);
+    if (lv->n == 1 && lv->want <= 1) {
+        accept(x, lane);
+        return LM_OK;
+    }
+    if (lv->n == 1) { /* the audit's run is queued or in flight */
+        top_up(x, lane);
         return LM_OK;
     }
     uint32_t win = 0;
@@ -321,28 +364,29 @@ static lm_status vote(lane_run *x, co_worker *w, uint32_t lane, const uint8_t *b
     if (vd == CO_AUDIT_SPLIT)
         return lm_fail(LM_E_INTERNAL,
                        "lane %u of group %llu: workers %u, %u and %u returned three different "
-                       "results: "
-                       "stopping (a result that may be wrong is never merged)",
+                       "results: stopping (a result that may be wrong is never merged)",
                        lane, (unsigned long long)x->r->lane_group, lv->v[0].worker, lv->v[1].worker,
                        lv->v[2].worker);
     ls->audit_mismatches++;
     if (!other_worker(x, lane))
-        return lm_fail(
-            LM_E_INTERNAL,
-            "lane %u of group %llu: workers %u and %u returned different results and no third "
-            "worker can arbitrate: stopping (a result that may be wrong is never "
-            "merged)",
-            lane, (unsigned long long)x->r->lane_group, lv->v[0].worker, lv->v[1].worker);
+        return lm_fail(LM_E_INTERNAL,
+                       "lane %u of group %llu: workers %u and %u returned different results and "
+                       "no third worker can arbitrate: stopping (a result that may be wrong is "
+                       "never merged)",
+                       lane, (unsigned long long)x->r->lane_group, lv->v[0].worker,
+                       lv->v[1].worker);
     ls->audits++;
-    requeue(x, lane);
+    lv->want = CO_AUDIT_MAX_VOTES;
+    top_up(x, lane);
     return LM_OK;
 }
 
 /* A LaneDone from w for lane: decoded into the lane's result, or w fenced and the lane again. */
-/* A LaneDone from w for lane: decoded into the lane's result, or w fenced and the lane again. */
 static lm_status take_result(lane_run *x, co_worker *w, uint32_t lane)
 {
     const Lumesh__LaneDone *d = w->reply.msg->lane_done;
+    if (x->votes[lane].accepted)
+        return LM_OK; /* an extra run of a settled lane (a lost worker's run sent again) */
     lm_lane_result *res = x->b->res[lane];
     lm_status st = d->group == x->r->lane_group && d->lane == lane
                        ? lm_lane_result_decode(d->result.data, d->result.len, x->b->n_verts, res)
@@ -375,7 +419,7 @@ static lm_status collect(lane_run *x)
             continue;
         x->lane_of[i] = 0;
         if (w->lost) {
-            requeue(x, lane);
+            top_up(x, lane);
             continue;
         }
         int stale = 0;
@@ -387,7 +431,7 @@ static lm_status collect(lane_run *x)
         } else if (stale) {
             co_pool_disarm(w);
             w->lane_group = 0; /* it may lack the start's base: sent whole next */
-            requeue(x, lane);
+            top_up(x, lane);
             st = co_remote_send_state(r, w);
         } else {
             st = take_result(x, w, lane); /* reads the reply: disarmed after */
