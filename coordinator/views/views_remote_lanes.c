@@ -298,9 +298,10 @@ static lm_status settle(lane_run *x, uint32_t lane, uint32_t win)
         snprintf(why, sizeof why,
                  "a wrong lane result (lane %u of group %llu: workers %u and %u agree on another)",
                  lane, (unsigned long long)x->r->lane_group, v[win].worker, peer);
-        x->r->lane_stats.audit_fenced++;
-        if (w)
+        if (w) { /* fenced once: a worker already lost is not counted again */
+            x->r->lane_stats.audit_fenced++;
             co_pool_fence(x->r->pool, w, why);
+        }
         forget_worker(x, odd[k]);
     }
     if (st == LM_OK)
