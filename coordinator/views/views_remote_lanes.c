@@ -11,12 +11,13 @@
  * worker's message. The results are the lanes' whoever ran them: the optimizer merges them in lane
  * order, so the output does not depend on the workers, their number or their timing.
  *
- * Audits (lane_audit.h, r->audit): a lane the rule picks is run again by another free worker and
- * the result bytes compared; a mismatch goes to a third worker, the result two agree on is kept and
- * the odd worker fenced (with its unaudited results of the group, which run again); two workers
- * that disagree with no third to arbitrate, or three different results, end the run with one line
- * (a result that may be wrong is never merged). A group's results go to the merge only once every
- * lane's audit is settled. Who audits what depends on timing; the bytes merged do not. */
+ * Audits (lane_audit.h, r->audit): a lane the rule picks at its first send is also run, at the
+ * same time, by another free worker, and the result bytes compared; a mismatch goes to a third
+ * worker, the result two agree on is kept and the odd worker fenced (with its unaudited results of
+ * the group, which run again); two workers that disagree with no third to arbitrate, or three
+ * different results, end the run with one line (a result that may be wrong is never merged). A
+ * group's results go to the merge only once every lane's audit is settled. Who audits what depends
+ * on timing; the bytes merged do not. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
