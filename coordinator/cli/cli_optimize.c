@@ -27,7 +27,8 @@ static const char co_optimize_help[] =
     "                       [--attrs pos,normal,uv,color] [--device D] [--json] [--report DIR]\n"
     "                       [--workers N] [--listen tcp://ADDR:PORT] [--renderer ID]\n"
     "                       [--edges-in-flight K [--lanes shared|isolated|remote]] [--keys DIR]\n"
-    "                       [--edges-per-iteration P] [--save-initial FILE]\n"
+    "                       [--edges-per-iteration P] [--audit-lanes P,R|0]\n"
+    "                       [--save-initial FILE]\n"
     "                       [--surface-weight W | --surface-share S] [--regrid-every N]\n"
     "                       [--energy image|geometric|image+geometric] [--c-rep C]\n"
     "                       [--geo-improvements LIST] [--geo-start-multiple K]\n"
@@ -190,6 +191,12 @@ static const char co_optimize_help[] =
     "                          groups of K edges in flight are taken from each plan, so a larger\n"
     "                          plan gives --lanes remote more work between plans. Part of the\n"
     "                          job, like K (a --resume must give the same P)\n"
+    "  --audit-lanes P,R       --lanes remote: lanes run again by a second worker and the results\n"
+    "                          compared: every lane of a worker until P of its results agreed\n"
+    "                          with another's, then 1 lane in R (default %u,%u; 0 = off). A\n"
+    "                          mismatch goes to a third worker; the odd one is fenced. Two\n"
+    "                          workers that disagree with none to arbitrate stop the run. Never\n"
+    "                          changes the output\n"
     "  --keys DIR              CURVE keys (lumesh keygen): workers' connections encrypted and\n"
     "                          authenticated, only keys in DIR/workers.allow admitted; needed to\n"
     "                          --listen beyond this machine\n"
@@ -323,6 +330,15 @@ static int parse_lanes(void *to, const char *val)
     return -1;
 }
 
+static int parse_audit(void *to, const char *val)
+{
+    co_job_options *o = to;
+    if (co_audit_parse(val, &o->audit) != LM_OK)
+        return co_cli_usage_error(CMD, "%s", lm_last_error());
+    o->audit_set = 1;
+    return -1;
+}
+
 static int parse_energy(void *to, const char *val)
 {
     int *e = to;
@@ -389,8 +405,8 @@ static void usage(FILE *f)
             (unsigned long long)CO_JOB_DEFAULT_REGRID_EVERY, CO_GEO_DEFAULT_C_REP,
             CO_GEO_START_MULTIPLE, (unsigned long long)CO_JOB_DEFAULT_VALIDATE_EVERY,
             CO_JOB_DEFAULT_VALIDATE_PATIENCE, CO_JOB_DEFAULT_IN_FLIGHT,
-            LM_DEFAULT_EDGES_PER_ITERATION, LM_MAX_EDGES_PER_ITERATION, CO_BAKE_DEFAULT_SIZE,
-            CO_BAKE_MIN_SIZE, CO_BAKE_MAX_SIZE);
+            LM_DEFAULT_EDGES_PER_ITERATION, LM_MAX_EDGES_PER_ITERATION, CO_AUDIT_DEFAULT_PROBATION,
+            CO_AUDIT_DEFAULT_RATE, CO_BAKE_DEFAULT_SIZE, CO_BAKE_MIN_SIZE, CO_BAKE_MAX_SIZE);
 }
 
 /* What a 0 given stands for: no geometric term (--surface-weight, --surface-share), one grid all
@@ -496,6 +512,7 @@ static int parse_args(int argc, char **argv, optimize_args *a)
         CO_OPT_U32("edges-per-iteration", 0, &o->edges_per_iteration, 1,
                    LM_MAX_EDGES_PER_ITERATION),
         CO_OPT_CALL("lanes", 0, parse_lanes, o),
+        CO_OPT_CALL("audit-lanes", 0, parse_audit, o),
         CO_OPT_STR("keys", 0, &o->keys),
         CO_OPT_STR("save-initial", 0, &o->initial_output_path),
         CO_OPT_FLAG("cull-unseen", 0, &o->cull_unseen),

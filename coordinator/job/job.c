@@ -280,6 +280,8 @@ static lm_status resolve_options(co_job *j, const co_job_options *in)
         return lm_fail(LM_E_INVALID, "--lanes remote needs --edges-in-flight 2 or more");
     if (o->lanes_remote && co_job_is_none(o->workers))
         return lm_fail(LM_E_INVALID, "--lanes remote needs workers (not --workers 0)");
+    if (!o->audit_set)
+        o->audit = (co_audit_rule){CO_AUDIT_DEFAULT_PROBATION, CO_AUDIT_DEFAULT_RATE};
     if (!(o->time_limit_s >= 0) || !(o->checkpoint_every_s >= 0))
         return lm_fail(LM_E_RANGE, "time limits must be positive numbers");
     if (!o->checkpoint_every_s && !o->checkpoint_every_evals)
@@ -542,7 +544,8 @@ static lm_status create_views_of(co_job *j, uint32_t count, int size, uint32_t t
                        .n_materials = baked ? n_baked : m->n_materials,
                        .device = j->o.device_spec,
                        .pool = j->pool,
-                       .whole = j->o.lanes_remote && j->pool && !local};
+                       .whole = j->o.lanes_remote && j->pool && !local,
+                       .audit = j->o.audit};
     if (st == LM_OK)
         st = co_views_create(&d, out);
     free(vs);

@@ -17,6 +17,7 @@
 #include "coordinator/job/preset.h"
 #include "coordinator/job/progress.h"
 #include "coordinator/job/schedule.h"
+#include "coordinator/views/lane_audit.h"
 
 /* A job's defaults (resolved by resolve_options in job.c, nowhere else). The optimizer's own views
  * are 30 of 208²; `energy`, `render` and the others keep LM_DEFAULT_VIEWS of LM_DEFAULT_VIEW_SIZE.
@@ -118,6 +119,8 @@ typedef struct co_job_options {
     uint32_t lane_isolation;      /* 1: those edges' lanes isolated (lm_params.lane_isolation) */
     uint32_t lanes_remote;   /* 1: isolated lanes run on the workers (--lanes remote: each worker
                                 serves every view); the same output as in process */
+    co_audit_rule audit;     /* --lanes remote: lanes a second worker runs again (lane_audit.h) */
+    int audit_set;           /* 0: audit is CO_AUDIT_DEFAULT_* (resolve_options) */
     double surface_weight;   /* the optimizer's geometric term (lm_tuning.surface_weight): 0 =
                                 default, CO_JOB_NONE = none */
     double surface_share;    /* its weight relative to the start (lm_tuning.surface_share): 0 =

@@ -286,14 +286,17 @@ static void json_lanes(FILE *fp, const co_lane_stats *l)
 {
     if (!l->groups)
         return;
-    fprintf(
-        fp,
-        ",\"lanes_remote\":{\"groups\":%" PRIu64 ",\"starts_full\":%" PRIu64
-        ",\"starts_delta\":%" PRIu64 ",\"start_bytes\":%" PRIu64 ",\"start_record_bytes\":%" PRIu64
-        ",\"queues_full\":%" PRIu64 ",\"queues_delta\":%" PRIu64 ",\"queue_bytes\":%" PRIu64
-        ",\"queue_record_bytes\":%" PRIu64 ",\"request_bytes\":%" PRIu64 "}",
-        l->groups, l->starts_full, l->starts_delta, l->start_bytes, l->start_record_bytes,
-        l->queues_full, l->queues_delta, l->queue_bytes, l->queue_record_bytes, l->request_bytes);
+    fprintf(fp,
+            ",\"lanes_remote\":{\"groups\":%" PRIu64 ",\"starts_full\":%" PRIu64
+            ",\"starts_delta\":%" PRIu64 ",\"start_bytes\":%" PRIu64
+            ",\"start_record_bytes\":%" PRIu64 ",\"queues_full\":%" PRIu64
+            ",\"queues_delta\":%" PRIu64 ",\"queue_bytes\":%" PRIu64
+            ",\"queue_record_bytes\":%" PRIu64 ",\"request_bytes\":%" PRIu64 ",\"audits\":%" PRIu64
+            ",\"audit_mismatches\":%" PRIu64 ",\"audit_fenced\":%" PRIu64
+            ",\"audits_skipped\":%" PRIu64 "}",
+            l->groups, l->starts_full, l->starts_delta, l->start_bytes, l->start_record_bytes,
+            l->queues_full, l->queues_delta, l->queue_bytes, l->queue_record_bytes,
+            l->request_bytes, l->audits, l->audit_mismatches, l->audit_fenced, l->audits_skipped);
 }
 
 static void json_summary(FILE *fp, const co_reporter *r, const co_job_summary *s)

@@ -83,6 +83,8 @@ typedef struct co_worker {
     lm_wire_in reply;
     uint64_t lane_group; /* --lanes remote: the group whose start mesh it was sent (0 = none) */
     uint32_t failures;   /* requests it failed (CO_POOL_MAX_FAILURES: blocklisted) */
+    uint64_t lanes_confirmed; /* --lanes remote: its lane results another worker's agreed with
+                                 (views_remote_lanes.c: probation while below the audit's P) */
 } co_worker;
 
 typedef struct co_pool co_pool;

@@ -19,6 +19,7 @@
 #include "common/mesh.h"
 #include "common/view.h"
 #include "common/views_api.h"
+#include "coordinator/views/lane_audit.h"
 
 typedef struct co_pool co_pool; /* coordinator/pool/pool.h */
 
@@ -43,6 +44,8 @@ typedef struct co_views_desc {
     co_pool *pool;       /* remote: the workers (borrowed; must outlive the views) */
     int whole;           /* remote: every worker serves every view (workers beyond the first are
                             replicas), so that each can run whole lanes (co_views_lane_runner) */
+    co_audit_rule audit; /* remote, whole: which lanes a second worker runs again (lane_audit.h);
+                            zero = none (the job resolves its default) */
 } co_views_desc;
 
 /* The description with every zero field resolved (no checks). */
@@ -75,6 +78,10 @@ typedef struct co_lane_stats {
     uint64_t queues_delta;       /* collapse queues sent as deltas against the last group's */
     uint64_t queue_bytes;        /* their bytes, in all */
     uint64_t queue_record_bytes; /* the queues' whole records, one per group, in all */
+    uint64_t audits;             /* lanes run again by another worker (audits and arbitrations) */
+    uint64_t audit_mismatches;   /* audits whose result differed (a third worker arbitrates) */
+    uint64_t audit_fenced;       /* workers fenced for a wrong result */
+    uint64_t audits_skipped;     /* audits due with no other worker to run them */
 } co_lane_stats;
 
 /* Adds v's counts to *sum (nothing when v is not remote views). */

@@ -577,6 +577,7 @@ lm_status co_views_remote_create(const co_views_desc *d, lm_views **out)
         r->first = d->first;
         r->count = d->count;
         r->whole = d->whole;
+        r->audit = d->audit;
         r->original_mesh = d->original;
         r->width = d->views->views[0].width;
         r->height = d->views->views[0].height;

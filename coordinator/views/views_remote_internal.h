@@ -53,6 +53,7 @@ typedef struct co_remote {
     size_t n_lane_queue_base;
     uint64_t lane_base_group; /* their group (0 = none) */
     co_lane_stats lane_stats; /* what the lanes' groups sent */
+    co_audit_rule audit;      /* which lanes a second worker runs again (lane_audit.h) */
     /* scratch */
     lm_wire_arena arena;
     uint8_t *pack;

@@ -11,7 +11,15 @@
  * again, the same bytes, to the next free worker; a result that does not decode or fit fences the
  * worker (blocklisted for the job). A lane that fails CO_REMOTE_STRIKES times ends the run with the
  * worker's message. The results are the lanes' whoever ran them: the optimizer merges them in lane
- * order, so the output does not depend on the workers, their number or their timing. */
+ * order, so the output does not depend on the workers, their number or their timing.
+ *
+ * Audits (lane_audit.h, r->audit): a lane the rule picks at its first send is also run, at the
+ * same time, by another free worker, and the result bytes compared; a mismatch goes to a third
+ * worker, the result two agree on is kept and the odd worker fenced (with its unaudited results of
+ * the group, which run again); two workers that disagree with no third to arbitrate, or three
+ * different results, end the run with one line (a result that may be wrong is never merged). A
+ * group's results go to the merge only once every lane's audit is settled. Who audits what depends
+ * on timing; the bytes merged do not. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -20,7 +28,18 @@
 #include "common/optimizer/lane_runner.h"
 #include "common/optimizer/lane_start.h"
 #include "common/optimizer/lane_wire.h"
+#include "coordinator/views/lane_audit.h"
 #include "coordinator/views/views_remote_internal.h"
+
+/* The results of one lane so far (bytes owned), for the audit. */
+typedef struct lane_votes {
+    co_audit_vote v[CO_AUDIT_MAX_VOTES];
+    uint32_t n;
+    uint32_t decoded; /* the vote whose bytes are in the lane's lm_lane_result */
+    uint32_t want;    /* results wanted: 0 not yet decided (at its first send), 1, 2 (audited),
+                         3 (two disagree: a third arbitrates) */
+    int accepted;     /* the lane's result is settled (counted in done) */
+} lane_votes;
 
 /* One group's run. */
 typedef struct lane_run {
@@ -34,12 +53,14 @@ typedef struct lane_run {
     uint8_t *qdelta; /* the group's queue (b->queue) against r->lane_queue_base, made likewise */
     size_t n_qdelta;
     int no_qdelta;
-    uint64_t hash;                          /* of the start mesh */
-    uint32_t queue[LM_MAX_EDGES_IN_FLIGHT]; /* lanes waiting for a worker, in lane order */
+    uint64_t hash;                                               /* of the start mesh */
+    uint32_t queue[CO_AUDIT_MAX_VOTES * LM_MAX_EDGES_IN_FLIGHT]; /* runs of lanes waiting for a
+                                                                   worker, in lane order */
     uint32_t n_queue, done;
     uint32_t strikes[LM_MAX_EDGES_IN_FLIGHT]; /* failures of each lane */
     uint32_t tries[LM_MAX_EDGES_IN_FLIGHT];   /* sends of each lane (lost, stale in between) */
     uint32_t *lane_of;                        /* [n_live] lane + 1 in flight on live[i], 0 none */
+    lane_votes votes[LM_MAX_EDGES_IN_FLIGHT];
 } lane_run;
 
 static void requeue(lane_run *x, uint32_t lane)
@@ -50,6 +71,38 @@ static void requeue(lane_run *x, uint32_t lane)
         at--;
     }
     x->queue[at] = lane;
+}
+
+/* Runs of lane queued or in flight. */
+static uint32_t pending(const lane_run *x, uint32_t lane)
+{
+    uint32_t n = 0;
+    for (uint32_t k = 0; k < x->n_queue; k++)
+        n += x->queue[k] == lane;
+    for (uint32_t i = 0; i < x->r->n_live; i++)
+        n += x->lane_of[i] == lane + 1;
+    return n;
+}
+
+/* Queue runs of lane until its results and its runs cover what it wants. */
+static void top_up(lane_run *x, uint32_t lane)
+{
+    const lane_votes *lv = &x->votes[lane];
+    uint32_t want = lv->want ? lv->want : 1;
+    if (lv->accepted)
+        return;
+    for (uint32_t have = lv->n + pending(x, lane); have < want; have++)
+        requeue(x, lane);
+}
+
+/* Drops the queued runs of lane (settled). */
+static void unqueue(lane_run *x, uint32_t lane)
+{
+    uint32_t n = 0;
+    for (uint32_t k = 0; k < x->n_queue; k++)
+        if (x->queue[k] != lane)
+            x->queue[n++] = x->queue[k];
+    x->n_queue = n;
 }
 
 /* The start as a delta for w, when w took the last group's start and the delta pays (at most
@@ -135,7 +188,37 @@ static lm_status send_lane(lane_run *x, co_worker *w, uint32_t lane)
     return st;
 }
 
-/* Free workers of the layout get the lanes waiting, lowest first. */
+/* 1: worker id gave one of the lane's results so far (it may not audit it). */
+static int voted(const lane_run *x, uint32_t lane, uint32_t id)
+{
+    const lane_votes *lv = &x->votes[lane];
+    for (uint32_t i = 0; i < lv->n; i++)
+        if (lv->v[i].worker == id)
+            return 1;
+    return 0;
+}
+
+/* Workers of the layout, not lost, that gave none of the lane's results (auditors); 0 none. */
+static uint32_t other_worker(const lane_run *x, uint32_t lane)
+{
+    const co_remote *r = x->r;
+    uint32_t n = 0;
+    for (uint32_t i = 0; i < r->n_live; i++)
+        n += !r->live[i]->lost && r->live[i]->job == r->job && !voted(x, lane, r->live[i]->id);
+    return n;
+}
+
+/* The place in the queue of the first lane w may run (one it gave no result of), or n_queue. */
+static uint32_t first_for(const lane_run *x, const co_worker *w)
+{
+    uint32_t k = 0;
+    while (k < x->n_queue && voted(x, x->queue[k], w->id))
+        k++;
+    return k;
+}
+
+/* Free workers of the layout get the lanes waiting, lowest first (an audit never goes to a
+ * worker that gave one of the lane's results). */
 static lm_status dispatch(lane_run *x)
 {
     co_remote *r = x->r;
@@ -144,15 +227,29 @@ static lm_status dispatch(lane_run *x)
         co_worker *w = r->live[i];
         if (w->lost || x->lane_of[i] || w->job != r->job)
             continue;
-        uint32_t lane = x->queue[0];
+        uint32_t k = first_for(x, w);
+        if (k == x->n_queue)
+            continue;
+        uint32_t lane = x->queue[k];
         if (++x->tries[lane] > CO_REMOTE_TRIES)
             return lm_fail(LM_E_IO,
                            "lane %u sent %u times: its workers keep being lost or "
                            "falling behind",
                            lane, CO_REMOTE_TRIES);
-        memmove(x->queue, x->queue + 1, --x->n_queue * sizeof *x->queue);
+        x->n_queue--;
+        memmove(x->queue + k, x->queue + k + 1, (x->n_queue - k) * sizeof *x->queue);
         st = send_lane(x, w, lane);
         x->lane_of[i] = lane + 1;
+        lane_votes *lv = &x->votes[lane];
+        if (!lv->want) { /* its first send: audited or not, by the worker it goes to (not with
+                            no other worker to audit it) */
+            lv->want = co_audit_wanted(r->audit, w->lanes_confirmed, x->hash, lane) &&
+                               other_worker(x, lane) > 1
+                           ? 2
+                           : 1;
+            r->lane_stats.audits += lv->want == 2;
+            top_up(x, lane); /* the audit's run goes to the next free other worker */
+        }
     }
     return st;
 }
@@ -165,7 +262,165 @@ static lm_status strike(lane_run *x, co_worker *w, uint32_t lane, lm_status why)
         return lm_fail(why ? why : LM_E_INTERNAL, "lane %u failed %u times, last: %s", lane,
                        x->strikes[lane], lm_last_error());
     w->lane_group = 0; /* send it the start again, in case that is what it lacked */
-    requeue(x, lane);
+    top_up(x, lane);
+    return LM_OK;
+}
+
+static co_worker *live_worker(const lane_run *x, uint32_t id)
+{
+    for (uint32_t i = 0; i < x->r->n_live; i++)
+        if (x->r->live[i]->id == id && !x->r->live[i]->lost)
+            return x->r->live[i];
+    return NULL;
+}
+
+static void votes_clear(lane_votes *lv)
+{
+    for (uint32_t i = 0; i < lv->n; i++)
+        free((void *)lv->v[i].bytes);
+    memset(lv, 0, sizeof *lv);
+}
+
+static void accept(lane_run *x, uint32_t lane)
+{
+    x->votes[lane].accepted = 1;
+    x->done++;
+    unqueue(x, lane); /* runs still in flight are answered and dropped */
+}
+
+/* A worker fenced for a wrong result: its results of this group that no one checked are dropped
+ * and those lanes run again (a settled one is queued again; one waiting for its audit takes the
+ * audit's result as its first). */
+static void forget_worker(lane_run *x, uint32_t id)
+{
+    for (uint32_t lane = 0; lane < x->b->n; lane++) {
+        lane_votes *lv = &x->votes[lane];
+        if (lv->n != 1 || lv->v[0].worker != id)
+            continue;
+        int was = lv->accepted;
+        uint32_t want = lv->want;
+        votes_clear(lv);
+        lv->want = was ? 0 : want; /* a settled lane is decided again at its next send */
+        if (was)
+            x->done--;
+        top_up(x, lane);
+    }
+}
+
+/* The lane's result decoded from vote i's bytes (again only when the last decoded differ). */
+static lm_status use_vote(lane_run *x, uint32_t lane, uint32_t i)
+{
+    lane_votes *lv = &x->votes[lane];
+    if (lv->decoded < lv->n && co_audit_same(&lv->v[lv->decoded], &lv->v[i]))
+        return LM_OK;
+    lv->decoded = i;
+    return lm_lane_result_decode(lv->v[i].bytes, lv->v[i].len, x->b->n_verts, x->b->res[lane]);
+}
+
+/* Two results agree (vote win and another): the lane's result is theirs, the workers that agree
+ * have one more confirmed result, the others are fenced. */
+static lm_status settle(lane_run *x, uint32_t lane, uint32_t win)
+{
+    lane_votes *lv = &x->votes[lane];
+    const co_audit_vote *v = lv->v;
+    lm_status st = use_vote(x, lane, win);
+    uint32_t odd[CO_AUDIT_MAX_VOTES], n_odd = 0, peer = 0;
+    for (uint32_t i = 0; i < lv->n; i++) {
+        co_worker *w = live_worker(x, v[i].worker);
+        if (!co_audit_same(&v[i], &v[win]))
+            odd[n_odd++] = v[i].worker;
+        else if (w)
+            w->lanes_confirmed++;
+        if (i != win && co_audit_same(&v[i], &v[win]))
+            peer = v[i].worker;
+    }
+    for (uint32_t k = 0; k < n_odd; k++) {
+        co_worker *w = live_worker(x, odd[k]);
+        char why[200];
+        snprintf(why, sizeof why,
+                 "a wrong lane result (lane %u of group %llu: workers %u and %u agree on another)",
+                 lane, (unsigned long long)x->r->lane_group, v[win].worker, peer);
+        if (w) { /* fenced once: a worker already lost is not counted again */
+            x->r->lane_stats.audit_fenced++;
+            co_pool_fence(x->r->pool, w, why);
+        }
+        forget_worker(x, odd[k]);
+    }
+    if (st == LM_OK)
+        accept(x, lane);
+    return st;
+}
+
+/* Lanes waiting with no worker left that may run them (nothing in flight): a first result whose
+ * audit no one can run is taken as it is; a mismatch no one can arbitrate stops the run. */
+static lm_status settle_stuck(lane_run *x)
+{
+    for (uint32_t k = 0; k < x->n_queue;) {
+        uint32_t lane = x->queue[k];
+        lane_votes *lv = &x->votes[lane];
+        if (!lv->n || other_worker(x, lane)) {
+            k++;
+            continue;
+        }
+        k = 0; /* the queue changes: from its start again */
+        if (lv->n > 1)
+            return lm_fail(
+                LM_E_INTERNAL,
+                "lane %u of group %llu: workers %u and %u returned different results and no third "
+                "worker can arbitrate: stopping (a result that may be wrong is never "
+                "merged)",
+                lane, (unsigned long long)x->r->lane_group, lv->v[0].worker, lv->v[1].worker);
+        lm_status st = use_vote(x, lane, 0);
+        if (st != LM_OK)
+            return st;
+        x->r->lane_stats.audits_skipped++;
+        accept(x, lane); /* unqueued */
+    }
+    return LM_OK;
+}
+
+/* The result bytes of lane from w, the lane's vote: accepted, compared with the audit's,
+ * arbitrated by a third worker, or the run stopped (lane_audit.h). */
+static lm_status vote(lane_run *x, co_worker *w, uint32_t lane, const uint8_t *bytes, size_t len)
+{
+    lane_votes *lv = &x->votes[lane];
+    co_lane_stats *ls = &x->r->lane_stats;
+    uint8_t *copy = malloc(len ? len : 1);
+    if (!copy)
+        return lm_fail(LM_E_NOMEM, "out of memory for a lane's result");
+    if (len)
+        memcpy(copy, bytes, len);
+    lv->decoded = lv->n;
+    lv->v[lv->n++] = (co_audit_vote){w->id, copy, len};
+    if (lv->n == 1 && lv->want <= 1) {
+        accept(x, lane);
+        return LM_OK;
+    }
+    if (lv->n == 1) { /* the audit's run is queued or in flight */
+        top_up(x, lane);
+        return LM_OK;
+    }
+    uint32_t win = 0;
+    co_audit_verdict vd = co_audit_tally(lv->v, lv->n, &win);
+    if (vd == CO_AUDIT_AGREED)
+        return settle(x, lane, win);
+    if (vd == CO_AUDIT_SPLIT)
+        return lm_fail(LM_E_INTERNAL,
+                       "lane %u of group %llu: workers %u, %u and %u returned three different "
+                       "results: stopping (a result that may be wrong is never merged)",
+                       lane, (unsigned long long)x->r->lane_group, lv->v[0].worker, lv->v[1].worker,
+                       lv->v[2].worker);
+    ls->audit_mismatches++;
+    if (!other_worker(x, lane))
+        return lm_fail(LM_E_INTERNAL,
+                       "lane %u of group %llu: workers %u and %u returned different results and "
+                       "no third worker can arbitrate: stopping (a result that may be wrong is "
+                       "never merged)",
+                       lane, (unsigned long long)x->r->lane_group, lv->v[0].worker,
+                       lv->v[1].worker);
+    ls->audits++;
+    lv->want = CO_AUDIT_MAX_VOTES;
+    top_up(x, lane);
     return LM_OK;
 }
 
@@ -173,6 +428,8 @@ static lm_status strike(lane_run *x, co_worker *w, uint32_t lane, lm_status why)
 static lm_status take_result(lane_run *x, co_worker *w, uint32_t lane)
 {
     const Lumesh__LaneDone *d = w->reply.msg->lane_done;
+    if (x->votes[lane].accepted)
+        return LM_OK; /* an extra run of a settled lane (a lost worker's run sent again) */
     lm_lane_result *res = x->b->res[lane];
     lm_status st = d->group == x->r->lane_group && d->lane == lane
                        ? lm_lane_result_decode(d->result.data, d->result.len, x->b->n_verts, res)
@@ -182,6 +439,7 @@ static lm_status take_result(lane_run *x, co_worker *w, uint32_t lane)
         st = lm_fail(LM_E_FORMAT, "a result that says it failed");
     if (st != LM_OK) {
         char why[300];
+        x->votes[lane].decoded = CO_AUDIT_MAX_VOTES; /* the lane's result holds none of its votes */
         snprintf(why, sizeof why, "a lane's result that does not fit: %.200s", lm_last_error());
         co_pool_fence(x->r->pool, w, why);
         return strike(x, w, lane, st);
@@ -189,8 +447,7 @@ static lm_status take_result(lane_run *x, co_worker *w, uint32_t lane)
     w->evals += res->evals;
     w->busy_s += 1e-6 * (double)d->busy_us;
     *x->b->result_bytes += d->result.len;
-    x->done++;
-    return LM_OK;
+    return vote(x, w, lane, d->result.data, d->result.len);
 }
 
 /* Replies and losses of the workers with a lane in flight. */
@@ -205,7 +462,7 @@ static lm_status collect(lane_run *x)
             continue;
         x->lane_of[i] = 0;
         if (w->lost) {
-            requeue(x, lane);
+            top_up(x, lane);
             continue;
         }
         int stale = 0;
@@ -217,7 +474,7 @@ static lm_status collect(lane_run *x)
         } else if (stale) {
             co_pool_disarm(w);
             w->lane_group = 0; /* it may lack the start's base: sent whole next */
-            requeue(x, lane);
+            top_up(x, lane);
             st = co_remote_send_state(r, w);
         } else {
             st = take_result(x, w, lane); /* reads the reply: disarmed after */
@@ -255,6 +512,8 @@ static lm_status run_lanes(lane_run *x)
         }
         if (st == LM_OK)
             st = dispatch(x);
+        if (st == LM_OK && x->n_queue && !in_flight(x))
+            st = settle_stuck(x);
         /* a signal ends the run after this group (the optimizer's next step); a group that
            outlasts the grace is given up, as the remote views' own waits are */
         if (st == LM_OK && co_pool_interrupted() &&
@@ -289,6 +548,8 @@ static lm_status rl_run(void *ctx, const lm_lane_batch *b)
     for (uint32_t i = 0; x.lane_of && i < r->n_live; i++)
         if (x.lane_of[i])
             co_pool_disarm(r->live[i]); /* a failed run: late answers are dropped */
+    for (uint32_t i = 0; i < b->n; i++)
+        votes_clear(&x.votes[i]);
     free(x.lane_of);
     free(x.cfg);
     free(x.delta);
@@ -339,4 +600,8 @@ void co_views_lane_stats(lm_views *v, co_lane_stats *sum)
     sum->queues_delta += a->queues_delta;
     sum->queue_bytes += a->queue_bytes;
     sum->queue_record_bytes += a->queue_record_bytes;
+    sum->audits += a->audits;
+    sum->audit_mismatches += a->audit_mismatches;
+    sum->audit_fenced += a->audit_fenced;
+    sum->audits_skipped += a->audits_skipped;
 }

@@ -9,7 +9,9 @@
 # the worker, LUMESH_WORKER_FAULT) are retried 3 times then refused, deterministically; workers
 # that fail 3 times are blocklisted. With --lanes remote: a worker SIGKILLed with a lane in flight,
 # a worker that dies after taking a group's start as a delta (its replacement gets it whole),
-# and one whose lane results do not decode (fenced at once), leave the bytes of isolated lanes.
+# one whose lane results do not decode (fenced at once), and one that computes wrong ΔE (caught
+# by the audits, fenced) leave the bytes of isolated lanes; with 2 workers that disagree the run
+# stops with one line and writes nothing.
 # Workers silent for longer than the liveness limit while they load the job and render its
 # targets (the first grid and each regrid's) are not lost, and the bytes are in-process ones.
 # Prints the detection time of each loss it causes.
@@ -245,6 +247,38 @@ grep -q "worker 1 .*blocklisted for the job" "$tmp/lie.err" || fail "the lying w
 checks=$((checks + 1))
 cmp -s "$tmp/ref-iso.glb" "$tmp/lie.glb" ||
   fail "remote lanes, a lying worker: the output differs from isolated lanes in process"
+
+# -- a worker that computes wrong (--lanes remote, audits at their default): worker 1's ΔE are
+# corrupted from its first lane (LUMESH_WORKER_FAULT=lie-lanes=1@1), its messages well formed. On
+# probation every lane it runs is run again by another worker: the mismatch goes to a third, the
+# two that agree win, worker 1 is fenced (one line, counted in --json), and the bytes are isolated
+# lanes'. With 2 workers no third can arbitrate: the run stops with one line naming both, exit
+# non-zero, no output written --
+LUMESH_WORKER_FAULT="lie-lanes=1@1" "$LUMESH" optimize "$bunny" -o "$tmp/wrong3.glb" "${job[@]}" \
+  --edges-in-flight 4 --lanes remote --workers 3 --json >"$tmp/wrong3.json" 2>"$tmp/wrong3.err" ||
+  fail "the run with a worker computing wrong failed: $(tail -2 "$tmp/wrong3.err")"
+checks=$((checks + 1))
+grep -q "worker 1 .*a wrong lane result .*blocklisted for the job" "$tmp/wrong3.err" ||
+  fail "the worker computing wrong was not fenced: $(grep -v joined "$tmp/wrong3.err" | tail -2)"
+checks=$((checks + 1))
+cmp -s "$tmp/ref-iso.glb" "$tmp/wrong3.glb" ||
+  fail "remote lanes, a worker computing wrong: the output differs from isolated lanes in process"
+checks=$((checks + 1))
+python3 - "$tmp/wrong3.json" <<'PY' || fail "a worker computing wrong: $(tail -1 "$tmp/wrong3.json" | head -c 600)"
+import json, sys
+s = [json.loads(l) for l in open(sys.argv[1]) if '"summary"' in l][-1]
+l = s["lanes_remote"]
+assert l["audit_fenced"] == 1 and l["audit_mismatches"] >= 1 and l["audits"] >= 2, l
+PY
+rm -f "$tmp/wrong2.glb"
+LUMESH_WORKER_FAULT="lie-lanes=1@1" "$LUMESH" optimize "$bunny" -o "$tmp/wrong2.glb" "${job[@]}" \
+  --edges-in-flight 4 --lanes remote --workers 2 2>"$tmp/wrong2.err" &&
+  fail "2 workers that disagree: the run did not stop"
+checks=$((checks + 1))
+[ "$(tail -1 "$tmp/wrong2.err" | grep -Ec "^lumesh optimize: lane [0-9]+ of group [0-9]+: workers [12] and [12] returned different results and no third worker can arbitrate")" = 1 ] ||
+  fail "2 workers that disagree: not the one-line error: $(tail -2 "$tmp/wrong2.err")"
+checks=$((checks + 1))
+[ ! -e "$tmp/wrong2.glb" ] || fail "2 workers that disagree: an output was written"
 
 # -- many groups of remote lanes (K = 2): each group's start goes to a worker that took the last
 # group's as a delta against it; worker 1 dies (abort) when its 2nd lane comes, after taking

@@ -36,7 +36,8 @@ struct wk_lanes {
     uint64_t qjob, qgroup;
     uint8_t *qrecord; /* its encoded section: the base of the next group's queue delta */
     size_t n_qrecord;
-    uint64_t lanes_run; /* lanes taken (for the test hook crash-lanes-as) */
+    uint64_t lanes_run; /* lanes taken (for the test hooks crash-lanes-as and lie-lanes) */
+    int lying;          /* the test hook lie-lanes: this lane's ΔE are corrupted */
     uint64_t epoch;     /* counts the starts and queues taken: names the pair for the host */
     lm_lane_request req;
     lm_lane_result res;
@@ -54,6 +55,8 @@ static lm_status lv_evaluate(lm_views *v, const lm_patch *p, uint32_t n, int64_t
     lm_status st = s->v->ops->evaluate(s->v, p, n, delta);
     for (uint32_t i = 0; i < n && st == LM_OK && l->surface; i++)
         delta[i] += lm_surface_table_delta(s->geo, &p[i]);
+    for (uint32_t i = 0; i < n && st == LM_OK && l->lying; i++)
+        delta[i] = -delta[i] - 1; /* a worker gone wrong: what costs seems to pay */
     return st;
 }
 
@@ -305,6 +308,22 @@ static int lies(const wk_server *s)
            strtoul(s->fault + sizeof kind - 1, NULL, 10) == s->worker_id;
 }
 
+/* "lie-lanes=N" (or "lie-lanes=N@W": only the worker the coordinator welcomed as W): from the
+ * N-th lane this worker takes on, the ΔE of every evaluation of its lanes is corrupted (negated,
+ * less one: a broken driver, a flipped sign), its answers well formed. 0 without the hook. The
+ * coordinator's audits must catch it (coordinator/views/lane_audit.h). */
+static uint64_t lie_from(const wk_server *s)
+{
+    static const char kind[] = "lie-lanes=";
+    if (!s->fault || strncmp(s->fault, kind, sizeof kind - 1))
+        return 0;
+    char *end = NULL;
+    uint64_t n = strtoull(s->fault + sizeof kind - 1, &end, 10);
+    if (*end == '@' && strtoul(end + 1, NULL, 10) != s->worker_id)
+        return 0;
+    return n;
+}
+
 /* "crash-lanes-as=N:M": the worker welcomed as N dies (abort) when its M-th lane comes, after
  * taking that lane's start (a worker lost mid-run: its replacement starts without a base). */
 static void maybe_crash(const wk_server *s, uint64_t lanes)
@@ -381,5 +400,6 @@ lm_status wk_serve_lane(wk_server *s, const lm_msg *m)
         return wk_serve_send(s, m->req, LUMESH__MSG__BODY_STALE, &r);
     }
     maybe_crash(s, ++l->lanes_run);
+    l->lying = lie_from(s) && l->lanes_run >= lie_from(s);
     return run_lane(s, l, m);
 }
