@@ -96,6 +96,7 @@ fuzz fuzz_stream "${LUMESH_FUZZ_RUNS:-300000}" "$seeds/stream"
 fuzz fuzz_stream_lane "${LUMESH_FUZZ_RUNS:-100000}" tests/fuzz/corpus/stream_lane
 fuzz fuzz_pm "${LUMESH_FUZZ_RUNS:-25000}" tests/fuzz/corpus/pm
 fuzz fuzz_cameras "${LUMESH_FUZZ_RUNS:-1000000}" tests/fuzz/corpus/cameras
+fuzz fuzz_audit_parse "${LUMESH_FUZZ_RUNS:-200000}" tests/fuzz/corpus/audit_parse
 # a checkpoint of a few KiB once made the loader allocate 1 GiB: the limit makes that a finding
 FUZZ_ARGS=-malloc_limit_mb=256 fuzz fuzz_checkpoint "${LUMESH_FUZZ_RUNS:-300000}" tests/fuzz/corpus/checkpoint
 # a lane request or result (issue 36: the whole-edge work unit): counts bounded by the bytes left
