@@ -21,9 +21,8 @@
 #define CO_AUDIT_DEFAULT_RATE 16u
 #define CO_AUDIT_MAX_RATE 1000000u
 #define CO_AUDIT_MAX_PROBATION 1000000u
-#define CO_AUDIT_MAX_VOTES                                                                         \
-    3u /* the results of one lane compared at most: the first, the audit's,                        \
-          the arbiter's */
+/* The results of one lane compared at most: the first, the audit's, the arbiter's. */
+#define CO_AUDIT_MAX_VOTES 3u
 
 typedef struct co_audit_rule {
     uint32_t probation; /* results that must agree with another worker's before sampling: P */
