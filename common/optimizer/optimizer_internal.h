@@ -18,6 +18,7 @@ typedef struct lm_iteration {
     double gain[2];        /* energy reductions by source: 0 random, 1 oracle */
     uint32_t count[2];
     uint64_t *no_progress; /* edges that gained nothing [edges_per_iteration] */
+    int64_t *totals;       /* ΔE of each edge of the group in flight [edges_in_flight] */
     uint32_t n_no_progress;
     lm_idset touched; /* vertices around the moves accepted in this iteration */
 } lm_iteration;

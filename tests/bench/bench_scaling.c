@@ -28,7 +28,7 @@
  * edge a continuation later in plan order, scaling/visits.c; --cap, --lag and --group take
  * comma-separated lists, e.g. --cap 16,64 --lag 256,4096 --group 1,4, and with --cap the window
  * is modelled for every (N, D, G) of them from the one measurement; a single --lag and --group
- * are the first of theirs; --lanes-k: the edges in flight of the lanes' runs, 2..64, default
+ * are the first of theirs; --lanes-k: the edges in flight of the lanes' runs, 2..1024, default
  * 2,8,16,64; --lanes-per-worker: K = workers x L in the predictions, default 1; --plan: the lanes'
  * runs' edges per iteration, the plan their groups are taken from, default the optimizer's 64) */
 #include <stdio.h>

@@ -2,12 +2,13 @@
  * isolated-lane runs (lanes_run.c), and its report (--schedule lanes).
  *
  * Every worker holds all V views and a replica of the optimizer's state; the coordinator plans a
- * group of up to K edges (K = workers x --lanes-per-worker, at most 64), sends each lane's request
- * (SC_LANE_REQUEST_BYTES: its edge and a reference to the group's start) with the last group's
- * merged commits, the workers run whole lanes, the coordinator merges the results in lane order
- * (re-validating a lane as one evaluation on a worker, a round trip each, in order) and the next
- * group's requests carry the merged commits to every worker. Group j of the measured run, n_j
- * lanes, on W workers (lane i to worker i mod W, in lane order):
+ * group of up to K edges (K = workers x --lanes-per-worker, at most LM_MAX_EDGES_IN_FLIGHT),
+ * sends each lane's request (SC_LANE_REQUEST_BYTES: its edge and a reference to the group's
+ * start) with the last group's merged commits, the workers run whole lanes, the coordinator merges
+ * the results in lane order (re-validating a lane as one evaluation on a worker, a round trip each,
+ * in order) and the next group's requests carry the merged commits to every worker. Group j of the
+ * measured run, n_j lanes, on W workers (in lane order, each lane to the worker that frees first,
+ * as views_remote_lanes.c dispatches):
  *     T_j(W) = plan_j + pot_j / min(W, V)                                   planning
  *            + RTT/2 + (W * B_{j-1} + n_j * q) / bandwidth                  handing out
  *            + A_{j-1} + M_{j-1}                                            the replicas updated
@@ -34,18 +35,27 @@
 static const uint32_t workers[] = {1, 2, 4, 8, 16, 128};
 #define N_W (sizeof workers / sizeof *workers)
 
-/* The slowest worker's time in group g: its lanes in lane order, lane i to worker i mod w. */
+/* The slowest worker's time in group g: its lanes in lane order, each to the worker that frees
+ * first (the lowest-numbered on a tie), as views_remote_lanes.c dispatches them; *sum the workers'
+ * time together. */
 static double slowest(const lanes_run *r, const group_rec *g, uint32_t w, double *sum)
 {
     double worst = 0, snap = g->n ? g->snap_s / g->n : 0;
+    uint32_t used = w < g->n ? w : g->n;
+    double *busy = calloc(used ? used : 1, sizeof *busy);
+    LM_ASSERT(busy);
     *sum = 0;
-    for (uint32_t k = 0; k < w && k < g->n; k++) {
-        double t = 0;
-        for (uint32_t i = k; i < g->n; i += w)
-            t += r->l[g->first + i].evals * r->eval_s + snap;
+    for (uint32_t i = 0; i < g->n; i++) {
+        uint32_t free_first = 0;
+        for (uint32_t k = 1; k < used; k++)
+            free_first = busy[k] < busy[free_first] ? k : free_first;
+        double t = r->l[g->first + i].evals * r->eval_s + snap;
+        busy[free_first] += t;
         *sum += t;
-        worst = t > worst ? t : worst;
     }
+    for (uint32_t k = 0; k < used; k++)
+        worst = busy[k] > worst ? busy[k] : worst;
+    free(busy);
     return worst;
 }
 
