@@ -18,7 +18,6 @@ typedef struct lm_iteration {
     double gain[2];        /* energy reductions by source: 0 random, 1 oracle */
     uint32_t count[2];
     uint64_t *no_progress; /* edges that gained nothing [edges_per_iteration] */
-    int64_t *totals;       /* ΔE of each edge of the group in flight [edges_in_flight] */
     uint32_t n_no_progress;
     lm_idset touched; /* vertices around the moves accepted in this iteration */
 } lm_iteration;
@@ -32,6 +31,7 @@ struct lm_optimizer {
     lm_params params;
     lm_moves_config moves_cfg; /* every move workspace's (the optimizer's, its lanes') */
     lm_lanes *lanes;           /* edges in flight (NULL when one at a time) */
+    int64_t *totals;           /* ΔE of each edge of the group in flight [edges_in_flight] */
     lm_tuning tuning;          /* resolved (no zero fields) */
     uint32_t attrs;            /* effective optimised attributes */
     lm_moves *mv;
