@@ -190,6 +190,17 @@ static void print_run_human(const opts *o, const lanes_run *r, uint32_t views)
         lanes_model x = sc_lanes_at(o, r, views, workers[i]);
         printf(" %u: x%.1f (%.0f%%)", workers[i], x.t1 / x.tw, 100 * x.t1 / x.tw / workers[i]);
     }
+    printf("\n      without the group barrier:");
+    for (size_t i = 0; i < N_W; i++) {
+        lanes_model x = sc_lanes_at(o, r, views, workers[i]);
+        double spread = x.tw - x.lanes + x.balanced;
+        printf(" %u: x%.1f (%.0f%%)", workers[i], x.t1 / spread, 100 * x.t1 / spread / workers[i]);
+    }
+    printf("\n      evaluations per second (each worker one core of this machine's CPU time):");
+    for (size_t i = 0; i < N_W; i++) {
+        lanes_model x = sc_lanes_at(o, r, views, workers[i]);
+        printf(" %u: %.0f", workers[i], x.evals / x.tw);
+    }
     printf("\n");
 }
 
@@ -273,8 +284,10 @@ void sc_print_lanes_json(const opts *o, const lanes_run *runs, uint32_t n, uint3
                s.result_bytes, s.commit_bytes, r->energy_rel, r->wall_s);
         for (size_t k = 0; k < N_W; k++) {
             lanes_model x = sc_lanes_at(o, r, views, workers[k]);
-            printf("%s{\"workers\": %u, \"speedup\": %.3f, \"efficiency\": %.3f}", k ? ", " : "",
-                   workers[k], x.t1 / x.tw, x.t1 / x.tw / workers[k]);
+            printf("%s{\"workers\": %u, \"speedup\": %.3f, \"efficiency\": %.3f, "
+                   "\"speedup_no_barrier\": %.3f, \"evals_per_s\": %.1f}",
+                   k ? ", " : "", workers[k], x.t1 / x.tw, x.t1 / x.tw / workers[k],
+                   x.t1 / (x.tw - x.lanes + x.balanced), x.evals / x.tw);
         }
         printf("]}");
     }
