@@ -220,9 +220,10 @@ static void print_where(const lanes_model *x, uint32_t w, uint32_t k)
 void sc_print_lanes_human(const opts *o, const lanes_run *runs, uint32_t n, uint32_t views)
 {
     printf("bench scaling, whole lanes (isolated lanes on workers holding all views): %s, %u "
-           "views of %u px, %llu evaluations per run, %u lanes per worker, plans of %u edges\n",
+           "views of %u px, %llu evaluations per run, %u lanes per worker, plans of %u edges%s\n",
            o->model, views, o->size, (unsigned long long)o->edge_evals, o->lanes_per_worker,
-           o->plan ? o->plan : 64);
+           o->plan ? o->plan : 64,
+           o->lanes_detached ? ", lanes detached (through their messages and a lane host)" : "");
     for (uint32_t i = 0; i < n; i++)
         print_run_human(o, &runs[i], views);
     printf("  predicted at %.0f us RTT, %.0f Gb/s (K = workers x lanes per worker, at most the "
