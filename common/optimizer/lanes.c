@@ -72,6 +72,11 @@ struct lm_lanes {
     lm_lane_traffic traffic;
     lm_lane_runner runner; /* lm_lanes_set_runner (run NULL: in process) */
     lm_lanes_probe probe;  /* lm_lanes_set_probe (phase NULL: none) */
+    /* a runner's group (run_by_runner), [k] each: the lanes' encoded requests, their lengths and
+     * their results */
+    uint8_t **req;
+    size_t *req_len;
+    lm_lane_result **res;
 };
 
 /* ---- the baton ------------------------------------------------------------------------------- */
@@ -271,10 +276,14 @@ lm_status lm_lanes_create(lm_optimizer *o, uint32_t k, lm_lanes **out)
     lm_patch_init(&l->merged);
     l->lanes = calloc(k, sizeof *l->lanes);
     l->order = calloc(k, sizeof *l->order);
+    l->req = calloc(k, sizeof *l->req);
+    l->req_len = calloc(k, sizeof *l->req_len);
+    l->res = calloc(k, sizeof *l->res);
     l->cap_queue = 65536;
     l->queue = malloc(l->cap_queue * sizeof *l->queue);
-    lm_status st =
-        l->lanes && l->queue && l->order ? LM_OK : lm_fail(LM_E_NOMEM, "out of memory for lanes");
+    lm_status st = l->lanes && l->queue && l->order && l->req && l->req_len && l->res
+                       ? LM_OK
+                       : lm_fail(LM_E_NOMEM, "out of memory for %u lanes", k);
     for (uint32_t i = 0; i < k && st == LM_OK; i++)
         st = lane_init(l, &l->lanes[i]);
     if (st != LM_OK) {
@@ -306,6 +315,9 @@ void lm_lanes_destroy(lm_lanes *l)
             lane_free(l, &l->lanes[i]);
     free(l->lanes);
     free(l->order);
+    free(l->req);
+    free(l->req_len);
+    free(l->res);
     free(l->start);
     free(l->batch);
     free(l->deltas);
@@ -682,9 +694,11 @@ void lm_lanes_set_runner(lm_lanes *l, const lm_lane_runner *runner)
 /* Every lane of the group as a request, handed to the runner; its results are the lanes'. */
 static lm_status run_by_runner(lm_lanes *l, uint32_t n)
 {
-    uint8_t *req[LM_MAX_EDGES_IN_FLIGHT] = {NULL};
-    size_t len[LM_MAX_EDGES_IN_FLIGHT] = {0};
-    lm_lane_result *res[LM_MAX_EDGES_IN_FLIGHT];
+    uint8_t **req = l->req;
+    size_t *len = l->req_len;
+    lm_lane_result **res = l->res;
+    memset(req, 0, n * sizeof *req);
+    memset(len, 0, n * sizeof *len);
     lm_lane_request q;
     lm_lane_request_init(&q);
     shared_queue queue = {NULL, 0}; /* the group's, sorted and encoded once for all its lanes */
@@ -721,6 +735,7 @@ static lm_status run_by_runner(lm_lanes *l, uint32_t n)
             count_traffic(&l->traffic, len[i] + (i ? 0 : qlen), i ? 0 : back,
                           l->lanes[i].res.evals);
         free(req[i]);
+        req[i] = NULL;
     }
     free(qbuf);
     return st;

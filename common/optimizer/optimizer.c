@@ -95,7 +95,8 @@ static lm_status alloc_iteration(lm_optimizer *o)
     uint32_t n = o->params.edges_per_iteration;
     o->it.plan = calloc(n, sizeof *o->it.plan);
     o->it.no_progress = calloc(n, sizeof *o->it.no_progress);
-    if (!o->it.plan || !o->it.no_progress)
+    o->totals = calloc(o->params.edges_in_flight, sizeof *o->totals);
+    if (!o->it.plan || !o->it.no_progress || !o->totals)
         return lm_fail(LM_E_NOMEM, "out of memory for an iteration of %u edges", n);
     return LM_OK;
 }
@@ -217,6 +218,7 @@ void lm_optimizer_destroy(lm_optimizer *opt)
     lm_oracle_free(&opt->oracle);
     free(opt->it.plan);
     free(opt->it.no_progress);
+    free(opt->totals);
     lm_idset_free(&opt->it.touched);
     lm_views_destroy(opt->surface);
     lm_mesh_destroy(opt->mesh);
@@ -390,7 +392,7 @@ static lm_status next_edges(lm_optimizer *opt)
 {
     lm_iteration *it = &opt->it;
     lm_planned_edge *e = &it->plan[it->pos];
-    int64_t totals[LM_MAX_EDGES_IN_FLIGHT];
+    int64_t *totals = opt->totals;
     uint32_t n = 1;
     lm_status st;
     if (opt->lanes) {

@@ -44,7 +44,9 @@ typedef struct lm_params {
                                NULL = no geometric term */
 } lm_params;
 
-#define LM_MAX_EDGES_IN_FLIGHT 64u
+/* Lanes per group at most (--edges-in-flight 1..1024): what the lanes' per-group arrays are
+ * allocated for (per optimizer, at its K) and what wire decoders refuse above. */
+#define LM_MAX_EDGES_IN_FLIGHT 1024u
 #define LM_DEFAULT_EDGES_PER_ITERATION 64u
 #define LM_MAX_EDGES_PER_ITERATION (1u << 20)
 

@@ -31,6 +31,7 @@ struct lm_optimizer {
     lm_params params;
     lm_moves_config moves_cfg; /* every move workspace's (the optimizer's, its lanes') */
     lm_lanes *lanes;           /* edges in flight (NULL when one at a time) */
+    int64_t *totals;           /* ΔE of each edge of the group in flight [edges_in_flight] */
     lm_tuning tuning;          /* resolved (no zero fields) */
     uint32_t attrs;            /* effective optimised attributes */
     lm_moves *mv;

@@ -179,8 +179,8 @@ static const char co_optimize_help[] =
     "                          saying so, until one connects\n"
     "  --edges-in-flight K     optimise K edges at once, their evaluations in one batch (more\n"
     "                          work per round trip to the workers; default %u, the paper's\n"
-    "                          order). Part of the job: it changes the output (a --resume must\n"
-    "                          give the same K), the number of workers never does\n"
+    "                          order; at most %u). Part of the job: it changes the output (a\n"
+    "                          --resume must give the same K), the number of workers never does\n"
     "  --lanes MODE            how those K edges see each other: shared (default: each sees the\n"
     "                          others' statistics, clock and collapse queue as they go) or\n"
     "                          isolated (each sees only the group's start and its own moves,\n"
@@ -404,7 +404,7 @@ static void usage(FILE *f)
             CO_JOB_IMAGE_START_SHARE, LM_SURFACE_SHARE,
             (unsigned long long)CO_JOB_DEFAULT_REGRID_EVERY, CO_GEO_DEFAULT_C_REP,
             CO_GEO_START_MULTIPLE, (unsigned long long)CO_JOB_DEFAULT_VALIDATE_EVERY,
-            CO_JOB_DEFAULT_VALIDATE_PATIENCE, CO_JOB_DEFAULT_IN_FLIGHT,
+            CO_JOB_DEFAULT_VALIDATE_PATIENCE, CO_JOB_DEFAULT_IN_FLIGHT, LM_MAX_EDGES_IN_FLIGHT,
             LM_DEFAULT_EDGES_PER_ITERATION, LM_MAX_EDGES_PER_ITERATION, CO_AUDIT_DEFAULT_PROBATION,
             CO_AUDIT_DEFAULT_RATE, CO_BAKE_DEFAULT_SIZE, CO_BAKE_MIN_SIZE, CO_BAKE_MAX_SIZE);
 }

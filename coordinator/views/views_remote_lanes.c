@@ -53,15 +53,36 @@ typedef struct lane_run {
     uint8_t *qdelta; /* the group's queue (b->queue) against r->lane_queue_base, made likewise */
     size_t n_qdelta;
     int no_qdelta;
-    uint64_t hash;                                               /* of the start mesh */
-    uint32_t queue[CO_AUDIT_MAX_VOTES * LM_MAX_EDGES_IN_FLIGHT]; /* runs of lanes waiting for a
-                                                                   worker, in lane order */
+    uint64_t hash; /* of the start mesh */
+    /* per lane of the group, allocated for its b->n lanes (group_alloc) */
+    uint32_t *queue; /* [CO_AUDIT_MAX_VOTES * n] runs of lanes waiting for a worker, lane order */
     uint32_t n_queue, done;
-    uint32_t strikes[LM_MAX_EDGES_IN_FLIGHT]; /* failures of each lane */
-    uint32_t tries[LM_MAX_EDGES_IN_FLIGHT];   /* sends of each lane (lost, stale in between) */
-    uint32_t *lane_of;                        /* [n_live] lane + 1 in flight on live[i], 0 none */
-    lane_votes votes[LM_MAX_EDGES_IN_FLIGHT];
+    uint32_t *strikes; /* [n] failures of each lane */
+    uint32_t *tries;   /* [n] sends of each lane (lost, stale in between) */
+    uint32_t *lane_of; /* [n_live] lane + 1 in flight on live[i], 0 none */
+    lane_votes *votes; /* [n] */
 } lane_run;
+
+/* The group's per-lane arrays, zeroed, for its b->n lanes (at most LM_MAX_EDGES_IN_FLIGHT). */
+static lm_status group_alloc(lane_run *x)
+{
+    uint32_t n = x->b->n;
+    x->queue = calloc((size_t)CO_AUDIT_MAX_VOTES * n, sizeof *x->queue);
+    x->strikes = calloc(n, sizeof *x->strikes);
+    x->tries = calloc(n, sizeof *x->tries);
+    x->votes = calloc(n, sizeof *x->votes);
+    if (!x->queue || !x->strikes || !x->tries || !x->votes)
+        return lm_fail(LM_E_NOMEM, "out of memory for a group of %u lanes", n);
+    return LM_OK;
+}
+
+static void group_free(lane_run *x)
+{
+    free(x->queue);
+    free(x->strikes);
+    free(x->tries);
+    free(x->votes);
+}
 
 static void requeue(lane_run *x, uint32_t lane)
 {
@@ -534,9 +555,11 @@ static lm_status rl_run(void *ctx, const lm_lane_batch *b)
                                views object (a regrid's) is never taken for this one's */
     lane_run x = {.r = r, .b = b, .hash = lm_mesh_hash(b->start)};
     r->lane_group = ++groups;
-    for (uint32_t i = 0; i < b->n; i++)
+    lm_status st = group_alloc(&x);
+    for (uint32_t i = 0; i < b->n && st == LM_OK; i++)
         x.queue[x.n_queue++] = i;
-    lm_status st = co_remote_layout(r);
+    if (st == LM_OK)
+        st = co_remote_layout(r);
     if (st == LM_OK)
         st = lm_lane_config_encode(b->cfg, &x.cfg, &x.n_cfg);
     if (st == LM_OK)
@@ -548,8 +571,9 @@ static lm_status rl_run(void *ctx, const lm_lane_batch *b)
     for (uint32_t i = 0; x.lane_of && i < r->n_live; i++)
         if (x.lane_of[i])
             co_pool_disarm(r->live[i]); /* a failed run: late answers are dropped */
-    for (uint32_t i = 0; i < b->n; i++)
+    for (uint32_t i = 0; x.votes && i < b->n; i++)
         votes_clear(&x.votes[i]);
+    group_free(&x);
     free(x.lane_of);
     free(x.cfg);
     free(x.delta);

@@ -19,7 +19,7 @@
  *                      [--gbps G] [--device D] [--edge-evals N] [--round R] [--target-verts N]
  *                      [--schedule rounds|window|lanes] [--lag D] [--group G] [--sync-us S]
  *                      [--cap N] [--lanes-k K,...] [--lanes-per-worker L] [--plan N]
- *                      [--json]
+ *                      [--lanes-detached] [--json]
  * (--edge-evals: the whole-edge run's evaluations, default 30000; --target-verts: the QEM start's
  * vertices, default 1% of the model's, at least 100; --schedule window adds the window model at
  * --lag (default 1024) and --group (processes per node, default 1), and over lags 64..4096 and
@@ -28,9 +28,12 @@
  * edge a continuation later in plan order, scaling/visits.c; --cap, --lag and --group take
  * comma-separated lists, e.g. --cap 16,64 --lag 256,4096 --group 1,4, and with --cap the window
  * is modelled for every (N, D, G) of them from the one measurement; a single --lag and --group
- * are the first of theirs; --lanes-k: the edges in flight of the lanes' runs, 2..64, default
+ * are the first of theirs; --lanes-k: the edges in flight of the lanes' runs, 2..1024, default
  * 2,8,16,64; --lanes-per-worker: K = workers x L in the predictions, default 1; --plan: the lanes'
- * runs' edges per iteration, the plan their groups are taken from, default the optimizer's 64) */
+ * runs' edges per iteration, the plan their groups are taken from, default the optimizer's 64;
+ * --lanes-detached: every lane as --lanes remote runs it, through its request and result messages
+ * and a lane host of its own (lm_optimizer_set_lanes_detached), so that a lane's cost is a
+ * worker's: its start taken from the request, the encodings) */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -114,6 +117,8 @@ static int parse(int argc, char **argv, opts *o)
             o->n_lanes_k = parse_list(argv[++i], o->lanes_k, NULL);
         else if (v && !strcmp(a, "--plan"))
             o->plan = (uint32_t)atoi(argv[++i]);
+        else if (!strcmp(a, "--lanes-detached"))
+            o->lanes_detached = 1;
         else if (v && !strcmp(a, "--lanes-per-worker"))
             o->lanes_per_worker = (uint32_t)atoi(argv[++i]);
         else if (v && !strcmp(a, "--sync-us"))

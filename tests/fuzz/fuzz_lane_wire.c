@@ -15,6 +15,7 @@
 
 #include "common/log.h"
 #include "common/optimizer/lane_wire.h"
+#include "common/optimizer/optimizer.h" /* LM_MAX_EDGES_IN_FLIGHT */
 
 #define FUZZ_VERTS 1000u
 
@@ -31,8 +32,9 @@ static void write_seed(const char *dir, const char *name, uint8_t kind, const ui
     fclose(fp);
 }
 
-/* A request of lane 1 of 3 with vetoed vertices and a queue; a result with two operations (one
- * split making vertex FUZZ_VERTS), logs and touched vertices. */
+/* A request of lane 1 of 3 with vetoed vertices and a queue (and its head as the last lane of a
+ * group of LM_MAX_EDGES_IN_FLIGHT, and of one above it: refused); a result with two operations
+ * (one split making vertex FUZZ_VERTS), logs and touched vertices. */
 static void write_seeds(const char *dir)
 {
     lm_lane_request q;
@@ -54,6 +56,15 @@ static void write_seeds(const char *dir)
     LM_ASSERT(lm_lane_request_encode_head(&q, &buf, &len) == LM_OK);
     write_seed(dir, "head", 2, buf, len);
     free(buf);
+    q.index = LM_MAX_EDGES_IN_FLIGHT - 1, q.n_group = LM_MAX_EDGES_IN_FLIGHT; /* the last lane */
+    LM_ASSERT(lm_lane_request_encode_head(&q, &buf, &len) == LM_OK);
+    write_seed(dir, "head_group_at_cap", 2, buf, len);
+    free(buf);
+    q.n_group = LM_MAX_EDGES_IN_FLIGHT + 1; /* refused: a group above the cap */
+    LM_ASSERT(lm_lane_request_encode_head(&q, &buf, &len) == LM_OK);
+    write_seed(dir, "head_group_above_cap", 2, buf, len);
+    free(buf);
+    q.index = 1, q.n_group = 3;
     LM_ASSERT(lm_lane_queue_encode(e, 4, &buf, &len) == LM_OK);
     write_seed(dir, "queue", 3, buf, len);
     free(buf);

@@ -3,7 +3,8 @@
 # the whole-lane schedule modelled from the isolated-lane engine): a short run at two K on the 1%
 # bunny writes --json with, per K, the measured lane costs and, per modelled worker count, the
 # speed-up and the efficiency (and the coordinator's CPU per evaluation); the human report names
-# the same; a K outside 2..64 or an unknown schedule is refused with one line. No timing asserts.
+# the same (per K also the prediction without the group barrier and the modelled evaluations per
+# second); a K outside 2..1024 or an unknown schedule is refused with one line. No timing asserts.
 set -uo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 source "$here/lib.bash"
@@ -17,7 +18,7 @@ export LP_NUM_THREADS=0
 
 # -- bad arguments: one line, exit 1 --
 expect_fail_line "$bench" "$model" --schedule lanes --lanes-k 1
-expect_fail_line "$bench" "$model" --schedule lanes --lanes-k 2,65
+expect_fail_line "$bench" "$model" --schedule lanes --lanes-k 2,1025
 expect_fail_line "$bench" "$model" --schedule lanes --lanes-per-worker 0
 expect_fail_line "$bench" "$model" --schedule lane
 
@@ -43,6 +44,8 @@ for r in j["lanes"]:
         assert k in r, (k, r)
     assert r["lanes"] >= 1 and r["evals"] >= 1 and r["evals_per_lane_max"] >= 1, r
     assert [p["workers"] for p in r["predicted"]] == want_w, r["predicted"]
+    for p in r["predicted"]:
+        assert p["speedup_no_barrier"] >= p["speedup"] - 1e-3 and p["evals_per_s"] > 0, p
 assert [p["workers"] for p in j["predicted"]] == want_w, j["predicted"]
 for p in j["predicted"]:
     for k in ("speedup", "efficiency", "edges_in_flight", "coordinator_cpu_per_eval_us",
@@ -57,7 +60,7 @@ checks=$((checks + 1))
 "$bench" "$model" --schedule lanes --lanes-k 2 --edge-evals 600 >"$tmp/lanes.txt" 2>&1 ||
   fail "bench_scaling --schedule lanes failed: $(tail -3 "$tmp/lanes.txt")"
 for want in "K 2:" "evaluations per lane mean" "per evaluation" "predicted at 100 us RTT" \
-  "where the time goes"; do
+  "where the time goes" "without the group barrier" "evaluations per second"; do
   checks=$((checks + 1))
   grep -q "$want" "$tmp/lanes.txt" || fail "the human report lacks '$want'"
 done

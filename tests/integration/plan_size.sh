@@ -5,6 +5,8 @@
 # group and worker, as a delta after the first); a checkpoint resumed with its P ends in the bytes
 # of the whole run, and with another P (or none: the default 64) is refused on one line; 0 and
 # garbage are refused on one line. The --json summary counts the queues sent (whole and as deltas).
+# K above 64 (--edges-in-flight 256, plans of 4096 on a 5,000-vertex start): a group of more than
+# 64 lanes, the same bytes in process and on 2 workers; K 1025 is refused on one line.
 set -uo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 source "$here/lib.bash"
@@ -58,6 +60,23 @@ expect_fail_line "$LUMESH" optimize "$bunny" -o "$tmp/x.glb" "${job[@]}" --lanes
   --workers 0 --edges-per-iteration 8 --resume "$tmp/ck"
 expect_fail_line "$LUMESH" optimize "$bunny" -o "$tmp/x.glb" "${job[@]}" --lanes isolated \
   --workers 0 --resume "$tmp/ck"
+# groups of more than 64 lanes (the cap was 64): 2 small views, few evaluations (one group of
+# ~50,000 evaluations: 10-25 s each here, too slow for the sanitizer stage, LUMESH_TEST_LIGHT=1)
+big=(--evals 300 --target-verts 5000 --views 2 --size 32 --device host --start qem
+  --edges-per-iteration 4096 --edges-in-flight 256)
+if [ "$light" != 1 ]; then
+  LUMESH_LOG=debug "$LUMESH" optimize "$bunny" -o "$tmp/k256.glb" "${big[@]}" --lanes isolated \
+    --workers 0 2>"$tmp/k256.err" || fail "K 256 in process: $(tail -1 "$tmp/k256.err")"
+  checks=$((checks + 1))
+  most=$(grep -o 'a group of [0-9]*' "$tmp/k256.err" | awk '$4 > m { m = $4 } END { print m + 0 }')
+  [ "$most" -gt 64 ] || fail "K 256: the largest group has $most lanes, expected more than 64"
+  "$LUMESH" optimize "$bunny" -o "$tmp/k256-r2.glb" "${big[@]}" --lanes remote --workers 2 \
+    2>"$tmp/err" || fail "K 256, remote lanes: $(tail -1 "$tmp/err")"
+  same "K 256 (a group of $most lanes) on 2 workers" "$tmp/k256.glb" "$tmp/k256-r2.glb"
+fi
+expect_fail_line "$LUMESH" optimize "$bunny" -o "$tmp/x.glb" "${job[@]}" --workers 0 \
+  --edges-in-flight 1025
+
 for bad in 0 -3 abc 2000000 ""; do
   expect_fail_line "$LUMESH" optimize "$bunny" -o "$tmp/x.glb" "${job[@]}" --workers 0 \
     --edges-per-iteration "$bad"

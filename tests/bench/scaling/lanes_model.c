@@ -2,12 +2,13 @@
  * isolated-lane runs (lanes_run.c), and its report (--schedule lanes).
  *
  * Every worker holds all V views and a replica of the optimizer's state; the coordinator plans a
- * group of up to K edges (K = workers x --lanes-per-worker, at most 64), sends each lane's request
- * (SC_LANE_REQUEST_BYTES: its edge and a reference to the group's start) with the last group's
- * merged commits, the workers run whole lanes, the coordinator merges the results in lane order
- * (re-validating a lane as one evaluation on a worker, a round trip each, in order) and the next
- * group's requests carry the merged commits to every worker. Group j of the measured run, n_j
- * lanes, on W workers (lane i to worker i mod W, in lane order):
+ * group of up to K edges (K = workers x --lanes-per-worker, at most LM_MAX_EDGES_IN_FLIGHT),
+ * sends each lane's request (SC_LANE_REQUEST_BYTES: its edge and a reference to the group's
+ * start) with the last group's merged commits, the workers run whole lanes, the coordinator merges
+ * the results in lane order (re-validating a lane as one evaluation on a worker, a round trip each,
+ * in order) and the next group's requests carry the merged commits to every worker. Group j of the
+ * measured run, n_j lanes, on W workers (in lane order, each lane to the worker that frees first,
+ * as views_remote_lanes.c dispatches):
  *     T_j(W) = plan_j + pot_j / min(W, V)                                   planning
  *            + RTT/2 + (W * B_{j-1} + n_j * q) / bandwidth                  handing out
  *            + A_{j-1} + M_{j-1}                                            the replicas updated
@@ -34,18 +35,27 @@
 static const uint32_t workers[] = {1, 2, 4, 8, 16, 128};
 #define N_W (sizeof workers / sizeof *workers)
 
-/* The slowest worker's time in group g: its lanes in lane order, lane i to worker i mod w. */
+/* The slowest worker's time in group g: its lanes in lane order, each to the worker that frees
+ * first (the lowest-numbered on a tie), as views_remote_lanes.c dispatches them; *sum the workers'
+ * time together. */
 static double slowest(const lanes_run *r, const group_rec *g, uint32_t w, double *sum)
 {
     double worst = 0, snap = g->n ? g->snap_s / g->n : 0;
+    uint32_t used = w < g->n ? w : g->n;
+    double *busy = calloc(used ? used : 1, sizeof *busy);
+    LM_ASSERT(busy);
     *sum = 0;
-    for (uint32_t k = 0; k < w && k < g->n; k++) {
-        double t = 0;
-        for (uint32_t i = k; i < g->n; i += w)
-            t += r->l[g->first + i].evals * r->eval_s + snap;
+    for (uint32_t i = 0; i < g->n; i++) {
+        uint32_t free_first = 0;
+        for (uint32_t k = 1; k < used; k++)
+            free_first = busy[k] < busy[free_first] ? k : free_first;
+        double t = r->l[g->first + i].evals * r->eval_s + snap;
+        busy[free_first] += t;
         *sum += t;
-        worst = t > worst ? t : worst;
     }
+    for (uint32_t k = 0; k < used; k++)
+        worst = busy[k] > worst ? busy[k] : worst;
+    free(busy);
     return worst;
 }
 
@@ -180,6 +190,17 @@ static void print_run_human(const opts *o, const lanes_run *r, uint32_t views)
         lanes_model x = sc_lanes_at(o, r, views, workers[i]);
         printf(" %u: x%.1f (%.0f%%)", workers[i], x.t1 / x.tw, 100 * x.t1 / x.tw / workers[i]);
     }
+    printf("\n      without the group barrier:");
+    for (size_t i = 0; i < N_W; i++) {
+        lanes_model x = sc_lanes_at(o, r, views, workers[i]);
+        double spread = x.tw - x.lanes + x.balanced;
+        printf(" %u: x%.1f (%.0f%%)", workers[i], x.t1 / spread, 100 * x.t1 / spread / workers[i]);
+    }
+    printf("\n      evaluations per second (each worker one core of this machine's CPU time):");
+    for (size_t i = 0; i < N_W; i++) {
+        lanes_model x = sc_lanes_at(o, r, views, workers[i]);
+        printf(" %u: %.0f", workers[i], x.evals / x.tw);
+    }
     printf("\n");
 }
 
@@ -199,9 +220,10 @@ static void print_where(const lanes_model *x, uint32_t w, uint32_t k)
 void sc_print_lanes_human(const opts *o, const lanes_run *runs, uint32_t n, uint32_t views)
 {
     printf("bench scaling, whole lanes (isolated lanes on workers holding all views): %s, %u "
-           "views of %u px, %llu evaluations per run, %u lanes per worker, plans of %u edges\n",
+           "views of %u px, %llu evaluations per run, %u lanes per worker, plans of %u edges%s\n",
            o->model, views, o->size, (unsigned long long)o->edge_evals, o->lanes_per_worker,
-           o->plan ? o->plan : 64);
+           o->plan ? o->plan : 64,
+           o->lanes_detached ? ", lanes detached (through their messages and a lane host)" : "");
     for (uint32_t i = 0; i < n; i++)
         print_run_human(o, &runs[i], views);
     printf("  predicted at %.0f us RTT, %.0f Gb/s (K = workers x lanes per worker, at most the "
@@ -263,8 +285,10 @@ void sc_print_lanes_json(const opts *o, const lanes_run *runs, uint32_t n, uint3
                s.result_bytes, s.commit_bytes, r->energy_rel, r->wall_s);
         for (size_t k = 0; k < N_W; k++) {
             lanes_model x = sc_lanes_at(o, r, views, workers[k]);
-            printf("%s{\"workers\": %u, \"speedup\": %.3f, \"efficiency\": %.3f}", k ? ", " : "",
-                   workers[k], x.t1 / x.tw, x.t1 / x.tw / workers[k]);
+            printf("%s{\"workers\": %u, \"speedup\": %.3f, \"efficiency\": %.3f, "
+                   "\"speedup_no_barrier\": %.3f, \"evals_per_s\": %.1f}",
+                   k ? ", " : "", workers[k], x.t1 / x.tw, x.t1 / x.tw / workers[k],
+                   x.t1 / (x.tw - x.lanes + x.balanced), x.evals / x.tw);
         }
         printf("]}");
     }

@@ -137,6 +137,8 @@ lm_status sc_run_lanes(const opts *o, const lm_mesh *orig, const lm_mesh *coarse
     probe_ctx p = {&m, out, mark_now(&m), LM_OK};
     if (st == LM_OK && k > 1)
         lm_lanes_set_probe(opt->lanes, &(lm_lanes_probe){on_phase, on_lane, &p});
+    if (st == LM_OK && k > 1 && o->lanes_detached)
+        st = lm_optimizer_set_lanes_detached(opt, 1);
     double t0 = sc_wall();
     p.at = mark_now(&m);
     if (st == LM_OK)

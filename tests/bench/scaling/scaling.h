@@ -33,7 +33,9 @@ typedef struct opts {
     double sync_us; /* --sync-us: a node's synchronisation per evaluation (<0: measured) */
     /* --schedule lanes: the isolated-lane runs' group sizes K (--lanes-k), lanes per worker */
     uint32_t lanes_k[SC_MAX_LIST], n_lanes_k, lanes_per_worker;
-    uint32_t plan; /* --plan: the lanes' runs' edges per iteration (0: the optimizer's, 64) */
+    uint32_t plan;      /* --plan: the lanes' runs' edges per iteration (0: the optimizer's, 64) */
+    int lanes_detached; /* --lanes-detached: each lane through its wire messages and a lane host
+                           (lm_optimizer_set_lanes_detached), a worker's per-lane work measured */
 } opts;
 
 /* ---- the measuring views (meter.c) ----------------------------------------------------------- */
