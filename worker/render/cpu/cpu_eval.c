@@ -548,15 +548,21 @@ static lm_status shade_log(wk_cpu_views *v, uint32_t h, const wk_cpu_keys *k, in
  * that depend on them, so they miss one after another: measured, an evaluation of a patch whose
  * memory is cold took 1.75 times as long as the same evaluation again. So before view h's pass
  * the rows that the patch's visible removed triangles cover there (their subs' box) are read in
- * a loop of independent loads, which the processor overlaps, and the subs and visible-pixel
- * counts that the next view's box needs are asked for (a hint). No value depends on either. */
+ * a loop of independent loads, which the processor overlaps, and the subs that the next view's
+ * box needs (of its visible removed triangles only: punch reads no other's) and the visible-pixel
+ * counts of the view after it are asked for (hints, a view ahead of their first read). No value
+ * depends on either. */
 #define GATHER_MAX_PIXELS 4096 /* a larger box is mostly work, not waiting: left alone */
 
 static void prefetch_subs(const wk_cpu_views *v, const lm_patch *p, uint32_t h)
 {
+    int ahead = h + 1 < v->core.views.count;
     for (uint32_t i = 0; i < p->n_removed; i++) {
-        __builtin_prefetch(&v->count[h][p->removed[i]]);
-        wk_cpu_subcache_prefetch(&v->subcache, h, p->removed[i]);
+        uint32_t id = p->removed[i];
+        if (ahead) /* read when view h's subs are asked for, one view later */
+            __builtin_prefetch(&v->count[h + 1][id]);
+        if (v->count[h][id]) /* only a visible triangle's subs are read (punch) */
+            wk_cpu_subcache_prefetch(&v->subcache, h, id);
     }
 }
 
