@@ -247,7 +247,7 @@ static void raise_tiles(wk_cpu_views *v, wk_cpu_keys *k, const wk_cpu_sub *s)
 static lm_status punch(wk_cpu_views *v, const lm_patch *p, uint32_t h, uint32_t id, wk_cpu_keys *k)
 {
     wk_cpu_eval *e = &v->eval;
-    size_t limit = v->core.occlusion ? v->count[h][id] : v->plane, found = 0;
+    size_t limit = v->core.occlusion ? *wk_cpu_count(v, h, id) : v->plane, found = 0;
     if (limit == 0)
         return LM_OK; /* it shows nowhere */
     int twin = is_twin(e, id);
@@ -288,7 +288,7 @@ static lm_status punch_all(wk_cpu_views *v, const lm_patch *p, uint32_t h, wk_cp
                                    p->n_removed)) {
         for (uint32_t i = 0; st == LM_OK && i < p->n_removed; i++) {
             uint32_t id = p->removed[i], first, n; /* twins are registered as punch does */
-            if (e->removed_twin[i] && (!v->core.occlusion || v->count[h][id]))
+            if (e->removed_twin[i] && (!v->core.occlusion || *wk_cpu_count(v, h, id)))
                 st = register_tri(v, h, &p->added[e->twin_of[id]], 1, &first, &n);
         }
         if (st != LM_OK)
@@ -548,15 +548,21 @@ static lm_status shade_log(wk_cpu_views *v, uint32_t h, const wk_cpu_keys *k, in
  * that depend on them, so they miss one after another: measured, an evaluation of a patch whose
  * memory is cold took 1.75 times as long as the same evaluation again. So before view h's pass
  * the rows that the patch's visible removed triangles cover there (their subs' box) are read in
- * a loop of independent loads, which the processor overlaps, and the subs and visible-pixel
- * counts that the next view's box needs are asked for (a hint). No value depends on either. */
+ * a loop of independent loads, which the processor overlaps, and the subs that the next view's
+ * box needs (of its visible removed triangles only: punch reads no other's) and the visible-pixel
+ * counts of the view after it are asked for (hints, a view ahead of their first read). No value
+ * depends on either. */
 #define GATHER_MAX_PIXELS 4096 /* a larger box is mostly work, not waiting: left alone */
 
 static void prefetch_subs(const wk_cpu_views *v, const lm_patch *p, uint32_t h)
 {
+    int ahead = h + 1 < v->core.views.count;
     for (uint32_t i = 0; i < p->n_removed; i++) {
-        __builtin_prefetch(&v->count[h][p->removed[i]]);
-        wk_cpu_subcache_prefetch(&v->subcache, h, p->removed[i]);
+        uint32_t id = p->removed[i];
+        if (ahead) /* read when view h's subs are asked for, one view later */
+            __builtin_prefetch(wk_cpu_count(v, h + 1, id));
+        if (*wk_cpu_count(v, h, id)) /* only a visible triangle's subs are read (punch) */
+            wk_cpu_subcache_prefetch(&v->subcache, h, id);
     }
 }
 
@@ -566,7 +572,7 @@ static wk_rect removed_box(const wk_cpu_views *v, const lm_patch *p, uint32_t h)
     wk_rect box = {0, 0, 0, 0};
     for (uint32_t i = 0; i < p->n_removed; i++) {
         const wk_cpu_sub *s;
-        if (v->count[h][p->removed[i]] &&
+        if (*wk_cpu_count(v, h, p->removed[i]) &&
             (s = wk_cpu_subcache_peek(&v->subcache, h, p->removed[i])))
             wk_rect_union(&box, &(wk_rect){s->x0, s->y0, s->x1, s->y1});
     }
@@ -601,7 +607,7 @@ static int view_unchanged(const wk_cpu_views *v, const lm_patch *p, uint32_t h,
     if (!v->core.occlusion)
         return 0;
     for (uint32_t i = 0; i < p->n_removed; i++)
-        if (v->count[h][p->removed[i]])
+        if (*wk_cpu_count(v, h, p->removed[i]))
             return 0;
     return wk_cpu_box_hidden(&v->eval.box, &v->cviews[h], k);
 }
@@ -679,13 +685,12 @@ static void keep(wk_cpu_views *v, uint32_t h, const lm_patch *p)
     wk_image_store_commit_pixels(v->core.img, h, e->log.idx, e->luma, e->log.n);
     for (size_t j = 0; v->texf && j < e->log.n; j++) /* (unused where the surface is untextured) */
         memcpy(v->texf + 3 * (h * v->plane + e->log.idx[j]), e->texl + 3 * j, 3 * sizeof(float));
-    uint32_t *count = v->count[h];
     for (size_t j = 0; j < e->log.n; j++) {
         uint64_t now = k.key[e->log.idx[j]];
         if (e->log.old[j] != WK_CPU_KEY_BG)
-            count[WK_CPU_KEY_ID(e->log.old[j])]--;
+            (*wk_cpu_count(v, h, WK_CPU_KEY_ID(e->log.old[j])))--;
         if (now != WK_CPU_KEY_BG)
-            count[WK_CPU_KEY_ID(now)]++;
+            (*wk_cpu_count(v, h, WK_CPU_KEY_ID(now)))++;
     }
     for (size_t j = 0; j < e->log.n; j++) { /* tiles raised for holes have the stamp already */
         uint32_t t = tile_of(v, e->log.xy[j]);

@@ -13,14 +13,12 @@ lm_status wk_cpu_count_reserve(wk_cpu_views *v, size_t need)
 {
     if (need <= v->cap_count)
         return LM_OK;
-    size_t cap = lm_grow_cap(v->cap_count, need, 1024, SIZE_MAX);
-    for (uint32_t h = 0; h < v->core.views.count; h++) {
-        uint32_t *c = realloc(v->count[h], cap * sizeof *c);
-        if (!c)
-            return lm_fail(LM_E_NOMEM, "out of memory for %zu visible-pixel counts", cap);
-        memset(c + v->cap_count, 0, (cap - v->cap_count) * sizeof *c);
-        v->count[h] = c;
-    }
+    size_t cap = lm_grow_cap(v->cap_count, need, 1024, SIZE_MAX), n = v->core.views.count;
+    uint32_t *c = realloc(v->count, cap * n * sizeof *c);
+    if (!c)
+        return lm_fail(LM_E_NOMEM, "out of memory for %zu visible-pixel counts", cap);
+    memset(c + v->cap_count * n, 0, (cap - v->cap_count) * n * sizeof *c);
+    v->count = c;
     v->cap_count = cap;
     return LM_OK;
 }

@@ -13,17 +13,25 @@
 /* Full renders of every view from src: keys, counts (current mesh only), luminance. */
 static lm_status render_all(wk_cpu_views *v, const wk_cpu_source *src, int table, int to_target)
 {
+    size_t n_ids = to_target ? 0 : src->rep->cap;
     uint8_t *y = malloc(v->plane);
-    if (!y)
+    uint32_t *cnt = to_target ? NULL : malloc((n_ids ? n_ids : 1) * sizeof *cnt);
+    if (!y || (!to_target && !cnt)) {
+        free(y);
+        free(cnt);
         return lm_fail(LM_E_NOMEM, "out of memory rendering %zu pixels", v->plane);
-    lm_status st = to_target ? LM_OK : wk_cpu_count_reserve(v, src->rep->cap);
+    }
+    lm_status st = to_target ? LM_OK : wk_cpu_count_reserve(v, n_ids);
     for (uint32_t h = 0; st == LM_OK && h < v->core.views.count; h++) {
-        st = wk_cpu_render_view(v, h, src, table, y, to_target ? NULL : v->count[h]);
+        st = wk_cpu_render_view(v, h, src, table, y, cnt);
+        for (size_t id = 0; st == LM_OK && id < n_ids; id++) /* into the counts' layout */
+            *wk_cpu_count(v, h, (uint32_t)id) = cnt[id];
         if (st == LM_OK && to_target)
             wk_image_store_set_target(v->core.img, h, y);
         else if (st == LM_OK)
             wk_image_store_set_current(v->core.img, h, y);
     }
+    free(cnt);
     free(y);
     return st;
 }
@@ -84,8 +92,7 @@ static const char *cv_renderer(const wk_views_core *c)
 static void cv_destroy(wk_views_core *c)
 {
     wk_cpu_views *v = (wk_cpu_views *)c;
-    for (uint32_t h = 0; h < LM_MAX_VIEWS; h++)
-        free(v->count[h]);
+    free(v->count);
     wk_cpu_materials_free(&v->mats[0]);
     wk_cpu_materials_free(&v->mats[1]);
     wk_cpu_eval_free(&v->eval, v->core.views.count);

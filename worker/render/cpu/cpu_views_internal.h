@@ -55,7 +55,9 @@ typedef struct wk_cpu_views {
     uint64_t *keys; /* [n_views * plane] keys of the current mesh (of the target while creating) */
     uint64_t *tmax; /* [n_views * tiles] */
     uint32_t *second; /* [n_views * plane] lower bounds of the second least keys (wk_cpu_keys) */
-    uint32_t *count[LM_MAX_VIEWS]; /* visible pixels of each current triangle id [cap_count] */
+    uint32_t *count;  /* [cap_count * n_views] visible pixels of each current triangle id in each
+                         view, an id's views side by side (wk_cpu_count): an evaluation reads its
+                         removed triangles' counts view after view, a line now serves 16 views */
     size_t cap_count;
     uint8_t *rgba; /* [n_views * plane * 4] colours of the last full render */
     float *texf;   /* [n_views * plane * 3] texture factors of the visible surface (NULL: none) */
@@ -65,6 +67,12 @@ typedef struct wk_cpu_views {
     size_t cap_vc;
     wk_cpu_eval eval;
 } wk_cpu_views;
+
+/* The visible-pixel count of triangle id in view h (id < cap_count). */
+static inline uint32_t *wk_cpu_count(const wk_cpu_views *v, uint32_t h, uint32_t id)
+{
+    return &v->count[(size_t)id * v->core.views.count + h];
+}
 
 static inline wk_cpu_keys wk_cpu_view_keys(wk_cpu_views *v, uint32_t h)
 {
@@ -83,8 +91,8 @@ typedef struct wk_cpu_source {
 } wk_cpu_source;
 
 /* Full render of view h from src with material table `table` (cpu_render.c): keys, tile maxima,
- * colours, and luminance into y; visible pixel counts per id into count (cap_count ids, or NULL
- * when not wanted, then counted in scratch). */
+ * colours, and luminance into y; visible pixel counts per id into count (one per id of src's
+ * range, view h's alone; or NULL when not wanted, then counted in scratch). */
 lm_status wk_cpu_render_view(wk_cpu_views *v, uint32_t h, const wk_cpu_source *src, int table,
                              uint8_t *y, uint32_t *count);
 
