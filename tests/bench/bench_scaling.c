@@ -117,7 +117,16 @@ static int parse(int argc, char **argv, opts *o)
             o->n_lanes_k = parse_list(argv[++i], o->lanes_k, NULL);
         else if (v && !strcmp(a, "--plan"))
             o->plan = (uint32_t)atoi(argv[++i]);
-        else if (!strcmp(a, "--lanes-detached"))
+        else if (v && !strcmp(a, "--initial"))
+            o->initial = argv[++i];
+        else if (v && !strcmp(a, "--start")) {
+            const char *s = argv[++i];
+            o->start = !strcmp(s, "qem") ? CO_JOB_START_QEM : CO_JOB_START_ADAPTIVE;
+            if (strcmp(s, "qem") && strcmp(s, "adaptive"))
+                return fprintf(stderr, "bench_scaling: --start takes qem or adaptive, not '%s'\n",
+                               s),
+                       1;
+        } else if (!strcmp(a, "--lanes-detached"))
             o->lanes_detached = 1;
         else if (v && !strcmp(a, "--lanes-per-worker"))
             o->lanes_per_worker = (uint32_t)atoi(argv[++i]);
@@ -132,8 +141,9 @@ static int parse(int argc, char **argv, opts *o)
     }
     if (!o->model || !o->evals || !o->edge_evals || o->round < 1 || o->round > 65536 ||
         o->in_flight < 1 || !positive(o->lags, o->n_lags) || !positive(o->groups, o->n_groups) ||
-        o->in_flight > LM_MAX_EDGES_IN_FLIGHT || o->views < 1 || o->views > LM_MAX_VIEWS ||
-        o->size < 16 || !lanes_k_ok(o) || o->lanes_per_worker < 1)
+        o->in_flight > LM_MAX_EDGES_IN_FLIGHT || o->views > LM_MAX_VIEWS ||
+        (o->size && o->size < 16) || (o->initial && o->target_verts) || !lanes_k_ok(o) ||
+        o->lanes_per_worker < 1)
         return fprintf(stderr, "bench_scaling: bad arguments (see the comment at the top of "
                                "tests/bench/bench_scaling.c)\n"),
                1;
@@ -160,26 +170,25 @@ static lm_status setup(const opts *o, lm_mesh **orig, lm_mesh **coarse, lm_view_
     return st;
 }
 
-/* --schedule lanes: the isolated-lane runs, one at a time, and their model. */
+/* --schedule lanes: the isolated-lane runs on the job's set-up, one at a time, and their model. */
 static int run_lanes(const opts *o)
 {
-    lm_mesh *orig = NULL, *coarse = NULL;
-    static lm_view_set vs;
+    co_job_setup js;
     static lanes_run runs[SC_MAX_LIST];
-    lm_status st = setup(o, &orig, &coarse, &vs);
+    lm_status st = sc_job_setup(o, &js);
     uint32_t n = 0;
     for (; n < o->n_lanes_k && st == LM_OK; n++)
-        st = sc_run_lanes(o, orig, coarse, &vs, o->lanes_k[n], &runs[n]);
+        st = sc_run_lanes(o, &js, o->lanes_k[n], &runs[n]);
+    uint32_t views = st == LM_OK ? js.views->count : 0;
     if (st != LM_OK)
         fprintf(stderr, "bench_scaling: %s\n", lm_last_error());
     else if (o->json)
-        sc_print_lanes_json(o, runs, n, vs.count);
+        sc_print_lanes_json(o, &js, runs, n, views);
     else
-        sc_print_lanes_human(o, runs, n, vs.count);
+        sc_print_lanes_human(o, &js, runs, n, views);
     for (uint32_t i = 0; i < n; i++)
         sc_lanes_free(&runs[i]);
-    lm_mesh_destroy(orig);
-    lm_mesh_destroy(coarse);
+    co_job_setup_free(&js);
     return st == LM_OK ? 0 : 2;
 }
 
@@ -191,8 +200,7 @@ int main(int argc, char **argv)
               .edge_evals = 30000,
               .round = 256,
               .in_flight = 8,
-              .views = LM_DEFAULT_VIEWS,
-              .size = LM_DEFAULT_VIEW_SIZE,
+              .start = CO_JOB_START_QEM,
               .rtt_us = 100,
               .gbps = 10,
               .schedule = SCHEDULE_ROUNDS,
@@ -215,8 +223,10 @@ int main(int argc, char **argv)
     }
     if (parse(argc, argv, &o))
         return 1;
-    if (o.schedule == SCHEDULE_LANES)
+    if (o.schedule == SCHEDULE_LANES) /* the views' defaults: the job's (co_job_setup_make) */
         return run_lanes(&o);
+    o.views = o.views ? o.views : LM_DEFAULT_VIEWS;
+    o.size = o.size ? o.size : LM_DEFAULT_VIEW_SIZE;
     lm_mesh *orig = NULL, *coarse = NULL;
     static lm_view_set vs;
     static meter m[3];

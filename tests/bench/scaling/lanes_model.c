@@ -217,12 +217,21 @@ static void print_where(const lanes_model *x, uint32_t w, uint32_t k)
            x->revalidate / all, 100 * x->coord_s / x->tw, x->t1 / spread, 100 * x->t1 / spread / w);
 }
 
-void sc_print_lanes_human(const opts *o, const lanes_run *runs, uint32_t n, uint32_t views)
+/* The job's start, as the report names it. */
+static const char *start_name(const opts *o)
 {
-    printf("bench scaling, whole lanes (isolated lanes on workers holding all views): %s, %u "
-           "views of %u px, %llu evaluations per run, %u lanes per worker, plans of %u edges%s\n",
-           o->model, views, o->size, (unsigned long long)o->edge_evals, o->lanes_per_worker,
-           o->plan ? o->plan : 64,
+    return o->initial ? o->initial : o->start == CO_JOB_START_ADAPTIVE ? "adaptive" : "qem";
+}
+
+void sc_print_lanes_human(const opts *o, const co_job_setup *js, const lanes_run *runs, uint32_t n,
+                          uint32_t views)
+{
+    printf("bench scaling, whole lanes (isolated lanes on workers holding all views), the job's "
+           "set-up: %s, start %s (%u vertices), attributes 0x%x, %u views of %d px, %llu "
+           "evaluations per run, %u lanes per worker, plans of %u edges%s\n",
+           o->model, start_name(o), js->coarse->live_verts, js->attrs, views, js->o.size,
+           (unsigned long long)o->edge_evals, o->lanes_per_worker,
+           js->o.edges_per_iteration ? js->o.edges_per_iteration : LM_DEFAULT_EDGES_PER_ITERATION,
            o->lanes_detached ? ", lanes detached (through their messages and a lane host)" : "");
     for (uint32_t i = 0; i < n; i++)
         print_run_human(o, &runs[i], views);
@@ -252,13 +261,16 @@ void sc_print_lanes_human(const opts *o, const lanes_run *runs, uint32_t n, uint
     }
 }
 
-void sc_print_lanes_json(const opts *o, const lanes_run *runs, uint32_t n, uint32_t views)
+void sc_print_lanes_json(const opts *o, const co_job_setup *js, const lanes_run *runs, uint32_t n,
+                         uint32_t views)
 {
-    printf("{\"bench\": \"scaling\", \"schedule\": \"lanes\", \"model\": \"%s\", \"views\": %u, "
-           "\"size\": %u, \"edge_evals\": %llu, \"model_rtt_us\": %.1f, \"model_gbps\": %.1f, "
+    printf("{\"bench\": \"scaling\", \"schedule\": \"lanes\", \"model\": \"%s\", \"start\": "
+           "\"%s\", \"start_verts\": %u, \"attrs\": %u, \"views\": %u, \"size\": %d, "
+           "\"edge_evals\": %llu, \"model_rtt_us\": %.1f, \"model_gbps\": %.1f, "
            "\"lanes_per_worker\": %u, \"plan\": %u, \"lanes\": [",
-           o->model, views, o->size, (unsigned long long)o->edge_evals, o->rtt_us, o->gbps,
-           o->lanes_per_worker, o->plan ? o->plan : 64);
+           o->model, start_name(o), js->coarse->live_verts, js->attrs, views, js->o.size,
+           (unsigned long long)o->edge_evals, o->rtt_us, o->gbps, o->lanes_per_worker,
+           js->o.edges_per_iteration ? js->o.edges_per_iteration : LM_DEFAULT_EDGES_PER_ITERATION);
     for (uint32_t i = 0; i < n; i++) {
         const lanes_run *r = &runs[i];
         lane_stats s = stats_of(r);

@@ -118,22 +118,37 @@ static lm_status run_steps(const opts *o, lm_optimizer *opt, probe_ctx *p)
     return st != LM_OK ? st : p->st;
 }
 
-lm_status sc_run_lanes(const opts *o, const lm_mesh *orig, const lm_mesh *coarse,
-                       const lm_view_set *vs, uint32_t k, lanes_run *out)
+lm_status sc_job_setup(const opts *o, co_job_setup *js)
+{
+    co_job_options jo = {.original_path = o->model,
+                         .initial_path = o->initial,
+                         .start = o->initial ? CO_JOB_START_DEFAULT : o->start,
+                         .target_verts = o->initial ? 0 : o->target_verts,
+                         .views = {.count = o->views},
+                         .size = (int)o->size,
+                         .seed = 1,
+                         .device_spec = o->device,
+                         .edges_in_flight = 2,
+                         .edges_per_iteration = o->plan,
+                         .lane_isolation = 1,
+                         .quiet = 1};
+    return co_job_setup_make(&jo, js);
+}
+
+lm_status sc_run_lanes(const opts *o, const co_job_setup *js, uint32_t k, lanes_run *out)
 {
     static meter m;
     lm_mesh *mesh = NULL;
     lm_optimizer *opt = NULL;
     memset(out, 0, sizeof *out);
     out->k = k;
-    lm_status st = sc_meter_start(o, orig, coarse, vs, 1, &m, &mesh);
-    lm_params params = {.seed = 1,
-                        .edges_in_flight = k,
-                        .lane_isolation = 1,
-                        .edges_per_iteration = o->plan,
-                        .surface = orig};
+    const lm_view_set *vs = js->views;
+    lm_status st = sc_meter_start(o, js->original, js->coarse, vs, 1, &m, &mesh);
+    lm_params params = js->params;
+    params.edges_in_flight = k;
+    params.lane_isolation = 1;
     if (st == LM_OK)
-        st = lm_optimizer_create(mesh, &m.base, &params, &opt);
+        st = lm_optimizer_create_tuned(mesh, &m.base, &params, &js->tuning, &opt);
     probe_ctx p = {&m, out, mark_now(&m), LM_OK};
     if (st == LM_OK && k > 1)
         lm_lanes_set_probe(opt->lanes, &(lm_lanes_probe){on_phase, on_lane, &p});

@@ -10,6 +10,7 @@
 
 #include "common/replica.h"
 #include "common/view.h"
+#include "coordinator/job/job.h"
 #include "coordinator/views/views.h"
 #include "proto/wire_records.h"
 
@@ -33,7 +34,11 @@ typedef struct opts {
     double sync_us; /* --sync-us: a node's synchronisation per evaluation (<0: measured) */
     /* --schedule lanes: the isolated-lane runs' group sizes K (--lanes-k), lanes per worker */
     uint32_t lanes_k[SC_MAX_LIST], n_lanes_k, lanes_per_worker;
-    uint32_t plan;      /* --plan: the lanes' runs' edges per iteration (0: the optimizer's, 64) */
+    uint32_t plan; /* --plan: the lanes' runs' edges per iteration (0: the job's default) */
+    /* --schedule lanes: the job's start (co_job_setup_make): --initial MESH, else --start qem
+       (the default here) or adaptive */
+    const char *initial;
+    co_job_start start;
     int lanes_detached; /* --lanes-detached: each lane through its wire messages and a lane host
                            (lm_optimizer_set_lanes_detached), a worker's per-lane work measured */
 } opts;
@@ -245,9 +250,12 @@ typedef struct lanes_run {
 
 #define SC_LANE_REQUEST_BYTES 64.0 /* a lane's request: its edge, index, group, snapshot id */
 
-/* The isolated-lane engine (lm_params.lane_isolation) at k edges in flight, until --edge-evals. */
-lm_status sc_run_lanes(const opts *o, const lm_mesh *orig, const lm_mesh *coarse,
-                       const lm_view_set *vs, uint32_t k, lanes_run *out);
+/* The job's set-up (co_job_setup_make) for --schedule lanes: the model, --initial or --start,
+ * --target-verts, --views, --size (0: the job's defaults), --plan, seed 1. */
+lm_status sc_job_setup(const opts *o, co_job_setup *js);
+/* The isolated-lane engine (lm_params.lane_isolation) at k edges in flight, until --edge-evals,
+ * with the job's parameters and tuning (js). */
+lm_status sc_run_lanes(const opts *o, const co_job_setup *js, uint32_t k, lanes_run *out);
 void sc_lanes_free(lanes_run *r);
 
 /* ---- the whole-lane model (lanes_model.c) ---------------------------------------------------- */
@@ -267,8 +275,10 @@ lanes_model sc_lanes_at(const opts *o, const lanes_run *r, uint32_t views, uint3
 /* The run (of runs[0..n)) whose K a cluster of w workers uses: the smallest K >= w x per (lanes
  * per worker), else the largest. */
 const lanes_run *sc_lanes_for(const lanes_run *runs, uint32_t n, uint32_t w, uint32_t per);
-void sc_print_lanes_human(const opts *o, const lanes_run *runs, uint32_t n, uint32_t views);
-void sc_print_lanes_json(const opts *o, const lanes_run *runs, uint32_t n, uint32_t views);
+void sc_print_lanes_human(const opts *o, const co_job_setup *js, const lanes_run *runs, uint32_t n,
+                          uint32_t views);
+void sc_print_lanes_json(const opts *o, const co_job_setup *js, const lanes_run *runs, uint32_t n,
+                         uint32_t views);
 
 /* ---- round trips measured here (rtt.c) ------------------------------------------------------- */
 
