@@ -1317,6 +1317,21 @@ lm_status co_job_setup_make(const co_job_options *opts, co_job_setup *out)
     return st;
 }
 
+lm_status co_job_setup_view_set(const co_job_setup *s, uint32_t draw, lm_view_set *out)
+{
+    co_job *j = calloc(1, sizeof *j);
+    if (!j)
+        return lm_fail(LM_E_NOMEM, "out of memory");
+    j->o = s->o;
+    j->original = s->original; /* borrowed: not destroyed here */
+    uint32_t count, turn;
+    int size;
+    stage_views(j, &count, &size, &turn);
+    lm_status st = make_view_set(j, count, size, turn, draw, out);
+    free(j);
+    return st;
+}
+
 void co_job_setup_free(co_job_setup *s)
 {
     if (s->coarse)

@@ -193,6 +193,9 @@ typedef struct co_job_setup {
 } co_job_setup;
 
 lm_status co_job_setup_make(const co_job_options *opts, co_job_setup *out);
+/* The training views of the setup's first stage in regrid draw `draw` (the views the job's loop
+ * switches to at co_regrid_next(draw - 1, regrid_every) evaluations, regrid.h). */
+lm_status co_job_setup_view_set(const co_job_setup *s, uint32_t draw, lm_view_set *out);
 void co_job_setup_free(co_job_setup *s);
 
 #endif

@@ -126,7 +126,12 @@ static int parse(int argc, char **argv, opts *o)
                 return fprintf(stderr, "bench_scaling: --start takes qem or adaptive, not '%s'\n",
                                s),
                        1;
-        } else if (!strcmp(a, "--lanes-detached"))
+        } else if (v && !strcmp(a, "--regrid-every")) {
+            o->regrid_every = strtoull(argv[++i], NULL, 10);
+            o->regrid_set = 1;
+        } else if (v && !strcmp(a, "--coordinator-workers"))
+            o->coordinator_workers = (uint32_t)atoi(argv[++i]);
+        else if (!strcmp(a, "--lanes-detached"))
             o->lanes_detached = 1;
         else if (v && !strcmp(a, "--lanes-per-worker"))
             o->lanes_per_worker = (uint32_t)atoi(argv[++i]);
@@ -174,11 +179,15 @@ static lm_status setup(const opts *o, lm_mesh **orig, lm_mesh **coarse, lm_view_
 static int run_lanes(const opts *o)
 {
     co_job_setup js;
-    static lanes_run runs[SC_MAX_LIST];
+    static lanes_run runs[SC_MAX_LIST], remote[SC_MAX_LIST];
     lm_status st = sc_job_setup(o, &js);
     uint32_t n = 0;
     for (; n < o->n_lanes_k && st == LM_OK; n++)
         st = sc_run_lanes(o, &js, o->lanes_k[n], &runs[n]);
+    for (uint32_t i = 0; i < n && st == LM_OK && o->coordinator_workers; i++) {
+        st = sc_run_lanes_remote(o, &js, o->lanes_k[i], o->coordinator_workers, &remote[i]);
+        runs[i].coord = &remote[i];
+    }
     uint32_t views = st == LM_OK ? js.views->count : 0;
     if (st != LM_OK)
         fprintf(stderr, "bench_scaling: %s\n", lm_last_error());
@@ -187,7 +196,7 @@ static int run_lanes(const opts *o)
     else
         sc_print_lanes_human(o, &js, runs, n, views);
     for (uint32_t i = 0; i < n; i++)
-        sc_lanes_free(&runs[i]);
+        sc_lanes_free(&runs[i]), sc_lanes_free(&remote[i]);
     co_job_setup_free(&js);
     return st == LM_OK ? 0 : 2;
 }
@@ -201,6 +210,7 @@ int main(int argc, char **argv)
               .round = 256,
               .in_flight = 8,
               .start = CO_JOB_START_QEM,
+              .coordinator_workers = 2,
               .rtt_us = 100,
               .gbps = 10,
               .schedule = SCHEDULE_ROUNDS,

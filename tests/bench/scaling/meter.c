@@ -216,7 +216,18 @@ static const lm_views_ops meter_ops = {
 lm_status sc_meter_start(const opts *o, const lm_mesh *orig, const lm_mesh *coarse,
                          const lm_view_set *vs, int light, meter *m, lm_mesh **mesh)
 {
-    co_views_desc d = {.original = orig,
+    return sc_meter_start_on(o, orig, coarse, vs, light, NULL, NULL, m, mesh);
+}
+
+lm_status sc_meter_start_on(const opts *o, const lm_mesh *orig, const lm_mesh *coarse,
+                            const lm_view_set *vs, int light, co_pool *pool,
+                            const co_audit_rule *audit, meter *m, lm_mesh **mesh)
+{
+    co_views_desc d = {.kind = pool ? CO_VIEWS_REMOTE : CO_VIEWS_LOCAL,
+                       .pool = pool,
+                       .whole = pool != NULL,
+                       .audit = audit ? *audit : (co_audit_rule){0, 0},
+                       .original = orig,
                        .views = vs,
                        .materials = coarse->materials,
                        .n_materials = coarse->n_materials,

@@ -39,6 +39,9 @@ typedef struct opts {
        (the default here) or adaptive */
     const char *initial;
     co_job_start start;
+    uint64_t regrid_every; /* --regrid-every: the job's (0: never); regrid_set 0: default */
+    int regrid_set;
+    uint32_t coordinator_workers; /* --coordinator-workers: the remote runs' workers (0: none) */
     int lanes_detached; /* --lanes-detached: each lane through its wire messages and a lane host
                            (lm_optimizer_set_lanes_detached), a worker's per-lane work measured */
 } opts;
@@ -79,6 +82,11 @@ void sc_close_plan(meter *m);
 /* The meter over new in-process views, and *mesh a copy of the start for an optimizer. */
 lm_status sc_meter_start(const opts *o, const lm_mesh *orig, const lm_mesh *coarse,
                          const lm_view_set *vs, int light, meter *m, lm_mesh **mesh);
+/* The same over remote views of the pool's workers, each serving every view (co_views_desc.whole,
+ * lanes on the workers), with the audit rule (NULL: none); pool NULL: sc_meter_start's. */
+lm_status sc_meter_start_on(const opts *o, const lm_mesh *orig, const lm_mesh *coarse,
+                            const lm_view_set *vs, int light, co_pool *pool,
+                            const co_audit_rule *audit, meter *m, lm_mesh **mesh);
 
 /* ---- today's schedule: one evaluation the unit (per_eval.c) ---------------------------------- */
 
@@ -231,6 +239,11 @@ typedef struct group_rec {
     float reval_s;      /* the views' CPU of its re-validations */
     float apply_s;      /* the views' commits: what every worker spends applying them */
     float commit_bytes; /* the merged commits' messages (what is broadcast) */
+    /* the process's whole CPU in the group's phases: from the last merge to its start (planning,
+       the potentials' requests), its lanes (with --lanes remote: the coordinator dispatching
+       them, encoding the starts, queues and requests, decoding the results), its merge (the
+       re-validations' requests and the commits to the remote views included) */
+    float cpu_plan, cpu_lanes, cpu_merge;
 } group_rec;
 
 typedef struct lanes_run {
@@ -246,6 +259,19 @@ typedef struct lanes_run {
     double per_patch_view_us; /* the views' share of eval_s, per view */
     double energy_rel;        /* the energy at the end over the start's */
     double wall_s;            /* the run in process */
+    /* the remote run's (sc_run_lanes_remote): the lanes' runs on workers, audits included */
+    uint32_t workers;
+    uint64_t lane_runs, audits;
+    double coord_cpu_s; /* the coordinator's CPU over the run (every phase) */
+    co_lane_stats lane_stats;
+    /* the job's regrids in the run (every js->regrid_every evaluations): count, the process's CPU
+       (in process: what each worker spends, every worker rendering every view's targets) and wall
+       time */
+    uint32_t regrids;
+    double regrid_cpu_s, regrid_wall_s;
+    /* in process: the remote run of the same K (sc_run_lanes_remote), whose coordinator's CPU the
+       model takes (NULL: the in-process planning and merge only) */
+    const struct lanes_run *coord;
 } lanes_run;
 
 #define SC_LANE_REQUEST_BYTES 64.0 /* a lane's request: its edge, index, group, snapshot id */
@@ -256,6 +282,12 @@ lm_status sc_job_setup(const opts *o, co_job_setup *js);
 /* The isolated-lane engine (lm_params.lane_isolation) at k edges in flight, until --edge-evals,
  * with the job's parameters and tuning (js). */
 lm_status sc_run_lanes(const opts *o, const co_job_setup *js, uint32_t k, lanes_run *out);
+/* The same job as --lanes remote runs it on `workers` local lumesh-worker processes (the job's
+ * audit rule, no spinning): what the coordinator's own CPU costs per group (group_rec.cpu_*) and
+ * per evaluation; its lanes' evaluations are those of the lanes' reports. The worker program:
+ * LUMESH_WORKER, else beside lumesh's build (the pool's search). */
+lm_status sc_run_lanes_remote(const opts *o, const co_job_setup *js, uint32_t k, uint32_t workers,
+                              lanes_run *out);
 void sc_lanes_free(lanes_run *r);
 
 /* ---- the whole-lane model (lanes_model.c) ---------------------------------------------------- */
@@ -268,6 +300,9 @@ typedef struct lanes_model {
      * updated, the groups' slowest workers, results back, the merges, re-validations; and the
      * lanes' work spread perfectly (their sum / w) */
     double plan, hand_out, update, lanes, results, merge, revalidate, balanced;
+    double dispatch; /* the coordinator's CPU dispatching the lanes (remote run measured; else 0) */
+    double regrid;   /* the job's regrids: every worker renders every view's targets again */
+    double coord_measured; /* 1: the coordinator's terms from a remote run */
 } lanes_model;
 
 /* The run's groups on w workers over V views (the formula: lanes_model.c). */
