@@ -358,10 +358,11 @@ static void print_coordinator_json(const lanes_run *r)
     printf("\"coordinator_measured\": {\"workers\": %u, \"groups\": %zu, \"evals\": %llu, "
            "\"plan_ms_per_group\": %.3f, \"dispatch_ms_per_group\": %.3f, "
            "\"merge_ms_per_group\": %.3f, \"cpu_per_eval_us\": %.3f, "
-           "\"cpu_per_eval_us_with_regrids\": %.3f, \"audits\": %llu, \"regrids\": %u, "
+           "\"cpu_per_eval_us_with_regrids\": %.3f, \"lanes\": %zu, \"audits\": %llu, \"regrids\": "
+           "%u, "
            "\"regrid_wall_s\": %.3f, \"wall_s\": %.3f, \"evals_per_s\": %.1f}, ",
            c->workers, c->n_g, (unsigned long long)c->evals, s.plan_ms, s.dispatch_ms, s.merge_ms,
-           s.us_per_eval, s.us_per_eval_all, (unsigned long long)c->audits, c->regrids,
+           s.us_per_eval, s.us_per_eval_all, c->n_l, (unsigned long long)c->audits, c->regrids,
            c->regrids ? c->regrid_wall_s / c->regrids : 0, c->wall_s, s.evals_per_s);
 }
 

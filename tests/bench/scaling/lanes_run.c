@@ -216,7 +216,7 @@ lm_status sc_run_lanes(const opts *o, const co_job_setup *js, uint32_t k, lanes_
     memset(out, 0, sizeof *out);
     out->k = k;
     const lm_view_set *vs = js->views;
-    lm_status st = sc_meter_start(o, js->original, js->coarse, vs, 1, &m, &mesh);
+    lm_status st = sc_meter_start_on(o, js->original, js->coarse, vs, 1, NULL, NULL, &m, &mesh);
     lm_params params = js->params;
     params.edges_in_flight = k;
     params.lane_isolation = 1;

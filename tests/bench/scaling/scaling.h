@@ -82,8 +82,10 @@ void sc_close_plan(meter *m);
 /* The meter over new in-process views, and *mesh a copy of the start for an optimizer. */
 lm_status sc_meter_start(const opts *o, const lm_mesh *orig, const lm_mesh *coarse,
                          const lm_view_set *vs, int light, meter *m, lm_mesh **mesh);
-/* The same over remote views of the pool's workers, each serving every view (co_views_desc.whole,
- * lanes on the workers), with the audit rule (NULL: none); pool NULL: sc_meter_start's. */
+/* The lanes' runs' meter, as the job's views: the geometric term where the views hold it
+ * (surface_term and evaluate_surface forwarded; sc_meter_start's meter offers neither); over
+ * remote views of the pool's workers, each serving every view (co_views_desc.whole, lanes on the
+ * workers), with the audit rule (NULL: none), or with pool NULL in-process views. */
 lm_status sc_meter_start_on(const opts *o, const lm_mesh *orig, const lm_mesh *coarse,
                             const lm_view_set *vs, int light, co_pool *pool,
                             const co_audit_rule *audit, meter *m, lm_mesh **mesh);
