@@ -57,19 +57,22 @@ for r in j["lanes"]:
               "regrids", "evals_per_s"):
         assert k in c, (k, c)
     assert c["workers"] == 1 and c["evals"] >= 1 and c["cpu_per_eval_us"] > 0, c
-    assert r["regrids"] >= 1 and r["regrid_cpu_s"] > 0, r
+    assert c["groups"] == r["groups"] and c["evals"] == r["evals"], (c, r)  # the job's groups
+    assert r["regrids"] == 0 or r["regrid_cpu_s"] > 0, r
     assert r["lanes"] >= 1 and r["evals"] >= 1 and r["evals_per_lane_max"] >= 1, r
     assert [p["workers"] for p in r["predicted"]] == want_w, r["predicted"]
     for p in r["predicted"]:
         assert p["speedup_no_barrier"] >= p["speedup"] - 1e-3 and p["evals_per_s"] > 0, p
         assert p["coordinator_cpu_per_eval_us"] > 0, p
+assert any(r["regrids"] >= 1 for r in j["lanes"]), j["lanes"]
 assert [p["workers"] for p in j["predicted"]] == want_w, j["predicted"]
 for p in j["predicted"]:
     for k in ("speedup", "efficiency", "edges_in_flight", "coordinator_cpu_per_eval_us",
               "speedup_no_barrier"):
         assert k in p, (k, p)
     assert p["speedup"] > 0 and abs(p["efficiency"] - p["speedup"] / p["workers"]) < 1e-2, p
-assert abs(j["predicted"][0]["speedup"] - 1) < 1e-2, j["predicted"][0]
+# one worker: at most 1 (the measured coordinator CPU of the remote run comes on top)
+assert 0.5 < j["predicted"][0]["speedup"] <= 1 + 1e-2, j["predicted"][0]
 PY
 
 # -- the human report: per K a line, the predictions, where the time goes --
@@ -81,7 +84,7 @@ checks=$((checks + 1))
   fail "bench_scaling --schedule lanes failed: $(tail -3 "$tmp/lanes.txt")"
 for want in "K 2:" "evaluations per lane mean" "per evaluation" "predicted at 100 us RTT" \
   "where the time goes" "without the group barrier" "evaluations per second" \
-  "start.obj (200 vertices)" "the coordinator measured on --lanes remote" \
+  "start.obj (" "the coordinator measured on --lanes remote" \
   "measured on a remote run"; do
   checks=$((checks + 1))
   grep -q "$want" "$tmp/lanes.txt" || fail "the human report lacks '$want'"
