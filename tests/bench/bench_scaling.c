@@ -12,14 +12,17 @@
  * (scaling/window.c). The report (scaling/report.c) gives, per modelled worker count, the speed-up
  * over one process and the efficiency, and the coordinator's CPU per evaluation. With
  * --schedule lanes, instead of all that: the real isolated-lane engine run at each K of
- * --lanes-k (scaling/lanes_run.c) and the whole-lane schedule modelled from it
- * (scaling/lanes_model.c).
+ * --lanes-k on the job's own set-up (co_job_setup_make: `lumesh optimize`'s start, attributes,
+ * views, tuning and regrids, its defaults resolved where the job resolves them), then the same job
+ * as `--lanes remote` runs it on --coordinator-workers local workers for the coordinator's own CPU
+ * (scaling/lanes_run.c), and the whole-lane schedule modelled from both (scaling/lanes_model.c).
  *
  * usage: bench_scaling [MODEL] [--evals N] [--in-flight K] [--views N] [--size S] [--rtt-us U]
  *                      [--gbps G] [--device D] [--edge-evals N] [--round R] [--target-verts N]
  *                      [--schedule rounds|window|lanes] [--lag D] [--group G] [--sync-us S]
  *                      [--cap N] [--lanes-k K,...] [--lanes-per-worker L] [--plan N]
- *                      [--lanes-detached] [--json]
+ *                      [--lanes-detached] [--initial MESH | --start qem|adaptive]
+ *                      [--regrid-every N] [--coordinator-workers N] [--json]
  * (--edge-evals: the whole-edge run's evaluations, default 30000; --target-verts: the QEM start's
  * vertices, default 1% of the model's, at least 100; --schedule window adds the window model at
  * --lag (default 1024) and --group (processes per node, default 1), and over lags 64..4096 and
@@ -33,7 +36,14 @@
  * runs' edges per iteration, the plan their groups are taken from, default the optimizer's 64;
  * --lanes-detached: every lane as --lanes remote runs it, through its request and result messages
  * and a lane host of its own (lm_optimizer_set_lanes_detached), so that a lane's cost is a
- * worker's: its start taken from the request, the encodings) */
+ * worker's: its start taken from the request, the encodings; with --schedule lanes: --views and
+ * --size default to the job's (0: theirs), --initial MESH starts from a saved coarse mesh (as
+ * `optimize --initial`), else --start qem (the default here) or adaptive simplifies the model to
+ * --target-verts (the job's default without it; the image start is refused: it prices its
+ * collapses on workers), --regrid-every N the job's regrids (default the job's, 0 never),
+ * --coordinator-workers N the remote run's local workers (default 2, 0: no remote run, the
+ * coordinator then only its in-process planning and merge); LUMESH_WORKER names the worker
+ * program, else this build's) */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>

@@ -9,20 +9,32 @@
  * in order) and the next group's requests carry the merged commits to every worker. Group j of the
  * measured run, n_j lanes, on W workers (in lane order, each lane to the worker that frees first,
  * as views_remote_lanes.c dispatches):
- *     T_j(W) = plan_j + pot_j / min(W, V)                                   planning
+ *     T_j(W) = P_j + pot_j / min(W, V)                                      planning
  *            + RTT/2 + (W * B_{j-1} + n_j * q) / bandwidth                  handing out
+ *            + D_j                                                          dispatching
  *            + A_{j-1} + M_{j-1}                                            the replicas updated
- *            + max_w sum_{i on w} (e_i * t + S_j / n_j)                     the slowest worker
+ *            + max_w sum_{i on w} (e_i * t * a + S_j / n_j)                 the slowest worker
  *            + RTT/2 + sum_i b_i / bandwidth                                results back
- *            + M_j                                                          the merge
+ *            + C_j                                                          the merge
  *            + r_j * RTT + R_j                                              re-validations
+ * and for the whole run, once per regrid of the job (every js->regrid_every evaluations), G: the
+ * process CPU of one regrid in process (every view's targets rendered again, the energies), what
+ * every worker spends, all at once, since each holds all views: T(W) = sum_j T_j(W) + n_G G.
+ * P_j, D_j and C_j are the coordinator's CPU measured on the remote run of the same job
+ * (sc_run_lanes_remote: the same groups; where they differ, its CPU per evaluation in its own
+ * proportions): from the last merge to the group (the plan, the potentials' requests), while the
+ * lanes run (their starts, queues and requests encoded, the results decoded), and the merge (the
+ * re-validations' requests, the commits' messages to the workers); a the remote run's lanes run
+ * twice (1 + audits / lanes: the audit's second worker). Without a remote run P_j and C_j are the
+ * in-process planning and merge, D_j = 0 and a = 1.
  * with e_i a lane's measured evaluations (the distribution, not the mean), t a worker's time per
  * evaluation (the lanes' measured time over their evaluations), S_j the snapshots, b_i a lane's
  * result bytes, B_j the merged commits' bytes, A_j the workers' time applying them and M_j the
  * coordinator's merge CPU (a worker replays the same logs to keep its replica: charged as M_j),
  * r_j the re-validations and R_j their views' time. In one process the same run:
- * T_1 = sum (plan + pot + S + lanes + M + R + A). Speed-up T_1 / sum T_j(W), efficiency speed-up
- * / W; the coordinator's CPU per evaluation sum (plan + M) / evaluations. "No barrier" (what
+ * T_1 = sum (plan + pot + S + lanes + M + R + A) + n_G G. Speed-up T_1 / T(W), efficiency
+ * speed-up / W; the coordinator's CPU per evaluation sum (P + D + C) / evaluations (the report
+ * also gives the remote run's with its regrids). "No barrier" (what
  * groups overlapping could reach at best): the slowest workers' term replaced by the lanes' work
  * spread evenly, sum_j sum_i (e_i t + S_j / n_j) / W. */
 #include <stdio.h>

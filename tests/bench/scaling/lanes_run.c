@@ -1,7 +1,10 @@
 /* tests/bench/scaling/lanes_run.c — the whole-lane schedule's costs, measured on the real
- * isolated-lane engine (lm_params.lane_isolation, common/optimizer/lanes.h) in process: a run at
- * K edges in flight until --edge-evals, the views behind the meter (meter.c, light), the engine's
- * probe (lm_lanes_set_probe) cutting the time into, per group:
+ * isolated-lane engine (lm_params.lane_isolation, common/optimizer/lanes.h) on the job's own
+ * set-up (co_job_setup_make; its regrids done as the job's loop does them, their CPU apart) in
+ * process: a run at K edges in flight until --edge-evals, the views behind the meter (meter.c,
+ * light), the engine's probe (lm_lanes_set_probe) cutting the time into, per group (and, in the
+ * same job run as --lanes remote on local workers, sc_run_lanes_remote, the coordinator's whole
+ * CPU in each phase):
  * Every cost is CPU time (the process's, the views' threads included), not wall time: this
  * machine is shared, and its wall time is mostly waiting for a core (the lanes' wall time is kept
  * beside, for comparison).
