@@ -243,11 +243,13 @@ static lm_status resolve_bake_loop(co_job *j)
     return LM_OK;
 }
 
-static lm_status resolve_options(co_job *j, const co_job_options *in)
+/* The job's defaults, the one place they are resolved; with `run` also the checks of what a run
+ * writes (an output path required), without it (co_job_setup_make) none. */
+static lm_status resolve_options(co_job *j, const co_job_options *in, int run)
 {
     j->o = *in;
     co_job_options *o = &j->o;
-    if (!o->original_path || !o->output_path)
+    if (!o->original_path || (run && !o->output_path))
         return lm_fail(LM_E_INVALID, "an original model and an output path are required");
     if (o->initial_path && o->target_verts)
         return lm_fail(LM_E_INVALID, "--initial and --target-verts exclude each other");
@@ -299,8 +301,9 @@ static lm_status resolve_options(co_job *j, const co_job_options *in)
         return vst;
     j->checkpoint_path = o->checkpoint_path ? o->checkpoint_path : o->resume_path;
     lm_status st = resolve_bake_loop(j);
-    if (st == LM_OK)
-        st = check_output_path(o->output_path);
+    if (st != LM_OK || !run)
+        return st;
+    st = check_output_path(o->output_path);
     if (st == LM_OK && j->checkpoint_path)
         st = check_writable("checkpoint", j->checkpoint_path);
     if (st == LM_OK && o->initial_output_path)
@@ -518,6 +521,21 @@ static lm_status make_pool(co_job *j)
     return st;
 }
 
+/* The cameras of `count` views of the job's distribution turned by stream `turn` (view_turn.h) in
+ * regrid draw `draw`. */
+static lm_status make_view_set(const co_job *j, uint32_t count, int size, uint32_t turn,
+                               uint32_t draw, lm_view_set *vs)
+{
+    float centre[3], radius;
+    lm_mesh_bounding_sphere(j->original, centre, &radius);
+    lm_view_spec spec = j->o.views;
+    spec.count = count;
+    lm_status st = lm_view_set_make_spec(vs, &spec, LM_VIEWS_TRAINING, size, centre, radius);
+    co_view_turn_apply(vs, spec.dist, j->o.seed, turn, centre);
+    co_regrid_apply(vs, j->o.seed, draw);
+    return st;
+}
+
 /* Views of the original: `count` of the job's distribution turned by stream `turn` (view_turn.h)
  * in regrid draw `draw`, with the coarse mesh's materials (an --initial file has its own; the
  * optimizer keeps the coarse mesh's table). */
@@ -527,13 +545,7 @@ static lm_status create_views_of(co_job *j, uint32_t count, int size, uint32_t t
     lm_view_set *vs = malloc(sizeof *vs);
     if (!vs)
         return lm_fail(LM_E_NOMEM, "out of memory for the view set");
-    float centre[3], radius;
-    lm_mesh_bounding_sphere(j->original, centre, &radius);
-    lm_view_spec spec = j->o.views;
-    spec.count = count;
-    lm_status st = lm_view_set_make_spec(vs, &spec, LM_VIEWS_TRAINING, size, centre, radius);
-    co_view_turn_apply(vs, spec.dist, j->o.seed, turn, centre);
-    co_regrid_apply(vs, j->o.seed, draw);
+    lm_status st = make_view_set(j, count, size, turn, draw, vs);
     const lm_mesh *m = j->coarse ? j->coarse : lm_optimizer_mesh(j->opt);
     uint32_t n_baked = 0;
     const lm_material *baked = j->bake ? co_bake_loop_materials(j->bake, &n_baked) : NULL;
@@ -552,16 +564,22 @@ static lm_status create_views_of(co_job *j, uint32_t count, int size, uint32_t t
     return st;
 }
 
+/* The view schedule's stage's count and size (schedule.h) and the training views' turn. */
+static void stage_views(const co_job *j, uint32_t *count, int *size, uint32_t *turn)
+{
+    int cameras = j->o.views.dist == LM_VIEW_DIST_CAMERAS;
+    co_schedule_views(j->o.view_schedule, j->stage, j->o.views.count, j->o.size,
+                      cameras ? j->o.views.count : LM_MAX_VIEWS, LM_MAX_VIEW_SIZE, count, size);
+    *turn = j->val.epoch + CO_SCHEDULE_TURN_STREAM(j->stage);
+}
+
 /* The training views in force: the view schedule's stage's count and size (schedule.h), of the
  * training views' epoch, in regrid draw `draw`. A camera file's views keep their count. */
 static lm_status create_views(co_job *j, uint32_t draw, lm_views **out)
 {
-    uint32_t count;
+    uint32_t count, turn;
     int size;
-    int cameras = j->o.views.dist == LM_VIEW_DIST_CAMERAS;
-    co_schedule_views(j->o.view_schedule, j->stage, j->o.views.count, j->o.size,
-                      cameras ? j->o.views.count : LM_MAX_VIEWS, LM_MAX_VIEW_SIZE, &count, &size);
-    uint32_t turn = j->val.epoch + CO_SCHEDULE_TURN_STREAM(j->stage);
+    stage_views(j, &count, &size, &turn);
     lm_status st = create_views_of(j, count, size, turn, draw, 0, out);
     if (st == LM_OK && j->bake) /* the loop's maps on the current mesh (bake_loop.h) */
         st = co_bake_loop_wrap(j->bake, *out, out);
@@ -746,19 +764,27 @@ static lm_status make_coarse_mesh(co_job *j)
     return st;
 }
 
-static lm_status make_optimizer(co_job *j)
+/* The optimizer's parameters and tuning for the job. */
+static void optimizer_inputs(const co_job *j, lm_params *params, lm_tuning *tuning)
 {
-    lm_params params = {.seed = j->o.seed,
-                        .attrs = j->attrs,
-                        .edges_in_flight = j->o.edges_in_flight,
-                        .edges_per_iteration = j->o.edges_per_iteration,
-                        .lane_isolation = j->o.lane_isolation,
-                        .surface = j->original};
+    *params = (lm_params){.seed = j->o.seed,
+                          .attrs = j->attrs,
+                          .edges_in_flight = j->o.edges_in_flight,
+                          .edges_per_iteration = j->o.edges_per_iteration,
+                          .lane_isolation = j->o.lane_isolation,
+                          .surface = j->original};
     /* From an image start the term keeps the weight the collapses were priced with (the share of
        QEM's mesh), as from a QEM start: one energy from the original to the result. */
-    lm_tuning tuning = {.surface_weight =
-                            j->start_weight > 0 ? j->start_weight : j->o.surface_weight,
-                        .surface_share = j->o.surface_share};
+    *tuning =
+        (lm_tuning){.surface_weight = j->start_weight > 0 ? j->start_weight : j->o.surface_weight,
+                    .surface_share = j->o.surface_share};
+}
+
+static lm_status make_optimizer(co_job *j)
+{
+    lm_params params;
+    lm_tuning tuning;
+    optimizer_inputs(j, &params, &tuning);
     lm_mesh *coarse = j->coarse;
     j->coarse = NULL; /* the optimizer owns it from here on, even when its creation fails */
     co_meter_phase(&j->meter, "the optimizer's first energies (%" PRIu32 " vertices)",
@@ -1202,7 +1228,7 @@ lm_status co_job_run(const co_job_options *opts, co_job_summary *summary)
                               */
     clock_gettime(CLOCK_MONOTONIC, &j->t0);
     co_job_summary local;
-    lm_status st = resolve_options(j, opts);
+    lm_status st = resolve_options(j, opts, 1);
     if (st == LM_OK) {
         FILE *out = opts->json ? stdout : stderr;
         co_report_style style =
@@ -1236,4 +1262,82 @@ lm_status co_job_run(const co_job_options *opts, co_job_summary *summary)
     if (st != LM_OK && why[0])
         lm_fail(st, "%s", why);
     return st;
+}
+
+/* The set-up's steps on a quiet job: the original and its attributes, the coarse start prepared,
+ * the stage's training views, the optimizer's inputs. */
+static lm_status setup_stages(co_job *j, co_job_setup *out)
+{
+    if (j->o.start == CO_JOB_START_IMAGE && !j->o.initial_path)
+        return lm_fail(LM_E_UNSUPPORTED, "the job's set-up without a run takes --start qem, "
+                                         "--start adaptive or --initial (the image start prices "
+                                         "its collapses on the job's workers)");
+    lm_status st = load_original(j);
+    if (st == LM_OK)
+        st = make_coarse_mesh(j);
+    uint32_t count, turn;
+    int size;
+    stage_views(j, &count, &size, &turn);
+    out->views = malloc(sizeof *out->views);
+    if (st == LM_OK && !out->views)
+        st = lm_fail(LM_E_NOMEM, "out of memory for the view set");
+    if (st == LM_OK)
+        st = make_view_set(j, count, size, turn, 0, out->views);
+    if (st != LM_OK)
+        return st;
+    optimizer_inputs(j, &out->params, &out->tuning);
+    out->o = j->o;
+    out->attrs = j->attrs;
+    out->regrid_every = j->regrid_every;
+    out->original = j->original, j->original = NULL;
+    out->coarse = j->coarse, j->coarse = NULL;
+    return LM_OK;
+}
+
+lm_status co_job_setup_make(const co_job_options *opts, co_job_setup *out)
+{
+    memset(out, 0, sizeof *out);
+    co_job *j = calloc(1, sizeof *j);
+    if (!j)
+        return lm_fail(LM_E_NOMEM, "out of memory");
+    lm_status st = resolve_options(j, opts, 0);
+    if (st == LM_OK) {
+        co_reporter_init(&j->rep, CO_REPORT_QUIET, stderr, j->o.max_evals, 0.0);
+        co_meter_init(&j->meter, "lumesh optimize", CO_METER_NONE, stderr);
+        st = setup_stages(j, out);
+        co_meter_destroy(&j->meter);
+    }
+    if (j->coarse)
+        lm_mesh_destroy(j->coarse);
+    if (j->original)
+        lm_mesh_destroy(j->original);
+    free(j);
+    if (st != LM_OK)
+        co_job_setup_free(out);
+    return st;
+}
+
+lm_status co_job_setup_view_set(const co_job_setup *s, uint32_t draw, lm_view_set *out)
+{
+    co_job *j = calloc(1, sizeof *j);
+    if (!j)
+        return lm_fail(LM_E_NOMEM, "out of memory");
+    j->o = s->o;
+    j->original = s->original; /* borrowed: not destroyed here */
+    uint32_t count, turn;
+    int size;
+    stage_views(j, &count, &size, &turn);
+    lm_status st = make_view_set(j, count, size, turn, draw, out);
+    free(j);
+    return st;
+}
+
+void co_job_setup_free(co_job_setup *s)
+{
+    if (s->coarse)
+        lm_mesh_destroy(s->coarse);
+    if (s->original)
+        lm_mesh_destroy(s->original);
+    free(s->views);
+    memset(s, 0, sizeof *s);
 }

@@ -13,6 +13,8 @@
 #include <stdint.h>
 
 #include "common/error.h"
+#include "common/optimizer/optimizer.h"
+#include "common/optimizer/optimizer_tuning.h"
 #include "common/view.h"
 #include "coordinator/job/preset.h"
 #include "coordinator/job/progress.h"
@@ -170,5 +172,30 @@ lm_status co_job_parse_attrs(const char *spec, uint32_t *out);
  * stops it the same way but writes only the checkpoint (stop_reason "suspended", output_path NULL):
  * a later --resume with the same options finishes it with the bytes of an uninterrupted run. */
 lm_status co_job_run(const co_job_options *opts, co_job_summary *summary);
+
+/* The optimizer's inputs exactly as co_job_run makes them for `opts` (the defaults resolved in
+ * the one place co_job_run resolves them; the coarse start of --start qem or adaptive, or
+ * --initial, prepared as the job prepares it; the training views of the view schedule's first
+ * stage in regrid draw 0; the parameters and tuning it creates the optimizer with), for
+ * benchmarks that run the job's engine on views of their own. No workers are started, nothing
+ * is written (no output path needed). Blocks for the load and the simplification. The image start
+ * prices its collapses on the job's workers: refused (LM_E_UNSUPPORTED, one line). On success the
+ * caller owns *out (co_job_setup_free); on failure *out holds nothing. */
+typedef struct co_job_setup {
+    co_job_options o;      /* resolved (the pointers are the caller's) */
+    uint32_t attrs;        /* the attributes optimised (LM_ATTR_*) */
+    uint64_t regrid_every; /* the job's regrids: every so many evaluations (0 = never) */
+    lm_mesh *original;     /* owned; params.surface points to it */
+    lm_mesh *coarse;       /* owned: the start, prepared (adjacency built) */
+    lm_view_set *views;    /* owned: the training views the loop begins with */
+    lm_params params;
+    lm_tuning tuning;
+} co_job_setup;
+
+lm_status co_job_setup_make(const co_job_options *opts, co_job_setup *out);
+/* The training views of the setup's first stage in regrid draw `draw` (the views the job's loop
+ * switches to at co_regrid_next(draw - 1, regrid_every) evaluations, regrid.h). */
+lm_status co_job_setup_view_set(const co_job_setup *s, uint32_t draw, lm_view_set *out);
+void co_job_setup_free(co_job_setup *s);
 
 #endif

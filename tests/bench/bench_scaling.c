@@ -12,14 +12,17 @@
  * (scaling/window.c). The report (scaling/report.c) gives, per modelled worker count, the speed-up
  * over one process and the efficiency, and the coordinator's CPU per evaluation. With
  * --schedule lanes, instead of all that: the real isolated-lane engine run at each K of
- * --lanes-k (scaling/lanes_run.c) and the whole-lane schedule modelled from it
- * (scaling/lanes_model.c).
+ * --lanes-k on the job's own set-up (co_job_setup_make: `lumesh optimize`'s start, attributes,
+ * views, tuning and regrids, its defaults resolved where the job resolves them), then the same job
+ * as `--lanes remote` runs it on --coordinator-workers local workers for the coordinator's own CPU
+ * (scaling/lanes_run.c), and the whole-lane schedule modelled from both (scaling/lanes_model.c).
  *
  * usage: bench_scaling [MODEL] [--evals N] [--in-flight K] [--views N] [--size S] [--rtt-us U]
  *                      [--gbps G] [--device D] [--edge-evals N] [--round R] [--target-verts N]
  *                      [--schedule rounds|window|lanes] [--lag D] [--group G] [--sync-us S]
  *                      [--cap N] [--lanes-k K,...] [--lanes-per-worker L] [--plan N]
- *                      [--lanes-detached] [--json]
+ *                      [--lanes-detached] [--initial MESH | --start qem|adaptive]
+ *                      [--regrid-every N] [--coordinator-workers N] [--json]
  * (--edge-evals: the whole-edge run's evaluations, default 30000; --target-verts: the QEM start's
  * vertices, default 1% of the model's, at least 100; --schedule window adds the window model at
  * --lag (default 1024) and --group (processes per node, default 1), and over lags 64..4096 and
@@ -33,7 +36,14 @@
  * runs' edges per iteration, the plan their groups are taken from, default the optimizer's 64;
  * --lanes-detached: every lane as --lanes remote runs it, through its request and result messages
  * and a lane host of its own (lm_optimizer_set_lanes_detached), so that a lane's cost is a
- * worker's: its start taken from the request, the encodings) */
+ * worker's: its start taken from the request, the encodings; with --schedule lanes: --views and
+ * --size default to the job's (0: theirs), --initial MESH starts from a saved coarse mesh (as
+ * `optimize --initial`), else --start qem (the default here) or adaptive simplifies the model to
+ * --target-verts (the job's default without it; the image start is refused: it prices its
+ * collapses on workers), --regrid-every N the job's regrids (default the job's, 0 never),
+ * --coordinator-workers N the remote run's local workers (default 2, 0: no remote run, the
+ * coordinator then only its in-process planning and merge); LUMESH_WORKER names the worker
+ * program, else this build's) */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -117,6 +127,20 @@ static int parse(int argc, char **argv, opts *o)
             o->n_lanes_k = parse_list(argv[++i], o->lanes_k, NULL);
         else if (v && !strcmp(a, "--plan"))
             o->plan = (uint32_t)atoi(argv[++i]);
+        else if (v && !strcmp(a, "--initial"))
+            o->initial = argv[++i];
+        else if (v && !strcmp(a, "--start")) {
+            const char *s = argv[++i];
+            o->start = !strcmp(s, "qem") ? CO_JOB_START_QEM : CO_JOB_START_ADAPTIVE;
+            if (strcmp(s, "qem") && strcmp(s, "adaptive"))
+                return fprintf(stderr, "bench_scaling: --start takes qem or adaptive, not '%s'\n",
+                               s),
+                       1;
+        } else if (v && !strcmp(a, "--regrid-every")) {
+            o->regrid_every = strtoull(argv[++i], NULL, 10);
+            o->regrid_set = 1;
+        } else if (v && !strcmp(a, "--coordinator-workers"))
+            o->coordinator_workers = (uint32_t)atoi(argv[++i]);
         else if (!strcmp(a, "--lanes-detached"))
             o->lanes_detached = 1;
         else if (v && !strcmp(a, "--lanes-per-worker"))
@@ -132,8 +156,9 @@ static int parse(int argc, char **argv, opts *o)
     }
     if (!o->model || !o->evals || !o->edge_evals || o->round < 1 || o->round > 65536 ||
         o->in_flight < 1 || !positive(o->lags, o->n_lags) || !positive(o->groups, o->n_groups) ||
-        o->in_flight > LM_MAX_EDGES_IN_FLIGHT || o->views < 1 || o->views > LM_MAX_VIEWS ||
-        o->size < 16 || !lanes_k_ok(o) || o->lanes_per_worker < 1)
+        o->in_flight > LM_MAX_EDGES_IN_FLIGHT || o->views > LM_MAX_VIEWS ||
+        (o->size && o->size < 16) || (o->initial && o->target_verts) || !lanes_k_ok(o) ||
+        o->lanes_per_worker < 1)
         return fprintf(stderr, "bench_scaling: bad arguments (see the comment at the top of "
                                "tests/bench/bench_scaling.c)\n"),
                1;
@@ -160,26 +185,29 @@ static lm_status setup(const opts *o, lm_mesh **orig, lm_mesh **coarse, lm_view_
     return st;
 }
 
-/* --schedule lanes: the isolated-lane runs, one at a time, and their model. */
+/* --schedule lanes: the isolated-lane runs on the job's set-up, one at a time, and their model. */
 static int run_lanes(const opts *o)
 {
-    lm_mesh *orig = NULL, *coarse = NULL;
-    static lm_view_set vs;
-    static lanes_run runs[SC_MAX_LIST];
-    lm_status st = setup(o, &orig, &coarse, &vs);
+    co_job_setup js;
+    static lanes_run runs[SC_MAX_LIST], remote[SC_MAX_LIST];
+    lm_status st = sc_job_setup(o, &js);
     uint32_t n = 0;
     for (; n < o->n_lanes_k && st == LM_OK; n++)
-        st = sc_run_lanes(o, orig, coarse, &vs, o->lanes_k[n], &runs[n]);
+        st = sc_run_lanes(o, &js, o->lanes_k[n], &runs[n]);
+    for (uint32_t i = 0; i < n && st == LM_OK && o->coordinator_workers; i++) {
+        st = sc_run_lanes_remote(o, &js, o->lanes_k[i], o->coordinator_workers, &remote[i]);
+        runs[i].coord = &remote[i];
+    }
+    uint32_t views = st == LM_OK ? js.views->count : 0;
     if (st != LM_OK)
         fprintf(stderr, "bench_scaling: %s\n", lm_last_error());
     else if (o->json)
-        sc_print_lanes_json(o, runs, n, vs.count);
+        sc_print_lanes_json(o, &js, runs, n, views);
     else
-        sc_print_lanes_human(o, runs, n, vs.count);
+        sc_print_lanes_human(o, &js, runs, n, views);
     for (uint32_t i = 0; i < n; i++)
-        sc_lanes_free(&runs[i]);
-    lm_mesh_destroy(orig);
-    lm_mesh_destroy(coarse);
+        sc_lanes_free(&runs[i]), sc_lanes_free(&remote[i]);
+    co_job_setup_free(&js);
     return st == LM_OK ? 0 : 2;
 }
 
@@ -191,8 +219,8 @@ int main(int argc, char **argv)
               .edge_evals = 30000,
               .round = 256,
               .in_flight = 8,
-              .views = LM_DEFAULT_VIEWS,
-              .size = LM_DEFAULT_VIEW_SIZE,
+              .start = CO_JOB_START_QEM,
+              .coordinator_workers = 2,
               .rtt_us = 100,
               .gbps = 10,
               .schedule = SCHEDULE_ROUNDS,
@@ -215,8 +243,10 @@ int main(int argc, char **argv)
     }
     if (parse(argc, argv, &o))
         return 1;
-    if (o.schedule == SCHEDULE_LANES)
+    if (o.schedule == SCHEDULE_LANES) /* the views' defaults: the job's (co_job_setup_make) */
         return run_lanes(&o);
+    o.views = o.views ? o.views : LM_DEFAULT_VIEWS;
+    o.size = o.size ? o.size : LM_DEFAULT_VIEW_SIZE;
     lm_mesh *orig = NULL, *coarse = NULL;
     static lm_view_set vs;
     static meter m[3];

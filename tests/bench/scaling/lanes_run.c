@@ -1,7 +1,10 @@
 /* tests/bench/scaling/lanes_run.c — the whole-lane schedule's costs, measured on the real
- * isolated-lane engine (lm_params.lane_isolation, common/optimizer/lanes.h) in process: a run at
- * K edges in flight until --edge-evals, the views behind the meter (meter.c, light), the engine's
- * probe (lm_lanes_set_probe) cutting the time into, per group:
+ * isolated-lane engine (lm_params.lane_isolation, common/optimizer/lanes.h) on the job's own
+ * set-up (co_job_setup_make; its regrids done as the job's loop does them, their CPU apart) in
+ * process: a run at K edges in flight until --edge-evals, the views behind the meter (meter.c,
+ * light), the engine's probe (lm_lanes_set_probe) cutting the time into, per group (and, in the
+ * same job run as --lanes remote on local workers, sc_run_lanes_remote, the coordinator's whole
+ * CPU in each phase):
  * Every cost is CPU time (the process's, the views' threads included), not wall time: this
  * machine is shared, and its wall time is mostly waiting for a core (the lanes' wall time is kept
  * beside, for comparison).
@@ -18,14 +21,19 @@
  * of RESULT_HEADER bytes: status, ΔE, mesh hash, evaluations, counters; each operation as
  * OP_BYTES plus its parameters as doubles; the statistics and queue logs as lane_log.h's
  * records; the touched vertices as 32-bit ids), not a wire encoding. */
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "common/grow.h"
 #include "common/optimizer/lane_log.h"
+#include "common/optimizer/lane_runner.h"
 #include "common/optimizer/lanes.h"
 #include "common/optimizer/optimizer.h"
 #include "common/optimizer/optimizer_internal.h" /* the lanes, for their probe */
+#include "coordinator/job/regrid.h"
+#include "coordinator/pool/pool.h"
 #include "scaling.h"
 
 #define RESULT_HEADER 96.0
@@ -42,6 +50,10 @@ typedef struct probe_ctx {
     lanes_run *r;
     mark at; /* at the last point */
     lm_status st;
+    const opts *o;
+    const co_job_setup *js;
+    co_pool *pool; /* the remote run's workers; NULL in process */
+    uint32_t draw; /* the regrid draw of the views in force */
 } probe_ctx;
 
 static mark mark_now(const meter *m)
@@ -72,16 +84,20 @@ static void on_phase(void *ctx, int phase, uint32_t n)
         g->first = (uint32_t)r->n_l;
         g->n = n;
         g->plan_s = (float)own_cpu(a, &b);
+        g->cpu_plan = (float)(b.cpu - a->cpu);
         g->pot_s = (float)(b.state_cpu - a->state_cpu);
     } else if (g && phase == LM_LANES_RUN) {
         g->snap_s = (float)own_cpu(a, &b);
+        g->cpu_lanes = (float)(b.cpu - a->cpu);
     } else if (g && phase == LM_LANES_MERGE) {
         g->lanes_s = (float)(b.cpu - a->cpu);
+        g->cpu_lanes += (float)(b.cpu - a->cpu);
         r->lanes_wall_s += b.wall - a->wall;
         r->lanes_views_cpu_s += b.views_cpu - a->views_cpu;
         r->evals += b.patches - a->patches;
     } else if (g && phase == LM_LANES_MERGED) {
         g->merge_s = (float)own_cpu(a, &b);
+        g->cpu_merge = (float)(b.cpu - a->cpu);
         g->reval_s = (float)(b.views_cpu - a->views_cpu);
         g->revals = (uint32_t)(b.patches - a->patches);
         g->apply_s = (float)(b.state_cpu - a->state_cpu);
@@ -104,37 +120,112 @@ static void on_lane(void *ctx, const lm_lane_report *x)
     r->l[r->n_l++] = (lane_rec){(uint32_t)x->evals, x->ops, x->outcome, (float)bytes};
 }
 
+/* --lanes remote: the optimizer's lanes on the workers of the meter's views. */
+static lm_status use_runner(probe_ctx *p, lm_optimizer *opt)
+{
+    lm_lane_runner runner;
+    lm_status st = p->pool ? co_views_lane_runner(p->m->in, &runner) : LM_OK;
+    if (st == LM_OK && p->pool)
+        lm_optimizer_set_lane_runner(opt, &runner);
+    return st;
+}
+
+/* The job's regrid (job.c, regrid_if_due): the views of the new draw in place of the meter's (the
+ * original's targets rendered again, on every worker with --lanes remote), the energies on them;
+ * its process CPU and wall time counted in the run, apart from the groups'. */
+static lm_status regrid(probe_ctx *p, lm_optimizer *opt, uint32_t draw)
+{
+    static lm_view_set vs;
+    meter *m = p->m;
+    double c0 = sc_cpu(), t0 = sc_wall();
+    lm_status st = co_job_setup_view_set(p->js, draw, &vs);
+    const lm_mesh *mesh = lm_optimizer_mesh(opt);
+    co_views_desc d = {.kind = p->pool ? CO_VIEWS_REMOTE : CO_VIEWS_LOCAL,
+                       .pool = p->pool,
+                       .whole = p->pool != NULL,
+                       .audit = p->pool ? p->js->o.audit : (co_audit_rule){0, 0},
+                       .original = p->js->original,
+                       .views = &vs,
+                       .materials = mesh->materials,
+                       .n_materials = mesh->n_materials,
+                       .device = p->o->device};
+    lm_views *in = NULL, *old = m->in;
+    if (st == LM_OK)
+        st = co_views_create(&d, &in);
+    if (st == LM_OK) {
+        m->in = in;
+        st = lm_optimizer_replace_views(opt, &m->base, 1);
+    }
+    if (st == LM_OK) {
+        co_views_lane_stats(old, &p->r->lane_stats);
+        lm_views_destroy(old);
+        st = use_runner(p, opt);
+    }
+    p->r->regrids++;
+    p->r->regrid_cpu_s += sc_cpu() - c0;
+    p->r->regrid_wall_s += sc_wall() - t0;
+    p->draw = draw;
+    p->at = mark_now(m); /* the regrid is nobody's group's */
+    return st;
+}
+
+/* The optimizer's steps until --edge-evals, each ending at the job's next regrid, as the job's
+ * loop bounds them (job.c, run_loop). */
 static lm_status run_steps(const opts *o, lm_optimizer *opt, probe_ctx *p)
 {
     lm_status st = LM_OK;
+    uint64_t every = p->js->regrid_every;
     for (int guard = 0; st == LM_OK && p->st == LM_OK && guard < 1000000; guard++) {
         lm_progress pr;
         lm_optimizer_progress(opt, &pr);
         if (pr.evals >= o->edge_evals)
             break;
+        uint32_t draw = co_regrid_draw(pr.evals, every);
+        if (draw != p->draw)
+            st = regrid(p, opt, draw);
+        uint64_t next = co_regrid_next(p->draw, every);
         p->m->step_c0 = sc_cpu();
-        st = lm_optimizer_step(opt, o->edge_evals);
+        if (st == LM_OK)
+            st = lm_optimizer_step(opt, next < o->edge_evals ? next : o->edge_evals);
     }
     return st != LM_OK ? st : p->st;
 }
 
-lm_status sc_run_lanes(const opts *o, const lm_mesh *orig, const lm_mesh *coarse,
-                       const lm_view_set *vs, uint32_t k, lanes_run *out)
+lm_status sc_job_setup(const opts *o, co_job_setup *js)
+{
+    co_job_options jo = {.original_path = o->model,
+                         .initial_path = o->initial,
+                         .start = o->initial ? CO_JOB_START_DEFAULT : o->start,
+                         .target_verts = o->initial ? 0 : o->target_verts,
+                         .views = {.count = o->views},
+                         .size = (int)o->size,
+                         .seed = 1,
+                         .device_spec = o->device,
+                         .edges_in_flight = 2,
+                         .edges_per_iteration = o->plan,
+                         .lane_isolation = 1,
+                         .regrid_every = !o->regrid_set    ? 0
+                                         : o->regrid_every ? o->regrid_every
+                                                           : (uint64_t)CO_JOB_NONE,
+                         .quiet = 1};
+    return co_job_setup_make(&jo, js);
+}
+
+lm_status sc_run_lanes(const opts *o, const co_job_setup *js, uint32_t k, lanes_run *out)
 {
     static meter m;
     lm_mesh *mesh = NULL;
     lm_optimizer *opt = NULL;
     memset(out, 0, sizeof *out);
     out->k = k;
-    lm_status st = sc_meter_start(o, orig, coarse, vs, 1, &m, &mesh);
-    lm_params params = {.seed = 1,
-                        .edges_in_flight = k,
-                        .lane_isolation = 1,
-                        .edges_per_iteration = o->plan,
-                        .surface = orig};
+    const lm_view_set *vs = js->views;
+    lm_status st = sc_meter_start_on(o, js->original, js->coarse, vs, 1, NULL, NULL, &m, &mesh);
+    lm_params params = js->params;
+    params.edges_in_flight = k;
+    params.lane_isolation = 1;
     if (st == LM_OK)
-        st = lm_optimizer_create(mesh, &m.base, &params, &opt);
-    probe_ctx p = {&m, out, mark_now(&m), LM_OK};
+        st = lm_optimizer_create_tuned(mesh, &m.base, &params, &js->tuning, &opt);
+    probe_ctx p = {&m, out, mark_now(&m), LM_OK, o, js, NULL, 0};
     if (st == LM_OK && k > 1)
         lm_lanes_set_probe(opt->lanes, &(lm_lanes_probe){on_phase, on_lane, &p});
     if (st == LM_OK && k > 1 && o->lanes_detached)
@@ -164,6 +255,78 @@ lm_status sc_run_lanes(const opts *o, const lm_mesh *orig, const lm_mesh *coarse
         out->eval_wall_s = out->lanes_wall_s / (double)out->evals;
         out->per_patch_view_us = 1e6 * out->lanes_views_cpu_s / ((double)out->evals * vs->count);
     }
+    return st;
+}
+
+/* The worker program: LUMESH_WORKER, else lumesh-worker of this build (bench_scaling is in
+ * BUILD/tests/bench, the worker in BUILD/worker), else the pool's own search. */
+static const char *worker_program(char *buf, size_t n)
+{
+    const char *env = getenv("LUMESH_WORKER");
+    if (env && *env)
+        return env;
+    char exe[3072];
+    ssize_t len = readlink("/proc/self/exe", exe, sizeof exe - 1);
+    char *slash = len > 0 ? (exe[len] = 0, strrchr(exe, '/')) : NULL;
+    if (!slash)
+        return NULL;
+    *slash = 0;
+    snprintf(buf, n, "%s/../../worker/lumesh-worker", exe);
+    return access(buf, X_OK) == 0 ? buf : NULL;
+}
+
+lm_status sc_run_lanes_remote(const opts *o, const co_job_setup *js, uint32_t k, uint32_t workers,
+                              lanes_run *out)
+{
+    static meter m;
+    lm_mesh *mesh = NULL;
+    lm_optimizer *opt = NULL;
+    co_pool *pool = NULL;
+    char path[4096];
+    memset(out, 0, sizeof *out);
+    out->k = k;
+    out->workers = workers;
+    co_pool_options po = {.local_workers = workers,
+                          .worker_path = worker_program(path, sizeof path),
+                          .device = o->device,
+                          .quiet = 1,
+                          .spin_us = -1,
+                          .await_spin_us = -1};
+    lm_status st = co_pool_create(&po, &pool);
+    if (st == LM_OK)
+        st = co_pool_wait(pool, workers, CO_JOB_WORKER_START_S);
+    if (st == LM_OK)
+        st = sc_meter_start_on(o, js->original, js->coarse, js->views, 1, pool, &js->o.audit, &m,
+                               &mesh);
+    lm_params params = js->params;
+    params.edges_in_flight = k;
+    params.lane_isolation = 1;
+    if (st == LM_OK)
+        st = lm_optimizer_create_tuned(mesh, &m.base, &params, &js->tuning, &opt);
+    probe_ctx p = {&m, out, mark_now(&m), LM_OK, o, js, pool, 0};
+    if (st == LM_OK)
+        st = use_runner(&p, opt);
+    if (st == LM_OK)
+        lm_lanes_set_probe(opt->lanes, &(lm_lanes_probe){on_phase, on_lane, &p});
+    double t0 = sc_wall(), c0 = sc_cpu();
+    p.at = mark_now(&m);
+    if (st == LM_OK)
+        st = run_steps(o, opt, &p);
+    out->wall_s = sc_wall() - t0;
+    out->coord_cpu_s = sc_cpu() - c0;
+    if (m.in)
+        co_views_lane_stats(m.in, &out->lane_stats);
+    out->audits = out->lane_stats.audits;
+    lm_optimizer_destroy(opt);
+    lm_views_destroy(m.in);
+    co_pool_destroy(pool);
+    lm_replica_free(&m.rep);
+    lm_wire_arena_free(&m.arena);
+    for (size_t i = 0; i < out->n_l; i++)
+        out->evals += out->l[i].evals;
+    out->lane_runs = out->n_l + out->audits;
+    if (st == LM_OK && (!out->n_g || !out->evals))
+        st = lm_fail(LM_E_RANGE, "the remote lanes' run at K = %u evaluated nothing", k);
     return st;
 }
 

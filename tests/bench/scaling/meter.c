@@ -199,6 +199,26 @@ static void me_destroy(lm_views *v)
     (void)v;
 }
 
+/* The geometric term where the views hold it (the workers' with --lanes remote, as in the job):
+ * forwarded, so that the optimizer and the lanes price it as they do on the job's views. */
+static lm_status me_surface_term(lm_views *v, const lm_mesh *surface, double k)
+{
+    meter *m = (meter *)v;
+    return lm_views_surface_term(m->in, surface, k);
+}
+
+static lm_status me_evaluate_surface(lm_views *v, const lm_patch *p, uint32_t n, int64_t *d)
+{
+    meter *m = (meter *)v;
+    sc_close_plan(m);
+    double c0 = sc_cpu(), t0 = sc_wall();
+    lm_status st = m->in->ops->evaluate_surface(m->in, p, n, d);
+    m->views_s += sc_wall() - t0;
+    m->views_cpu_s += sc_cpu() - c0;
+    m->patches += n;
+    return st;
+}
+
 static const lm_views_ops meter_ops = {
     .set_mesh = me_set_mesh,
     .set_materials = me_set_materials,
@@ -212,17 +232,46 @@ static const lm_views_ops meter_ops = {
     .destroy = me_destroy,
 };
 
+/* The lanes' runs' (sc_meter_start_on): the job's views, the geometric term with them. */
+static const lm_views_ops meter_ops_surface = {
+    .set_mesh = me_set_mesh,
+    .set_materials = me_set_materials,
+    .evaluate = me_evaluate,
+    .evaluate_overlapped = me_evaluate_overlapped,
+    .commit = me_commit,
+    .energy = me_energy,
+    .potentials = me_potentials,
+    .read_image = me_read_image,
+    .info = me_info,
+    .destroy = me_destroy,
+    .surface_term = me_surface_term,
+    .evaluate_surface = me_evaluate_surface,
+};
+
 /* The meter over new in-process views, and *mesh a copy of the start for an optimizer. */
 lm_status sc_meter_start(const opts *o, const lm_mesh *orig, const lm_mesh *coarse,
                          const lm_view_set *vs, int light, meter *m, lm_mesh **mesh)
 {
-    co_views_desc d = {.original = orig,
+    lm_status st = sc_meter_start_on(o, orig, coarse, vs, light, NULL, NULL, m, mesh);
+    m->base.ops = &meter_ops; /* the geometric term priced by the optimizer, as before */
+    return st;
+}
+
+lm_status sc_meter_start_on(const opts *o, const lm_mesh *orig, const lm_mesh *coarse,
+                            const lm_view_set *vs, int light, co_pool *pool,
+                            const co_audit_rule *audit, meter *m, lm_mesh **mesh)
+{
+    co_views_desc d = {.kind = pool ? CO_VIEWS_REMOTE : CO_VIEWS_LOCAL,
+                       .pool = pool,
+                       .whole = pool != NULL,
+                       .audit = audit ? *audit : (co_audit_rule){0, 0},
+                       .original = orig,
                        .views = vs,
                        .materials = coarse->materials,
                        .n_materials = coarse->n_materials,
                        .device = o->device};
     memset(m, 0, sizeof *m);
-    m->base.ops = &meter_ops;
+    m->base.ops = &meter_ops_surface;
     m->light = light;
     lm_wire_arena_init(&m->arena);
     lm_status st = co_views_create(&d, &m->in);

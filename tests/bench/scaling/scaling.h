@@ -10,6 +10,7 @@
 
 #include "common/replica.h"
 #include "common/view.h"
+#include "coordinator/job/job.h"
 #include "coordinator/views/views.h"
 #include "proto/wire_records.h"
 
@@ -33,7 +34,14 @@ typedef struct opts {
     double sync_us; /* --sync-us: a node's synchronisation per evaluation (<0: measured) */
     /* --schedule lanes: the isolated-lane runs' group sizes K (--lanes-k), lanes per worker */
     uint32_t lanes_k[SC_MAX_LIST], n_lanes_k, lanes_per_worker;
-    uint32_t plan;      /* --plan: the lanes' runs' edges per iteration (0: the optimizer's, 64) */
+    uint32_t plan; /* --plan: the lanes' runs' edges per iteration (0: the job's default) */
+    /* --schedule lanes: the job's start (co_job_setup_make): --initial MESH, else --start qem
+       (the default here) or adaptive */
+    const char *initial;
+    co_job_start start;
+    uint64_t regrid_every; /* --regrid-every: the job's (0: never); regrid_set 0: default */
+    int regrid_set;
+    uint32_t coordinator_workers; /* --coordinator-workers: the remote runs' workers (0: none) */
     int lanes_detached; /* --lanes-detached: each lane through its wire messages and a lane host
                            (lm_optimizer_set_lanes_detached), a worker's per-lane work measured */
 } opts;
@@ -74,6 +82,13 @@ void sc_close_plan(meter *m);
 /* The meter over new in-process views, and *mesh a copy of the start for an optimizer. */
 lm_status sc_meter_start(const opts *o, const lm_mesh *orig, const lm_mesh *coarse,
                          const lm_view_set *vs, int light, meter *m, lm_mesh **mesh);
+/* The lanes' runs' meter, as the job's views: the geometric term where the views hold it
+ * (surface_term and evaluate_surface forwarded; sc_meter_start's meter offers neither); over
+ * remote views of the pool's workers, each serving every view (co_views_desc.whole, lanes on the
+ * workers), with the audit rule (NULL: none), or with pool NULL in-process views. */
+lm_status sc_meter_start_on(const opts *o, const lm_mesh *orig, const lm_mesh *coarse,
+                            const lm_view_set *vs, int light, co_pool *pool,
+                            const co_audit_rule *audit, meter *m, lm_mesh **mesh);
 
 /* ---- today's schedule: one evaluation the unit (per_eval.c) ---------------------------------- */
 
@@ -226,6 +241,11 @@ typedef struct group_rec {
     float reval_s;      /* the views' CPU of its re-validations */
     float apply_s;      /* the views' commits: what every worker spends applying them */
     float commit_bytes; /* the merged commits' messages (what is broadcast) */
+    /* the process's whole CPU in the group's phases: from the last merge to its start (planning,
+       the potentials' requests), its lanes (with --lanes remote: the coordinator dispatching
+       them, encoding the starts, queues and requests, decoding the results), its merge (the
+       re-validations' requests and the commits to the remote views included) */
+    float cpu_plan, cpu_lanes, cpu_merge;
 } group_rec;
 
 typedef struct lanes_run {
@@ -241,13 +261,35 @@ typedef struct lanes_run {
     double per_patch_view_us; /* the views' share of eval_s, per view */
     double energy_rel;        /* the energy at the end over the start's */
     double wall_s;            /* the run in process */
+    /* the remote run's (sc_run_lanes_remote): the lanes' runs on workers, audits included */
+    uint32_t workers;
+    uint64_t lane_runs, audits;
+    double coord_cpu_s; /* the coordinator's CPU over the run (every phase) */
+    co_lane_stats lane_stats;
+    /* the job's regrids in the run (every js->regrid_every evaluations): count, the process's CPU
+       (in process: what each worker spends, every worker rendering every view's targets) and wall
+       time */
+    uint32_t regrids;
+    double regrid_cpu_s, regrid_wall_s;
+    /* in process: the remote run of the same K (sc_run_lanes_remote), whose coordinator's CPU the
+       model takes (NULL: the in-process planning and merge only) */
+    const struct lanes_run *coord;
 } lanes_run;
 
 #define SC_LANE_REQUEST_BYTES 64.0 /* a lane's request: its edge, index, group, snapshot id */
 
-/* The isolated-lane engine (lm_params.lane_isolation) at k edges in flight, until --edge-evals. */
-lm_status sc_run_lanes(const opts *o, const lm_mesh *orig, const lm_mesh *coarse,
-                       const lm_view_set *vs, uint32_t k, lanes_run *out);
+/* The job's set-up (co_job_setup_make) for --schedule lanes: the model, --initial or --start,
+ * --target-verts, --views, --size (0: the job's defaults), --plan, seed 1. */
+lm_status sc_job_setup(const opts *o, co_job_setup *js);
+/* The isolated-lane engine (lm_params.lane_isolation) at k edges in flight, until --edge-evals,
+ * with the job's parameters and tuning (js). */
+lm_status sc_run_lanes(const opts *o, const co_job_setup *js, uint32_t k, lanes_run *out);
+/* The same job as --lanes remote runs it on `workers` local lumesh-worker processes (the job's
+ * audit rule, no spinning): what the coordinator's own CPU costs per group (group_rec.cpu_*) and
+ * per evaluation; its lanes' evaluations are those of the lanes' reports. The worker program:
+ * LUMESH_WORKER, else beside lumesh's build (the pool's search). */
+lm_status sc_run_lanes_remote(const opts *o, const co_job_setup *js, uint32_t k, uint32_t workers,
+                              lanes_run *out);
 void sc_lanes_free(lanes_run *r);
 
 /* ---- the whole-lane model (lanes_model.c) ---------------------------------------------------- */
@@ -260,6 +302,9 @@ typedef struct lanes_model {
      * updated, the groups' slowest workers, results back, the merges, re-validations; and the
      * lanes' work spread perfectly (their sum / w) */
     double plan, hand_out, update, lanes, results, merge, revalidate, balanced;
+    double dispatch; /* the coordinator's CPU dispatching the lanes (remote run measured; else 0) */
+    double regrid;   /* the job's regrids: every worker renders every view's targets again */
+    double coord_measured; /* 1: the coordinator's terms from a remote run */
 } lanes_model;
 
 /* The run's groups on w workers over V views (the formula: lanes_model.c). */
@@ -267,8 +312,10 @@ lanes_model sc_lanes_at(const opts *o, const lanes_run *r, uint32_t views, uint3
 /* The run (of runs[0..n)) whose K a cluster of w workers uses: the smallest K >= w x per (lanes
  * per worker), else the largest. */
 const lanes_run *sc_lanes_for(const lanes_run *runs, uint32_t n, uint32_t w, uint32_t per);
-void sc_print_lanes_human(const opts *o, const lanes_run *runs, uint32_t n, uint32_t views);
-void sc_print_lanes_json(const opts *o, const lanes_run *runs, uint32_t n, uint32_t views);
+void sc_print_lanes_human(const opts *o, const co_job_setup *js, const lanes_run *runs, uint32_t n,
+                          uint32_t views);
+void sc_print_lanes_json(const opts *o, const co_job_setup *js, const lanes_run *runs, uint32_t n,
+                         uint32_t views);
 
 /* ---- round trips measured here (rtt.c) ------------------------------------------------------- */
 
