@@ -178,6 +178,11 @@ lm_status lm_bvh_create(const lm_mesh *m, lm_bvh **out)
     if (!s) {
         build(&c, 0, n);
         b->root = lay_out(b, c.flat, 0, &b->root_box);
+        for (int k = 0; k < 3; k++) {
+            double lo = fabs(b->root_box.lo[k]), hi = fabs(b->root_box.hi[k]);
+            b->mag = lo > b->mag ? lo : b->mag;
+            b->mag = hi > b->mag ? hi : b->mag;
+        }
         LM_ASSERT(b->n_nodes < n || n == 1);
         for (uint32_t i = 0; i < n; i++)
             for (int v = 0; v < 3; v++)
@@ -302,37 +307,95 @@ double lm_point_triangle_bary(const double p[3], const double a[3], const double
     return r == PT_ST ? at(p, a, ab, ac, s, t) : dist_sq(p, r == PT_A ? a : r == PT_B ? b : c);
 }
 
-static double box_sq(const bvh_box *nd, const double p[3])
+/* How far p is outside [lo, hi] along one axis (0 inside): lo - p below, p - hi above, computed
+ * without branches (lo <= hi: at most one of them is positive). */
+static inline double axis_gap(double p, double lo, double hi)
 {
-    double d = 0;
-    for (int k = 0; k < 3; k++) {
-        double lo = nd->lo[k], hi = nd->hi[k];
-        double e = p[k] < lo ? lo - p[k] : p[k] > hi ? p[k] - hi : 0;
-        d += e * e;
-    }
-    return d;
+    double below = lo - p, above = p - hi;
+    double e = below > above ? below : above;
+    return e > 0 ? e : 0;
 }
 
-/* Leaf ref's triangles: the least distance below *best (kept in *best); with tri (not NULL) also
+/* The squared distance from p to the box (the same sum, in the same order, as a loop over k). */
+static inline double box_sq(const bvh_box *nd, const double p[3])
+{
+    double e0 = axis_gap(p[0], nd->lo[0], nd->hi[0]);
+    double e1 = axis_gap(p[1], nd->lo[1], nd->hi[1]);
+    double e2 = axis_gap(p[2], nd->lo[2], nd->hi[2]);
+    return (e0 * e0 + e1 * e1) + e2 * e2;
+}
+
+/* A query's best so far and the bound beyond which a triangle's box proves the triangle cannot
+ * beat it.
+ *
+ * Why skipping such a triangle changes nothing (the result stays the least of the same computed
+ * per-triangle distances, the same triangle at a tie): let B be the triangle's float box (its
+ * corners are floats, so B holds the triangle exactly), eps = 2^-53, M the largest coordinate
+ * magnitude of p and of the model. lm_point_triangle_sq measures p either to a corner or to
+ * q = a + s*ab + t*ac with s, t in [0, 1], s + t <= 1 (each a ratio of same-signed terms, the
+ * smaller over the larger), so the computed q lies within 40 eps M of the triangle, hence of B; the
+ * computed distance is then >= (1 - 6 eps) (dist(p, B) - 40 eps M)^2. The box distance here is
+ * <= (1 + 6 eps) dist(p, B)^2. A triangle is skipped only when its box distance exceeds
+ * (sqrt(best) + 2^-40 M)^2 (1 + 2^-30), which by those bounds (2^-40 M >> 40 eps M; best <= 12 M^2)
+ * makes its computed distance >= best: it could neither lower the least (a min) nor be taken (only
+ * a strictly smaller distance is). */
+typedef struct query_best {
+    double best, skip_above, slack;
+} query_best;
+
+static void best_set(query_best *q, double d)
+{
+    double r = sqrt(d) + q->slack;
+    q->best = d;
+    q->skip_above = r * r * (1 + 0x1p-30);
+}
+
+static void best_init(query_best *q, const lm_bvh *b, const double p[3])
+{
+    double mag = b->mag;
+    for (int k = 0; k < 3; k++)
+        mag = fabs(p[k]) > mag ? fabs(p[k]) : mag;
+    q->slack = mag * 0x1p-40;
+    q->best = DBL_MAX;
+    q->skip_above = INFINITY;
+}
+
+/* Triangle slot i's box distance (the box of its float corners, see query_best). */
+static inline double tri_box_sq(const float t[3][3], const double p[3])
+{
+    bvh_box bx;
+    for (int k = 0; k < 3; k++) {
+        float lo = t[0][k] < t[1][k] ? t[0][k] : t[1][k],
+              hi = t[0][k] < t[1][k] ? t[1][k] : t[0][k];
+        bx.lo[k] = t[2][k] < lo ? t[2][k] : lo;
+        bx.hi[k] = t[2][k] > hi ? t[2][k] : hi;
+    }
+    return box_sq(&bx, p);
+}
+
+/* Leaf ref's triangles: the least distance below q->best (kept in q); with tri (not NULL) also
  * the first such triangle's id and p's barycentrics on it (strictly less: at a tie the earlier
- * slot stays). */
-static inline void leaf_closest(const lm_bvh *b, bvh_ref ref, const double p[3], double *best,
+ * slot stays). Triangles whose box is too far are skipped (see query_best). */
+static inline void leaf_closest(const lm_bvh *b, bvh_ref ref, const double p[3], query_best *q,
                                 uint32_t *tri, double bary[3])
 {
     double w[3];
     for (uint32_t i = ref.first; i < ref.first + ref.count; i++) {
+        if (tri_box_sq(b->tri[i], p) > q->skip_above)
+            continue;
         double t[3][3];
         for (int v = 0; v < 3; v++)
             for (int k = 0; k < 3; k++)
                 t[v][k] = b->tri[i][v][k];
         if (!tri) {
             double d = lm_point_triangle_sq(p, t[0], t[1], t[2]);
-            *best = d < *best ? d : *best;
+            if (d < q->best)
+                best_set(q, d);
             continue;
         }
         double d = lm_point_triangle_bary(p, t[0], t[1], t[2], w);
-        if (d < *best) {
-            *best = d;
+        if (d < q->best) {
+            best_set(q, d);
             *tri = b->id[i];
             memcpy(bary, w, sizeof w);
         }
@@ -343,7 +406,8 @@ static inline void leaf_closest(const lm_bvh *b, bvh_ref ref, const double p[3],
  * on it. Inlined into both queries, so the distance-only one pays nothing for them. */
 static inline double closest(const lm_bvh *b, const double p[3], uint32_t *tri, double bary[3])
 {
-    double best = DBL_MAX;
+    query_best q;
+    best_init(&q, b, p);
     if (tri)
         *tri = LM_NONE;
     struct {
@@ -355,11 +419,11 @@ static inline double closest(const lm_bvh *b, const double p[3], uint32_t *tri, 
     stack[top++].d = box_sq(&b->root_box, p);
     while (top > 0) {
         --top;
-        if (stack[top].d >= best)
+        if (stack[top].d >= q.best)
             continue;
         bvh_ref ref = stack[top].ref;
         if (ref.count) {
-            leaf_closest(b, ref, p, &best, tri, bary);
+            leaf_closest(b, ref, p, &q, tri, bary);
             continue;
         }
         const bvh_node *nd = &b->nodes[ref.first];
@@ -371,16 +435,16 @@ static inline double closest(const lm_bvh *b, const double p[3], uint32_t *tri, 
             dn = df, df = td;
         }
         LM_ASSERT(top + 2 <= LM_BVH_STACK);
-        if (df < best) {
+        if (df < q.best) {
             stack[top].ref = nd->child[1 - near];
             stack[top++].d = df;
         }
-        if (dn < best) {
+        if (dn < q.best) {
             stack[top].ref = nd->child[near];
             stack[top++].d = dn;
         }
     }
-    return best;
+    return q.best;
 }
 
 /* 1 when a triangle of leaf ref is within squared distance r2 of p. */

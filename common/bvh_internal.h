@@ -29,6 +29,7 @@ struct lm_bvh {
     uint32_t *id;       /* [n] the mesh's triangle id of each slot */
     uint32_t n, n_nodes;
     bvh_box root_box;
+    double mag; /* the largest |coordinate| of the model */
     bvh_ref root;
     bvh_node *nodes; /* [n_nodes] inner nodes, 64-byte aligned */
 };
