@@ -13,6 +13,9 @@
 
 #include <float.h>
 #include <math.h>
+#ifdef __SSE2__
+#include <emmintrin.h>
+#endif
 #include <stdlib.h>
 #include <string.h>
 
@@ -126,9 +129,14 @@ static bvh_ref lay_out(lm_bvh *b, const flat_node *flat, uint32_t id, bvh_box *b
     if (f->count)
         return (bvh_ref){f->first, f->count};
     uint32_t me = b->n_nodes++;
+    bvh_box box2[2];
+    bvh_ref left = lay_out(b, flat, id + 1, &box2[0]);
+    bvh_ref right = lay_out(b, flat, f->first, &box2[1]);
     bvh_node *nd = &b->nodes[me];
-    nd->child[0] = lay_out(b, flat, id + 1, &nd->box[0]);
-    nd->child[1] = lay_out(b, flat, f->first, &nd->box[1]);
+    nd->child[0] = left, nd->child[1] = right;
+    for (int c = 0; c < 2; c++)
+        for (int k = 0; k < 3; k++)
+            nd->lo[k][c] = box2[c].lo[k], nd->hi[k][c] = box2[c].hi[k];
     return (bvh_ref){me, 0};
 }
 
@@ -178,11 +186,6 @@ lm_status lm_bvh_create(const lm_mesh *m, lm_bvh **out)
     if (!s) {
         build(&c, 0, n);
         b->root = lay_out(b, c.flat, 0, &b->root_box);
-        for (int k = 0; k < 3; k++) {
-            double lo = fabs(b->root_box.lo[k]), hi = fabs(b->root_box.hi[k]);
-            b->mag = lo > b->mag ? lo : b->mag;
-            b->mag = hi > b->mag ? hi : b->mag;
-        }
         LM_ASSERT(b->n_nodes < n || n == 1);
         for (uint32_t i = 0; i < n; i++)
             for (int v = 0; v < 3; v++)
@@ -325,77 +328,51 @@ static inline double box_sq(const bvh_box *nd, const double p[3])
     return (e0 * e0 + e1 * e1) + e2 * e2;
 }
 
-/* A query's best so far and the bound beyond which a triangle's box proves the triangle cannot
- * beat it.
- *
- * Why skipping such a triangle changes nothing (the result stays the least of the same computed
- * per-triangle distances, the same triangle at a tie): let B be the triangle's float box (its
- * corners are floats, so B holds the triangle exactly), eps = 2^-53, M the largest coordinate
- * magnitude of p and of the model. lm_point_triangle_sq measures p either to a corner or to
- * q = a + s*ab + t*ac with s, t in [0, 1], s + t <= 1 (each a ratio of same-signed terms, the
- * smaller over the larger), so the computed q lies within 40 eps M of the triangle, hence of B; the
- * computed distance is then >= (1 - 6 eps) (dist(p, B) - 40 eps M)^2. The box distance here is
- * <= (1 + 6 eps) dist(p, B)^2. A triangle is skipped only when its box distance exceeds
- * (sqrt(best) + 2^-40 M)^2 (1 + 2^-30), which by those bounds (2^-40 M >> 40 eps M; best <= 12 M^2)
- * makes its computed distance >= best: it could neither lower the least (a min) nor be taken (only
- * a strictly smaller distance is). */
-typedef struct query_best {
-    double best, skip_above, slack;
-} query_best;
-
-static void best_set(query_best *q, double d)
+/* Both children's box distances: d[c] = box_sq(child c's box, p), bit for bit (the same
+ * operations in the same order, two lanes at once where SSE2 is there). */
+static inline void child_box_sq(const bvh_node *nd, const double p[3], double d[2])
 {
-    double r = sqrt(d) + q->slack;
-    q->best = d;
-    q->skip_above = r * r * (1 + 0x1p-30);
-}
-
-static void best_init(query_best *q, const lm_bvh *b, const double p[3])
-{
-    double mag = b->mag;
-    for (int k = 0; k < 3; k++)
-        mag = fabs(p[k]) > mag ? fabs(p[k]) : mag;
-    q->slack = mag * 0x1p-40;
-    q->best = DBL_MAX;
-    q->skip_above = INFINITY;
-}
-
-/* Triangle slot i's box distance (the box of its float corners, see query_best). */
-static inline double tri_box_sq(const float t[3][3], const double p[3])
-{
-    bvh_box bx;
+#ifdef __SSE2__
+    __m128d sum = _mm_setzero_pd();
     for (int k = 0; k < 3; k++) {
-        float lo = t[0][k] < t[1][k] ? t[0][k] : t[1][k],
-              hi = t[0][k] < t[1][k] ? t[1][k] : t[0][k];
-        bx.lo[k] = t[2][k] < lo ? t[2][k] : lo;
-        bx.hi[k] = t[2][k] > hi ? t[2][k] : hi;
+        __m128d pk = _mm_set1_pd(p[k]);
+        __m128d lo = _mm_cvtps_pd(_mm_castsi128_ps(_mm_loadl_epi64((const __m128i *)nd->lo[k])));
+        __m128d hi = _mm_cvtps_pd(_mm_castsi128_ps(_mm_loadl_epi64((const __m128i *)nd->hi[k])));
+        __m128d below = _mm_sub_pd(lo, pk), above = _mm_sub_pd(pk, hi);
+        /* max_pd(a, b) = a > b ? a : b, as axis_gap */
+        __m128d e = _mm_max_pd(_mm_max_pd(below, above), _mm_setzero_pd());
+        __m128d e2 = _mm_mul_pd(e, e);
+        sum = k == 0 ? e2 : _mm_add_pd(sum, e2);
     }
-    return box_sq(&bx, p);
+    _mm_storeu_pd(d, sum);
+#else
+    for (int c = 0; c < 2; c++) {
+        bvh_box bx = bvh_child_box(nd, c);
+        d[c] = box_sq(&bx, p);
+    }
+#endif
 }
 
-/* Leaf ref's triangles: the least distance below q->best (kept in q); with tri (not NULL) also
+/* Leaf ref's triangles: the least distance below *best (kept in *best); with tri (not NULL) also
  * the first such triangle's id and p's barycentrics on it (strictly less: at a tie the earlier
- * slot stays). Triangles whose box is too far are skipped (see query_best). */
-static inline void leaf_closest(const lm_bvh *b, bvh_ref ref, const double p[3], query_best *q,
+ * slot stays). */
+static inline void leaf_closest(const lm_bvh *b, bvh_ref ref, const double p[3], double *best,
                                 uint32_t *tri, double bary[3])
 {
     double w[3];
     for (uint32_t i = ref.first; i < ref.first + ref.count; i++) {
-        if (tri_box_sq(b->tri[i], p) > q->skip_above)
-            continue;
         double t[3][3];
         for (int v = 0; v < 3; v++)
             for (int k = 0; k < 3; k++)
                 t[v][k] = b->tri[i][v][k];
         if (!tri) {
             double d = lm_point_triangle_sq(p, t[0], t[1], t[2]);
-            if (d < q->best)
-                best_set(q, d);
+            *best = d < *best ? d : *best;
             continue;
         }
         double d = lm_point_triangle_bary(p, t[0], t[1], t[2], w);
-        if (d < q->best) {
-            best_set(q, d);
+        if (d < *best) {
+            *best = d;
             *tri = b->id[i];
             memcpy(bary, w, sizeof w);
         }
@@ -406,8 +383,7 @@ static inline void leaf_closest(const lm_bvh *b, bvh_ref ref, const double p[3],
  * on it. Inlined into both queries, so the distance-only one pays nothing for them. */
 static inline double closest(const lm_bvh *b, const double p[3], uint32_t *tri, double bary[3])
 {
-    query_best q;
-    best_init(&q, b, p);
+    double best = DBL_MAX;
     if (tri)
         *tri = LM_NONE;
     struct {
@@ -419,32 +395,34 @@ static inline double closest(const lm_bvh *b, const double p[3], uint32_t *tri, 
     stack[top++].d = box_sq(&b->root_box, p);
     while (top > 0) {
         --top;
-        if (stack[top].d >= q.best)
+        if (stack[top].d >= best)
             continue;
         bvh_ref ref = stack[top].ref;
         if (ref.count) {
-            leaf_closest(b, ref, p, &q, tri, bary);
+            leaf_closest(b, ref, p, &best, tri, bary);
             continue;
         }
         const bvh_node *nd = &b->nodes[ref.first];
         int near = 0;
-        double dn = box_sq(&nd->box[0], p), df = box_sq(&nd->box[1], p);
+        double dd[2];
+        child_box_sq(nd, p, dd);
+        double dn = dd[0], df = dd[1];
         if (df < dn) {
             double td = dn;
             near = 1;
             dn = df, df = td;
         }
         LM_ASSERT(top + 2 <= LM_BVH_STACK);
-        if (df < q.best) {
+        if (df < best) {
             stack[top].ref = nd->child[1 - near];
             stack[top++].d = df;
         }
-        if (dn < q.best) {
+        if (dn < best) {
             stack[top].ref = nd->child[near];
             stack[top++].d = dn;
         }
     }
-    return q.best;
+    return best;
 }
 
 /* 1 when a triangle of leaf ref is within squared distance r2 of p. */
@@ -476,7 +454,9 @@ int lm_bvh_within(const lm_bvh *b, const double p[3], double r2)
             continue;
         }
         const bvh_node *nd = &b->nodes[ref.first];
-        double dn = box_sq(&nd->box[0], p), df = box_sq(&nd->box[1], p);
+        double dd[2];
+        child_box_sq(nd, p, dd);
+        double dn = dd[0], df = dd[1];
         LM_ASSERT(top + 2 <= LM_BVH_STACK);
         if (df <= r2 && df >= dn)
             stack[top++] = nd->child[1];

@@ -19,17 +19,26 @@ typedef struct bvh_ref {
 } bvh_ref;
 
 typedef struct bvh_node {
-    bvh_box box[2]; /* left, right child */
+    float lo[3][2], hi[3][2]; /* [axis][child]: the left (0) and right (1) child's boxes, each
+                                 axis's pair side by side for a two-wide box test */
     bvh_ref child[2];
 } bvh_node;
 _Static_assert(sizeof(bvh_node) == 64, "an inner node is one cache line");
+
+/* Child c's box. */
+static inline bvh_box bvh_child_box(const bvh_node *nd, int c)
+{
+    bvh_box bx;
+    for (int k = 0; k < 3; k++)
+        bx.lo[k] = nd->lo[k][c], bx.hi[k] = nd->hi[k][c];
+    return bx;
+}
 
 struct lm_bvh {
     float (*tri)[3][3]; /* [n] corner positions (the mesh's floats), in leaf order */
     uint32_t *id;       /* [n] the mesh's triangle id of each slot */
     uint32_t n, n_nodes;
     bvh_box root_box;
-    double mag; /* the largest |coordinate| of the model */
     bvh_ref root;
     bvh_node *nodes; /* [n_nodes] inner nodes, 64-byte aligned */
 };

@@ -77,25 +77,25 @@ int lm_bvh_line_hit(const lm_bvh *b, const double o[3], const double d[3], doubl
     double best = DBL_MAX;
     struct {
         bvh_ref ref;
-        const bvh_box *box; /* its box (in its parent, or the root's) */
+        bvh_box box;
     } stack[LM_BVH_STACK];
     int top = 0;
     double lo, hi;
     if (box_span(&b->root_box, o, d, tmax, &lo, &hi)) {
         stack[top].ref = b->root;
-        stack[top++].box = &b->root_box;
+        stack[top++].box = b->root_box;
     }
     while (top > 0) {
         --top;
         bvh_ref ref = stack[top].ref;
-        if (!box_span(stack[top].box, o, d, tmax, &lo, &hi) || span_near(lo, hi) >= best)
+        if (!box_span(&stack[top].box, o, d, tmax, &lo, &hi) || span_near(lo, hi) >= best)
             continue;
         if (!ref.count) {
             const bvh_node *nd = &b->nodes[ref.first];
             LM_ASSERT(top + 2 <= LM_BVH_STACK);
             for (int side = 1; side >= 0; side--) { /* right below left: left is popped first */
                 stack[top].ref = nd->child[side];
-                stack[top++].box = &nd->box[side];
+                stack[top++].box = bvh_child_box(nd, side);
             }
             continue;
         }

@@ -71,7 +71,8 @@ static void walk_all(const lm_bvh *b, bvh_ref ref, const double p[3], walk *w)
         return;
     }
     const bvh_node *nd = &b->nodes[ref.first];
-    int near = box_dist(&nd->box[1], p) < box_dist(&nd->box[0], p);
+    bvh_box left = bvh_child_box(nd, 0), right = bvh_child_box(nd, 1);
+    int near = box_dist(&right, p) < box_dist(&left, p);
     walk_all(b, nd->child[near], p, w);
     walk_all(b, nd->child[1 - near], p, w);
 }
