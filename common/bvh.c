@@ -391,36 +391,36 @@ static inline double closest(const lm_bvh *b, const double p[3], uint32_t *tri, 
         double d; /* its box's squared distance, a lower bound of its triangles' */
     } stack[LM_BVH_STACK];
     int top = 0;
-    stack[top].ref = b->root;
-    stack[top++].d = box_sq(&b->root_box, p);
-    while (top > 0) {
-        --top;
-        if (stack[top].d >= best)
-            continue;
-        bvh_ref ref = stack[top].ref;
-        if (ref.count) {
+    bvh_ref ref = b->root;
+    double d = box_sq(&b->root_box, p);
+    for (;;) {
+        if (d < best && ref.count) {
             leaf_closest(b, ref, p, &best, tri, bary);
-            continue;
+        } else if (d < best) {
+            const bvh_node *nd = &b->nodes[ref.first];
+            int near = 0;
+            double dd[2];
+            child_box_sq(nd, p, dd);
+            double dn = dd[0], df = dd[1];
+            if (df < dn) {
+                double td = dn;
+                near = 1;
+                dn = df, df = td;
+            }
+            LM_ASSERT(top + 1 <= LM_BVH_STACK);
+            if (df < best) {
+                stack[top].ref = nd->child[1 - near];
+                stack[top++].d = df;
+            }
+            if (dn < best) { /* the nearer child next, as if pushed last and popped */
+                ref = nd->child[near], d = dn;
+                continue;
+            }
         }
-        const bvh_node *nd = &b->nodes[ref.first];
-        int near = 0;
-        double dd[2];
-        child_box_sq(nd, p, dd);
-        double dn = dd[0], df = dd[1];
-        if (df < dn) {
-            double td = dn;
-            near = 1;
-            dn = df, df = td;
-        }
-        LM_ASSERT(top + 2 <= LM_BVH_STACK);
-        if (df < best) {
-            stack[top].ref = nd->child[1 - near];
-            stack[top++].d = df;
-        }
-        if (dn < best) {
-            stack[top].ref = nd->child[near];
-            stack[top++].d = dn;
-        }
+        if (top == 0)
+            break;
+        --top;
+        ref = stack[top].ref, d = stack[top].d;
     }
     return best;
 }
