@@ -4,10 +4,14 @@
  * Boxes are floats, rounded outwards where a corner is not a float (the model's positions are, so
  * the boxes are exact). The build makes a binary tree of 32-byte nodes (a left child right after
  * its parent), then lays it out for queries (common/bvh_internal.h): an inner node holds both
- * children's boxes in one cache line. That layout keeps every box and the order of the visits, so
- * it changes which lines are read, never which triangles are tested or in what order. A box only
- * ever decides what is skipped, never a distance, so the result is the least distance over all
- * triangles whatever the boxes. */
+ * children's boxes in one cache line, tested two-wide (child_box_sq: the same bits as the scalar
+ * box_sq). That layout keeps every box, every box distance and the order of the visits, so it
+ * changes which lines are read, never which triangles are tested or in what order: the same
+ * distance bits, the same triangle at a tie (the first strict least in the nearer-first order,
+ * left at equal box distances) and the same barycentrics as the 32-byte layout before it
+ * (tests/unit/test_bvh.c checks against a scan and an unpruned walk). A box only ever decides
+ * what is skipped, never a distance, so the result is the least distance over all triangles
+ * whatever the boxes. */
 #include "common/bvh.h"
 #include "common/bvh_internal.h"
 
