@@ -1,20 +1,39 @@
 /* common/bvh.c — closest-point queries over a triangle mesh: build (median split of
  * the centroids on the box's longest axis), point-to-triangle distance by Voronoi regions, and a
  * depth-first query that visits the nearer child first and skips boxes farther than the best.
- * Nodes are 32 bytes (two a cache line): float boxes, rounded outwards where a corner is not a
- * float (the model's positions are, so the boxes are exact), and a left child stored right after
- * its parent. A box only ever decides what is skipped, never a distance, so the result is the
- * least distance over all triangles whatever the boxes. */
+ * Boxes are floats, rounded outwards where a corner is not a float (the model's positions are, so
+ * the boxes are exact). The build makes a binary tree of 32-byte nodes (a left child right after
+ * its parent), then lays it out for queries (common/bvh_internal.h): an inner node holds both
+ * children's boxes in one cache line, tested two-wide (child_box_sq: the same bits as the scalar
+ * box_sq). That layout keeps every box, every box distance and the order of the visits, so it
+ * changes which lines are read, never which triangles are tested or in what order: the same
+ * distance bits, the same triangle at a tie (the first strict least in the nearer-first order,
+ * left at equal box distances) and the same barycentrics as the 32-byte layout before it
+ * (tests/unit/test_bvh.c checks against a scan and an unpruned walk). A box only ever decides
+ * what is skipped, never a distance, so the result is the least distance over all triangles
+ * whatever the boxes. */
 #include "common/bvh.h"
 #include "common/bvh_internal.h"
 
 #include <float.h>
 #include <math.h>
+#ifdef __SSE2__
+#include <emmintrin.h>
+#endif
 #include <stdlib.h>
 #include <string.h>
 
+/* A node of the build: a box, and a leaf's triangles or (count 0) the right child's index (the
+ * left child is the next node). */
+typedef struct flat_node {
+    bvh_box box;
+    uint32_t first, count;
+} flat_node;
+
 typedef struct build_ctx {
     lm_bvh *b;
+    flat_node *flat;
+    uint32_t n_flat;
     double (*centre)[3];
     uint32_t *order; /* triangle of each slot */
     double (*src)[3][3];
@@ -38,7 +57,7 @@ static void slot_bounds(const build_ctx *c, uint32_t first, uint32_t count, doub
 }
 
 /* The box in floats that holds [lo, hi]. */
-static void node_box(bvh_node *nd, const double lo[3], const double hi[3])
+static void node_box(bvh_box *nd, const double lo[3], const double hi[3])
 {
     for (int k = 0; k < 3; k++) {
         float l = (float)lo[k], h = (float)hi[k];
@@ -81,11 +100,11 @@ static void median_split(build_ctx *c, uint32_t first, uint32_t count, int axis)
  * log2(n) (median splits), so recursion is bounded. */
 static uint32_t build(build_ctx *c, uint32_t first, uint32_t count)
 {
-    uint32_t id = c->b->n_nodes++;
-    bvh_node *nd = &c->b->nodes[id];
+    uint32_t id = c->n_flat++;
+    flat_node *nd = &c->flat[id];
     double lo[3], hi[3];
     slot_bounds(c, first, count, lo, hi);
-    node_box(nd, lo, hi);
+    node_box(&nd->box, lo, hi);
     nd->first = first;
     nd->count = count;
     if (count <= LM_BVH_LEAF)
@@ -99,10 +118,30 @@ static uint32_t build(build_ctx *c, uint32_t first, uint32_t count)
     uint32_t left = build(c, first, half);
     uint32_t right = build(c, first + half, count - half);
     LM_ASSERT(left == id + 1);
-    nd = &c->b->nodes[id]; /* (no reallocation happens, but keep the pointer fresh) */
+    nd = &c->flat[id]; /* (no reallocation happens, but keep the pointer fresh) */
     nd->count = 0;
     nd->first = right;
     return id;
+}
+
+/* Lay flat node `id`'s subtree out in b->nodes (depth first, a left child right after its parent,
+ * as in the build); *box gets its box. Returns the subtree's reference. */
+static bvh_ref lay_out(lm_bvh *b, const flat_node *flat, uint32_t id, bvh_box *box)
+{
+    const flat_node *f = &flat[id];
+    *box = f->box;
+    if (f->count)
+        return (bvh_ref){f->first, f->count};
+    uint32_t me = b->n_nodes++;
+    bvh_box box2[2];
+    bvh_ref left = lay_out(b, flat, id + 1, &box2[0]);
+    bvh_ref right = lay_out(b, flat, f->first, &box2[1]);
+    bvh_node *nd = &b->nodes[me];
+    nd->child[0] = left, nd->child[1] = right;
+    for (int c = 0; c < 2; c++)
+        for (int k = 0; k < 3; k++)
+            nd->lo[k][c] = box2[c].lo[k], nd->hi[k][c] = box2[c].hi[k];
+    return (bvh_ref){me, 0};
 }
 
 static lm_status gather(const lm_mesh *m, build_ctx *c, uint32_t n)
@@ -142,13 +181,16 @@ lm_status lm_bvh_create(const lm_mesh *m, lm_bvh **out)
     lm_status s = b ? gather(m, &c, n) : lm_fail(LM_E_NOMEM, "out of memory");
     if (!s) {
         b->n = n;
-        b->nodes = malloc(2 * (size_t)n * sizeof *b->nodes);
+        c.flat = malloc(2 * (size_t)n * sizeof *c.flat);
+        b->nodes = aligned_alloc(64, (size_t)n * sizeof *b->nodes); /* n - 1 inner nodes */
         b->tri = malloc((size_t)n * sizeof *b->tri);
-        if (!b->nodes || !b->tri)
+        if (!c.flat || !b->nodes || !b->tri)
             s = lm_fail(LM_E_NOMEM, "out of memory for the distance hierarchy");
     }
     if (!s) {
         build(&c, 0, n);
+        b->root = lay_out(b, c.flat, 0, &b->root_box);
+        LM_ASSERT(b->n_nodes < n || n == 1);
         for (uint32_t i = 0; i < n; i++)
             for (int v = 0; v < 3; v++)
                 for (int k = 0; k < 3; k++)
@@ -158,6 +200,7 @@ lm_status lm_bvh_create(const lm_mesh *m, lm_bvh **out)
         for (uint32_t i = 0; i < n; i++)
             b->id[i] = (uint32_t)c.centre[i][0];
     }
+    free(c.flat);
     free(c.src);
     free(c.centre);
     free(c.order);
@@ -271,107 +314,160 @@ double lm_point_triangle_bary(const double p[3], const double a[3], const double
     return r == PT_ST ? at(p, a, ab, ac, s, t) : dist_sq(p, r == PT_A ? a : r == PT_B ? b : c);
 }
 
-static double box_sq(const bvh_node *nd, const double p[3])
+/* How far p is outside [lo, hi] along one axis (0 inside): lo - p below, p - hi above, computed
+ * without branches (lo <= hi: at most one of them is positive). */
+static inline double axis_gap(double p, double lo, double hi)
 {
-    double d = 0;
+    double below = lo - p, above = p - hi;
+    double e = below > above ? below : above;
+    return e > 0 ? e : 0;
+}
+
+/* The squared distance from p to the box (the same sum, in the same order, as a loop over k). */
+static inline double box_sq(const bvh_box *nd, const double p[3])
+{
+    double e0 = axis_gap(p[0], nd->lo[0], nd->hi[0]);
+    double e1 = axis_gap(p[1], nd->lo[1], nd->hi[1]);
+    double e2 = axis_gap(p[2], nd->lo[2], nd->hi[2]);
+    return (e0 * e0 + e1 * e1) + e2 * e2;
+}
+
+/* Both children's box distances: d[c] = box_sq(child c's box, p), bit for bit (the same
+ * operations in the same order, two lanes at once where SSE2 is there). */
+static inline void child_box_sq(const bvh_node *nd, const double p[3], double d[2])
+{
+#ifdef __SSE2__
+    __m128d sum = _mm_setzero_pd();
     for (int k = 0; k < 3; k++) {
-        double lo = nd->lo[k], hi = nd->hi[k];
-        double e = p[k] < lo ? lo - p[k] : p[k] > hi ? p[k] - hi : 0;
-        d += e * e;
+        __m128d pk = _mm_set1_pd(p[k]);
+        __m128d lo = _mm_cvtps_pd(_mm_castsi128_ps(_mm_loadl_epi64((const __m128i *)nd->lo[k])));
+        __m128d hi = _mm_cvtps_pd(_mm_castsi128_ps(_mm_loadl_epi64((const __m128i *)nd->hi[k])));
+        __m128d below = _mm_sub_pd(lo, pk), above = _mm_sub_pd(pk, hi);
+        /* max_pd(a, b) = a > b ? a : b, as axis_gap */
+        __m128d e = _mm_max_pd(_mm_max_pd(below, above), _mm_setzero_pd());
+        __m128d e2 = _mm_mul_pd(e, e);
+        sum = k == 0 ? e2 : _mm_add_pd(sum, e2);
     }
-    return d;
+    _mm_storeu_pd(d, sum);
+#else
+    for (int c = 0; c < 2; c++) {
+        bvh_box bx = bvh_child_box(nd, c);
+        d[c] = box_sq(&bx, p);
+    }
+#endif
+}
+
+/* Leaf ref's triangles: the least distance below *best (kept in *best); with tri (not NULL) also
+ * the first such triangle's id and p's barycentrics on it (strictly less: at a tie the earlier
+ * slot stays). */
+static inline void leaf_closest(const lm_bvh *b, bvh_ref ref, const double p[3], double *best,
+                                uint32_t *tri, double bary[3])
+{
+    double w[3];
+    for (uint32_t i = ref.first; i < ref.first + ref.count; i++) {
+        double t[3][3];
+        for (int v = 0; v < 3; v++)
+            for (int k = 0; k < 3; k++)
+                t[v][k] = b->tri[i][v][k];
+        if (!tri) {
+            double d = lm_point_triangle_sq(p, t[0], t[1], t[2]);
+            *best = d < *best ? d : *best;
+            continue;
+        }
+        double d = lm_point_triangle_bary(p, t[0], t[1], t[2], w);
+        if (d < *best) {
+            *best = d;
+            *tri = b->id[i];
+            memcpy(bary, w, sizeof w);
+        }
+    }
 }
 
 /* The closest triangle's squared distance; with tri (not NULL) also its id and p's barycentrics
  * on it. Inlined into both queries, so the distance-only one pays nothing for them. */
 static inline double closest(const lm_bvh *b, const double p[3], uint32_t *tri, double bary[3])
 {
-    double best = DBL_MAX, w[3];
+    double best = DBL_MAX;
     if (tri)
         *tri = LM_NONE;
     struct {
-        uint32_t node;
+        bvh_ref ref;
         double d; /* its box's squared distance, a lower bound of its triangles' */
     } stack[LM_BVH_STACK];
     int top = 0;
-    stack[top].node = 0;
-    stack[top++].d = box_sq(&b->nodes[0], p);
-    while (top > 0) {
-        --top;
-        if (stack[top].d >= best)
-            continue;
-        uint32_t id = stack[top].node;
-        const bvh_node *nd = &b->nodes[id];
-        if (nd->count) {
-            for (uint32_t i = nd->first; i < nd->first + nd->count; i++) {
-                double t[3][3];
-                for (int v = 0; v < 3; v++)
-                    for (int k = 0; k < 3; k++)
-                        t[v][k] = b->tri[i][v][k];
-                if (!tri) {
-                    double d = lm_point_triangle_sq(p, t[0], t[1], t[2]);
-                    best = d < best ? d : best;
-                    continue;
-                }
-                double d = lm_point_triangle_bary(p, t[0], t[1], t[2], w);
-                if (d < best) {
-                    best = d;
-                    *tri = b->id[i];
-                    memcpy(bary, w, sizeof w);
-                }
+    bvh_ref ref = b->root;
+    double d = box_sq(&b->root_box, p);
+    for (;;) {
+        if (d < best && ref.count) {
+            leaf_closest(b, ref, p, &best, tri, bary);
+        } else if (d < best) {
+            const bvh_node *nd = &b->nodes[ref.first];
+            int near = 0;
+            double dd[2];
+            child_box_sq(nd, p, dd);
+            double dn = dd[0], df = dd[1];
+            if (df < dn) {
+                double td = dn;
+                near = 1;
+                dn = df, df = td;
             }
-            continue;
+            LM_ASSERT(top + 1 <= LM_BVH_STACK);
+            if (df < best) {
+                stack[top].ref = nd->child[1 - near];
+                stack[top++].d = df;
+            }
+            if (dn < best) { /* the nearer child next, as if pushed last and popped */
+                ref = nd->child[near], d = dn;
+                continue;
+            }
         }
-        uint32_t near = id + 1, far = nd->first;
-        double dn = box_sq(&b->nodes[near], p), df = box_sq(&b->nodes[far], p);
-        if (df < dn) {
-            uint32_t t = near;
-            double td = dn;
-            near = far, dn = df;
-            far = t, df = td;
-        }
-        LM_ASSERT(top + 2 <= LM_BVH_STACK);
-        if (df < best) {
-            stack[top].node = far;
-            stack[top++].d = df;
-        }
-        if (dn < best) {
-            stack[top].node = near;
-            stack[top++].d = dn;
-        }
+        if (top == 0)
+            break;
+        --top;
+        ref = stack[top].ref, d = stack[top].d;
     }
     return best;
 }
 
+/* 1 when a triangle of leaf ref is within squared distance r2 of p. */
+static int leaf_within(const lm_bvh *b, bvh_ref ref, const double p[3], double r2)
+{
+    for (uint32_t i = ref.first; i < ref.first + ref.count; i++) {
+        double t[3][3];
+        for (int v = 0; v < 3; v++)
+            for (int k = 0; k < 3; k++)
+                t[v][k] = b->tri[i][v][k];
+        if (lm_point_triangle_sq(p, t[0], t[1], t[2]) <= r2)
+            return 1;
+    }
+    return 0;
+}
+
 int lm_bvh_within(const lm_bvh *b, const double p[3], double r2)
 {
-    uint32_t stack[LM_BVH_STACK];
+    bvh_ref stack[LM_BVH_STACK];
     int top = 0;
-    if (box_sq(&b->nodes[0], p) > r2)
+    if (box_sq(&b->root_box, p) > r2)
         return 0;
-    stack[top++] = 0;
+    stack[top++] = b->root;
     while (top > 0) {
-        const bvh_node *nd = &b->nodes[stack[--top]];
-        if (nd->count) {
-            for (uint32_t i = nd->first; i < nd->first + nd->count; i++) {
-                double t[3][3];
-                for (int v = 0; v < 3; v++)
-                    for (int k = 0; k < 3; k++)
-                        t[v][k] = b->tri[i][v][k];
-                if (lm_point_triangle_sq(p, t[0], t[1], t[2]) <= r2)
-                    return 1;
-            }
+        bvh_ref ref = stack[--top];
+        if (ref.count) {
+            if (leaf_within(b, ref, p, r2))
+                return 1;
             continue;
         }
-        uint32_t near = (uint32_t)(nd - b->nodes) + 1, far = nd->first;
-        double dn = box_sq(&b->nodes[near], p), df = box_sq(&b->nodes[far], p);
+        const bvh_node *nd = &b->nodes[ref.first];
+        double dd[2];
+        child_box_sq(nd, p, dd);
+        double dn = dd[0], df = dd[1];
         LM_ASSERT(top + 2 <= LM_BVH_STACK);
         if (df <= r2 && df >= dn)
-            stack[top++] = far;
+            stack[top++] = nd->child[1];
         if (dn <= r2)
-            stack[top++] = near;
+            stack[top++] = nd->child[0];
         if (df <= r2 && df < dn)
-            stack[top++] = far;
+            stack[top++] = nd->child[1];
     }
     return 0;
 }

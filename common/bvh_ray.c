@@ -10,7 +10,7 @@
 #include "common/bvh_internal.h"
 
 /* The interval [*lo, *hi] of t in [-tmax, tmax] where o + t d is in the node's box; 0 if empty. */
-static int box_span(const bvh_node *nd, const double o[3], const double d[3], double tmax,
+static int box_span(const bvh_box *nd, const double o[3], const double d[3], double tmax,
                     double *lo, double *hi)
 {
     double a = -tmax, b = tmax;
@@ -75,22 +75,31 @@ int lm_bvh_line_hit(const lm_bvh *b, const double o[3], const double d[3], doubl
                     uint32_t *tri, double *t, double bary[3])
 {
     double best = DBL_MAX;
-    uint32_t stack[LM_BVH_STACK];
+    struct {
+        bvh_ref ref;
+        bvh_box box;
+    } stack[LM_BVH_STACK];
     int top = 0;
     double lo, hi;
-    if (box_span(&b->nodes[0], o, d, tmax, &lo, &hi))
-        stack[top++] = 0;
+    if (box_span(&b->root_box, o, d, tmax, &lo, &hi)) {
+        stack[top].ref = b->root;
+        stack[top++].box = b->root_box;
+    }
     while (top > 0) {
-        const bvh_node *nd = &b->nodes[stack[--top]];
-        if (!box_span(nd, o, d, tmax, &lo, &hi) || span_near(lo, hi) >= best)
+        --top;
+        bvh_ref ref = stack[top].ref;
+        if (!box_span(&stack[top].box, o, d, tmax, &lo, &hi) || span_near(lo, hi) >= best)
             continue;
-        if (!nd->count) {
+        if (!ref.count) {
+            const bvh_node *nd = &b->nodes[ref.first];
             LM_ASSERT(top + 2 <= LM_BVH_STACK);
-            stack[top++] = nd->first;
-            stack[top++] = (uint32_t)(nd - b->nodes) + 1;
+            for (int side = 1; side >= 0; side--) { /* right below left: left is popped first */
+                stack[top].ref = nd->child[side];
+                stack[top++].box = bvh_child_box(nd, side);
+            }
             continue;
         }
-        for (uint32_t i = nd->first; i < nd->first + nd->count; i++) {
+        for (uint32_t i = ref.first; i < ref.first + ref.count; i++) {
             double ti, w[3];
             if (!tri_hit(b->tri[i], o, d, facing, &ti, w) || fabs(ti) > tmax || fabs(ti) >= best)
                 continue;
