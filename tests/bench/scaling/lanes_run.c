@@ -24,7 +24,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <unistd.h>
 
 #include "common/grow.h"
 #include "common/optimizer/lane_log.h"
@@ -258,21 +257,12 @@ lm_status sc_run_lanes(const opts *o, const co_job_setup *js, uint32_t k, lanes_
     return st;
 }
 
-/* The worker program: LUMESH_WORKER, else lumesh-worker of this build (bench_scaling is in
- * BUILD/tests/bench, the worker in BUILD/worker), else the pool's own search. */
-static const char *worker_program(char *buf, size_t n)
+/* The worker program: LUMESH_WORKER (the pool's own search takes it: NULL here), else the
+ * lumesh-worker built beside this bench (its path from CMake). */
+static const char *worker_program(void)
 {
     const char *env = getenv("LUMESH_WORKER");
-    if (env && *env)
-        return env;
-    char exe[3072];
-    ssize_t len = readlink("/proc/self/exe", exe, sizeof exe - 1);
-    char *slash = len > 0 ? (exe[len] = 0, strrchr(exe, '/')) : NULL;
-    if (!slash)
-        return NULL;
-    *slash = 0;
-    snprintf(buf, n, "%s/../../worker/lumesh-worker", exe);
-    return access(buf, X_OK) == 0 ? buf : NULL;
+    return env && *env ? NULL : LUMESH_WORKER_BUILT;
 }
 
 lm_status sc_run_lanes_remote(const opts *o, const co_job_setup *js, uint32_t k, uint32_t workers,
@@ -282,12 +272,11 @@ lm_status sc_run_lanes_remote(const opts *o, const co_job_setup *js, uint32_t k,
     lm_mesh *mesh = NULL;
     lm_optimizer *opt = NULL;
     co_pool *pool = NULL;
-    char path[4096];
     memset(out, 0, sizeof *out);
     out->k = k;
     out->workers = workers;
     co_pool_options po = {.local_workers = workers,
-                          .worker_path = worker_program(path, sizeof path),
+                          .worker_path = worker_program(),
                           .device = o->device,
                           .quiet = 1,
                           .spin_us = -1,
