@@ -210,6 +210,16 @@ lm_status sc_job_setup(const opts *o, co_job_setup *js)
     return co_job_setup_make(&jo, js);
 }
 
+/* The job's optimizer on the metered views at K lanes, isolated (the caller destroys *opt). */
+static lm_status lane_optimizer_create(const co_job_setup *js, uint32_t k, lm_mesh *mesh, meter *m,
+                                       lm_optimizer **opt)
+{
+    lm_params params = js->params;
+    params.edges_in_flight = k;
+    params.lane_isolation = 1;
+    return lm_optimizer_create_tuned(mesh, &m->base, &params, &js->tuning, opt);
+}
+
 lm_status sc_run_lanes(const opts *o, const co_job_setup *js, uint32_t k, lanes_run *out)
 {
     static meter m;
@@ -219,11 +229,8 @@ lm_status sc_run_lanes(const opts *o, const co_job_setup *js, uint32_t k, lanes_
     out->k = k;
     const lm_view_set *vs = js->views;
     lm_status st = sc_meter_start_on(o, js->original, js->coarse, vs, 1, NULL, NULL, &m, &mesh);
-    lm_params params = js->params;
-    params.edges_in_flight = k;
-    params.lane_isolation = 1;
     if (st == LM_OK)
-        st = lm_optimizer_create_tuned(mesh, &m.base, &params, &js->tuning, &opt);
+        st = lane_optimizer_create(js, k, mesh, &m, &opt);
     probe_ctx p = {&m, out, mark_now(&m), LM_OK, o, js, NULL, 0};
     if (st == LM_OK && k > 1)
         lm_lanes_set_probe(opt->lanes, &(lm_lanes_probe){on_phase, on_lane, &p});
@@ -287,11 +294,8 @@ lm_status sc_run_lanes_remote(const opts *o, const co_job_setup *js, uint32_t k,
     if (st == LM_OK)
         st = sc_meter_start_on(o, js->original, js->coarse, js->views, 1, pool, &js->o.audit, &m,
                                &mesh);
-    lm_params params = js->params;
-    params.edges_in_flight = k;
-    params.lane_isolation = 1;
     if (st == LM_OK)
-        st = lm_optimizer_create_tuned(mesh, &m.base, &params, &js->tuning, &opt);
+        st = lane_optimizer_create(js, k, mesh, &m, &opt);
     probe_ctx p = {&m, out, mark_now(&m), LM_OK, o, js, pool, 0};
     if (st == LM_OK)
         st = use_runner(&p, opt);
