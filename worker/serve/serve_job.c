@@ -407,9 +407,14 @@ static lm_status potentials(wk_server *s, const lm_msg *m)
     return st;
 }
 
+/* Fault injection for tests (LUMESH_WORKER_FAULT, read only by builds with LUMESH_TEST_HOOKS):
+ * "fail-targets" answers a Failure to every read of a target image (the coordinator's split render
+ * of the targets must fall back to every worker rendering them). */
 static lm_status read_image(wk_server *s, const lm_msg *m)
 {
     const Lumesh__ReadImage *q = m->read_image;
+    if (s->fault && !strcmp(s->fault, "fail-targets") && q->kind == LM_IMAGE_TARGET_LUMA)
+        return wk_serve_fail(s, m->req, LM_E_INTERNAL, "injected failure (LUMESH_WORKER_FAULT)");
     lm_views_info info;
     s->v->ops->info(s->v, &info);
     lm_status st = LM_OK;
