@@ -51,6 +51,17 @@ const lm_asset *lm_asset_set_find(const lm_asset_set *s, const lm_asset_hash *h)
     return NULL;
 }
 
+void lm_asset_set_drop(lm_asset_set *s, const lm_asset_hash *h)
+{
+    const lm_asset *a = lm_asset_set_find(s, h);
+    if (!a)
+        return;
+    uint32_t i = (uint32_t)(a - s->items);
+    free(s->items[i].data);
+    memmove(&s->items[i], &s->items[i + 1], (s->n - i - 1) * sizeof *s->items);
+    s->n--;
+}
+
 lm_status lm_asset_set_put(lm_asset_set *s, uint8_t *data, size_t size, lm_asset_hash *out)
 {
     lm_asset_hash h;

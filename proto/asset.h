@@ -54,6 +54,8 @@ const char *lm_asset_hash_short(const lm_asset_hash *h, char *buf);
 void lm_asset_set_init(lm_asset_set *s);
 void lm_asset_set_free(lm_asset_set *s);
 const lm_asset *lm_asset_set_find(const lm_asset_set *s, const lm_asset_hash *h);
+/* Frees and removes the asset named h, if there (the others keep their order). */
+void lm_asset_set_drop(lm_asset_set *s, const lm_asset_hash *h);
 /* Takes ownership of data (freed here on failure, or when already present). */
 lm_status lm_asset_set_put(lm_asset_set *s, uint8_t *data, size_t size, lm_asset_hash *out);
 

@@ -248,9 +248,9 @@ static lm_status read_targets(co_remote *r, co_worker **ws, uint32_t k, uint8_t 
     return st;
 }
 
-/* The split's steps (a)-(c): ws[i] (i < k) renders views i, i + k, ...; their targets are read
- * back, packed into r->targets and shipped to all n of ws. */
-static lm_status render_split(co_remote *r, co_worker **ws, uint32_t n, uint32_t k)
+/* The split's steps (a)-(b): ws[i] (i < k) renders views i, i + k, ...; their targets are read
+ * back and packed into r->targets, among r->assets (bring_up ships it). */
+static lm_status render_split(co_remote *r, co_worker **ws, uint32_t k)
 {
     size_t plane = (size_t)r->width * (size_t)r->height;
     for (uint32_t i = 0; i < k; i++) {
@@ -271,11 +271,6 @@ static lm_status render_split(co_remote *r, co_worker **ws, uint32_t n, uint32_t
         st = lm_asset_pack_targets((uint32_t)r->width, (uint32_t)r->height, r->count, y, &r->assets,
                                    &r->targets);
     free(y);
-    if (st == LM_OK)
-        st = co_remote_ship(r, ws, n);
-    for (uint32_t i = 0; i < n && st == LM_OK; i++)
-        if (ws[i]->lost)
-            st = lm_fail(LM_E_IO, "worker %u was lost taking the targets", ws[i]->id);
     return st;
 }
 
@@ -289,7 +284,7 @@ static lm_status split_targets(co_remote *r, co_worker **ws, uint32_t n)
         return LM_OK;
     double t0 = co_pool_now();
     uint32_t k = n < r->count ? n : r->count;
-    lm_status st = render_split(r, ws, n, k);
+    lm_status st = render_split(r, ws, k);
     for (uint32_t i = 0; i < n; i++) {
         co_pool_disarm(ws[i]);
         ws[i]->first = r->first;
@@ -432,6 +427,8 @@ static lm_status bring_up(co_remote *r)
         fresh[i]->job = fresh[i]->lost ? 0 : r->job;
     if (st == LM_OK && nm)
         st = split_targets(r, moved, nm);
+    if (st == LM_OK && nm && r->has_targets) /* a worker drops the targets once it used them */
+        st = co_remote_ship(r, moved, nm);
     if (st == LM_OK && nm)
         st = step_all(r, moved, nm, send_assign, LUMESH__MSG__BODY_ASSIGNED);
     for (uint32_t i = 0; i < nm && st == LM_OK; i++) {

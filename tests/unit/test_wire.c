@@ -3,7 +3,8 @@
  * the decoding budget, malformed frames and records are refused with one line, patches and cameras
  * come back bit for bit, and assets (mesh with a textured material) round-trip by content hash and
  * refuse truncation, bad counts, out-of-range indices and non-finite numbers; a targets asset
- * round-trips in place and refuses truncation, extra bytes, zero or oversized sizes and counts. */
+ * round-trips in place and refuses truncation, extra bytes, zero or oversized sizes and counts, and
+ * leaves a set when dropped. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -343,6 +344,15 @@ static void test_targets_asset(void **state)
     assert_int_equal(lm_asset_pack_targets(0, 4, 3, y, &s, &h), LM_E_RANGE);
     assert_int_equal(lm_asset_pack_targets(5, 4, LM_MAX_VIEWS + 1, y, &s, &h), LM_E_RANGE);
     free(copy);
+    lm_asset_hash h2; /* dropping one asset keeps the other */
+    assert_int_equal(lm_asset_pack_targets(5, 4, 2, y, &s, &h2), LM_OK);
+    assert_int_equal(s.n, 2);
+    lm_asset_set_drop(&s, &h);
+    assert_int_equal(s.n, 1);
+    assert_null(lm_asset_set_find(&s, &h));
+    assert_non_null(lm_asset_set_find(&s, &h2));
+    lm_asset_set_drop(&s, &h); /* not there: nothing */
+    assert_int_equal(s.n, 1);
     lm_asset_set_free(&s);
 }
 

@@ -131,7 +131,8 @@ lm_status wk_serve_job(wk_server *s, const lm_msg *m)
 }
 
 /* The views of deal with the targets of the asset named by b (Assign.targets), which must be of
- * the job's view set: its count and size. */
+ * the job's view set: its count and size. The asset leaves the cache once used (a coordinator
+ * that assigns it again offers it again). */
 static lm_status create_given(wk_server *s, lm_view_deal deal, const ProtobufCBinaryData *b)
 {
     const lm_asset *a = NULL;
@@ -146,6 +147,8 @@ static lm_status create_given(wk_server *s, lm_view_deal deal, const ProtobufCBi
                      t.n_views, t.width, t.height, s->views->count, v0->width, v0->height);
     if (st == LM_OK)
         st = wk_views_local_create_given(s->original, s->views, deal, s->o.device, t.luma, &s->v);
+    if (st == LM_OK) /* each bring-up has targets of its own: the cache must not keep them all */
+        lm_asset_set_drop(&s->cache, &a->hash);
     return st;
 }
 
