@@ -4,6 +4,7 @@
 
 #include "common/bytes.h"
 #include "common/grow.h"
+#include "common/view.h"
 
 #include <math.h>
 #include <sodium.h>
@@ -11,7 +12,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-static const char MAGIC_TEX[8] = "LMTEX1\0", MAGIC_MAT[8] = "LMMAT1\0", MAGIC_MESH[8] = "LMMSH1\0";
+static const char MAGIC_TEX[8] = "LMTEX1\0", MAGIC_MAT[8] = "LMMAT1\0", MAGIC_MESH[8] = "LMMSH1\0",
+                  MAGIC_TGT[8] = "LMTGT1\0";
 #define MAT_BYTES (64 + 16 + 1 + LM_ASSET_HASH_BYTES)
 
 void lm_asset_hash_of(const void *data, size_t n, lm_asset_hash *out)
@@ -47,6 +49,17 @@ const lm_asset *lm_asset_set_find(const lm_asset_set *s, const lm_asset_hash *h)
         if (!memcmp(s->items[i].hash.b, h->b, sizeof h->b))
             return &s->items[i];
     return NULL;
+}
+
+void lm_asset_set_drop(lm_asset_set *s, const lm_asset_hash *h)
+{
+    const lm_asset *a = lm_asset_set_find(s, h);
+    if (!a)
+        return;
+    uint32_t i = (uint32_t)(a - s->items);
+    free(s->items[i].data);
+    memmove(&s->items[i], &s->items[i + 1], (s->n - i - 1) * sizeof *s->items);
+    s->n--;
 }
 
 lm_status lm_asset_set_put(lm_asset_set *s, uint8_t *data, size_t size, lm_asset_hash *out)
@@ -510,7 +523,7 @@ lm_status lm_asset_refs(const uint8_t *data, size_t size, lm_asset_hash **refs, 
     *refs = NULL;
     *n = 0;
     rbuf r = {data, size, 0};
-    if (size >= 8 && !memcmp(data, MAGIC_TEX, 8))
+    if (size >= 8 && (!memcmp(data, MAGIC_TEX, 8) || !memcmp(data, MAGIC_TGT, 8)))
         return LM_OK;
     if (size >= 8 && !memcmp(data, MAGIC_MAT, 8)) {
         r.at = 8;
@@ -524,4 +537,41 @@ lm_status lm_asset_refs(const uint8_t *data, size_t size, lm_asset_hash **refs, 
         return st;
     r.at += (size_t)c.nv * 12 + (size_t)c.nw * 40 + (size_t)c.nt * 16;
     return table_refs(&r, refs, n);
+}
+
+/* ---- targets --------------------------------------------------------------------------------- */
+
+lm_status lm_asset_pack_targets(uint32_t width, uint32_t height, uint32_t n_views,
+                                const uint8_t *luma, lm_asset_set *s, lm_asset_hash *out)
+{
+    if (width < 1 || height < 1 || width > LM_MAX_VIEW_SIZE || height > LM_MAX_VIEW_SIZE ||
+        n_views < 1 || n_views > LM_MAX_VIEWS)
+        return lm_fail(LM_E_RANGE, "targets of %u views of %ux%u", n_views, width, height);
+    lm_bytes b = {0};
+    lm_bytes_put(&b, MAGIC_TGT, 8);
+    put_u32(&b, width);
+    put_u32(&b, height);
+    put_u32(&b, n_views);
+    lm_bytes_put(&b, luma, (size_t)n_views * width * height);
+    return finish(&b, s, out);
+}
+
+lm_status lm_asset_unpack_targets(const uint8_t *data, size_t size, lm_asset_targets *out)
+{
+    rbuf r = {data, size, 0};
+    lm_status st = check_magic(&r, MAGIC_TGT, "targets");
+    if (st != LM_OK)
+        return st;
+    if (!has(&r, 12))
+        return lm_fail(LM_E_FORMAT, "targets asset truncated");
+    uint32_t w = get_u32(&r), h = get_u32(&r), n = get_u32(&r);
+    if (w < 1 || h < 1 || w > LM_MAX_VIEW_SIZE || h > LM_MAX_VIEW_SIZE)
+        return lm_fail(LM_E_RANGE, "targets of %ux%u pixels", w, h);
+    if (n < 1 || n > LM_MAX_VIEWS)
+        return lm_fail(LM_E_RANGE, "targets of %u views", n);
+    if (r.n - r.at != (size_t)n * w * h)
+        return lm_fail(LM_E_FORMAT, "targets asset of %u views of %ux%u pixels holds %zu bytes", n,
+                       w, h, r.n - r.at);
+    *out = (lm_asset_targets){w, h, n, r.p + r.at};
+    return LM_OK;
 }

@@ -13,6 +13,9 @@
  *   mesh      "LMMSH1\0\0" u32 attrs, u32 n_verts, n_wedges, n_tris, then positions (3 f32),
  *             wedges (u32 vertex, f32 normal[3], uv[2], colour[4]), triangles (u32 w[3],
  *             u32 material), then a material table as above (without its magic)
+ *   targets   "LMTGT1\0\0" u32 width, u32 height, u32 n_views, then n_views images of width*height
+ *             8-bit luminance bytes (the target Ŷ of each view of a job's view set, in its order,
+ *             rows bottom first as worker/render/shared/image_store.h keeps them)
  * Decoding checks every count against the bytes present and the lumesh limits, every index, and
  * every number (finite), before anything is built: a malformed asset is LM_E_FORMAT/LM_E_RANGE
  * with a one-line message, never a crash. */
@@ -51,6 +54,8 @@ const char *lm_asset_hash_short(const lm_asset_hash *h, char *buf);
 void lm_asset_set_init(lm_asset_set *s);
 void lm_asset_set_free(lm_asset_set *s);
 const lm_asset *lm_asset_set_find(const lm_asset_set *s, const lm_asset_hash *h);
+/* Frees and removes the asset named h, if there (the others keep their order). */
+void lm_asset_set_drop(lm_asset_set *s, const lm_asset_hash *h);
 /* Takes ownership of data (freed here on failure, or when already present). */
 lm_status lm_asset_set_put(lm_asset_set *s, uint8_t *data, size_t size, lm_asset_hash *out);
 
@@ -68,5 +73,19 @@ lm_status lm_asset_unpack_mesh(const uint8_t *data, size_t size, const lm_asset_
                                lm_mesh **out);
 lm_status lm_asset_unpack_materials(const uint8_t *data, size_t size, const lm_asset_set *s,
                                     lm_mesh **out);
+
+/* A targets asset read in place: luma points into the asset's bytes (n_views * width * height of
+ * them, view after view), valid while they are. */
+typedef struct lm_asset_targets {
+    uint32_t width, height, n_views;
+    const uint8_t *luma;
+} lm_asset_targets;
+
+/* Pack the n_views targets of width x height (luma: view after view) into s; *out names them. */
+lm_status lm_asset_pack_targets(uint32_t width, uint32_t height, uint32_t n_views,
+                                const uint8_t *luma, lm_asset_set *s, lm_asset_hash *out);
+/* Read a targets asset: the magic, the size in 1..LM_MAX_VIEW_SIZE, the count in 1..LM_MAX_VIEWS
+ * and the byte count exactly, else LM_E_FORMAT/LM_E_RANGE with a one-line message. */
+lm_status lm_asset_unpack_targets(const uint8_t *data, size_t size, lm_asset_targets *out);
 
 #endif

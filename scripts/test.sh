@@ -92,6 +92,7 @@ fuzz fuzz_mesh_load "${LUMESH_FUZZ_RUNS:-40000}" tests/fuzz/corpus/mesh_load
 fuzz fuzz_image "${LUMESH_FUZZ_RUNS:-6000}" tests/fuzz/corpus/image
 fuzz fuzz_wire_msg "${LUMESH_FUZZ_RUNS:-3000000}" "$seeds/msg"
 fuzz fuzz_wire_asset "${LUMESH_FUZZ_RUNS:-2000000}" "$seeds/asset"
+fuzz fuzz_wire_targets "${LUMESH_FUZZ_RUNS:-200000}" tests/fuzz/corpus/wire_targets
 fuzz fuzz_stream "${LUMESH_FUZZ_RUNS:-300000}" "$seeds/stream"
 fuzz fuzz_stream_lane "${LUMESH_FUZZ_RUNS:-100000}" tests/fuzz/corpus/stream_lane
 fuzz fuzz_pm "${LUMESH_FUZZ_RUNS:-25000}" tests/fuzz/corpus/pm

@@ -43,10 +43,13 @@ typedef struct co_remote {
     uint32_t n_ranges;
     char renderer[128];
     uint64_t evaluations;
-    int whole;           /* every worker serves every view (co_views_desc.whole) */
-    uint64_t lane_group; /* the group of lanes running on the workers (views_remote_lanes.c) */
-    uint8_t *lane_base;  /* the last group's encoded start mesh: later starts go as deltas
-                            against it to the workers that took it (lane_delta.h) */
+    int whole;             /* every worker serves every view (co_views_desc.whole) */
+    lm_asset_hash targets; /* whole: the targets asset of the view set, once rendered split */
+    int has_targets;       /* ... made and held by every worker it was shipped to: Assign names
+                              it (views_remote_layout.c, split_targets) */
+    uint64_t lane_group;   /* the group of lanes running on the workers (views_remote_lanes.c) */
+    uint8_t *lane_base;    /* the last group's encoded start mesh: later starts go as deltas
+                              against it to the workers that took it (lane_delta.h) */
     size_t n_lane_base;
     uint8_t *lane_queue_base; /* the last group's encoded collapse queue: later queues go as
                                  deltas against it */

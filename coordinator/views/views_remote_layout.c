@@ -201,7 +201,106 @@ static lm_status send_assign(co_remote *r, co_worker *w, uint64_t req)
     a.first = w->first;
     a.count = w->count;
     a.stride = w->stride;
+    if (r->has_targets && w->first == r->first && w->count == r->count && w->stride <= 1)
+        a.targets = (ProtobufCBinaryData){LM_ASSET_HASH_BYTES, r->targets.b};
     return co_pool_send(r->pool, w, req, r->seq, LUMESH__MSG__BODY_ASSIGN, &a);
+}
+
+/* ---- the targets rendered split (whole views, several workers to bring up) ------------------- */
+
+/* Target j of w's share (w->first + j * w->stride) asked of w: state 0, that of its Assign. */
+static lm_status ask_target(co_remote *r, co_worker *w, uint32_t j)
+{
+    Lumesh__ReadImage q = LUMESH__READ_IMAGE__INIT;
+    q.kind = LM_IMAGE_TARGET_LUMA;
+    q.view = w->first + j * w->stride;
+    return co_pool_send(r->pool, w, co_pool_arm(r->pool, w), 0, LUMESH__MSG__BODY_READ_IMAGE, &q);
+}
+
+/* Every worker of ws (k) asked for its shares' targets, round after round, into y (the whole
+ * view set's, view after view). A worker lost: LM_E_IO. */
+static lm_status read_targets(co_remote *r, co_worker **ws, uint32_t k, uint8_t *y, size_t plane)
+{
+    lm_status st = LM_OK;
+    for (uint32_t j = 0; j < ws[0]->count && st == LM_OK; j++) { /* ws[0] has the most */
+        for (uint32_t i = 0; i < k && st == LM_OK; i++)
+            if (j < ws[i]->count)
+                st = ask_target(r, ws[i], j);
+        if (st == LM_OK)
+            st = co_remote_await(r, ws, k);
+        for (uint32_t i = 0; i < k && st == LM_OK; i++) {
+            co_worker *w = ws[i];
+            int stale = 0;
+            if (w->lost)
+                return lm_fail(LM_E_IO, "worker %u was lost rendering targets", w->id);
+            if (j >= w->count)
+                continue;
+            st = co_remote_check_reply(r, w, LUMESH__MSG__BODY_IMAGE, &stale);
+            const Lumesh__Image *im = w->reply.msg->image;
+            if (st == LM_OK && (stale || im->pixels.len != plane))
+                st = lm_fail(LM_E_INVALID, "worker %u sent no target image of view %u", w->id,
+                             w->first + j * w->stride);
+            if (st == LM_OK)
+                memcpy(y + (size_t)(w->first + j * w->stride) * plane, im->pixels.data, plane);
+            co_pool_disarm(w);
+        }
+    }
+    return st;
+}
+
+/* The split's steps (a)-(b): ws[i] (i < k) renders views i, i + k, ...; their targets are read
+ * back and packed into r->targets, among r->assets (bring_up ships it). */
+static lm_status render_split(co_remote *r, co_worker **ws, uint32_t k)
+{
+    size_t plane = (size_t)r->width * (size_t)r->height;
+    for (uint32_t i = 0; i < k; i++) {
+        ws[i]->first = i;
+        ws[i]->count = r->count / k + (i < r->count % k);
+        ws[i]->stride = k;
+    }
+    lm_status st = step_all(r, ws, k, send_assign, LUMESH__MSG__BODY_ASSIGNED);
+    for (uint32_t i = 0; i < k && st == LM_OK; i++)
+        if (ws[i]->lost)
+            st = lm_fail(LM_E_IO, "worker %u was lost rendering targets", ws[i]->id);
+    uint8_t *y = st == LM_OK ? malloc(r->count * plane) : NULL;
+    if (st == LM_OK && !y)
+        st = lm_fail(LM_E_NOMEM, "out of memory for %u target images", r->count);
+    if (st == LM_OK)
+        st = read_targets(r, ws, k, y, plane);
+    if (st == LM_OK)
+        st = lm_asset_pack_targets((uint32_t)r->width, (uint32_t)r->height, r->count, y, &r->assets,
+                                   &r->targets);
+    free(y);
+    return st;
+}
+
+/* Whole views brought up on n >= 2 workers (ws): their targets rendered once, split over them,
+ * so that the Assign that follows names them (r->has_targets) and no worker renders all. Any
+ * loss or failure: a warning, and every worker renders its targets itself, as before (the deals
+ * of ws are restored either way). Interruption is not hidden. */
+static lm_status split_targets(co_remote *r, co_worker **ws, uint32_t n)
+{
+    if (!r->whole || r->has_targets || n < 2 || r->first != 0 || r->count != r->views->count)
+        return LM_OK;
+    double t0 = co_pool_now();
+    uint32_t k = n < r->count ? n : r->count;
+    lm_status st = render_split(r, ws, k);
+    for (uint32_t i = 0; i < n; i++) {
+        co_pool_disarm(ws[i]);
+        ws[i]->first = r->first;
+        ws[i]->count = r->count;
+        ws[i]->stride = 1;
+    }
+    if (st == LM_OK) {
+        r->has_targets = 1;
+        lm_info("targets: %u views rendered split over %u workers (at most %u each) in %.2f s",
+                r->count, k, (r->count + k - 1) / k, co_pool_now() - t0);
+        return LM_OK;
+    }
+    if (co_pool_interrupted())
+        return st;
+    lm_warn("rendering the targets split failed (%s): every worker renders them", lm_last_error());
+    return LM_OK;
 }
 
 void co_remote_surface_msg(const co_remote *r, Lumesh__SetSurface *out)
@@ -326,6 +425,10 @@ static lm_status bring_up(co_remote *r)
         st = step_all(r, fresh, nf, send_job, LUMESH__MSG__BODY_READY);
     for (uint32_t i = 0; i < nf && st == LM_OK; i++)
         fresh[i]->job = fresh[i]->lost ? 0 : r->job;
+    if (st == LM_OK && nm)
+        st = split_targets(r, moved, nm);
+    if (st == LM_OK && nm && r->has_targets) /* a worker drops the targets once it used them */
+        st = co_remote_ship(r, moved, nm);
     if (st == LM_OK && nm)
         st = step_all(r, moved, nm, send_assign, LUMESH__MSG__BODY_ASSIGNED);
     for (uint32_t i = 0; i < nm && st == LM_OK; i++) {

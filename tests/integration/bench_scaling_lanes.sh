@@ -49,7 +49,7 @@ for r in j["lanes"]:
               "coordinator_cpu_per_eval_us", "dropped_replay_share",
               "dropped_revalidation_share", "revalidated_kept_share", "wasted_evals_share",
               "request_bytes", "result_bytes_mean", "commit_bytes_per_group", "energy_rel",
-              "regrids", "regrid_cpu_s"):
+              "regrids", "regrid_cpu_s", "regrid_target_cpu_s", "target_bytes"):
         assert k in r, (k, r)
     c = r["coordinator_measured"]
     for k in ("workers", "groups", "evals", "plan_ms_per_group", "dispatch_ms_per_group",
@@ -59,6 +59,9 @@ for r in j["lanes"]:
     assert c["workers"] == 1 and c["evals"] >= 1 and c["cpu_per_eval_us"] > 0, c
     assert c["groups"] == r["groups"] and c["evals"] == r["evals"], (c, r)  # the job's groups
     assert r["regrids"] == 0 or r["regrid_cpu_s"] > 0, r
+    # the targets' renders are part of a regrid; one targets asset: 8 views of 96x96 and a header
+    assert r["regrids"] == 0 or 0 < r["regrid_target_cpu_s"] <= r["regrid_cpu_s"] + 1e-4, r
+    assert r["regrids"] == 0 or r["target_bytes"] == 20 + 8 * 96 * 96, r
     assert r["lanes"] >= 1 and r["evals"] >= 1 and r["evals_per_lane_max"] >= 1, r
     assert [p["workers"] for p in r["predicted"]] == want_w, r["predicted"]
     for p in r["predicted"]:

@@ -8,7 +8,8 @@
 # that joins mid-run, and a long-lived worker serving two jobs in a row. Isolated lanes (--lanes
 # isolated) give the same bytes in process and on 3 workers, and a resume refuses the other mode;
 # lanes run whole on 1, 2, 3 workers (--lanes remote) give those bytes too, also resumed from a
-# checkpoint of isolated lanes in process. One renderer per job:
+# checkpoint of isolated lanes in process, and with regrids on 2 workers whose targets are rendered
+# split over them (each renders half the views). One renderer per job:
 # llvmpipe at 128 bits is the same renderer and is accepted; softpipe draws other pixels and is
 # refused with the reason. --device cpu (lumesh's CPU rasteriser) gives the same bytes in process,
 # in local workers and in a worker started by hand, and a job pinned to its renderer id refuses an
@@ -108,6 +109,25 @@ for w in $rcounts; do
     --lanes remote --workers "$w" 2>"$tmp/err" || fail "remote lanes, $w workers: $(tail -1 "$tmp/err")"
   same "remote lanes, $w workers" "$tmp/iso-w0.glb" "$tmp/rem-w$w.glb"
 done
+# remote lanes on 2 workers render the targets once, split (6 of the 12 views each, read back and
+# shipped to both as one targets asset), at the start and at each regrid (the release stage runs
+# long enough for regrids: the loop regrids between groups of lanes): the bytes of isolated lanes
+# in process all the same
+sevals=4000
+[ "$light" = 1 ] && sevals=1500
+"$LUMESH" optimize "$bunny" -o "$tmp/split-iso.glb" "${job[@]}" --evals "$sevals" --edges-in-flight 4 \
+  --regrid-every 400 --lanes isolated --workers 0 2>"$tmp/err" || fail "isolated lanes, regrids: $(tail -1 "$tmp/err")"
+LUMESH_LOG=info "$LUMESH" optimize "$bunny" -o "$tmp/split-rem.glb" "${job[@]}" --evals "$sevals" \
+  --edges-in-flight 4 --regrid-every 400 --lanes remote --workers 2 --json >"$tmp/split.jsonl" \
+  2>"$tmp/split.err" || fail "remote lanes, regrids, 2 workers: $(tail -1 "$tmp/split.err")"
+same "remote lanes, targets rendered split" "$tmp/split-iso.glb" "$tmp/split-rem.glb"
+splits=$(grep -c 'targets: 12 views rendered split over 2 workers (at most 6 each)' "$tmp/split.err")
+regrids=$(grep -c '"event":"regrid"' "$tmp/split.jsonl")
+checks=$((checks + 1))
+[ "$splits" = $((regrids + 1)) ] && { [ "$light" = 1 ] || [ "$regrids" -ge 1 ]; } ||
+  fail "targets rendered split $splits times for $regrids regrids: $(grep targets "$tmp/split.err" | head -3)"
+checks=$((checks + 1))
+grep -q 'split failed' "$tmp/split.err" && fail "the split render fell back: $(grep 'split failed' "$tmp/split.err")"
 # a checkpoint of isolated lanes in process resumed with remote lanes: the bytes of the whole
 # run in process (the mode is where lanes run, not what they decide)
 if [ "$light" != 1 ]; then

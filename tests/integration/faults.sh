@@ -9,8 +9,9 @@
 # the worker, LUMESH_WORKER_FAULT) are retried 3 times then refused, deterministically; workers
 # that fail 3 times are blocklisted. With --lanes remote: a worker SIGKILLed with a lane in flight,
 # a worker that dies after taking a group's start as a delta (its replacement gets it whole),
-# one whose lane results do not decode (fenced at once), and one that computes wrong ΔE (caught
-# by the audits, fenced) leave the bytes of isolated lanes; with 2 workers that disagree the run
+# one whose lane results do not decode (fenced at once), one that computes wrong ΔE (caught
+# by the audits, fenced), and workers failing the targets' split render (all render them) leave
+# the bytes of isolated lanes; with 2 workers that disagree the run
 # stops with one line and writes nothing.
 # Workers silent for longer than the liveness limit while they load the job and render its
 # targets (the first grid and each regrid's) are not lost, and the bytes are in-process ones.
@@ -247,6 +248,19 @@ grep -q "worker 1 .*blocklisted for the job" "$tmp/lie.err" || fail "the lying w
 checks=$((checks + 1))
 cmp -s "$tmp/ref-iso.glb" "$tmp/lie.glb" ||
   fail "remote lanes, a lying worker: the output differs from isolated lanes in process"
+
+# -- the targets rendered split (--lanes remote, 2 workers) fail: the workers answer every read
+# of a target with a Failure (LUMESH_WORKER_FAULT=fail-targets); the coordinator says so and
+# every worker renders all targets, as with one; the bytes are isolated lanes' --
+LUMESH_WORKER_FAULT="fail-targets" "$LUMESH" optimize "$bunny" -o "$tmp/nosplit.glb" "${job[@]}" \
+  --edges-in-flight 4 --lanes remote --workers 2 2>"$tmp/nosplit.err" ||
+  fail "the run whose split targets fail failed: $(tail -2 "$tmp/nosplit.err")"
+checks=$((checks + 1))
+grep -q "rendering the targets split failed (.*injected failure.*): every worker renders them" \
+  "$tmp/nosplit.err" || fail "the split targets' failure was not reported: $(tail -2 "$tmp/nosplit.err")"
+checks=$((checks + 1))
+cmp -s "$tmp/ref-iso.glb" "$tmp/nosplit.glb" ||
+  fail "remote lanes, split targets failing: the output differs from isolated lanes in process"
 
 # -- a worker that computes wrong (--lanes remote, audits at their default): worker 1's ΔE are
 # corrupted from its first lane (LUMESH_WORKER_FAULT=lie-lanes=1@1), its messages well formed. On

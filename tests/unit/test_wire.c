@@ -2,7 +2,9 @@
  * unpacks into far more memory than it is long (empty sub-messages by the million) is refused by
  * the decoding budget, malformed frames and records are refused with one line, patches and cameras
  * come back bit for bit, and assets (mesh with a textured material) round-trip by content hash and
- * refuse truncation, bad counts, out-of-range indices and non-finite numbers. */
+ * refuse truncation, bad counts, out-of-range indices and non-finite numbers; a targets asset
+ * round-trips in place and refuses truncation, extra bytes, zero or oversized sizes and counts, and
+ * leaves a set when dropped. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -287,12 +289,80 @@ static void test_asset_refused(void **state)
     lm_mesh_destroy(m);
 }
 
+static void put_le32(uint8_t *p, uint32_t v)
+{
+    for (int i = 0; i < 4; i++)
+        p[i] = (uint8_t)(v >> (8 * i));
+}
+
+static void test_targets_asset(void **state)
+{
+    (void)state;
+    uint8_t y[3 * 5 * 4];
+    for (size_t i = 0; i < sizeof y; i++)
+        y[i] = (uint8_t)(i * 7);
+    lm_asset_set s;
+    lm_asset_set_init(&s);
+    lm_asset_hash h;
+    assert_int_equal(lm_asset_pack_targets(5, 4, 3, y, &s, &h), LM_OK);
+    const lm_asset *a = lm_asset_set_find(&s, &h);
+    assert_non_null(a);
+    assert_int_equal(a->size, 20 + sizeof y);
+    lm_asset_targets t;
+    assert_int_equal(lm_asset_unpack_targets(a->data, a->size, &t), LM_OK);
+    assert_int_equal(t.width, 5);
+    assert_int_equal(t.height, 4);
+    assert_int_equal(t.n_views, 3);
+    assert_memory_equal(t.luma, y, sizeof y);
+    lm_asset_hash *refs = NULL;
+    uint32_t n = 1;
+    assert_int_equal(lm_asset_refs(a->data, a->size, &refs, &n), LM_OK);
+    assert_int_equal(n, 0);
+    free(refs);
+    for (size_t cut = 0; cut < a->size; cut++) /* truncated */
+        assert_int_not_equal(lm_asset_unpack_targets(a->data, cut, &t), LM_OK);
+    uint8_t *copy = malloc(a->size + 1);
+    memcpy(copy, a->data, a->size);
+    copy[a->size] = 0;
+    assert_int_equal(lm_asset_unpack_targets(copy, a->size + 1, &t), LM_E_FORMAT);
+    const struct {
+        size_t at;
+        uint32_t v;
+        lm_status want;
+    } bad[] = {{8, 0, LM_E_RANGE},          {12, 0, LM_E_RANGE},   {16, 0, LM_E_RANGE},
+               {8, 4097, LM_E_RANGE},       {16, 257, LM_E_RANGE}, {16, 4, LM_E_FORMAT},
+               {8, 0xffffffffu, LM_E_RANGE}};
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+        memcpy(copy, a->data, a->size);
+        put_le32(copy + bad[i].at, bad[i].v);
+        assert_int_equal(lm_asset_unpack_targets(copy, a->size, &t), bad[i].want);
+        assert_null(strchr(lm_last_error(), '\n'));
+    }
+    memcpy(copy, a->data, a->size);
+    copy[0] = 'X';
+    assert_int_equal(lm_asset_unpack_targets(copy, a->size, &t), LM_E_FORMAT);
+    assert_int_equal(lm_asset_pack_targets(0, 4, 3, y, &s, &h), LM_E_RANGE);
+    assert_int_equal(lm_asset_pack_targets(5, 4, LM_MAX_VIEWS + 1, y, &s, &h), LM_E_RANGE);
+    free(copy);
+    lm_asset_hash h2; /* dropping one asset keeps the other */
+    assert_int_equal(lm_asset_pack_targets(5, 4, 2, y, &s, &h2), LM_OK);
+    assert_int_equal(s.n, 2);
+    lm_asset_set_drop(&s, &h);
+    assert_int_equal(s.n, 1);
+    assert_null(lm_asset_set_find(&s, &h));
+    assert_non_null(lm_asset_set_find(&s, &h2));
+    lm_asset_set_drop(&s, &h); /* not there: nothing */
+    assert_int_equal(s.n, 1);
+    lm_asset_set_free(&s);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_roundtrip_patch), cmocka_unit_test(test_bad_records),
         cmocka_unit_test(test_decode_budget),   cmocka_unit_test(test_asset_roundtrip),
         cmocka_unit_test(test_asset_refused),   cmocka_unit_test(test_patch_against_current),
+        cmocka_unit_test(test_targets_asset),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

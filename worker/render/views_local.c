@@ -48,32 +48,45 @@ static lm_view_set *deal_views(const lm_view_set *views, lm_view_deal deal)
 }
 
 /* The CPU backend of the views of `deal` (it has no atlas: a view's pixels never depend on which
- * others a backend holds). */
+ * others a backend holds); targets: NULL or those of the deal's views, in its order. */
 static lm_status create_cpu(const lm_mesh *original, const lm_view_set *views, lm_view_deal deal,
-                            lm_views **out)
+                            const uint8_t *targets, lm_views **out)
 {
     if (deal.stride <= 1)
-        return wk_cpu_views_create(original, views, deal.first, deal.count, out);
+        return wk_cpu_views_create(original, views, deal.first, deal.count, targets, out);
     lm_view_set *mine = deal_views(views, deal);
     if (!mine)
         return lm_fail(LM_E_NOMEM, "out of memory creating the views");
-    lm_status st = wk_cpu_views_create(original, mine, 0, deal.count, out);
+    lm_status st = wk_cpu_views_create(original, mine, 0, deal.count, targets, out);
     free(mine);
     return st;
 }
 
 /* The GL backend of the views of `deal` on ctx (its atlas places them among all of the job's). */
 static lm_status create_gl(const lm_mesh *original, const lm_view_set *views, lm_view_deal deal,
-                           wk_gl_context *ctx, lm_views **out)
+                           wk_gl_context *ctx, const uint8_t *targets, lm_views **out)
 {
     lm_view_set *mine = deal_views(views, deal);
     if (!mine) {
         wk_gl_context_destroy(ctx);
         return lm_fail(LM_E_NOMEM, "out of memory creating the views");
     }
-    lm_status st = wk_gl_views_create(original, mine, deal, views->count, ctx, out);
+    lm_status st = wk_gl_views_create(original, mine, deal, views->count, ctx, targets, out);
     free(mine);
     return st;
+}
+
+/* Either backend on device_spec; targets as create_cpu's. */
+static lm_status create_on(const lm_mesh *original, const lm_view_set *views, lm_view_deal deal,
+                           const char *device_spec, const uint8_t *targets, lm_views **out)
+{
+    wk_gl_context *ctx = NULL;
+    lm_status st = wk_device_open(device_spec, &ctx);
+    if (st != LM_OK)
+        return st;
+    if (!ctx) /* "cpu", or "auto" without a GPU */
+        return create_cpu(original, views, deal, targets, out);
+    return create_gl(original, views, deal, ctx, targets, out);
 }
 
 lm_status wk_views_local_create(const lm_mesh *original, const lm_view_set *views, uint32_t first,
@@ -91,14 +104,30 @@ lm_status wk_views_local_create_dealt(const lm_mesh *original, const lm_view_set
     lm_status st = check_views(views, deal);
     if (st == LM_OK)
         st = check_materials(original);
-    wk_gl_context *ctx = NULL;
+    return st == LM_OK ? create_on(original, views, deal, device_spec, NULL, out) : st;
+}
+
+lm_status wk_views_local_create_given(const lm_mesh *original, const lm_view_set *views,
+                                      lm_view_deal deal, const char *device_spec,
+                                      const uint8_t *targets, lm_views **out)
+{
+    lm_status st = check_views(views, deal);
     if (st == LM_OK)
-        st = wk_device_open(device_spec, &ctx);
+        st = check_materials(original);
     if (st != LM_OK)
         return st;
-    if (!ctx) /* "cpu", or "auto" without a GPU */
-        return create_cpu(original, views, deal, out);
-    return create_gl(original, views, deal, ctx, out);
+    size_t plane = (size_t)views->views[0].width * (size_t)views->views[0].height;
+    uint32_t stride = deal.stride ? deal.stride : 1;
+    if (stride == 1) /* the deal's targets lie together already */
+        return create_on(original, views, deal, device_spec, targets + deal.first * plane, out);
+    uint8_t *mine = malloc(deal.count * plane + 1);
+    if (!mine)
+        return lm_fail(LM_E_NOMEM, "out of memory for %u target images", deal.count);
+    for (uint32_t i = 0; i < deal.count; i++)
+        memcpy(mine + i * plane, targets + (size_t)lm_view_deal_view(deal, i) * plane, plane);
+    st = create_on(original, views, deal, device_spec, mine, out);
+    free(mine);
+    return st;
 }
 
 int wk_views_is_local(const lm_views *views)

@@ -26,6 +26,15 @@ lm_status wk_views_local_create(const lm_mesh *original, const lm_view_set *view
 lm_status wk_views_local_create_dealt(const lm_mesh *original, const lm_view_set *views,
                                       lm_view_deal deal, const char *device_spec, lm_views **out);
 
+/* The same without rendering the targets: `targets` holds the luminance of every view of `views`
+ * (views->count images of the views' size, view after view, rows bottom first: what a backend
+ * holding them renders, e.g. a proto/asset.h targets asset), and the views of `deal` take theirs
+ * from it (copied; the caller keeps the buffer). The views are then exactly those the calls above
+ * make, for the same targets. */
+lm_status wk_views_local_create_given(const lm_mesh *original, const lm_view_set *views,
+                                      lm_view_deal deal, const char *device_spec,
+                                      const uint8_t *targets, lm_views **out);
+
 /* 1 if views was made by wk_views_local_create, on any device (the two calls below need such an
  * object). */
 int wk_views_is_local(const lm_views *views);

@@ -1,9 +1,9 @@
 /* worker/serve/serve_job.c — the worker's job: the original and the view set (Job), the views it is
- * assigned (Assign: targets rendered), the replica's changes of state in sequence (SetMaterials,
- * SetSurface, SetMesh, Commit) and the requests priced against it (Evaluate, Energy, Potentials,
- * ReadImage); with SetSurface, its share of the geometric term added to every Evaluate.
- * Everything decoded is checked (proto/wire_records.h; the views backend checks patches against
- * the replica) and a failure is answered, never fatal. */
+ * assigned (Assign: targets rendered, or taken from a targets asset), the replica's changes of
+ * state in sequence (SetMaterials, SetSurface, SetMesh, Commit) and the requests priced against it
+ * (Evaluate, Energy, Potentials, ReadImage); with SetSurface, its share of the geometric term added
+ * to every Evaluate. Everything decoded is checked (proto/wire_records.h; the views backend checks
+ * patches against the replica) and a failure is answered, never fatal. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -130,6 +130,28 @@ lm_status wk_serve_job(wk_server *s, const lm_msg *m)
     return wk_serve_send(s, m->req, LUMESH__MSG__BODY_READY, &r);
 }
 
+/* The views of deal with the targets of the asset named by b (Assign.targets), which must be of
+ * the job's view set: its count and size. The asset leaves the cache once used (a coordinator
+ * that assigns it again offers it again). */
+static lm_status create_given(wk_server *s, lm_view_deal deal, const ProtobufCBinaryData *b)
+{
+    const lm_asset *a = NULL;
+    lm_asset_targets t;
+    lm_status st = cached(s, b, &a);
+    if (st == LM_OK)
+        st = lm_asset_unpack_targets(a->data, a->size, &t);
+    const lm_view *v0 = &s->views->views[0];
+    if (st == LM_OK &&
+        (t.n_views != s->views->count || (int)t.width != v0->width || (int)t.height != v0->height))
+        st = lm_fail(LM_E_INVALID, "targets of %u views of %ux%u given for %u views of %dx%d",
+                     t.n_views, t.width, t.height, s->views->count, v0->width, v0->height);
+    if (st == LM_OK)
+        st = wk_views_local_create_given(s->original, s->views, deal, s->o.device, t.luma, &s->v);
+    if (st == LM_OK) /* each bring-up has targets of its own: the cache must not keep them all */
+        lm_asset_set_drop(&s->cache, &a->hash);
+    return st;
+}
+
 lm_status wk_serve_assign(wk_server *s, const lm_msg *m)
 {
     const Lumesh__Assign *a = m->assign;
@@ -143,7 +165,9 @@ lm_status wk_serve_assign(wk_server *s, const lm_msg *m)
     if (st == LM_OK && !lm_view_deal_fits(deal, s->views->count))
         st = lm_fail(LM_E_RANGE, "%u views from view %u, %u apart, assigned of %u", a->count,
                      a->first, deal.stride, s->views->count);
-    if (st == LM_OK)
+    if (st == LM_OK && a->targets.len)
+        st = create_given(s, deal, &a->targets);
+    else if (st == LM_OK)
         st = wk_views_local_create_dealt(s->original, s->views, deal, s->o.device, &s->v);
     if (st != LM_OK)
         return wk_serve_fail(s, m->req, st, lm_last_error());
@@ -386,9 +410,14 @@ static lm_status potentials(wk_server *s, const lm_msg *m)
     return st;
 }
 
+/* Fault injection for tests (LUMESH_WORKER_FAULT, read only by builds with LUMESH_TEST_HOOKS):
+ * "fail-targets" answers a Failure to every read of a target image (the coordinator's split render
+ * of the targets must fall back to every worker rendering them). */
 static lm_status read_image(wk_server *s, const lm_msg *m)
 {
     const Lumesh__ReadImage *q = m->read_image;
+    if (s->fault && !strcmp(s->fault, "fail-targets") && q->kind == LM_IMAGE_TARGET_LUMA)
+        return wk_serve_fail(s, m->req, LM_E_INTERNAL, "injected failure (LUMESH_WORKER_FAULT)");
     lm_views_info info;
     s->v->ops->info(s->v, &info);
     lm_status st = LM_OK;

@@ -17,9 +17,15 @@
  *            + RTT/2 + sum_i b_i / bandwidth                                results back
  *            + C_j                                                          the merge
  *            + r_j * RTT + R_j                                              re-validations
- * and for the whole run, once per regrid of the job (every js->regrid_every evaluations), G: the
- * process CPU of one regrid in process (every view's targets rendered again, the energies), what
- * every worker spends, all at once, since each holds all views: T(W) = sum_j T_j(W) + n_G G.
+ * and for the whole run, once per regrid of the job (every js->regrid_every evaluations), G = Y +
+ * E: the process CPU of one regrid in process, Y its targets' renders (the new views made), E the
+ * rest (the energies), which every worker spends at once, since each holds all views. On W >= 2
+ * workers the targets are rendered split (views_remote_layout.c): each worker renders
+ * ceil(V / k) of them, k = min(W, V), the coordinator reads them back (a round trip each round)
+ * and ships one targets asset of Y_b bytes to every worker (in turn on its link), then the views
+ * are assigned with it (about 4 more round trips):
+ *     G(W) = Y ceil(V / k) / V + E + (ceil(V / k) + 4) RTT + (1 + W) Y_b / bandwidth,  G(1) = G
+ * and T(W) = sum_j T_j(W) + n_G G(W).
  * P_j, D_j and C_j are the coordinator's CPU measured on the remote run of the same job
  * (sc_run_lanes_remote: the same groups; where they differ, its CPU per evaluation in its own
  * proportions): from the last merge to the group (the plan, the potentials' requests), while the
@@ -93,6 +99,19 @@ static group_rec coord_group(const lanes_run *r, const lanes_run *c, size_t j)
     return x;
 }
 
+/* The run's regrids on w workers over V views: G(w) summed over them (the formula at the top). */
+static double regrid_at(const opts *o, const lanes_run *r, uint32_t views, uint32_t w)
+{
+    if (w < 2 || !r->regrids || !views)
+        return r->regrid_cpu_s;
+    double rtt = o->rtt_us * 1e-6, bw = o->gbps * 1e9 / 8.0;
+    uint32_t k = w < views ? w : views, per = (views + k - 1) / k;
+    double split = r->regrid_target_cpu_s * per / views;
+    double rest = r->regrid_cpu_s - r->regrid_target_cpu_s;
+    double wire = r->regrids * ((per + 4) * rtt + (1.0 + w) * r->target_bytes / bw);
+    return split + (rest > 0 ? rest : 0) + wire;
+}
+
 lanes_model sc_lanes_at(const opts *o, const lanes_run *r, uint32_t views, uint32_t w)
 {
     double rtt = o->rtt_us * 1e-6, bw = o->gbps * 1e9 / 8.0, ranges = w < views ? w : views;
@@ -127,10 +146,11 @@ lanes_model sc_lanes_at(const opts *o, const lanes_run *r, uint32_t views, uint3
         x.evals += g->revals;
         prev = g;
     }
-    /* the regrids: every worker renders every view's targets again (in parallel, so no faster
-       with more workers), and the energies on them */
-    x.regrid = r->regrid_cpu_s;
-    x.t1 += x.regrid, x.tw += x.regrid;
+    /* the regrids: the targets rendered split, read back and shipped (formula above); the
+       energies on them on every worker at once */
+    x.t1 += r->regrid_cpu_s;
+    x.regrid = regrid_at(o, r, views, w);
+    x.tw += x.regrid;
     x.evals += (double)r->evals;
     return x;
 }
@@ -239,9 +259,11 @@ static void print_coordinator_human(const lanes_run *r, uint32_t views)
     (void)views;
     if (r->regrids)
         printf(
-            "    the job's regrids: %u, each %.3f s of CPU in process (what every worker spends: "
-            "all views' targets rendered again, the energies)\n",
-            r->regrids, r->regrid_cpu_s / r->regrids);
+            "    the job's regrids: %u, each %.3f s of CPU in process, %.3f s of it the targets' "
+            "renders (split over the workers), the rest the energies (every worker); one targets "
+            "asset %.0f bytes\n",
+            r->regrids, r->regrid_cpu_s / r->regrids, r->regrid_target_cpu_s / r->regrids,
+            r->target_bytes);
     const lanes_run *c = r->coord;
     if (!c)
         return;
@@ -405,14 +427,16 @@ void sc_print_lanes_json(const opts *o, const co_job_setup *js, const lanes_run 
                "\"dropped_replay_share\": %.4f, \"dropped_revalidation_share\": %.4f, "
                "\"wasted_evals_share\": %.4f, \"request_bytes\": %.0f, \"result_bytes_mean\": "
                "%.1f, \"commit_bytes_per_group\": %.1f, \"energy_rel\": %.5f, \"wall_s\": %.3f, "
-               "\"regrids\": %u, \"regrid_cpu_s\": %.4f, ",
+               "\"regrids\": %u, \"regrid_cpu_s\": %.4f, \"regrid_target_cpu_s\": %.4f, "
+               "\"target_bytes\": %.0f, ",
                i ? ", " : "", r->k, r->n_g, r->n_l, (unsigned long long)r->evals, s.group_mean,
                s.evals_mean, s.evals_p50, s.evals_p90, s.evals_p99, s.evals_max, 1e6 * r->eval_s,
                1e6 * r->eval_wall_s, r->per_patch_view_us, s.plan_us, s.merge_us, s.snap_us,
                coord_us(&one), s.with_ops / nl, s.kept_exact / nl, s.kept_reval / nl,
                s.dropped_replay / nl, s.dropped_reval / nl, s.wasted, SC_LANE_REQUEST_BYTES,
                s.result_bytes, s.commit_bytes, r->energy_rel, r->wall_s, r->regrids,
-               r->regrids ? r->regrid_cpu_s / r->regrids : 0);
+               r->regrids ? r->regrid_cpu_s / r->regrids : 0,
+               r->regrids ? r->regrid_target_cpu_s / r->regrids : 0, r->target_bytes);
         print_coordinator_json(r);
         printf("\"predicted\": [");
         for (size_t k = 0; k < N_W; k++) {

@@ -149,8 +149,12 @@ static lm_status regrid(probe_ctx *p, lm_optimizer *opt, uint32_t draw)
                        .n_materials = mesh->n_materials,
                        .device = p->o->device};
     lm_views *in = NULL, *old = m->in;
+    double c1 = sc_cpu();
     if (st == LM_OK)
         st = co_views_create(&d, &in);
+    p->r->regrid_target_cpu_s += sc_cpu() - c1;
+    if (st == LM_OK)
+        p->r->target_bytes = 20.0 + (double)vs.count * vs.views[0].width * vs.views[0].height;
     if (st == LM_OK) {
         m->in = in;
         st = lm_optimizer_replace_views(opt, &m->base, 1);

@@ -271,6 +271,9 @@ typedef struct lanes_run {
        time */
     uint32_t regrids;
     double regrid_cpu_s, regrid_wall_s;
+    /* of regrid_cpu_s, the targets' renders (the new views made); one targets asset's bytes (the
+       view set's luminance: what a split bring-up ships to every worker, proto/asset.h) */
+    double regrid_target_cpu_s, target_bytes;
     /* in process: the remote run of the same K (sc_run_lanes_remote), whose coordinator's CPU the
        model takes (NULL: the in-process planning and merge only) */
     const struct lanes_run *coord;
@@ -303,7 +306,9 @@ typedef struct lanes_model {
      * lanes' work spread perfectly (their sum / w) */
     double plan, hand_out, update, lanes, results, merge, revalidate, balanced;
     double dispatch; /* the coordinator's CPU dispatching the lanes (remote run measured; else 0) */
-    double regrid;   /* the job's regrids: every worker renders every view's targets again */
+    double regrid;   /* the job's regrids: the targets rendered split over the workers (each
+                        ceil(V / min(W, V)) views), read back, shipped to every worker; the rest of
+                        each regrid (the energies) on every worker at once */
     double coord_measured; /* 1: the coordinator's terms from a remote run */
 } lanes_model;
 

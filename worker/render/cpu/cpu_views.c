@@ -197,7 +197,7 @@ static lm_status create_parts(wk_cpu_views *v, const lm_mesh *original)
 }
 
 lm_status wk_cpu_views_create(const lm_mesh *original, const lm_view_set *views, uint32_t first,
-                              uint32_t count, lm_views **out)
+                              uint32_t count, const uint8_t *targets, lm_views **out)
 {
     if (!count && first < views->count)
         count = views->count - first;
@@ -218,7 +218,9 @@ lm_status wk_cpu_views_create(const lm_mesh *original, const lm_view_set *views,
     v->core.occlusion = 1;
     wk_cpu_subcache_init(&v->subcache, count);
     st = create_parts(v, original);
-    if (st == LM_OK) {
+    for (uint32_t h = 0; st == LM_OK && targets && h < count; h++)
+        wk_image_store_set_target(v->core.img, h, targets + h * v->plane);
+    if (st == LM_OK && !targets) {
         wk_cpu_source src = {.mesh = original};
         st = render_all(v, &src, 0, 1);
     }

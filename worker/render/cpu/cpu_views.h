@@ -26,8 +26,10 @@
 #define WK_CPU_RENDERER "cpu: " WK_CPU_RASTERISER
 
 /* Same contract as wk_views_local_create: views first..first+count-1 (count 0 = to the end) of
- * the job's set; a view's images do not depend on which others are held with it. */
+ * the job's set; a view's images do not depend on which others are held with it. targets: NULL to
+ * render the original's targets, else their luminance, one image of the views' size per view
+ * held (count of them, in order), copied (the caller keeps the buffer). */
 lm_status wk_cpu_views_create(const lm_mesh *original, const lm_view_set *views, uint32_t first,
-                              uint32_t count, lm_views **out);
+                              uint32_t count, const uint8_t *targets, lm_views **out);
 
 #endif

@@ -289,8 +289,17 @@ static lm_status create_parts(wk_views_local *v, const lm_mesh *original, lm_vie
     return st;
 }
 
+/* Targets given (wk_gl_views_create): into the image store as the render would put them. */
+static void take_targets(wk_views_local *v, const uint8_t *targets)
+{
+    size_t plane = (size_t)v->core.width * v->core.height;
+    for (uint32_t h = 0; h < v->core.views.count; h++)
+        wk_image_store_set_target(v->core.img, h, targets + h * plane);
+}
+
 lm_status wk_gl_views_create(const lm_mesh *original, const lm_view_set *views, lm_view_deal deal,
-                             uint32_t total, wk_gl_context *ctx, lm_views **out)
+                             uint32_t total, wk_gl_context *ctx, const uint8_t *targets,
+                             lm_views **out)
 {
     wk_views_local *v = calloc(1, sizeof *v);
     if (!v) {
@@ -301,7 +310,9 @@ lm_status wk_gl_views_create(const lm_mesh *original, const lm_view_set *views, 
     wk_views_seam_attach(&v->core, &vl_backend);
     v->ctx = ctx;
     lm_status st = create_parts(v, original, deal, total);
-    if (st == LM_OK) {
+    if (st == LM_OK && targets) {
+        take_targets(v, targets);
+    } else if (st == LM_OK) {
         tri_source src = {.mesh = original};
         st = render_full(v, 0, &src, 1);
     }

@@ -16,8 +16,11 @@
 
 /* Views `views` (this backend's own, in order) that sit at the positions `deal` gives among a
  * job's `total` views (the atlas places them as a backend holding all of them would, so splits
- * agree), rendered on ctx, which the views own from now on (destroyed here on failure). */
+ * agree), rendered on ctx, which the views own from now on (destroyed here on failure). targets:
+ * NULL to render the original's targets, else their luminance, one image of the views' size per
+ * view in `views`' order, copied (the caller keeps the buffer). */
 lm_status wk_gl_views_create(const lm_mesh *original, const lm_view_set *views, lm_view_deal deal,
-                             uint32_t total, wk_gl_context *ctx, lm_views **out);
+                             uint32_t total, wk_gl_context *ctx, const uint8_t *targets,
+                             lm_views **out);
 
 #endif
