@@ -86,6 +86,13 @@ void lm_put_bytes(lm_bin *b, const void *p, size_t n)
 
 static void put_le(lm_bin *b, uint64_t v, int bytes)
 {
+    if (!b->fp && b->status == LM_OK && grow(b, 8)) { /* memory: stored in place */
+        uint8_t *p = b->out + b->pos;
+        for (int i = 0; i < bytes; i++)
+            p[i] = (uint8_t)(v >> (8 * i));
+        b->pos += (size_t)bytes;
+        return;
+    }
     uint8_t buf[8];
     for (int i = 0; i < bytes; i++)
         buf[i] = (uint8_t)(v >> (8 * i));
@@ -146,6 +153,14 @@ void lm_get_bytes(lm_bin *b, void *p, size_t n)
 
 static uint64_t get_le(lm_bin *b, int bytes)
 {
+    if (!b->fp && b->status == LM_OK && b->cap - b->pos >= (size_t)bytes) { /* memory */
+        const uint8_t *p = b->in + b->pos;
+        uint64_t v = 0;
+        for (int i = 0; i < bytes; i++)
+            v |= (uint64_t)p[i] << (8 * i);
+        b->pos += (size_t)bytes;
+        return v;
+    }
     uint8_t buf[8];
     lm_get_bytes(b, buf, (size_t)bytes);
     uint64_t v = 0;

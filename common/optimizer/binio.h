@@ -20,6 +20,14 @@ typedef struct lm_bin {
     size_t pos, cap;   /* a writer: bytes written, allocated; a reader: bytes read, in all */
 } lm_bin;
 
+/* 1 where the host's integers and floats are the streams' little-endian layout, so an array of
+ * them (with no padding) may be written as its raw bytes: the same bytes, one call. */
+#if defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__
+#define LM_BIN_HOST_LE 1
+#else
+#define LM_BIN_HOST_LE 0
+#endif
+
 /* A stream over fp (not owned). */
 void lm_bin_init(lm_bin *b, FILE *fp, const char *what);
 /* A stream into memory: the same bytes a FILE stream would get, without stdio's cost per call.

@@ -128,6 +128,10 @@ static void put_request(lm_bin *b, const lm_lane_request *q)
 static void put_queue(lm_bin *b, const lm_cq_entry *e, uint32_t n)
 {
     lm_put_u32(b, n);
+    if (LM_BIN_HOST_LE && sizeof *e == 24) { /* put_entry's layout: the entries' bytes at once */
+        lm_put_bytes(b, e, (size_t)n * sizeof *e);
+        return;
+    }
     for (uint32_t i = 0; i < n; i++)
         put_entry(b, &e[i]);
 }

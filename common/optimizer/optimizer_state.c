@@ -26,6 +26,17 @@ static void save_mesh(lm_bin *bp, const lm_mesh *m)
                         m->live_tris, m->attrs,    m->n_materials, m->n_parts};
     for (int i = 0; i < 8; i++)
         lm_put_u32(&b, head[i]);
+    if (LM_BIN_HOST_LE && sizeof *m->pos == 12 && sizeof *m->wedges == 40 &&
+        sizeof *m->tris == 20) { /* the records' layout: their bytes at once */
+        lm_put_bytes(&b, m->pos, (size_t)m->n_verts * 12);
+        lm_put_bytes(&b, m->vert_alive, m->n_verts);
+        lm_put_bytes(&b, m->wedges, (size_t)m->n_wedges * 40);
+        lm_put_bytes(&b, m->wedge_alive, m->n_wedges);
+        lm_put_bytes(&b, m->tris, (size_t)m->n_tris * 20);
+        lm_put_bytes(&b, m->tri_alive, m->n_tris);
+        *bp = b;
+        return;
+    }
     for (uint32_t v = 0; v < m->n_verts; v++)
         for (int k = 0; k < 3; k++)
             lm_put_f32(&b, m->pos[v][k]);
