@@ -740,23 +740,30 @@ uint32_t lm_mesh_count_components(const lm_mesh *m)
     return count;
 }
 
-/* n bytes at p (a record's raw bytes) as one 64-bit word: 8 bytes at a time, each word mixed in
- * (the records are short; the chain over them is the caller's). */
-static uint64_t record_word(const void *p, size_t n)
+/* n bytes at p (a record's raw bytes) as one 64-bit word: 8 bytes at a time (a 4-byte tail, then
+ * single bytes), each word mixed in (the records are short; the chain over them is the caller's).
+ */
+static inline uint64_t record_word(const void *p, size_t n)
 {
     const uint8_t *b = p;
-    uint64_t acc = 0x9e3779b97f4a7c15ull ^ n;
-    for (size_t i = 0; i < n; i += 8) {
-        uint64_t w = 0;
-        memcpy(&w, b + i, n - i < 8 ? n - i : 8);
+    uint64_t acc = 0x9e3779b97f4a7c15ull ^ n, w;
+    size_t i = 0;
+    for (; i + 8 <= n; i += 8) {
+        memcpy(&w, b + i, 8);
         acc = (acc ^ w) * 0xff51afd7ed558ccdull;
+        acc ^= acc >> 29;
+    }
+    for (; i < n; i += 4) {
+        uint32_t u = 0;
+        memcpy(&u, b + i, n - i < 4 ? n - i : 4);
+        acc = (acc ^ u) * 0xff51afd7ed558ccdull;
         acc ^= acc >> 29;
     }
     return acc;
 }
 
 /* One record (alive flag, and its bytes when alive) into the hash. */
-static uint64_t mix_record(uint64_t h, uint8_t alive, const void *p, size_t n)
+static inline uint64_t mix_record(uint64_t h, uint8_t alive, const void *p, size_t n)
 {
     uint64_t w = alive ? record_word(p, n) ^ ((uint64_t)alive << 56) : (uint64_t)alive;
     h = (h ^ w) * 0xc4ceb9fe1a85ec53ull;
