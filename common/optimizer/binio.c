@@ -54,6 +54,10 @@ uint64_t lm_bin_left(lm_bin *b)
 /* Room for n more bytes in a writer's memory (doubling); 0 and the status set when none. */
 static int grow(lm_bin *b, size_t n)
 {
+    if (b->in) { /* a reader is not written to */
+        b->status = lm_fail(LM_E_INTERNAL, "%s: writing to a reader", b->what);
+        return 0;
+    }
     if (b->cap - b->pos >= n)
         return 1;
     size_t cap = b->cap ? b->cap : 4096;
@@ -134,8 +138,8 @@ void lm_get_bytes(lm_bin *b, void *p, size_t n)
         memset(p, 0, n);
         return;
     }
-    if (!b->fp) { /* memory */
-        if (b->cap - b->pos < n) {
+    if (!b->fp) { /* memory (a writer has nothing to read: truncated) */
+        if (n && (!b->in || b->cap - b->pos < n)) {
             memset(p, 0, n);
             b->pos = b->cap;
             b->status = lm_fail(LM_E_FORMAT, "%s is truncated", b->what);
@@ -153,7 +157,7 @@ void lm_get_bytes(lm_bin *b, void *p, size_t n)
 
 static uint64_t get_le(lm_bin *b, int bytes)
 {
-    if (!b->fp && b->status == LM_OK && b->cap - b->pos >= (size_t)bytes) { /* memory */
+    if (!b->fp && b->in && b->status == LM_OK && b->cap - b->pos >= (size_t)bytes) { /* memory */
         const uint8_t *p = b->in + b->pos;
         uint64_t v = 0;
         for (int i = 0; i < bytes; i++)

@@ -1,6 +1,7 @@
 /* tests/unit/test_binio.c — binio's memory streams (binio.h) give the bytes a FILE stream gives and
- * read them back the same (truncation sticky, lm_bin_left), and the collapse queue's export
- * (collapse_queue.h) is in (a, b) order after sets and removes (its slots reused). */
+ * read them back the same (truncation sticky, lm_bin_left; a reader is not written to), and the
+ * collapse queue's export (collapse_queue.h) is in (a, b) order after sets and removes (its slots
+ * reused). */
 #include <stdlib.h>
 #include <string.h>
 
@@ -74,6 +75,11 @@ static void test_truncated_and_empty(void **state)
     uint8_t one = 7;
     lm_get_bytes(&r, &one, 1);
     assert_int_equal(one, 0);
+
+    lm_bin_init_reader(&r, three, sizeof three, "a reader");
+    lm_put_u32(&r, 1); /* not written to: refused, sticky */
+    assert_int_equal(r.status, LM_E_INTERNAL);
+    assert_int_equal(lm_get_u32(&r), 0);
 
     lm_bin w;
     lm_bin_init_writer(&w, "nothing");
