@@ -740,38 +740,45 @@ uint32_t lm_mesh_count_components(const lm_mesh *m)
     return count;
 }
 
-static uint64_t fnv(uint64_t h, const void *data, size_t n)
+/* n bytes at p (a record's raw bytes) as one 64-bit word: 8 bytes at a time (a 4-byte tail, then
+ * single bytes), each word mixed in (the records are short; the chain over them is the caller's).
+ */
+static inline uint64_t record_word(const void *p, size_t n)
 {
-    const uint8_t *p = data;
-    for (size_t i = 0; i < n; i++) {
-        h ^= p[i];
-        h *= 1099511628211ull;
+    const uint8_t *b = p;
+    uint64_t acc = 0x9e3779b97f4a7c15ull ^ n, w;
+    size_t i = 0;
+    for (; i + 8 <= n; i += 8) {
+        memcpy(&w, b + i, 8);
+        acc = (acc ^ w) * 0xff51afd7ed558ccdull;
+        acc ^= acc >> 29;
     }
-    return h;
+    for (; i < n; i += 4) {
+        uint32_t u = 0;
+        memcpy(&u, b + i, n - i < 4 ? n - i : 4);
+        acc = (acc ^ u) * 0xff51afd7ed558ccdull;
+        acc ^= acc >> 29;
+    }
+    return acc;
+}
+
+/* One record (alive flag, and its bytes when alive) into the hash. */
+static inline uint64_t mix_record(uint64_t h, uint8_t alive, const void *p, size_t n)
+{
+    uint64_t w = alive ? record_word(p, n) ^ ((uint64_t)alive << 56) : (uint64_t)alive;
+    h = (h ^ w) * 0xc4ceb9fe1a85ec53ull;
+    return h ^ (h >> 31);
 }
 
 uint64_t lm_mesh_hash(const lm_mesh *m)
 {
-    uint64_t h = 14695981039346656037ull;
-    h = fnv(h, &m->n_verts, sizeof m->n_verts);
-    h = fnv(h, &m->n_wedges, sizeof m->n_wedges);
-    h = fnv(h, &m->n_tris, sizeof m->n_tris);
-    h = fnv(h, &m->live_verts, sizeof m->live_verts);
-    h = fnv(h, &m->live_tris, sizeof m->live_tris);
-    for (uint32_t v = 0; v < m->n_verts; v++) {
-        h = fnv(h, &m->vert_alive[v], 1);
-        if (m->vert_alive[v])
-            h = fnv(h, m->pos[v], sizeof m->pos[v]);
-    }
-    for (uint32_t i = 0; i < m->n_wedges; i++) {
-        h = fnv(h, &m->wedge_alive[i], 1);
-        if (m->wedge_alive[i])
-            h = fnv(h, &m->wedges[i], sizeof m->wedges[i]);
-    }
-    for (uint32_t t = 0; t < m->n_tris; t++) {
-        h = fnv(h, &m->tri_alive[t], 1);
-        if (m->tri_alive[t])
-            h = fnv(h, &m->tris[t], sizeof m->tris[t]);
-    }
+    const uint32_t head[5] = {m->n_verts, m->n_wedges, m->n_tris, m->live_verts, m->live_tris};
+    uint64_t h = record_word(head, sizeof head);
+    for (uint32_t v = 0; v < m->n_verts; v++)
+        h = mix_record(h, m->vert_alive[v], m->pos[v], sizeof m->pos[v]);
+    for (uint32_t i = 0; i < m->n_wedges; i++)
+        h = mix_record(h, m->wedge_alive[i], &m->wedges[i], sizeof m->wedges[i]);
+    for (uint32_t t = 0; t < m->n_tris; t++)
+        h = mix_record(h, m->tri_alive[t], &m->tris[t], sizeof m->tris[t]);
     return h;
 }

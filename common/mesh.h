@@ -152,7 +152,8 @@ void lm_mesh_face_normal(const lm_mesh *m, uint32_t t, double n[3]);
 /* Number of connected components (through shared vertices) over alive triangles. */
 uint32_t lm_mesh_count_components(const lm_mesh *m);
 
-/* 64-bit FNV-1a hash of the live mesh content (positions, wedges, tris in id order); for tests. */
+/* 64-bit hash of the live mesh content (positions, wedges, tris in id order, each record mixed in
+ * 8 bytes at a time); for tests and the lanes' checks that two processes hold the same mesh. */
 uint64_t lm_mesh_hash(const lm_mesh *m);
 
 #endif

@@ -62,6 +62,27 @@ void lm_asset_set_drop(lm_asset_set *s, const lm_asset_hash *h)
     s->n--;
 }
 
+lm_status lm_asset_set_copy(lm_asset_set *dst, const lm_asset_set *src)
+{
+    lm_asset *items = calloc(src->n ? src->n : 1, sizeof *items);
+    for (uint32_t i = 0; items && i < src->n; i++) {
+        items[i] = src->items[i];
+        items[i].data = malloc(src->items[i].size ? src->items[i].size : 1);
+        if (!items[i].data) {
+            for (uint32_t k = 0; k < i; k++)
+                free(items[k].data);
+            free(items);
+            items = NULL;
+        } else if (src->items[i].size) {
+            memcpy(items[i].data, src->items[i].data, src->items[i].size);
+        }
+    }
+    if (!items)
+        return lm_fail(LM_E_NOMEM, "out of memory copying %u assets", src->n);
+    *dst = (lm_asset_set){items, src->n, src->n ? src->n : 1};
+    return LM_OK;
+}
+
 lm_status lm_asset_set_put(lm_asset_set *s, uint8_t *data, size_t size, lm_asset_hash *out)
 {
     lm_asset_hash h;

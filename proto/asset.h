@@ -56,6 +56,9 @@ void lm_asset_set_free(lm_asset_set *s);
 const lm_asset *lm_asset_set_find(const lm_asset_set *s, const lm_asset_hash *h);
 /* Frees and removes the asset named h, if there (the others keep their order). */
 void lm_asset_set_drop(lm_asset_set *s, const lm_asset_hash *h);
+/* dst (empty, initialised) gets a copy of every asset of src, hashes as they are (none computed
+ * again). On failure dst is left empty. */
+lm_status lm_asset_set_copy(lm_asset_set *dst, const lm_asset_set *src);
 /* Takes ownership of data (freed here on failure, or when already present). */
 lm_status lm_asset_set_put(lm_asset_set *s, uint8_t *data, size_t size, lm_asset_hash *out);
 

@@ -20,7 +20,8 @@
 
 #define LM_WIRE_VERSION                                                                            \
     6u /* 2: SetSurface, Tri.same; 3: RunLane; 4: RunLane.start_delta;                             \
-          5: RunLane.queue, .queue_delta; 6: Assign.targets */
+          5: RunLane.queue, .queue_delta; 6: Assign.targets, lm_mesh_hash 8 bytes at a time        \
+          (start_hash) */
 #define LM_WIRE_MAX_FRAME (64u << 20) /* bytes of one frame */
 #define LM_WIRE_MAX_IDENTITY 256u     /* bytes of a ROUTER routing id */
 #define LM_WIRE_CHUNK (4u << 20)      /* bytes of asset data per Asset message */

@@ -226,6 +226,7 @@ void lm_cq_remove(lm_cq *q, uint32_t a, uint32_t b)
     uint32_t s = q->vals[pos];
     told(q, &q->slots[s], 0);
     lm_iheap_remove(&q->heap, s);
+    q->slots[s].a = q->slots[s].b = UINT32_MAX; /* free (lm_cq_export skips it) */
     q->free_slots[q->n_free++] = s;
     q->count--;
     /* backward-shift deletion keeps probe chains intact */
@@ -285,17 +286,59 @@ static int cmp_entry(const void *x, const void *y)
     return (a->b > b->b) - (a->b < b->b);
 }
 
+static int slot_free(const lm_cq_entry *e)
+{
+    return e->a == UINT32_MAX && e->b == UINT32_MAX;
+}
+
+/* e[0..n) into out in (a, b) order, as qsort with cmp_entry orders them (the pairs are
+ * distinct): counted by a (stable), then each run of one a by b (insertion: a vertex has few
+ * edges). 0 when out of memory for the counts. */
+static int sort_entries(const lm_cq_entry *e, uint32_t n, lm_cq_entry *out)
+{
+    uint32_t max_a = 0;
+    for (uint32_t i = 0; i < n; i++)
+        max_a = e[i].a > max_a ? e[i].a : max_a;
+    uint32_t *at = calloc((size_t)max_a + 2, sizeof *at);
+    if (!at)
+        return 0;
+    for (uint32_t i = 0; i < n; i++)
+        at[e[i].a + 1]++;
+    for (uint32_t a = 0; a <= max_a; a++)
+        at[a + 1] += at[a];
+    for (uint32_t i = 0; i < n; i++)
+        out[at[e[i].a]++] = e[i];
+    free(at);
+    for (uint32_t i = 1; i < n; i++) {
+        lm_cq_entry x = out[i];
+        uint32_t j = i;
+        for (; j > 0 && cmp_entry(&out[j - 1], &x) > 0; j--)
+            out[j] = out[j - 1];
+        out[j] = x;
+    }
+    return 1;
+}
+
 lm_status lm_cq_export(const lm_cq *q, lm_cq_entry **out, uint32_t *n)
 {
     lm_cq_entry *e = malloc(((size_t)q->count + 1) * sizeof *e);
-    if (!e)
-        return lm_fail(LM_E_NOMEM, "out of memory exporting %u queue entries", q->count);
-    uint32_t k = 0;
-    for (uint32_t i = 0; i < q->cap; i++)
+    lm_cq_entry *s = malloc(((size_t)q->count + 1) * sizeof *s);
+    uint32_t k = 0, live = 0;
+    for (uint32_t i = 0; i < q->n_slots; i++) /* free slots are marked (lm_cq_remove) */
+        live += !slot_free(&q->slots[i]);
+    for (uint32_t i = 0; e && live == q->count && i < q->n_slots; i++) /* in slot order */
+        if (!slot_free(&q->slots[i]))
+            e[k++] = q->slots[i];
+    for (uint32_t i = 0; e && live != q->count && i < q->cap; i++) /* else from the table */
         if (q->keys[i])
             e[k++] = q->slots[q->vals[i]];
-    qsort(e, k, sizeof *e, cmp_entry);
-    *out = e;
+    if (!e || !s || !sort_entries(e, k, s)) {
+        free(e);
+        free(s);
+        return lm_fail(LM_E_NOMEM, "out of memory exporting %u queue entries", q->count);
+    }
+    free(e);
+    *out = s;
     *n = k;
     return LM_OK;
 }

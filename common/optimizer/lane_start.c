@@ -14,30 +14,20 @@
 #define MAX_SLOTS 4096u          /* materials or parts of a start mesh (also at most its bytes) */
 #define CONFIG_BYTES (4u + 4u * 4u + 6u * 8u + 4u * 4u)
 
-static lm_status write_bytes(lm_status (*put)(const void *x, FILE *fp), const void *x,
+/* x written by put into memory: *buf (malloc'd) and *len, or nothing on a failure. */
+static lm_status write_bytes(lm_status (*put)(const void *x, lm_bin *b), const void *x,
                              uint8_t **buf, size_t *len, const char *what)
 {
-    *buf = NULL;
-    *len = 0;
-    FILE *fp = open_memstream((char **)buf, len);
-    if (!fp)
-        return lm_fail(LM_E_NOMEM, "out of memory for %s", what);
-    lm_status st = put(x, fp);
-    if (fclose(fp) != 0 && st == LM_OK)
-        st = lm_fail(LM_E_NOMEM, "out of memory for %s", what);
-    if (st != LM_OK) {
-        free(*buf);
-        *buf = NULL;
-        *len = 0;
-    }
-    return st;
+    lm_bin b;
+    lm_bin_init_writer(&b, what);
+    put(x, &b);
+    return lm_bin_take(&b, buf, len);
 }
 
-static lm_status put_config(const void *x, FILE *fp)
+static lm_status put_config(const void *x, lm_bin *bp)
 {
     const lm_moves_config *c = x;
-    lm_bin b;
-    lm_bin_init(&b, fp, "a moves config");
+    lm_bin b = *bp;
     lm_put_u32(&b, CONFIG_MAGIC);
     lm_put_u32(&b, c->attrs);
     lm_put_u32(&b, c->evals_per_dim);
@@ -50,6 +40,7 @@ static lm_status put_config(const void *x, FILE *fp)
     for (int i = 0; i < 3; i++)
         lm_put_f32(&b, c->centre[i]);
     lm_put_f32(&b, c->bound_radius);
+    *bp = b;
     return b.status;
 }
 
@@ -62,11 +53,8 @@ lm_status lm_lane_config_decode(const uint8_t *buf, size_t len, lm_moves_config 
 {
     if (len != CONFIG_BYTES)
         return lm_fail(LM_E_FORMAT, "a moves config of %zu bytes (%u expected)", len, CONFIG_BYTES);
-    FILE *fp = fmemopen((void *)buf, len, "rb");
-    if (!fp)
-        return lm_fail(LM_E_NOMEM, "out of memory for a moves config");
     lm_bin b;
-    lm_bin_init(&b, fp, "a moves config");
+    lm_bin_init_reader(&b, buf, len, "a moves config");
     lm_moves_config c;
     uint32_t magic = lm_get_u32(&b);
     c.attrs = lm_get_u32(&b);
@@ -85,7 +73,6 @@ lm_status lm_lane_config_decode(const uint8_t *buf, size_t len, lm_moves_config 
     }
     c.bound_radius = lm_get_f32(&b);
     finite = finite && isfinite(c.bound_radius) && c.bound_radius >= 0;
-    fclose(fp);
     if (b.status != LM_OK)
         return b.status;
     if (magic != CONFIG_MAGIC)
@@ -96,9 +83,9 @@ lm_status lm_lane_config_decode(const uint8_t *buf, size_t len, lm_moves_config 
     return LM_OK;
 }
 
-static lm_status put_mesh(const void *x, FILE *fp)
+static lm_status put_mesh(const void *x, lm_bin *b)
 {
-    return lm_optimizer_save_mesh(x, fp);
+    return lm_optimizer_save_mesh_bin(x, b);
 }
 
 lm_status lm_lane_mesh_encode(const lm_mesh *m, uint8_t **buf, size_t *len)
@@ -141,13 +128,11 @@ lm_status lm_lane_mesh_decode(const uint8_t *buf, size_t len, lm_mesh *m)
     lm_status st = slots(buf, len, m);
     if (st != LM_OK)
         return st;
-    FILE *fp = fmemopen((void *)buf, len, "rb");
-    if (!fp)
-        return lm_fail(LM_E_NOMEM, "out of memory for a start mesh");
-    st = lm_optimizer_load_mesh(m, fp);
-    if (st == LM_OK && fgetc(fp) != EOF)
+    lm_bin b;
+    lm_bin_init_reader(&b, buf, len, "mesh");
+    st = lm_optimizer_load_mesh_bin(m, &b);
+    if (st == LM_OK && lm_bin_left(&b))
         st = lm_fail(LM_E_FORMAT, "a start mesh with trailing bytes");
-    fclose(fp);
     if (st == LM_OK && lm_mesh_validate(m) != LM_OK)
         st = lm_fail(LM_E_FORMAT, "a start mesh that is not valid: %s", lm_last_error());
     return st == LM_OK ? lm_mesh_build_adjacency(m) : st;

@@ -25,32 +25,18 @@ static lm_status open_write(wire *w, uint8_t **buf, size_t *len, const char *wha
 {
     *buf = NULL;
     *len = 0;
-    FILE *fp = open_memstream((char **)buf, len);
-    if (!fp)
-        return lm_fail(LM_E_NOMEM, "out of memory for %s", what);
-    lm_bin_init(&w->b, fp, what);
+    lm_bin_init_writer(&w->b, what);
     return LM_OK;
 }
 
 static lm_status close_write(wire *w, uint8_t **buf, size_t *len)
 {
-    lm_status st = fclose(w->b.fp) == 0 ? w->b.status : lm_fail(LM_E_NOMEM, "%s", w->b.what);
-    if (st != LM_OK) {
-        free(*buf);
-        *buf = NULL;
-        *len = 0;
-    }
-    return st;
+    return lm_bin_take(&w->b, buf, len);
 }
 
 static lm_status open_read(wire *w, const uint8_t *buf, size_t len, const char *what)
 {
-    /* fmemopen refuses a zero-size buffer: one spare byte it never reaches (truncation then) */
-    static const uint8_t none[1];
-    FILE *fp = fmemopen((void *)(len ? buf : none), len ? len : 1, "rb");
-    if (!fp)
-        return lm_fail(LM_E_NOMEM, "out of memory for %s", what);
-    lm_bin_init(&w->b, fp, what);
+    lm_bin_init_reader(&w->b, buf, len, what);
     w->len = len;
     if (!len)
         w->b.status = lm_fail(LM_E_FORMAT, "%s is empty", what);
@@ -60,9 +46,8 @@ static lm_status open_read(wire *w, const uint8_t *buf, size_t len, const char *
 /* The read's status: trailing bytes are an error too. */
 static lm_status close_read(wire *w)
 {
-    if (w->b.status == LM_OK && w->len && fgetc(w->b.fp) != EOF)
+    if (w->b.status == LM_OK && w->len && lm_bin_left(&w->b))
         lm_bin_bad(&w->b, "trailing bytes");
-    fclose(w->b.fp);
     return w->b.status;
 }
 
@@ -143,6 +128,10 @@ static void put_request(lm_bin *b, const lm_lane_request *q)
 static void put_queue(lm_bin *b, const lm_cq_entry *e, uint32_t n)
 {
     lm_put_u32(b, n);
+    if (LM_BIN_HOST_LE && sizeof *e == 24) { /* put_entry's layout: the entries' bytes at once */
+        lm_put_bytes(b, e, (size_t)n * sizeof *e);
+        return;
+    }
     for (uint32_t i = 0; i < n; i++)
         put_entry(b, &e[i]);
 }

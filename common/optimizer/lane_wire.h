@@ -12,7 +12,7 @@
 
 #include "common/optimizer/lane_work.h"
 
-#define LM_LANE_WIRE_VERSION 1u
+#define LM_LANE_WIRE_VERSION 2u /* 2: lm_mesh_hash mixes 8 bytes at a time */
 #define LM_LANE_MAX_NEW_VERTS                                                                      \
     64u /* vertex ids a lane may create above the start's (the merge                               \
            maps at most this many splits) */

@@ -127,5 +127,9 @@ lm_status lm_optimizer_load(lm_optimizer *opt, FILE *fp);
  * parts (m's arrays replaced; adjacency not built). */
 lm_status lm_optimizer_save_mesh(const lm_mesh *m, FILE *fp);
 lm_status lm_optimizer_load_mesh(lm_mesh *m, FILE *fp);
+/* The same on a binio stream (binio.h; e.g. in memory): the status is also b's. */
+struct lm_bin;
+lm_status lm_optimizer_save_mesh_bin(const lm_mesh *m, struct lm_bin *b);
+lm_status lm_optimizer_load_mesh_bin(lm_mesh *m, struct lm_bin *b);
 
 #endif

@@ -26,6 +26,17 @@ static void save_mesh(lm_bin *bp, const lm_mesh *m)
                         m->live_tris, m->attrs,    m->n_materials, m->n_parts};
     for (int i = 0; i < 8; i++)
         lm_put_u32(&b, head[i]);
+    if (LM_BIN_HOST_LE && sizeof *m->pos == 12 && sizeof *m->wedges == 40 &&
+        sizeof *m->tris == 20) { /* the records' layout: their bytes at once */
+        lm_put_bytes(&b, m->pos, (size_t)m->n_verts * 12);
+        lm_put_bytes(&b, m->vert_alive, m->n_verts);
+        lm_put_bytes(&b, m->wedges, (size_t)m->n_wedges * 40);
+        lm_put_bytes(&b, m->wedge_alive, m->n_wedges);
+        lm_put_bytes(&b, m->tris, (size_t)m->n_tris * 20);
+        lm_put_bytes(&b, m->tri_alive, m->n_tris);
+        *bp = b;
+        return;
+    }
     for (uint32_t v = 0; v < m->n_verts; v++)
         for (int k = 0; k < 3; k++)
             lm_put_f32(&b, m->pos[v][k]);
@@ -164,18 +175,6 @@ static void install(lm_mesh *m, mesh_arrays *a)
     memset(a, 0, sizeof *a);
 }
 
-/* Bytes left in the stream (memory streams are seekable), or UINT64_MAX if unknown. */
-static uint64_t remaining(FILE *fp)
-{
-    long here = ftell(fp);
-    if (here < 0 || fseek(fp, 0, SEEK_END) != 0)
-        return UINT64_MAX;
-    long end = ftell(fp);
-    if (fseek(fp, here, SEEK_SET) != 0 || end < here)
-        return UINT64_MAX;
-    return (uint64_t)(end - here);
-}
-
 static lm_status load_mesh(lm_bin *b, const lm_mesh *m, mesh_arrays *a)
 {
     uint32_t *h[6] = {&a->n_verts,    &a->n_wedges,  &a->n_tris,
@@ -193,7 +192,7 @@ static lm_status load_mesh(lm_bin *b, const lm_mesh *m, mesh_arrays *a)
         (uint64_t)a->n_verts * 13 + (uint64_t)a->n_wedges * 41 + (uint64_t)a->n_tris * 21;
     if (a->n_verts > LM_MESH_MAX_VERTS || a->n_tris > LM_MESH_MAX_TRIS ||
         a->n_wedges > LM_MESH_MAX_VERTS * 4u || a->live_verts > a->n_verts ||
-        a->live_tris > a->n_tris || need > remaining(b->fp))
+        a->live_tris > a->n_tris || need > lm_bin_left(b))
         return lm_bin_bad(b, "element counts out of range or truncated");
     lm_status st = read_arrays(b, a);
     return st ? st : check_arrays(b, a, n_materials, n_parts);
@@ -249,7 +248,7 @@ static lm_status load_oracle(lm_bin *b, lm_oracle *o)
     uint32_t n = lm_get_u32(b);
     if (b->status)
         return b->status;
-    if (!(o->share >= 0 && o->share <= 1) || (uint64_t)n * 16 > remaining(b->fp))
+    if (!(o->share >= 0 && o->share <= 1) || (uint64_t)n * 16 > lm_bin_left(b))
         return lm_bin_bad(b, "bad oracle state");
     lm_stale_edge *e = malloc(((size_t)n + 1) * sizeof *e);
     if (!e)
@@ -311,7 +310,7 @@ static lm_status load_iteration(lm_bin *b, lm_iteration *it, uint32_t cap, uint3
     for (uint32_t i = 0; i < it->n_no_progress; i++)
         it->no_progress[i] = lm_get_u64(b);
     uint32_t n = lm_get_u32(b);
-    if (!b->status && (uint64_t)n * 4 > remaining(b->fp))
+    if (!b->status && (uint64_t)n * 4 > lm_bin_left(b))
         return lm_bin_bad(b, "bad iteration state");
     for (uint32_t i = 0; i < n && !b->status; i++) {
         uint32_t v = lm_get_u32(b);
@@ -531,23 +530,33 @@ lm_status lm_optimizer_load(lm_optimizer *opt, FILE *fp)
     return st;
 }
 
+lm_status lm_optimizer_save_mesh_bin(const lm_mesh *m, lm_bin *b)
+{
+    save_mesh(b, m);
+    return b->status;
+}
+
+lm_status lm_optimizer_load_mesh_bin(lm_mesh *m, lm_bin *b)
+{
+    mesh_arrays a;
+    memset(&a, 0, sizeof a);
+    lm_status st = load_mesh(b, m, &a);
+    if (!st)
+        install(m, &a);
+    arrays_free(&a);
+    return st;
+}
+
 lm_status lm_optimizer_save_mesh(const lm_mesh *m, FILE *fp)
 {
     lm_bin b;
     lm_bin_init(&b, fp, "mesh");
-    save_mesh(&b, m);
-    return b.status;
+    return lm_optimizer_save_mesh_bin(m, &b);
 }
 
 lm_status lm_optimizer_load_mesh(lm_mesh *m, FILE *fp)
 {
     lm_bin b;
     lm_bin_init(&b, fp, "mesh");
-    mesh_arrays a;
-    memset(&a, 0, sizeof a);
-    lm_status st = load_mesh(&b, m, &a);
-    if (!st)
-        install(m, &a);
-    arrays_free(&a);
-    return st;
+    return lm_optimizer_load_mesh_bin(m, &b);
 }

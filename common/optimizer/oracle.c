@@ -116,27 +116,100 @@ static int touches(const lm_planned_edge *p, uint32_t n, uint32_t a, uint32_t b)
     return 0;
 }
 
+/* What pick has taken so far, for its two questions in O(1): the edges (open addressing over
+ * their keys) and their vertices (a mark per vertex id). Without its memory, pick asks the list
+ * (planned, touches): the same answers. */
+typedef struct taken {
+    uint64_t *keys; /* [cap] edge key + 1, 0 empty */
+    uint32_t cap;   /* a power of two, at least twice what is taken */
+    uint8_t *mark;  /* [n_marks] 1: a taken edge's vertex */
+    uint32_t n_marks;
+} taken;
+
+static int taken_init(taken *t, const lm_ranked_edge *r, size_t n, uint32_t count)
+{
+    uint32_t max_v = 0;
+    for (size_t i = 0; i < n; i++)
+        max_v = r[i].b > max_v ? r[i].b : max_v, max_v = r[i].a > max_v ? r[i].a : max_v;
+    t->cap = 16;
+    while (t->cap < 2u * count && t->cap < (1u << 30))
+        t->cap *= 2;
+    t->n_marks = max_v + 1;
+    t->keys = calloc(t->cap, sizeof *t->keys);
+    t->mark = calloc(t->n_marks, 1);
+    return t->keys && t->mark && t->cap >= 2u * count;
+}
+
+static void taken_free(taken *t)
+{
+    free(t->keys);
+    free(t->mark);
+}
+
+static uint32_t taken_slot(const taken *t, uint64_t key)
+{
+    uint32_t i = (uint32_t)((key * 0x9e3779b97f4a7c15ull) >> 32) & (t->cap - 1);
+    while (t->keys[i] && t->keys[i] != key + 1)
+        i = (i + 1) & (t->cap - 1);
+    return i;
+}
+
+static int taken_has(const taken *t, uint32_t a, uint32_t b)
+{
+    return t->keys[taken_slot(t, lm_edge_key(a, b))] != 0;
+}
+
+static int taken_touches(const taken *t, uint32_t a, uint32_t b)
+{
+    return t->mark[a] || t->mark[b];
+}
+
+static void taken_add(taken *t, uint32_t a, uint32_t b)
+{
+    uint64_t key = lm_edge_key(a, b);
+    t->keys[taken_slot(t, key)] = key + 1;
+    t->mark[a] = t->mark[b] = 1;
+}
+
 /* Best non-stale edges first, spread out: an edge sharing a vertex with an edge already taken is
  * passed over (neighbouring edges are optimised together by the vertex sets anyway); then random
- * distinct edges. */
-static uint32_t pick(const lm_oracle *o, const lm_ranked_edge *r, size_t n, lm_rng *rng,
-                     uint32_t k_oracle, uint32_t count, lm_planned_edge *tmp)
+ * distinct edges. fast: t answers what the list would (the same edges taken). */
+static uint32_t pick_with(const lm_oracle *o, const lm_ranked_edge *r, size_t n, lm_rng *rng,
+                          uint32_t k_oracle, uint32_t count, lm_planned_edge *tmp, taken *t,
+                          int fast)
 {
     uint32_t k = 0;
     for (int pass = 0; pass < 2 && k < k_oracle; pass++)
         for (size_t i = 0; i < n && k < k_oracle; i++) {
-            if (is_stale(o, lm_edge_key(r[i].a, r[i].b)) || planned(tmp, k, r[i].a, r[i].b))
+            uint32_t a = r[i].a, b = r[i].b;
+            if (is_stale(o, lm_edge_key(a, b)) ||
+                (fast ? taken_has(t, a, b) : planned(tmp, k, a, b)))
                 continue;
-            if (pass == 0 && touches(tmp, k, r[i].a, r[i].b))
+            if (pass == 0 && (fast ? taken_touches(t, a, b) : touches(tmp, k, a, b)))
                 continue;
-            tmp[k++] = (lm_planned_edge){r[i].a, r[i].b, 1};
+            tmp[k++] = (lm_planned_edge){a, b, 1};
+            if (fast)
+                taken_add(t, a, b);
         }
     uint32_t want = count < n ? count : (uint32_t)n;
     for (uint32_t tries = 0; k < want && tries < 16 * count; tries++) {
         const lm_ranked_edge *e = &r[lm_rng_below(rng, n)];
-        if (!planned(tmp, k, e->a, e->b))
-            tmp[k++] = (lm_planned_edge){e->a, e->b, 0};
+        if (fast ? taken_has(t, e->a, e->b) : planned(tmp, k, e->a, e->b))
+            continue;
+        tmp[k++] = (lm_planned_edge){e->a, e->b, 0};
+        if (fast)
+            taken_add(t, e->a, e->b);
     }
+    return k;
+}
+
+static uint32_t pick(const lm_oracle *o, const lm_ranked_edge *r, size_t n, lm_rng *rng,
+                     uint32_t k_oracle, uint32_t count, lm_planned_edge *tmp)
+{
+    taken t;
+    int fast = taken_init(&t, r, n, count);
+    uint32_t k = pick_with(o, r, n, rng, k_oracle, count, tmp, &t, fast);
+    taken_free(&t);
     return k;
 }
 

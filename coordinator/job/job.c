@@ -45,6 +45,7 @@ typedef struct co_job {
     uint32_t attrs;
     const char *checkpoint_path;
     lm_mesh *original;
+    co_original_pack pack;     /* the original's asset for the remote views (regrids copy it) */
     lm_mesh *coarse;           /* until the optimizer takes it */
     co_pool *pool;             /* the workers (NULL: in process) */
     co_worker_report *workers; /* what progress shows of them */
@@ -557,7 +558,8 @@ static lm_status create_views_of(co_job *j, uint32_t count, int size, uint32_t t
                        .device = j->o.device_spec,
                        .pool = j->pool,
                        .whole = j->o.lanes_remote && j->pool && !local,
-                       .audit = j->o.audit};
+                       .audit = j->o.audit,
+                       .pack = &j->pack};
     if (st == LM_OK)
         st = co_views_create(&d, out);
     free(vs);
@@ -1256,6 +1258,7 @@ lm_status co_job_run(const co_job_options *opts, co_job_summary *summary)
     free(j->workers);
     if (j->coarse)
         lm_mesh_destroy(j->coarse);
+    co_original_pack_free(&j->pack);
     if (j->original)
         lm_mesh_destroy(j->original);
     free(j);
@@ -1309,6 +1312,7 @@ lm_status co_job_setup_make(const co_job_options *opts, co_job_setup *out)
     }
     if (j->coarse)
         lm_mesh_destroy(j->coarse);
+    co_original_pack_free(&j->pack);
     if (j->original)
         lm_mesh_destroy(j->original);
     free(j);

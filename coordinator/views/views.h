@@ -20,6 +20,7 @@
 #include "common/view.h"
 #include "common/views_api.h"
 #include "coordinator/views/lane_audit.h"
+#include "proto/asset.h"
 
 typedef struct co_pool co_pool; /* coordinator/pool/pool.h */
 
@@ -30,6 +31,18 @@ typedef enum co_views_kind {
 } co_views_kind;
 
 /* Zero means default for every field but original and views. */
+/* The original packed as an asset (proto/asset.h) once for all the remote views a job makes (its
+ * regrids): the first views fill it, later ones copy it instead of packing and hashing the original
+ * again. Its owner keeps `mesh` unchanged while the pack holds it and frees the pack with
+ * co_original_pack_free; zeroed = empty. */
+typedef struct co_original_pack {
+    const lm_mesh *mesh; /* what the assets were packed from; NULL = empty */
+    lm_asset_set assets;
+    lm_asset_hash hash; /* the mesh asset's */
+} co_original_pack;
+
+void co_original_pack_free(co_original_pack *p);
+
 typedef struct co_views_desc {
     co_views_kind kind;           /* 0 = local */
     const lm_mesh *original;      /* required: the targets are its images; its materials are the
@@ -38,14 +51,16 @@ typedef struct co_views_desc {
     uint32_t first, count;        /* the range of `views` served; count 0 = first to the end */
     const lm_material *materials; /* the current mesh's material table; NULL = the original's */
     uint32_t n_materials;
-    const lm_mesh *mesh; /* set as the current mesh right away; NULL = later, by set_mesh */
-    const char *device;  /* local and split children: "auto" (NULL), "host", "egl:N" */
-    uint32_t split;      /* split: children (at most the range's views); 0 = 2 */
-    co_pool *pool;       /* remote: the workers (borrowed; must outlive the views) */
-    int whole;           /* remote: every worker serves every view (workers beyond the first are
-                            replicas), so that each can run whole lanes (co_views_lane_runner) */
-    co_audit_rule audit; /* remote, whole: which lanes a second worker runs again (lane_audit.h);
-                            zero = none (the job resolves its default) */
+    const lm_mesh *mesh;    /* set as the current mesh right away; NULL = later, by set_mesh */
+    const char *device;     /* local and split children: "auto" (NULL), "host", "egl:N" */
+    uint32_t split;         /* split: children (at most the range's views); 0 = 2 */
+    co_pool *pool;          /* remote: the workers (borrowed; must outlive the views) */
+    int whole;              /* remote: every worker serves every view (workers beyond the first are
+                               replicas), so that each can run whole lanes (co_views_lane_runner) */
+    co_audit_rule audit;    /* remote, whole: which lanes a second worker runs again (lane_audit.h);
+                               zero = none (the job resolves its default) */
+    co_original_pack *pack; /* remote: the original's asset kept across views (borrowed); NULL =
+                               packed for these views alone */
 } co_views_desc;
 
 /* The description with every zero field resolved (no checks). */

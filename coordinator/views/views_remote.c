@@ -564,6 +564,33 @@ co_remote *co_remote_of(lm_views *v)
     return v && v->ops == &remote_ops ? (co_remote *)v : NULL;
 }
 
+void co_original_pack_free(co_original_pack *p)
+{
+    lm_asset_set_free(&p->assets);
+    memset(p, 0, sizeof *p);
+}
+
+/* r's assets: the original packed, or copied from d->pack when that holds this original (and
+ * filled from these when it holds none). */
+static lm_status pack_original(const co_views_desc *d, co_remote *r)
+{
+    co_original_pack *p = d->pack;
+    if (p && p->mesh == d->original) {
+        r->original = p->hash;
+        return lm_asset_set_copy(&r->assets, &p->assets);
+    }
+    lm_status st = lm_asset_pack_mesh(d->original, &r->assets, &r->original);
+    if (st != LM_OK || !p)
+        return st;
+    co_original_pack_free(p);
+    if (lm_asset_set_copy(&p->assets, &r->assets) == LM_OK) {
+        p->mesh = d->original;
+        p->hash = r->original;
+    }
+    lm_clear_error(); /* no pack: the next views pack again */
+    return LM_OK;
+}
+
 lm_status co_views_remote_create(const co_views_desc *d, lm_views **out)
 {
     static uint32_t jobs;
@@ -589,7 +616,7 @@ lm_status co_views_remote_create(const co_views_desc *d, lm_views **out)
     }
     if (st == LM_OK) {
         memcpy(r->views, d->views, sizeof *r->views);
-        st = lm_asset_pack_mesh(d->original, &r->assets, &r->original);
+        st = pack_original(d, r);
     }
     if (st == LM_OK)
         st = co_remote_layout(r);

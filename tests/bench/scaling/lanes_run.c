@@ -51,8 +51,9 @@ typedef struct probe_ctx {
     lm_status st;
     const opts *o;
     const co_job_setup *js;
-    co_pool *pool; /* the remote run's workers; NULL in process */
-    uint32_t draw; /* the regrid draw of the views in force */
+    co_pool *pool;         /* the remote run's workers; NULL in process */
+    uint32_t draw;         /* the regrid draw of the views in force */
+    co_original_pack pack; /* the original's asset, kept across the regrids as the job keeps it */
 } probe_ctx;
 
 static mark mark_now(const meter *m)
@@ -147,7 +148,8 @@ static lm_status regrid(probe_ctx *p, lm_optimizer *opt, uint32_t draw)
                        .views = &vs,
                        .materials = mesh->materials,
                        .n_materials = mesh->n_materials,
-                       .device = p->o->device};
+                       .device = p->o->device,
+                       .pack = &p->pack};
     lm_views *in = NULL, *old = m->in;
     double c1 = sc_cpu();
     if (st == LM_OK)
@@ -235,7 +237,7 @@ lm_status sc_run_lanes(const opts *o, const co_job_setup *js, uint32_t k, lanes_
     lm_status st = sc_meter_start_on(o, js->original, js->coarse, vs, 1, NULL, NULL, &m, &mesh);
     if (st == LM_OK)
         st = lane_optimizer_create(js, k, mesh, &m, &opt);
-    probe_ctx p = {&m, out, mark_now(&m), LM_OK, o, js, NULL, 0};
+    probe_ctx p = {&m, out, mark_now(&m), LM_OK, o, js, NULL, 0, {0}};
     if (st == LM_OK && k > 1)
         lm_lanes_set_probe(opt->lanes, &(lm_lanes_probe){on_phase, on_lane, &p});
     if (st == LM_OK && k > 1 && o->lanes_detached)
@@ -300,7 +302,7 @@ lm_status sc_run_lanes_remote(const opts *o, const co_job_setup *js, uint32_t k,
                                &mesh);
     if (st == LM_OK)
         st = lane_optimizer_create(js, k, mesh, &m, &opt);
-    probe_ctx p = {&m, out, mark_now(&m), LM_OK, o, js, pool, 0};
+    probe_ctx p = {&m, out, mark_now(&m), LM_OK, o, js, pool, 0, {0}};
     if (st == LM_OK)
         st = use_runner(&p, opt);
     if (st == LM_OK)
@@ -316,6 +318,7 @@ lm_status sc_run_lanes_remote(const opts *o, const co_job_setup *js, uint32_t k,
     out->audits = out->lane_stats.audits;
     lm_optimizer_destroy(opt);
     lm_views_destroy(m.in);
+    co_original_pack_free(&p.pack);
     co_pool_destroy(pool);
     lm_replica_free(&m.rep);
     lm_wire_arena_free(&m.arena);
