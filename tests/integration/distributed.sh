@@ -194,7 +194,13 @@ port=$(free_port)
   2>"$tmp/cluster.err" &
 coord=$!
 pids+=("$coord")
-sleep 6 # longer than the 5 s after which a waiting job says so
+# a waiting job says so after 5 s of no worker; wait for that line (the QEM start before it takes
+# seconds more under a sanitizer or load) rather than a fixed time
+for _ in $(seq 1200); do
+  grep -q "waiting for workers at" "$tmp/cluster.err" 2>/dev/null && break
+  kill -0 "$coord" 2>/dev/null || break
+  sleep 0.1
+done
 "$LUMESH_WORKER" --connect "tcp://127.0.0.1:$port" --device host --once 2>"$tmp/w1.err" &
 pids+=($!)
 for _ in $(seq 100); do grep -q "worker 1 joined" "$tmp/cluster.err" && break; sleep 0.1; done
