@@ -14,9 +14,10 @@
  * the job waits, saying so, until one comes. With whole views (co_views_desc.whole) and two or
  * more workers to bring up, their targets are rendered once, split over them (a share each, read
  * back and shipped to all as one targets asset, proto/asset.h), and each is assigned all views with
- * that asset instead of rendering them all (views_remote_layout.c; any loss or failure on the way:
- * each renders them all, as with one worker). A worker's Failure ends the operation with its
- * message (a request a worker refuses is a bug, not a fault to hide). */
+ * that asset instead of rendering them all (views_remote_layout.c; with audits on, one view of
+ * each share is drawn again by another worker and compared first; any loss, mismatch or failure on
+ * the way: each renders them all, as with one worker). A worker's Failure ends the operation with
+ * its message (a request a worker refuses is a bug, not a fault to hide). */
 #ifndef LM_COORDINATOR_VIEWS_VIEWS_REMOTE_H
 #define LM_COORDINATOR_VIEWS_VIEWS_REMOTE_H
 

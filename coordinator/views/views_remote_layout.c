@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "common/log.h"
+#include "coordinator/views/lane_audit.h"
 #include "coordinator/views/views_remote_internal.h"
 
 lm_status co_remote_pack(co_remote *r, uint64_t req, uint64_t seq, Lumesh__Msg__BodyCase c,
@@ -248,8 +249,46 @@ static lm_status read_targets(co_remote *r, co_worker **ws, uint32_t k, uint8_t 
     return st;
 }
 
+/* The split's spot check, with the lanes' audits on (lane_audit.h): worker (i + 1) % k renders
+ * again one view of ws[i]'s share (which one turns with the job's number) and the two images must
+ * be the same bytes, as a renderer's targets are whoever draws them. A mismatch fails the split
+ * (split_targets: every worker then renders its own targets, and the lanes' audits find a worker
+ * gone wrong as before), so one worker's wrong targets never reach every worker. */
+static lm_status check_targets(co_remote *r, co_worker **ws, uint32_t k, const uint8_t *y,
+                               size_t plane)
+{
+    if (k < 2 || co_audit_off(r->audit))
+        return LM_OK;
+    uint32_t *v = malloc(k * sizeof *v);
+    uint8_t *again = malloc(r->count * plane);
+    lm_status st = v && again ? LM_OK : lm_fail(LM_E_NOMEM, "out of memory checking targets");
+    for (uint32_t i = 0; i < k && st == LM_OK; i++) /* ws[i]'s view, before the deals change */
+        v[i] = ws[i]->first + (uint32_t)(r->job % ws[i]->count) * ws[i]->stride;
+    for (uint32_t i = 0; i < k && st == LM_OK; i++) {
+        co_worker *c = ws[(i + 1) % k]; /* checks v[i] */
+        c->first = v[i];
+        c->count = 1;
+        c->stride = 1;
+    }
+    if (st == LM_OK)
+        st = step_all(r, ws, k, send_assign, LUMESH__MSG__BODY_ASSIGNED);
+    for (uint32_t i = 0; i < k && st == LM_OK; i++)
+        if (ws[i]->lost)
+            st = lm_fail(LM_E_IO, "worker %u was lost checking targets", ws[i]->id);
+    if (st == LM_OK)
+        st = read_targets(r, ws, k, again, plane);
+    for (uint32_t i = 0; i < k && st == LM_OK; i++)
+        if (memcmp(again + (size_t)v[i] * plane, y + (size_t)v[i] * plane, plane))
+            st = lm_fail(LM_E_INVALID, "workers %u and %u rendered different targets of view %u",
+                         ws[i]->id, ws[(i + 1) % k]->id, v[i]);
+    free(again);
+    free(v);
+    return st;
+}
+
 /* The split's steps (a)-(b): ws[i] (i < k) renders views i, i + k, ...; their targets are read
- * back and packed into r->targets, among r->assets (bring_up ships it). */
+ * back, spot-checked (check_targets) and packed into r->targets, among r->assets (bring_up ships
+ * it). */
 static lm_status render_split(co_remote *r, co_worker **ws, uint32_t k)
 {
     size_t plane = (size_t)r->width * (size_t)r->height;
@@ -267,6 +306,8 @@ static lm_status render_split(co_remote *r, co_worker **ws, uint32_t k)
         st = lm_fail(LM_E_NOMEM, "out of memory for %u target images", r->count);
     if (st == LM_OK)
         st = read_targets(r, ws, k, y, plane);
+    if (st == LM_OK)
+        st = check_targets(r, ws, k, y, plane);
     if (st == LM_OK)
         st = lm_asset_pack_targets((uint32_t)r->width, (uint32_t)r->height, r->count, y, &r->assets,
                                    &r->targets);

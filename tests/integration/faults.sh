@@ -262,6 +262,20 @@ checks=$((checks + 1))
 cmp -s "$tmp/ref-iso.glb" "$tmp/nosplit.glb" ||
   fail "remote lanes, split targets failing: the output differs from isolated lanes in process"
 
+# -- a worker that renders wrong targets for the others (LUMESH_WORKER_FAULT=lie-targets=1: worker
+# 1's target images change a pixel when read back): the split's spot check (another worker draws
+# one view of each share again) catches it before any worker is given them, every worker renders
+# its own targets, and the bytes are isolated lanes' --
+LUMESH_WORKER_FAULT="lie-targets=1" "$LUMESH" optimize "$bunny" -o "$tmp/liesplit.glb" "${job[@]}" \
+  --edges-in-flight 4 --lanes remote --workers 2 2>"$tmp/liesplit.err" ||
+  fail "the run with a worker lying about targets failed: $(tail -2 "$tmp/liesplit.err")"
+checks=$((checks + 1))
+grep -q "rendering the targets split failed (workers [12] and [12] rendered different targets of view" \
+  "$tmp/liesplit.err" || fail "wrong split targets were not caught: $(tail -2 "$tmp/liesplit.err")"
+checks=$((checks + 1))
+cmp -s "$tmp/ref-iso.glb" "$tmp/liesplit.glb" ||
+  fail "remote lanes, a worker lying about targets: the output differs from isolated lanes in process"
+
 # -- a worker that computes wrong (--lanes remote, audits at their default): worker 1's ΔE are
 # corrupted from its first lane (LUMESH_WORKER_FAULT=lie-lanes=1@1), its messages well formed. On
 # probation every lane it runs is run again by another worker: the mismatch goes to a third, the

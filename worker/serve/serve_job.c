@@ -412,7 +412,18 @@ static lm_status potentials(wk_server *s, const lm_msg *m)
 
 /* Fault injection for tests (LUMESH_WORKER_FAULT, read only by builds with LUMESH_TEST_HOOKS):
  * "fail-targets" answers a Failure to every read of a target image (the coordinator's split render
- * of the targets must fall back to every worker rendering them). */
+ * of the targets must fall back to every worker rendering them); "lie-targets=W" makes the worker
+ * welcomed as W send every target image it is asked for with its first pixel changed (a worker
+ * gone wrong: the coordinator's spot check must catch it before any other worker uses them). */
+static void maybe_lie_target(const wk_server *s, const Lumesh__ReadImage *q, uint8_t *px)
+{
+    static const char kind[] = "lie-targets=";
+    if (s->fault && !strncmp(s->fault, kind, sizeof kind - 1) &&
+        strtoul(s->fault + sizeof kind - 1, NULL, 10) == s->worker_id &&
+        q->kind == LM_IMAGE_TARGET_LUMA)
+        px[0] ^= 0x5a;
+}
+
 static lm_status read_image(wk_server *s, const lm_msg *m)
 {
     const Lumesh__ReadImage *q = m->read_image;
@@ -431,6 +442,8 @@ static lm_status read_image(wk_server *s, const lm_msg *m)
         st = lm_fail(LM_E_NOMEM, "out of memory for an image");
     if (st == LM_OK)
         st = s->v->ops->read_image(s->v, (lm_image_kind)q->kind, place, px);
+    if (st == LM_OK && s->fault)
+        maybe_lie_target(s, q, px);
     if (st == LM_OK) {
         Lumesh__Image r = LUMESH__IMAGE__INIT;
         r.pixels = (ProtobufCBinaryData){bytes, px};
