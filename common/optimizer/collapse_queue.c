@@ -291,9 +291,26 @@ static int slot_free(const lm_cq_entry *e)
     return e->a == UINT32_MAX && e->b == UINT32_MAX;
 }
 
+/* A run of entries of one a, by b: insertion for the usual few edges of a vertex, qsort for a
+ * fan's many (a hostile or CAD model's vertex of 10^5 edges must not cost 10^10 steps). */
+static void sort_run(lm_cq_entry *r, uint32_t n)
+{
+    if (n > 32) {
+        qsort(r, n, sizeof *r, cmp_entry);
+        return;
+    }
+    for (uint32_t i = 1; i < n; i++) {
+        lm_cq_entry x = r[i];
+        uint32_t j = i;
+        for (; j > 0 && cmp_entry(&r[j - 1], &x) > 0; j--)
+            r[j] = r[j - 1];
+        r[j] = x;
+    }
+}
+
 /* e[0..n) into out in (a, b) order, as qsort with cmp_entry orders them (the pairs are
- * distinct): counted by a (stable), then each run of one a by b (insertion: a vertex has few
- * edges). 0 when out of memory for the counts. */
+ * distinct): counted by a (stable), then each run of one a by b (sort_run). 0 when out of
+ * memory for the counts. */
 static int sort_entries(const lm_cq_entry *e, uint32_t n, lm_cq_entry *out)
 {
     uint32_t max_a = 0;
@@ -309,12 +326,10 @@ static int sort_entries(const lm_cq_entry *e, uint32_t n, lm_cq_entry *out)
     for (uint32_t i = 0; i < n; i++)
         out[at[e[i].a]++] = e[i];
     free(at);
-    for (uint32_t i = 1; i < n; i++) {
-        lm_cq_entry x = out[i];
-        uint32_t j = i;
-        for (; j > 0 && cmp_entry(&out[j - 1], &x) > 0; j--)
-            out[j] = out[j - 1];
-        out[j] = x;
+    for (uint32_t i = 0, j; i < n; i = j) {
+        for (j = i + 1; j < n && out[j].a == out[i].a;)
+            j++;
+        sort_run(out + i, j - i);
     }
     return 1;
 }

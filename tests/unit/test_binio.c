@@ -131,12 +131,35 @@ static void test_queue_export_order(void **state)
     lm_cq_destroy(q);
 }
 
+/* A fan: one vertex with many edges, set in falling order of b (the worst order for a per-vertex
+ * insertion sort), exports in (a, b) order. */
+static void test_queue_export_fan(void **state)
+{
+    (void)state;
+    lm_cq *q;
+    assert_int_equal(lm_cq_create(&q), LM_OK);
+    const uint32_t n_fan = 20000;
+    for (uint32_t i = 0; i < n_fan; i++)
+        assert_int_equal(lm_cq_set(q, 7, 8 + n_fan - i, (int64_t)i, 0, 1), LM_OK);
+    assert_int_equal(lm_cq_set(q, 3, 4, 1, 0, 1), LM_OK);
+    lm_cq_entry *e = NULL;
+    uint32_t n = 0;
+    assert_int_equal(lm_cq_export(q, &e, &n), LM_OK);
+    assert_int_equal(n, n_fan + 1);
+    assert_true(e[0].a == 3 && e[0].b == 4);
+    for (uint32_t i = 1; i < n; i++)
+        assert_true(e[i].a == 7 && e[i].b == 8 + i);
+    free(e);
+    lm_cq_destroy(q);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_same_bytes),
         cmocka_unit_test(test_truncated_and_empty),
         cmocka_unit_test(test_queue_export_order),
+        cmocka_unit_test(test_queue_export_fan),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
