@@ -309,13 +309,19 @@ static void sort_run(lm_cq_entry *r, uint32_t n)
 }
 
 /* e[0..n) into out in (a, b) order, as qsort with cmp_entry orders them (the pairs are
- * distinct): counted by a (stable), then each run of one a by b (sort_run). 0 when out of
- * memory for the counts. */
+ * distinct): counted by a (stable), then each run of one a by b (sort_run); where the ids are
+ * sparse, by qsort. 0 when out of memory for the counts. */
 static int sort_entries(const lm_cq_entry *e, uint32_t n, lm_cq_entry *out)
 {
     uint32_t max_a = 0;
     for (uint32_t i = 0; i < n; i++)
         max_a = e[i].a > max_a ? e[i].a : max_a;
+    if ((uint64_t)max_a > 4u * (uint64_t)n + 1024u) { /* sparse ids (e.g. a hostile checkpoint's
+                                                         queue): counts would cost O(max id) */
+        memcpy(out, e, (size_t)n * sizeof *e);
+        qsort(out, n, sizeof *out, cmp_entry);
+        return 1;
+    }
     uint32_t *at = calloc((size_t)max_a + 2, sizeof *at);
     if (!at)
         return 0;
