@@ -131,6 +131,26 @@ static void test_queue_export_order(void **state)
     lm_cq_destroy(q);
 }
 
+/* Sparse ids (a checkpoint's queue may name any vertex id): the export must not count over the
+ * largest id (16 GiB here), and keeps (a, b) order. */
+static void test_queue_export_sparse(void **state)
+{
+    (void)state;
+    lm_cq *q;
+    assert_int_equal(lm_cq_create(&q), LM_OK);
+    assert_int_equal(lm_cq_set(q, 4000000000u, 4000000001u, 1, 0, 1), LM_OK);
+    assert_int_equal(lm_cq_set(q, 5, 9, 2, 0, 1), LM_OK);
+    assert_int_equal(lm_cq_set(q, 5, 6, 3, 0, 1), LM_OK);
+    lm_cq_entry *e = NULL;
+    uint32_t n = 0;
+    assert_int_equal(lm_cq_export(q, &e, &n), LM_OK);
+    assert_int_equal(n, 3);
+    assert_true(e[0].a == 5 && e[0].b == 6 && e[1].a == 5 && e[1].b == 9);
+    assert_true(e[2].a == 4000000000u && e[2].b == 4000000001u);
+    free(e);
+    lm_cq_destroy(q);
+}
+
 /* A fan: one vertex with many edges, set in falling order of b (the worst order for a per-vertex
  * insertion sort), exports in (a, b) order. */
 static void test_queue_export_fan(void **state)
@@ -156,10 +176,9 @@ static void test_queue_export_fan(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_same_bytes),
-        cmocka_unit_test(test_truncated_and_empty),
-        cmocka_unit_test(test_queue_export_order),
-        cmocka_unit_test(test_queue_export_fan),
+        cmocka_unit_test(test_same_bytes),          cmocka_unit_test(test_truncated_and_empty),
+        cmocka_unit_test(test_queue_export_order),  cmocka_unit_test(test_queue_export_fan),
+        cmocka_unit_test(test_queue_export_sparse),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
